@@ -1,0 +1,60 @@
+#pragma once
+// A dataset directory on disk (README "Dataset format"): what the simulator writes and every
+// algorithm reads. Real logs fill the same structure without the ground-truth fields.
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/diff_drive.hpp"
+#include "core/laser_scan.hpp"
+#include "core/samples.hpp"
+#include "core/time_series.hpp"
+
+namespace slamprep {
+
+/// One lidar scan with what is known about it.
+struct ScanRecord {
+  LaserScan scan;
+  /// True T_world_base at the scan stamp (simulated data only).
+  std::optional<SE2> T_world_base_true;
+  /// Nominal-odometry T_odom_base at the scan stamp.
+  std::optional<SE2> T_odom_base_nominal;
+  /// Ground-truth undistorted point of every beam in the lidar frame at the scan stamp
+  /// (DESIGN.md "What the simulator's truth means"); empty without truth, nullopt for no-hit.
+  std::vector<std::optional<Eigen::Vector2d>> p_ref_true;
+};
+
+/// dataset.json: provenance, geometry and sensor configuration.
+struct DatasetInfo {
+  int format_version = 1;
+  std::string world;     ///< world file the data was simulated in ("" for real logs)
+  std::string scenario;  ///< scenario file that was driven
+  std::uint64_t seed = 0;
+  std::optional<DiffDriveParams> true_geometry;  ///< what Bullet simulated; absent for real logs
+  DiffDriveParams nominal_geometry;              ///< what the odometry is told
+  SE2 T_base_lidar;                              ///< lidar mount ("lidar_mount": x, y, yaw)
+  int ticks_per_revolution = 4096;
+  nlohmann::json config = nlohmann::json::object();  ///< full configuration as simulated
+};
+
+struct Dataset {
+  DatasetInfo info;
+  PoseSeries groundtruth;   ///< true T_world_base (groundtruth.tum); empty for real logs
+  PoseSeries odom_nominal;  ///< T_odom_base integrated with the nominal geometry (odom_nominal.tum)
+  EncoderLog encoders;      ///< encoders.csv
+  ImuLog imu;               ///< imu.csv
+  std::vector<ScanRecord> scans;  ///< scans.jsonl
+
+  bool hasTruth() const { return info.true_geometry.has_value() && !groundtruth.empty(); }
+};
+
+/// Writes `dataset` to `dir` atomically: into a temporary sibling first, renamed when complete.
+void writeDataset(const std::filesystem::path& dir, const Dataset& dataset);
+
+/// Reads a dataset directory. Throws InputError naming file, line and field on malformed input.
+Dataset readDataset(const std::filesystem::path& dir);
+
+}  // namespace slamprep
