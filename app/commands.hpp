@@ -1,0 +1,18 @@
+#pragma once
+// The slamprep CLI: each command maps its flags onto params structs and calls into eval/sim/algo.
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace slamprep::app {
+
+/// A registered subcommand and what runs when it is the one parsed; run() returns the exit code.
+struct Command {
+  CLI::App* cli = nullptr;
+  std::function<int()> run;
+};
+
+// One function per command, defined in <name>_command.cpp. Add new ones to main.cpp's list.
+Command addSimulateCommand(CLI::App& app);
+
+}  // namespace slamprep::app
