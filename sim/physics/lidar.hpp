@@ -1,0 +1,58 @@
+#pragma once
+// A rotating 2D lidar whose beams are taken one after another, each from its own pose.
+
+#include <cstdint>
+#include <numbers>
+#include <random>
+
+#include "core/laser_scan.hpp"
+#include "core/se2.hpp"
+#include "sim/physics/scene.hpp"
+
+namespace slamprep::sim {
+
+struct LidarConfig {
+  double rate_hz = 10.0;                  ///< revolutions per second
+  int beams_per_revolution = 720;         ///< angular resolution: 2 pi / this
+  double fov_rad = 2 * std::numbers::pi;  ///< scan covers this much of the revolution
+  double range_min_m = 0.05;              ///< shorter returns are reported as no return
+  double range_max_m = 30.0;              ///< longer returns are reported as no return
+  double range_noise_m = 0.01;            ///< Gaussian sigma
+  bool clockwise = false;                 ///< negative angle_increment
+  SE2 T_base_lidar{0.1, 0.02, std::numbers::pi / 180.0};  ///< mount on the chassis
+  double height_m = 0.25;                                 ///< above the floor
+};
+
+/// A rotating 2D lidar: beam i of a scan is taken at its own time from its own pose.
+class Lidar {
+ public:
+  Lidar(const LidarConfig& config, std::uint64_t seed);
+  const LidarConfig& config() const { return config_; }
+  std::size_t beamsPerScan() const { return beams_per_scan_; }  // round(bpr * fov / 2pi)
+  /// Scan header with stamp = first beam, ROS convention (angle_min, angle_increment,
+  /// time_increment = 1/(rate*beams_per_revolution), scan_time = 1/rate, range limits), ranges_m
+  /// sized beamsPerScan() and filled with +inf.
+  LaserScan header(double stamp_s) const;
+  struct Beam {
+    double range_m;       ///< measured: true + noise; +inf for no return
+    double true_range_m;  ///< geometric distance; +inf when nothing within range_max
+  };
+  /// Measures beam i from the lidar pose at that beam's time. Draws noise from the lidar's own
+  /// seeded generator, so call it in beam order.
+  Beam measure(const Scene& scene, const SE2& T_world_lidar, std::size_t i);
+  /// Angle of beam i in the lidar frame (same as header().beamAngle(i)).
+  double beamAngle(std::size_t i) const { return angle_min_rad_ + i * angle_increment_rad_; }
+
+ private:
+  double gaussian();
+
+  LidarConfig config_;
+  std::size_t beams_per_scan_ = 0;
+  double angle_min_rad_ = 0.0;
+  double angle_increment_rad_ = 0.0;
+  std::mt19937_64 rng_;
+  double spare_gaussian_ = 0.0;
+  bool has_spare_ = false;
+};
+
+}  // namespace slamprep::sim

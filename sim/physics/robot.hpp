@@ -1,0 +1,55 @@
+#pragma once
+// The physical differential-drive robot: Bullet rigid bodies, hinge joints and velocity motors.
+
+#include <Eigen/Core>
+#include <memory>
+
+#include "core/diff_drive.hpp"
+#include "core/se2.hpp"
+#include "sim/physics/scene.hpp"
+
+namespace slamprep::sim {
+
+struct RobotConfig {
+  DiffDriveParams geometry;           ///< TRUE geometry that Bullet simulates
+  double wheel_width_m = 0.03;        ///< cylinder length of each wheel
+  double wheel_mass_kg = 0.4;         ///< per wheel
+  double chassis_mass_kg = 6.0;       ///< body without wheels
+  double max_wheel_torque_nm = 8.0;   ///< motor limit (impulse = torque * dt)
+  double wheel_friction = 1.0;        ///< Coulomb friction coefficient, wheel tyre
+  double caster_radius_m = 0.03;      ///< spheres front and back
+  double caster_friction = 0.0;       ///< low-friction casters
+  double chassis_length_m = 0.40;     ///< along x
+  double chassis_width_m = 0.36;      ///< along y; must leave the wheels outside: < b - width
+  double chassis_height_m = 0.12;     ///< along z
+  double chassis_clearance_m = 0.04;  ///< floor to the chassis underside
+  double caster_offset_m = 0.16;      ///< caster centres at +-this along x from the base origin
+};
+
+/// Chassis, two driven wheels on hinge joints with velocity motors, low-friction caster(s).
+class Robot {
+ public:
+  Robot(Scene& scene, const RobotConfig& config, const SE2& T_world_base0);
+  ~Robot();
+  Robot(const Robot&) = delete;
+  Robot& operator=(const Robot&) = delete;
+
+  const RobotConfig& config() const;
+  void setWheelRateTargets(double left_radps, double right_radps);
+  /// Call after every Scene::step: reads the chassis pose and unwraps the wheel angles.
+  void update();
+  SE2 T_world_base() const;        // base frame: between the wheel contact points, x forward
+  double wheelAngleLeft() const;   // cumulative wheel rotation relative to the chassis (rad)
+  double wheelAngleRight() const;  // positive = rolls the robot forward; unwrapped
+  Eigen::Vector2d linearVelocity_world() const;  // of the base origin, m/s
+  double yawRate() const;                        // rad/s
+  /// Measured wheel rates relative to the chassis (rad/s), positive forward.
+  double wheelRateLeft() const;
+  double wheelRateRight() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace slamprep::sim
