@@ -1,0 +1,67 @@
+#pragma once
+// An experiment suite (eval/suites/<name>.yaml): which worlds, scenarios, sweeps, seeds and
+// methods to run, expanded into a deterministic list of trials.
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace slamprep::eval {
+
+/// One swept simulator key and the values it takes (applied with `--set key=value`).
+struct SweepAxis {
+  std::string key;
+  std::vector<std::string> values;
+};
+
+/// Regression tolerance for one summary metric: worse means larger, by more than
+/// max(abs, rel * |baseline|).
+struct Tolerance {
+  std::string metric;  ///< summary key, e.g. "deskew/odom-linear/mean_m"
+  double abs = 0.0;
+  double rel = 0.0;
+};
+
+struct Suite {
+  std::string name;
+  std::string description;
+  std::filesystem::path source;            ///< the YAML file
+  std::vector<std::string> worlds;         ///< world files, relative to the repository root
+  std::vector<std::string> scenarios;      ///< scenario files
+  std::map<std::string, std::string> set;  ///< fixed simulator overrides for every trial
+  std::vector<SweepAxis> sweep;            ///< cartesian product of all axes
+  int seeds = 1;                           ///< seeds per sweep point
+  std::uint64_t base_seed = 1;             ///< seed of the first trial; others follow
+  double duration_s = 0.0;                 ///< 0: the scenario's own length
+  std::string mode = "physics";            ///< physics | kinematic
+  std::string motion = "icp";              ///< calibration motion source: icp | groundtruth
+  std::vector<std::string> calibration_methods;
+  std::vector<std::string> deskew_methods;
+  std::vector<Tolerance> tolerances;
+};
+
+/// One run of the simulator and the methods, fully determined by its fields.
+struct TrialSpec {
+  std::size_t index = 0;  ///< position in the suite's expansion
+  std::string id;         ///< stable, file-name safe
+  std::string world;
+  std::string scenario;
+  std::map<std::string, std::string> overrides;  ///< suite `set` plus this trial's sweep values
+  std::map<std::string, std::string> sweep;      ///< this trial's sweep values only
+  std::uint64_t seed = 0;
+  double duration_s = 0.0;
+};
+
+/// Reads a suite YAML; throws InputError naming file, line and key.
+Suite loadSuite(const std::filesystem::path& file);
+
+/// Resolves a suite name ("default") or path to its file under `suites_dir`.
+std::filesystem::path findSuite(const std::string& name_or_path,
+                                const std::filesystem::path& suites_dir);
+
+/// Worlds x scenarios x sweep points x seeds, in that nesting order.
+std::vector<TrialSpec> expandTrials(const Suite& suite);
+
+}  // namespace slamprep::eval

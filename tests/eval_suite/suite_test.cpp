@@ -1,0 +1,65 @@
+#include "eval/suite/suite.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "core/error.hpp"
+
+namespace slamprep::eval {
+namespace {
+
+std::filesystem::path writeTemp(const std::string& name, const std::string& text) {
+  const auto dir = std::filesystem::temp_directory_path() / "slamprep_suite_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / name) << text;
+  return dir / name;
+}
+
+TEST(Suite, ExpandsWorldsScenariosSweepsAndSeeds) {
+  const auto file = writeTemp("sweep.yaml", R"(
+name: sweep
+worlds: [worlds/room.yaml]
+scenarios: [worlds/scenarios/arc.yaml, worlds/scenarios/spin.yaml]
+set: {lidar.beams_per_revolution: 360}
+sweep:
+  lidar.rate_hz: [5, 10, 20]
+seeds: 2
+base_seed: 7
+deskew_methods: [none, oracle]
+)");
+  const Suite suite = loadSuite(file);
+  const auto trials = expandTrials(suite);
+  ASSERT_EQ(trials.size(), 1u * 2 * 3 * 2);
+  EXPECT_EQ(trials[0].id, "0000-room-arc-lidar.rate_hz=5-s7");
+  EXPECT_EQ(trials[1].seed, 8u);
+  EXPECT_EQ(trials[2].sweep.at("lidar.rate_hz"), "10");
+  EXPECT_EQ(trials[11].overrides.at("lidar.beams_per_revolution"), "360");
+  EXPECT_EQ(trials[11].scenario, "worlds/scenarios/spin.yaml");
+  for (std::size_t i = 0; i < trials.size(); ++i) EXPECT_EQ(trials[i].index, i);
+}
+
+TEST(Suite, RejectsUnknownKeyWithFileAndLine) {
+  const auto file = writeTemp("bad.yaml", "worlds: [a.yaml]\nscenarios: [b.yaml]\nseedz: 3\n");
+  try {
+    loadSuite(file);
+    FAIL() << "accepted an unknown key";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("bad.yaml:3"), std::string::npos) << what;
+    EXPECT_NE(what.find("seedz"), std::string::npos) << what;
+  }
+}
+
+TEST(Suite, RejectsBadValues) {
+  EXPECT_THROW(loadSuite(writeTemp("s0.yaml", "worlds: [a]\nscenarios: [b]\nseeds: 0\n")),
+               InputError);
+  EXPECT_THROW(loadSuite(writeTemp("s1.yaml", "worlds: [a]\nscenarios: [b]\nmode: warp\n")),
+               InputError);
+  EXPECT_THROW(loadSuite(writeTemp("s2.yaml", "worlds: [a]\n")), InputError);
+  EXPECT_THROW(loadSuite(writeTemp("s3.yaml", "worlds: [a\n")), InputError);
+  EXPECT_THROW(loadSuite("/nonexistent/suite.yaml"), InputError);
+}
+
+}  // namespace
+}  // namespace slamprep::eval
