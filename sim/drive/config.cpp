@@ -1,0 +1,336 @@
+#include "sim/drive/config.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace slamprep::sim {
+namespace {
+
+// One list of (key, field) pairs drives JSON output, JSON input and overrides alike.
+template <typename Config, typename Visitor>
+void visitFields(Config& c, Visitor&& v) {
+  v("world", c.world);
+  v("scenario", c.scenario);
+  v("duration_s", c.duration_s);
+  v("seed", c.seed);
+  v("mode", c.mode);
+  v("physics_rate_hz", c.physics_rate_hz);
+  v("path_margin_m", c.path_margin_m);
+  auto& r = c.robot;
+  v("robot.radius_left_m", r.geometry.radius_left_m);
+  v("robot.radius_right_m", r.geometry.radius_right_m);
+  v("robot.wheel_base_m", r.geometry.wheel_base_m);
+  v("robot.wheel_width_m", r.wheel_width_m);
+  v("robot.wheel_mass_kg", r.wheel_mass_kg);
+  v("robot.chassis_mass_kg", r.chassis_mass_kg);
+  v("robot.max_wheel_torque_nm", r.max_wheel_torque_nm);
+  v("robot.wheel_friction", r.wheel_friction);
+  v("robot.caster_radius_m", r.caster_radius_m);
+  v("robot.caster_friction", r.caster_friction);
+  v("robot.chassis_length_m", r.chassis_length_m);
+  v("robot.chassis_width_m", r.chassis_width_m);
+  v("robot.chassis_height_m", r.chassis_height_m);
+  v("robot.chassis_clearance_m", r.chassis_clearance_m);
+  v("robot.caster_offset_m", r.caster_offset_m);
+  v("nominal.radius_left_error", c.nominal.radius_left_error);
+  v("nominal.radius_right_error", c.nominal.radius_right_error);
+  v("nominal.wheel_base_error", c.nominal.wheel_base_error);
+  auto& l = c.lidar;
+  v("lidar.rate_hz", l.rate_hz);
+  v("lidar.beams_per_revolution", l.beams_per_revolution);
+  v("lidar.fov_rad", l.fov_rad);
+  v("lidar.range_min_m", l.range_min_m);
+  v("lidar.range_max_m", l.range_max_m);
+  v("lidar.range_noise_m", l.range_noise_m);
+  v("lidar.clockwise", l.clockwise);
+  v("lidar.mount.x_m", l.T_base_lidar.x);
+  v("lidar.mount.y_m", l.T_base_lidar.y);
+  v("lidar.mount.yaw_rad", l.T_base_lidar.yaw);
+  v("lidar.height_m", l.height_m);
+  v("encoders.ticks_per_revolution", c.encoders.ticks_per_revolution);
+  v("encoders.rate_hz", c.encoders.rate_hz);
+  v("imu.rate_hz", c.imu.rate_hz);
+  v("imu.gyro_noise_radps", c.imu.gyro_noise_radps);
+  v("imu.gyro_bias_radps", c.imu.gyro_bias_radps);
+  v("imu.accel_noise_mps2", c.imu.accel_noise_mps2);
+  v("imu.accel_bias_x_mps2", c.imu.accel_bias_x_mps2);
+  v("imu.accel_bias_y_mps2", c.imu.accel_bias_y_mps2);
+}
+
+const char* modeName(SimMode mode) {
+  return mode == SimMode::physics ? "physics" : "kinematic";
+}
+
+nlohmann::json::json_pointer pointer(const std::string& dotted) {
+  std::string p = "/" + dotted;
+  for (char& ch : p) {
+    if (ch == '.') ch = '/';
+  }
+  return nlohmann::json::json_pointer(p);
+}
+
+// ---- Values from JSON --------------------------------------------------------------------------
+
+void fromJsonValue(const nlohmann::json& j, double& out, const std::string& at) {
+  if (!j.is_number()) throw InputError(at, "expected a number");
+  out = j.get<double>();
+}
+void fromJsonValue(const nlohmann::json& j, int& out, const std::string& at) {
+  if (!j.is_number_integer()) throw InputError(at, "expected a whole number");
+  const auto v = j.get<std::int64_t>();
+  if (v < -1000000000 || v > 1000000000) throw InputError(at, "out of range");
+  out = static_cast<int>(v);
+}
+void fromJsonValue(const nlohmann::json& j, std::uint64_t& out, const std::string& at) {
+  if (!j.is_number_unsigned()) throw InputError(at, "expected a whole number >= 0");
+  out = j.get<std::uint64_t>();
+}
+void fromJsonValue(const nlohmann::json& j, bool& out, const std::string& at) {
+  if (!j.is_boolean()) throw InputError(at, "expected true or false");
+  out = j.get<bool>();
+}
+void fromJsonValue(const nlohmann::json& j, std::string& out, const std::string& at) {
+  if (!j.is_string()) throw InputError(at, "expected a string");
+  out = j.get<std::string>();
+}
+void fromJsonValue(const nlohmann::json& j, SimMode& out, const std::string& at) {
+  if (j == "physics") {
+    out = SimMode::physics;
+  } else if (j == "kinematic") {
+    out = SimMode::kinematic;
+  } else {
+    throw InputError(at, "expected \"physics\" or \"kinematic\"");
+  }
+}
+
+nlohmann::json toJsonValue(SimMode mode) {
+  return modeName(mode);
+}
+template <typename T>
+nlohmann::json toJsonValue(const T& value) {
+  return value;
+}
+
+// ---- Values from command-line text -------------------------------------------------------------
+
+template <typename T>
+bool parseNumber(const std::string& text, T& out) {
+  const char* end = text.data() + text.size();
+  auto [ptr, ec] = std::from_chars(text.data(), end, out);
+  return ec == std::errc() && ptr == end;
+}
+
+void fromText(const std::string& text, double& out, const std::string& at) {
+  if (!parseNumber(text, out) || !std::isfinite(out)) {
+    throw InputError(at, "expected a finite number, got '" + text + "'");
+  }
+}
+void fromText(const std::string& text, int& out, const std::string& at) {
+  if (!parseNumber(text, out)) throw InputError(at, "expected a whole number, got '" + text + "'");
+}
+void fromText(const std::string& text, std::uint64_t& out, const std::string& at) {
+  if (!parseNumber(text, out)) {
+    throw InputError(at, "expected a whole number >= 0, got '" + text + "'");
+  }
+}
+void fromText(const std::string& text, bool& out, const std::string& at) {
+  if (text == "true" || text == "1") {
+    out = true;
+  } else if (text == "false" || text == "0") {
+    out = false;
+  } else {
+    throw InputError(at, "expected true or false, got '" + text + "'");
+  }
+}
+void fromText(const std::string& text, std::string& out, const std::string&) {
+  out = text;
+}
+void fromText(const std::string& text, SimMode& out, const std::string& at) {
+  fromJsonValue(nlohmann::json(text), out, at);
+}
+
+// ---- Validation ----------------------------------------------------------------------------
+
+struct Checker {
+  const std::string& where;
+
+  template <typename T>
+  void fail(const std::string& key, const std::string& what, T value) const {
+    std::ostringstream msg;
+    msg << what << " (got " << value << ")";
+    throw InputError(where.empty() ? key : where + ": " + key, msg.str());
+  }
+  void positive(const std::string& key, double value) const {
+    if (!(value > 0.0)) fail(key, "must be positive", value);
+  }
+  void nonNegative(const std::string& key, double value) const {
+    if (!(value >= 0.0)) fail(key, "must not be negative", value);
+  }
+};
+
+}  // namespace
+
+DiffDriveParams SimConfig::nominalGeometry() const {
+  const DiffDriveParams& g = robot.geometry;
+  return {g.radius_left_m * (1.0 + nominal.radius_left_error),
+          g.radius_right_m * (1.0 + nominal.radius_right_error),
+          g.wheel_base_m * (1.0 + nominal.wheel_base_error)};
+}
+
+std::vector<std::string> configKeys() {
+  std::vector<std::string> keys;
+  SimConfig config;
+  visitFields(config, [&](const std::string& key, auto&) { keys.push_back(key); });
+  return keys;
+}
+
+nlohmann::json toJson(const SimConfig& config) {
+  nlohmann::json json = nlohmann::json::object();
+  visitFields(config, [&](const std::string& key, const auto& value) {
+    json[pointer(key)] = toJsonValue(value);
+  });
+  return json;
+}
+
+SimConfig configFromJson(const nlohmann::json& json, const std::string& where) {
+  if (!json.is_object()) throw InputError(where, "configuration must be a JSON object");
+  const nlohmann::json flat = json.flatten();  // {"/lidar/rate_hz": 10, ...}
+  SimConfig config;
+  std::size_t used = 0;
+  visitFields(config, [&](const std::string& key, auto& value) {
+    const auto it = flat.find(pointer(key).to_string());
+    if (it == flat.end()) return;
+    fromJsonValue(*it, value, where + ": " + key);
+    ++used;
+  });
+  if (used != flat.size()) {
+    const std::vector<std::string> keys = configKeys();
+    for (const auto& [path, value] : flat.items()) {
+      std::string dotted = path.substr(1);
+      for (char& ch : dotted) {
+        if (ch == '/') ch = '.';
+      }
+      if (std::find(keys.begin(), keys.end(), dotted) == keys.end()) {
+        throw InputError(where + ": " + dotted, "unknown configuration key");
+      }
+    }
+  }
+  validate(config, where);
+  return config;
+}
+
+void applyOverride(SimConfig& config, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw InputError("--set " + assignment, "expected key=value (e.g. lidar.rate_hz=5)");
+  }
+  const std::string key = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  const std::string at = "--set " + key;
+  bool found = false;
+  SimConfig updated = config;
+  visitFields(updated, [&](const std::string& k, auto& value) {
+    if (k != key) return;
+    fromText(text, value, at);
+    found = true;
+  });
+  if (!found) {
+    throw InputError(at, "unknown configuration key (`slamprep simulate --help` lists them)");
+  }
+  validate(updated, "--set");
+  config = updated;
+}
+
+void validate(const SimConfig& c, const std::string& where) {
+  const Checker check{where};
+  check.nonNegative("duration_s", c.duration_s);
+  check.positive("physics_rate_hz", c.physics_rate_hz);
+  if (c.physics_rate_hz > 1e6)
+    check.fail("physics_rate_hz", "must be at most 1e6", c.physics_rate_hz);
+  check.nonNegative("path_margin_m", c.path_margin_m);
+  const RobotConfig& r = c.robot;
+  check.positive("robot.radius_left_m", r.geometry.radius_left_m);
+  check.positive("robot.radius_right_m", r.geometry.radius_right_m);
+  check.positive("robot.wheel_base_m", r.geometry.wheel_base_m);
+  check.positive("robot.wheel_width_m", r.wheel_width_m);
+  check.positive("robot.wheel_mass_kg", r.wheel_mass_kg);
+  check.positive("robot.chassis_mass_kg", r.chassis_mass_kg);
+  check.positive("robot.max_wheel_torque_nm", r.max_wheel_torque_nm);
+  check.nonNegative("robot.wheel_friction", r.wheel_friction);
+  check.positive("robot.caster_radius_m", r.caster_radius_m);
+  check.nonNegative("robot.caster_friction", r.caster_friction);
+  check.positive("robot.chassis_length_m", r.chassis_length_m);
+  check.positive("robot.chassis_width_m", r.chassis_width_m);
+  check.positive("robot.chassis_height_m", r.chassis_height_m);
+  check.nonNegative("robot.chassis_clearance_m", r.chassis_clearance_m);
+  check.positive("robot.caster_offset_m", r.caster_offset_m);
+  if (r.chassis_width_m >= r.geometry.wheel_base_m - r.wheel_width_m) {
+    check.fail("robot.chassis_width_m", "must be less than wheel_base_m - wheel_width_m",
+               r.chassis_width_m);
+  }
+  // Nominal geometry must stay positive: error > -1.
+  if (!(c.nominal.radius_left_error > -1.0)) {
+    check.fail("nominal.radius_left_error", "must be greater than -1", c.nominal.radius_left_error);
+  }
+  if (!(c.nominal.radius_right_error > -1.0)) {
+    check.fail("nominal.radius_right_error", "must be greater than -1",
+               c.nominal.radius_right_error);
+  }
+  if (!(c.nominal.wheel_base_error > -1.0)) {
+    check.fail("nominal.wheel_base_error", "must be greater than -1", c.nominal.wheel_base_error);
+  }
+  const LidarConfig& l = c.lidar;
+  check.positive("lidar.rate_hz", l.rate_hz);
+  if (l.beams_per_revolution < 1) {
+    check.fail("lidar.beams_per_revolution", "must be at least 1", l.beams_per_revolution);
+  }
+  if (!(l.fov_rad > 0.0 && l.fov_rad <= 2.0 * std::numbers::pi + 1e-12)) {
+    check.fail("lidar.fov_rad", "must be in (0, 2 pi]", l.fov_rad);
+  }
+  if (std::lround(l.beams_per_revolution * l.fov_rad / (2.0 * std::numbers::pi)) < 1) {
+    check.fail("lidar.fov_rad", "covers less than one beam", l.fov_rad);
+  }
+  check.nonNegative("lidar.range_min_m", l.range_min_m);
+  if (!(l.range_max_m > l.range_min_m)) {
+    check.fail("lidar.range_max_m", "must exceed lidar.range_min_m", l.range_max_m);
+  }
+  check.nonNegative("lidar.range_noise_m", l.range_noise_m);
+  check.positive("lidar.height_m", l.height_m);
+  if (c.encoders.ticks_per_revolution < 1) {
+    check.fail("encoders.ticks_per_revolution", "must be at least 1",
+               c.encoders.ticks_per_revolution);
+  }
+  check.positive("encoders.rate_hz", c.encoders.rate_hz);
+  check.positive("imu.rate_hz", c.imu.rate_hz);
+  check.nonNegative("imu.gyro_noise_radps", c.imu.gyro_noise_radps);
+  check.nonNegative("imu.accel_noise_mps2", c.imu.accel_noise_mps2);
+}
+
+double footprintRadius(const RobotConfig& r) {
+  const double wheel_y = 0.5 * (r.geometry.wheel_base_m + r.wheel_width_m);
+  const double wheel_x = std::max(r.geometry.radius_left_m, r.geometry.radius_right_m);
+  return std::max({std::hypot(0.5 * r.chassis_length_m, 0.5 * r.chassis_width_m),
+                   std::hypot(wheel_x, wheel_y), r.caster_offset_m + r.caster_radius_m});
+}
+
+std::filesystem::path dataDirectory() {
+  if (const char* env = std::getenv("SLAMPREP_DATA_DIR"); env != nullptr && *env != '\0') {
+    return env;
+  }
+  // This file is <root>/sim/drive/config.cpp; CMake compiles it by absolute path.
+  return std::filesystem::path(__FILE__).parent_path().parent_path().parent_path();
+}
+
+std::filesystem::path resolveDataPath(const std::string& path) {
+  const std::filesystem::path p(path);
+  if (p.is_absolute() || std::filesystem::exists(p)) return p;
+  const std::filesystem::path in_data = dataDirectory() / p;
+  return std::filesystem::exists(in_data) ? in_data : p;
+}
+
+}  // namespace slamprep::sim

@@ -1,0 +1,74 @@
+#pragma once
+// The simulator's whole configuration: one struct with defaults, `key=value` overrides by dotted
+// key (docs/simulate.md lists every key), and JSON for dataset.json's "config" field.
+
+#include <cstdint>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/diff_drive.hpp"
+#include "sim/drive/sensors.hpp"
+#include "sim/physics/lidar.hpp"
+#include "sim/physics/robot.hpp"
+
+namespace slamprep::sim {
+
+/// physics: Bullet rigid bodies, motors and contacts. kinematic: no physics; the true pose is the
+/// exact integration of the commanded wheel rates with the true geometry.
+enum class SimMode { physics, kinematic };
+
+/// How wrong the odometry's geometry is: nominal = true * (1 + error).
+struct NominalErrors {
+  double radius_left_error = 0.02;     ///< r_L: +2 %
+  double radius_right_error = -0.015;  ///< r_R: -1.5 %
+  double wheel_base_error = 0.04;      ///< b: +4 %
+};
+
+struct SimConfig {
+  std::string world = "worlds/room.yaml";  ///< world file (relative: cwd, then data directory)
+  std::string scenario = "worlds/scenarios/default.yaml";  ///< scenario file (same lookup)
+  double duration_s = 0.0;          ///< simulated time; 0 = the scenario's own length
+  std::uint64_t seed = 1;           ///< seeds every sensor's noise stream
+  SimMode mode = SimMode::physics;  ///< physics or kinematic
+  double physics_rate_hz = 1000.0;  ///< fixed physics (and ground-truth) step rate
+  double path_margin_m = 0.05;      ///< clearance the pre-check demands around the footprint
+  RobotConfig robot;                ///< TRUE geometry and the physical robot
+  NominalErrors nominal;            ///< what the odometry (and the controller) believe
+  LidarConfig lidar;                ///< rotating lidar
+  EncoderConfig encoders;           ///< wheel encoders
+  ImuConfig imu;                    ///< planar IMU
+
+  /// The geometry the odometry is told: the true geometry scaled by the nominal errors.
+  DiffDriveParams nominalGeometry() const;
+};
+
+/// Every configuration key, dotted ("lidar.rate_hz"), in a fixed order.
+std::vector<std::string> configKeys();
+
+/// The configuration as nested JSON ({"lidar": {"rate_hz": 10, ...}, ...}).
+nlohmann::json toJson(const SimConfig& config);
+
+/// Reads a configuration written by toJson; missing keys keep their defaults. Throws InputError
+/// naming `where` and the key for unknown keys and wrong types, and validates the result.
+SimConfig configFromJson(const nlohmann::json& json, const std::string& where);
+
+/// Applies one "key=value" override. Throws InputError("--set key", ...) for an unknown key, a
+/// value of the wrong type, or a value that makes the configuration invalid.
+void applyOverride(SimConfig& config, const std::string& assignment);
+
+/// Checks ranges (positive radii, at least one beam, ...). Throws InputError("where: key", ...).
+void validate(const SimConfig& config, const std::string& where);
+
+/// Robot footprint: radius of the smallest circle about the base origin containing the chassis,
+/// wheels and casters.
+double footprintRadius(const RobotConfig& robot);
+
+/// Where the default worlds and scenarios live: $SLAMPREP_DATA_DIR, else this source tree.
+std::filesystem::path dataDirectory();
+
+/// A file path as given if it exists (or is absolute), else the same path below dataDirectory().
+std::filesystem::path resolveDataPath(const std::string& path);
+
+}  // namespace slamprep::sim

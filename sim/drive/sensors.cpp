@@ -1,0 +1,28 @@
+#include "sim/drive/sensors.hpp"
+
+#include <cmath>
+
+#include "core/odometry.hpp"
+
+namespace slamprep::sim {
+
+std::int64_t quantizeTicks(double wheel_angle_rad, int ticks_per_revolution) {
+  return static_cast<std::int64_t>(
+      std::floor(wheel_angle_rad / radiansPerTick(ticks_per_revolution)));
+}
+
+ImuSample Imu::sample(double stamp_s, double yaw_rate_radps,
+                      const Eigen::Vector2d& accel_base_mps2) {
+  ImuSample s;
+  s.stamp_s = stamp_s;
+  // Draw in a fixed order so each quantity's noise is reproducible.
+  s.gyro_z_radps =
+      yaw_rate_radps + config_.gyro_bias_radps + config_.gyro_noise_radps * rng_.gaussian();
+  s.accel_x_mps2 =
+      accel_base_mps2.x() + config_.accel_bias_x_mps2 + config_.accel_noise_mps2 * rng_.gaussian();
+  s.accel_y_mps2 =
+      accel_base_mps2.y() + config_.accel_bias_y_mps2 + config_.accel_noise_mps2 * rng_.gaussian();
+  return s;
+}
+
+}  // namespace slamprep::sim

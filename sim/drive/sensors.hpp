@@ -1,0 +1,56 @@
+#pragma once
+// Proprioceptive sensors of the simulated robot: wheel encoders and a planar IMU. Each has its
+// own rate and its own seeded noise stream (sim/drive/rng.hpp).
+
+#include <Eigen/Core>
+#include <cstdint>
+
+#include "core/samples.hpp"
+#include "sim/drive/rng.hpp"
+
+namespace slamprep::sim {
+
+struct EncoderConfig {
+  int ticks_per_revolution = 4096;  ///< quantisation: ticks per wheel revolution
+  double rate_hz = 100.0;           ///< sampling rate
+};
+
+struct ImuConfig {
+  double rate_hz = 200.0;            ///< sampling rate
+  double gyro_noise_radps = 0.002;   ///< white noise sigma per sample
+  double gyro_bias_radps = 0.001;    ///< constant bias added to every sample
+  double accel_noise_mps2 = 0.02;    ///< white noise sigma per sample and axis
+  double accel_bias_x_mps2 = 0.02;   ///< constant bias, base x
+  double accel_bias_y_mps2 = -0.01;  ///< constant bias, base y
+};
+
+/// Cumulative ticks of a wheel turned by wheel_angle_rad since start: an incremental encoder
+/// counts whole ticks, so ticks = floor(angle / (2 pi / N)) (also for negative angles).
+std::int64_t quantizeTicks(double wheel_angle_rad, int ticks_per_revolution);
+
+/// Sample times k / rate_hz (k = 0, 1, ...), computed by division so they never drift.
+class SampleClock {
+ public:
+  explicit SampleClock(double rate_hz) : rate_hz_(rate_hz) {}
+  double next_s() const { return static_cast<double>(k_) / rate_hz_; }
+  void advance() { ++k_; }
+
+ private:
+  double rate_hz_;
+  std::int64_t k_ = 0;
+};
+
+/// Planar IMU at the base origin: gyro z and the horizontal specific force in the base frame,
+/// each with a constant bias and white Gaussian noise from its own seeded stream.
+class Imu {
+ public:
+  Imu(const ImuConfig& config, std::uint64_t seed) : config_(config), rng_(seed) {}
+
+  ImuSample sample(double stamp_s, double yaw_rate_radps, const Eigen::Vector2d& accel_base_mps2);
+
+ private:
+  ImuConfig config_;
+  SplitMix64 rng_;
+};
+
+}  // namespace slamprep::sim

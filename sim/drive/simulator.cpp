@@ -1,0 +1,378 @@
+#include "sim/drive/simulator.hpp"
+
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/odometry.hpp"
+#include "sim/drive/controller.hpp"
+#include "sim/drive/rng.hpp"
+#include "sim/drive/sensors.hpp"
+#include "sim/physics/lidar.hpp"
+#include "sim/physics/robot.hpp"
+
+namespace slamprep::sim {
+namespace {
+
+/// The robot's true state at the end of a physics step.
+struct StepState {
+  double t_s = 0.0;
+  SE2 T_world_base;
+  Eigen::Vector2d wheel_angle_rad = Eigen::Vector2d::Zero();  ///< (left, right) since start
+  Eigen::Vector2d v_world_mps = Eigen::Vector2d::Zero();      ///< base origin velocity
+  double yaw_rate_radps = 0.0;
+};
+
+/// The true state between two steps: pose by geodesic interpolation (constant twist over the
+/// step), everything else linearly; acceleration is the step's mean.
+struct Interval {
+  const StepState& a;
+  const StepState& b;
+
+  double fraction(double t_s) const {
+    return b.t_s > a.t_s ? (t_s - a.t_s) / (b.t_s - a.t_s) : 1.0;
+  }
+  SE2 pose(double t_s) const { return interpolate(a.T_world_base, b.T_world_base, fraction(t_s)); }
+  Eigen::Vector2d wheelAngles(double t_s) const {
+    const double f = fraction(t_s);
+    return a.wheel_angle_rad + f * (b.wheel_angle_rad - a.wheel_angle_rad);
+  }
+  double yawRate(double t_s) const {
+    const double f = fraction(t_s);
+    return a.yaw_rate_radps + f * (b.yaw_rate_radps - a.yaw_rate_radps);
+  }
+  Eigen::Vector2d accelWorld() const {
+    return b.t_s > a.t_s ? Eigen::Vector2d((b.v_world_mps - a.v_world_mps) / (b.t_s - a.t_s))
+                         : Eigen::Vector2d::Zero();
+  }
+};
+
+// ---- How the robot moves -----------------------------------------------------------------------
+
+class Motion {
+ public:
+  virtual ~Motion() = default;
+  virtual StepState initial() const = 0;
+  /// Advances from prev to t_s (one physics step) and returns the new true state.
+  virtual StepState step(const StepState& prev, double t_s) = 0;
+};
+
+/// Bullet: the controller's wheel-rate targets go to the motors; the joints give the encoders.
+class PhysicsMotion : public Motion {
+ public:
+  PhysicsMotion(Scene& scene, const Controller& controller, const RobotConfig& config,
+                const SE2& T_world_start)
+      : scene_(scene), controller_(controller), robot_(scene, config, T_world_start) {
+    angle0_ = {robot_.wheelAngleLeft(), robot_.wheelAngleRight()};
+  }
+  StepState initial() const override { return read(0.0); }
+  StepState step(const StepState& prev, double t_s) override {
+    const Eigen::Vector2d target = controller_.wheelRates(t_s);
+    robot_.setWheelRateTargets(target.x(), target.y());
+    scene_.step(t_s - prev.t_s);
+    robot_.update();
+    return read(t_s);
+  }
+
+ private:
+  StepState read(double t_s) const {
+    StepState s;
+    s.t_s = t_s;
+    s.T_world_base = robot_.T_world_base();
+    s.wheel_angle_rad =
+        Eigen::Vector2d(robot_.wheelAngleLeft(), robot_.wheelAngleRight()) - angle0_;
+    s.v_world_mps = robot_.linearVelocity_world();
+    s.yaw_rate_radps = robot_.yawRate();
+    return s;
+  }
+
+  Scene& scene_;
+  const Controller& controller_;
+  Robot robot_;
+  Eigen::Vector2d angle0_ = Eigen::Vector2d::Zero();
+};
+
+/// No physics: the wheels turn exactly as commanded and the base follows the exact arc of the
+/// TRUE geometry over each step (core/odometry.hpp wheelIncrement).
+class KinematicMotion : public Motion {
+ public:
+  KinematicMotion(const Controller& controller, const DiffDriveParams& true_geometry,
+                  const SE2& T_world_start)
+      : controller_(controller), geometry_(true_geometry), start_(T_world_start) {}
+  StepState initial() const override {
+    StepState s;
+    s.T_world_base = start_;
+    return s;
+  }
+  StepState step(const StepState& prev, double t_s) override {
+    const Eigen::Vector2d dphi = controller_.wheelAngleIncrement(prev.t_s, t_s);
+    StepState s;
+    s.t_s = t_s;
+    s.wheel_angle_rad = prev.wheel_angle_rad + dphi;
+    s.T_world_base = prev.T_world_base * wheelIncrement(geometry_, dphi.x(), dphi.y());
+    const Eigen::Vector2d rates = controller_.wheelRates(t_s);
+    const Eigen::Vector2d twist = geometry_.twist(rates.x(), rates.y());
+    s.v_world_mps = s.T_world_base.rotation() * Eigen::Vector2d(twist.x(), 0.0);
+    s.yaw_rate_radps = twist.y();
+    return s;
+  }
+
+ private:
+  const Controller& controller_;
+  DiffDriveParams geometry_;
+  SE2 start_;
+};
+
+// ---- Sensors, streamed step by step ---------------------------------------------------------
+
+/// The rotating lidar: every beam whose time falls into a step is cast from the pose
+/// interpolated to that time; the ground-truth undistorted point uses the measured range.
+class LidarStream {
+ public:
+  LidarStream(const LidarConfig& config, std::uint64_t seed, std::vector<ScanRecord>& out)
+      : lidar_(config, seed), T_base_lidar_(config.T_base_lidar), out_(out) {
+    startScan();
+  }
+
+  /// Casts all beams with t_prev < t <= min(t_cur, t_end) (t = 0 included on the first call).
+  void advance(const Scene& scene, const Interval& step, double t_end_s) {
+    const double t_limit = std::min(step.b.t_s, t_end_s);
+    for (double t = nextTime(); t <= t_limit; t = nextTime()) {
+      castBeam(scene, step.pose(t) * T_base_lidar_);
+    }
+  }
+
+ private:
+  double nextTime() const { return current_.scan.beamTime(beam_); }
+
+  void startScan() {
+    current_ = ScanRecord{};
+    current_.scan = lidar_.header(static_cast<double>(scan_index_) / lidar_.config().rate_hz);
+    current_.p_ref_true.assign(current_.scan.size(), std::nullopt);
+    beam_ = 0;
+  }
+
+  void castBeam(const Scene& scene, const SE2& T_world_lidar) {
+    if (beam_ == 0) {
+      T_lidar0_world_ = T_world_lidar.inverse();
+      current_.T_world_base_true = T_world_lidar * T_base_lidar_.inverse();
+    }
+    const double range_m = lidar_.measure(scene, T_world_lidar, beam_).range_m;
+    current_.scan.ranges_m[beam_] = range_m;
+    if (std::isfinite(range_m)) {
+      const double angle = current_.scan.beamAngle(beam_);
+      const Eigen::Vector2d p_lidar(range_m * std::cos(angle), range_m * std::sin(angle));
+      // p_ref = T_W_L(t_stamp)^-1 * T_W_L(t_i) * p_L_i (DESIGN.md "What the simulator's truth
+      // means")
+      current_.p_ref_true[beam_] = T_lidar0_world_ * (T_world_lidar * p_lidar);
+    }
+    if (++beam_ == current_.scan.size()) {
+      out_.push_back(std::move(current_));
+      ++scan_index_;
+      startScan();
+    }
+  }
+
+  Lidar lidar_;
+  SE2 T_base_lidar_;
+  std::vector<ScanRecord>& out_;
+  std::int64_t scan_index_ = 0;
+  ScanRecord current_;
+  std::size_t beam_ = 0;
+  SE2 T_lidar0_world_;
+};
+
+class EncoderStream {
+ public:
+  EncoderStream(const EncoderConfig& config, EncoderLog& out)
+      : ticks_(config.ticks_per_revolution), clock_(config.rate_hz), out_(out) {}
+
+  void advance(const Interval& step, double t_end_s) {
+    const double t_limit = std::min(step.b.t_s, t_end_s);
+    for (double t = clock_.next_s(); t <= t_limit; clock_.advance(), t = clock_.next_s()) {
+      const Eigen::Vector2d angle = step.wheelAngles(t);
+      out_.push_back({t, quantizeTicks(angle.x(), ticks_), quantizeTicks(angle.y(), ticks_)});
+    }
+  }
+
+ private:
+  int ticks_;
+  SampleClock clock_;
+  EncoderLog& out_;
+};
+
+class ImuStream {
+ public:
+  ImuStream(const ImuConfig& config, std::uint64_t seed, ImuLog& out)
+      : imu_(config, seed), clock_(config.rate_hz), out_(out) {}
+
+  void advance(const Interval& step, double t_end_s) {
+    const double t_limit = std::min(step.b.t_s, t_end_s);
+    for (double t = clock_.next_s(); t <= t_limit; clock_.advance(), t = clock_.next_s()) {
+      // Horizontal specific force in the base frame (gravity is vertical): R^T a_world.
+      const Eigen::Vector2d accel_base = step.pose(t).rotation().transpose() * step.accelWorld();
+      out_.push_back(imu_.sample(t, step.yawRate(t), accel_base));
+    }
+  }
+
+ private:
+  Imu imu_;
+  SampleClock clock_;
+  ImuLog& out_;
+};
+
+std::string formatPoint(const Eigen::Vector2d& p) {
+  std::ostringstream out;
+  out.precision(3);
+  out << std::fixed << "(" << p.x() << ", " << p.y() << ")";
+  return out.str();
+}
+
+}  // namespace
+
+void checkPathInWorld(const Scene& scene, const Scenario& scenario, const SimConfig& config,
+                      const SE2& T_world_start, double duration_s) {
+  const double radius_m = footprintRadius(config.robot) + config.path_margin_m;
+  const std::string world = scene.world().source.string();
+  if (scene.collides(T_world_start.translation(), radius_m)) {
+    throw InputError(world + ": start",
+                     "the robot's footprint (radius " + std::to_string(radius_m) +
+                         " m with margin) overlaps static geometry at the start pose " +
+                         formatPoint(T_world_start.translation()));
+  }
+  const Controller controller(scenario.profile, config.nominalGeometry());
+  constexpr double kCheckStep_s = 0.01;
+  SE2 T_world_base = T_world_start;
+  const auto steps = static_cast<std::int64_t>(std::ceil(duration_s / kCheckStep_s));
+  for (std::int64_t k = 1; k <= steps; ++k) {
+    const double t0 = (k - 1) * kCheckStep_s, t1 = std::min(duration_s, k * kCheckStep_s);
+    const Eigen::Vector2d dphi = controller.wheelAngleIncrement(t0, t1);
+    T_world_base = T_world_base * wheelIncrement(config.robot.geometry, dphi.x(), dphi.y());
+    if (!scene.collides(T_world_base.translation(), radius_m)) continue;
+    const ProfileSegment* segment = scenario.profile.segmentAt(t1);
+    std::ostringstream what;
+    what.precision(2);
+    what << std::fixed << "the robot would leave the free space of " << world << " at t = " << t1
+         << " s at " << formatPoint(T_world_base.translation()) << " (footprint radius + margin "
+         << radius_m << " m): shorten the scenario or pick another world";
+    throw InputError(segment != nullptr ? segment->where : scenario.source.string(), what.str());
+  }
+}
+
+SimResult simulate(const SimConfig& config, const ProgressCallback& progress) {
+  validate(config, "config");
+  const World world = loadWorld(resolveDataPath(config.world));
+  const Scenario scenario = loadScenario(resolveDataPath(config.scenario));
+  return simulate(config, world, scenario, progress);
+}
+
+SimResult simulate(const SimConfig& config, const World& world, const Scenario& scenario,
+                   const ProgressCallback& progress) {
+  validate(config, "config");
+  const double duration_s =
+      config.duration_s > 0.0 ? config.duration_s : scenario.profile.duration_s();
+  Scene scene(world);
+  checkPathInWorld(scene, scenario, config, world.T_world_start, duration_s);
+
+  Dataset data;
+  DatasetInfo& info = data.info;
+  info.world = config.world;
+  info.scenario = config.scenario;
+  info.seed = config.seed;
+  info.true_geometry = config.robot.geometry;
+  info.nominal_geometry = config.nominalGeometry();
+  info.T_base_lidar = config.lidar.T_base_lidar;
+  info.ticks_per_revolution = config.encoders.ticks_per_revolution;
+  info.config = toJson(config);
+
+  const Controller controller(scenario.profile, info.nominal_geometry);
+  std::unique_ptr<Motion> motion;
+  if (config.mode == SimMode::physics) {
+    motion = std::make_unique<PhysicsMotion>(scene, controller, config.robot, world.T_world_start);
+  } else {
+    motion =
+        std::make_unique<KinematicMotion>(controller, config.robot.geometry, world.T_world_start);
+  }
+  LidarStream lidar(config.lidar, streamSeed(config.seed, RngStream::lidar), data.scans);
+  EncoderStream encoders(config.encoders, data.encoders);
+  ImuStream imu(config.imu, streamSeed(config.seed, RngStream::imu), data.imu);
+
+  StepState prev = motion->initial();
+  data.groundtruth.push_back(prev.t_s, prev.T_world_base);
+  auto sense = [&](const Interval& step) {
+    encoders.advance(step, duration_s);
+    imu.advance(step, duration_s);
+    lidar.advance(scene, step, duration_s);
+  };
+  sense(Interval{prev, prev});  // samples at t = 0
+
+  const auto steps =
+      static_cast<std::int64_t>(std::ceil(duration_s * config.physics_rate_hz - 1e-9));
+  const std::int64_t report_every = std::max<std::int64_t>(1, steps / 200);
+  for (std::int64_t n = 1; n <= steps; ++n) {
+    const StepState cur = motion->step(prev, static_cast<double>(n) / config.physics_rate_hz);
+    data.groundtruth.push_back(cur.t_s, cur.T_world_base);
+    sense(Interval{prev, cur});
+    prev = cur;
+    if (progress && (n % report_every == 0 || n == steps))
+      progress(std::min(cur.t_s, duration_s), duration_s);
+  }
+
+  data.odom_nominal =
+      integrateEncoders(data.encoders, info.nominal_geometry, info.ticks_per_revolution);
+  for (ScanRecord& record : data.scans) {
+    record.T_odom_base_nominal = data.odom_nominal.at(record.scan.stamp_s);
+  }
+  SimResult result{std::move(data), {}};
+  result.summary = summarize(result.dataset, config.mode);
+  return result;
+}
+
+DriftStats odometryDrift(const PoseSeries& groundtruth, const PoseSeries& odometry) {
+  DriftStats drift;
+  if (odometry.empty() || groundtruth.empty()) return drift;
+  const auto gt0 = groundtruth.at(odometry.frontStamp());
+  if (!gt0) return drift;
+  const SE2 T_odom0 = odometry[0].value;
+  for (const auto& sample : odometry.samples()) {
+    const auto gt = groundtruth.at(sample.stamp_s);
+    if (!gt) break;
+    const SE2 truth = between(*gt0, *gt);
+    const SE2 odom = between(T_odom0, sample.value);
+    const double error_m = (odom.translation() - truth.translation()).norm();
+    drift.max_position_m = std::max(drift.max_position_m, error_m);
+    drift.final_position_m = error_m;
+    drift.final_heading_rad = normalizeAngle(odom.yaw - truth.yaw);
+  }
+  return drift;
+}
+
+SimSummary summarize(const Dataset& dataset, SimMode mode) {
+  SimSummary s;
+  s.mode = mode;
+  const PoseSeries& gt = dataset.groundtruth;
+  if (!gt.empty()) {
+    s.duration_s = gt.backStamp() - gt.frontStamp();
+    s.physics_steps = gt.size() - 1;
+  }
+  for (std::size_t k = 1; k < gt.size(); ++k) {
+    s.distance_m += (gt[k].value.translation() - gt[k - 1].value.translation()).norm();
+    s.rotation_rad += std::abs(normalizeAngle(gt[k].value.yaw - gt[k - 1].value.yaw));
+  }
+  s.scans = dataset.scans.size();
+  for (const ScanRecord& record : dataset.scans) {
+    s.beams += record.scan.size();
+    for (std::size_t i = 0; i < record.scan.size(); ++i) s.returns += record.scan.valid(i) ? 1 : 0;
+  }
+  const int ticks = dataset.info.ticks_per_revolution;
+  s.drift_nominal =
+      odometryDrift(gt, integrateEncoders(dataset.encoders, dataset.info.nominal_geometry, ticks));
+  if (dataset.info.true_geometry) {
+    s.drift_true =
+        odometryDrift(gt, integrateEncoders(dataset.encoders, *dataset.info.true_geometry, ticks));
+  }
+  return s;
+}
+
+}  // namespace slamprep::sim
