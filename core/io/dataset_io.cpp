@@ -1,0 +1,144 @@
+#include "core/io/dataset_io.hpp"
+
+#include <fcntl.h>
+#include <stdio.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <system_error>
+
+#include "core/dataset.hpp"
+#include "core/error.hpp"
+#include "core/io/csv_logs.hpp"
+#include "core/io/dataset_json.hpp"
+#include "core/io/scan_jsonl.hpp"
+#include "core/io/text_io.hpp"
+#include "core/io/tum.hpp"
+
+namespace slamprep {
+namespace io {
+namespace {
+
+namespace fs = std::filesystem;
+
+// "out/run1/" and "out/run1" name the same directory.
+fs::path withoutTrailingSlash(const fs::path& dir) {
+  fs::path p = dir.lexically_normal();
+  return p.has_filename() ? p : p.parent_path();
+}
+
+[[noreturn]] void systemError(const fs::path& where, const std::string& what) {
+  throw InputError(where.string(), what + ": " + std::strerror(errno));
+}
+
+void syncDirectory(const fs::path& dir) {
+  const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;  // best effort: some filesystems refuse to open directories
+  ::fsync(fd);
+  ::close(fd);
+}
+
+bool replaceable(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return false;
+  return fs::is_empty(dir, ec) || fs::exists(dir / kDatasetJson, ec);
+}
+
+// Moves the complete `partial` onto `dir`; the old dataset (if any) is deleted afterwards.
+void publish(const fs::path& partial, const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(dir, ec))) {
+    if (::rename(partial.c_str(), dir.c_str()) != 0) systemError(dir, "cannot rename into place");
+    return;
+  }
+  if (!replaceable(dir))
+    throw InputError(dir.string(),
+                     "exists and is not a dataset directory (no dataset.json); refusing to "
+                     "replace it");
+  if (::renameat2(AT_FDCWD, partial.c_str(), AT_FDCWD, dir.c_str(), RENAME_EXCHANGE) == 0) {
+    fs::remove_all(partial, ec);  // now holds the old dataset
+    return;
+  }
+  // No RENAME_EXCHANGE on this filesystem: move the old one aside, then the new one in. `dir` is
+  // briefly absent, never half written.
+  const fs::path old = dir.string() + ".old-" + std::to_string(::getpid());
+  fs::remove_all(old, ec);
+  if (::rename(dir.c_str(), old.c_str()) != 0) systemError(dir, "cannot move the old dataset");
+  if (::rename(partial.c_str(), dir.c_str()) != 0) {
+    const int saved = errno;
+    ::rename(old.c_str(), dir.c_str());
+    errno = saved;
+    systemError(dir, "cannot rename into place");
+  }
+  fs::remove_all(old, ec);
+}
+
+}  // namespace
+
+fs::path partialDirectory(const fs::path& dir) {
+  const fs::path target = withoutTrailingSlash(dir);
+  return target.string() + ".partial-" + std::to_string(::getpid());
+}
+
+void publishDirectoryAtomically(const fs::path& dir,
+                                const std::function<void(const fs::path&)>& fill) {
+  const fs::path target = withoutTrailingSlash(dir);
+  const fs::path partial = partialDirectory(target);
+  std::error_code ec;
+  if (target.has_parent_path()) {
+    fs::create_directories(target.parent_path(), ec);
+    if (ec) throw InputError(target.parent_path().string(), "cannot create: " + ec.message());
+  }
+  fs::remove_all(partial, ec);  // a stale one from a crashed process with our pid
+  if (!fs::create_directory(partial, ec))
+    throw InputError(partial.string(), "cannot create: " + ec.message());
+  try {
+    fill(partial);
+    syncDirectory(partial);
+    publish(partial, target);
+    syncDirectory(target.parent_path());
+  } catch (...) {
+    fs::remove_all(partial, ec);
+    throw;
+  }
+}
+
+}  // namespace io
+
+void writeDataset(const std::filesystem::path& dir, const Dataset& dataset) {
+  io::publishDirectoryAtomically(dir, [&](const std::filesystem::path& partial) {
+    // Errors name the final path: that is the file the user asked for.
+    const std::filesystem::path target = dir;
+    auto name = [&](const char* file) { return (target / file).string(); };
+    io::writeTextFile(partial / io::kDatasetJson,
+                      io::formatDatasetInfo(dataset.info, name(io::kDatasetJson)));
+    io::writeTextFile(partial / io::kGroundTruthTum,
+                      io::formatTum(dataset.groundtruth, name(io::kGroundTruthTum)));
+    io::writeTextFile(partial / io::kOdomNominalTum,
+                      io::formatTum(dataset.odom_nominal, name(io::kOdomNominalTum)));
+    io::writeTextFile(partial / io::kEncodersCsv,
+                      io::formatEncoders(dataset.encoders, name(io::kEncodersCsv)));
+    io::writeTextFile(partial / io::kImuCsv, io::formatImu(dataset.imu, name(io::kImuCsv)));
+    io::writeTextFile(partial / io::kScansJsonl,
+                      io::formatScans(dataset.scans, name(io::kScansJsonl)));
+  });
+}
+
+Dataset readDataset(const std::filesystem::path& dir) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    throw InputError(dir.string(), "not a dataset directory (missing or not a directory)");
+  auto text = [&](const char* file) { return io::readTextFile(dir / file); };
+  auto name = [&](const char* file) { return (dir / file).string(); };
+  Dataset d;
+  d.info = io::parseDatasetInfo(text(io::kDatasetJson), name(io::kDatasetJson));
+  d.groundtruth = io::parseTum(text(io::kGroundTruthTum), name(io::kGroundTruthTum));
+  d.odom_nominal = io::parseTum(text(io::kOdomNominalTum), name(io::kOdomNominalTum));
+  d.encoders = io::parseEncoders(text(io::kEncodersCsv), name(io::kEncodersCsv));
+  d.imu = io::parseImu(text(io::kImuCsv), name(io::kImuCsv));
+  d.scans = io::parseScans(text(io::kScansJsonl), name(io::kScansJsonl));
+  return d;
+}
+
+}  // namespace slamprep
