@@ -1,28 +1,66 @@
 #include "sim/physics/lidar.hpp"
 
+#include <cassert>
 #include <cmath>
+#include <limits>
 
 namespace slamprep::sim {
 
 Lidar::Lidar(const LidarConfig& config, std::uint64_t seed) : config_(config), rng_(seed) {
+  assert(config.rate_hz > 0 && config.beams_per_revolution > 0);
+  assert(config.fov_rad > 0 && config.fov_rad <= 2 * std::numbers::pi + 1e-12);
+  assert(config.range_min_m >= 0 && config.range_max_m > config.range_min_m);
   beams_per_scan_ = static_cast<std::size_t>(
       std::lround(config.beams_per_revolution * config.fov_rad / (2 * std::numbers::pi)));
+  // Beams are evenly spaced over the revolution; the scan is centred on the lidar's x axis and
+  // starts at -fov/2 (counter-clockwise) or +fov/2 (clockwise).
+  const double step = 2 * std::numbers::pi / config.beams_per_revolution;
+  angle_increment_rad_ = config.clockwise ? -step : step;
+  angle_min_rad_ = config.clockwise ? config.fov_rad / 2 : -config.fov_rad / 2;
 }
 
 LaserScan Lidar::header(double stamp_s) const {
   LaserScan scan;
   scan.stamp_s = stamp_s;
+  scan.angle_min_rad = angle_min_rad_;
+  scan.angle_increment_rad = angle_increment_rad_;
+  scan.time_increment_s = 1.0 / (config_.rate_hz * config_.beams_per_revolution);
+  scan.scan_time_s = 1.0 / config_.rate_hz;
+  scan.range_min_m = config_.range_min_m;
+  scan.range_max_m = config_.range_max_m;
   scan.ranges_m.assign(beams_per_scan_, std::numeric_limits<double>::infinity());
   return scan;
 }
 
-Lidar::Beam Lidar::measure(const Scene&, const SE2&, std::size_t) {
-  const double inf = std::numeric_limits<double>::infinity();
-  return {inf, inf};
+Lidar::Beam Lidar::measure(const Scene& scene, const SE2& T_world_lidar, std::size_t i) {
+  assert(i < beams_per_scan_);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  // One draw per beam, hit or not, so beam i's noise depends only on the seed and i.
+  const double noise_m = config_.range_noise_m * gaussian();
+  const std::optional<double> hit =
+      scene.castRay(T_world_lidar.translation(), T_world_lidar.yaw + beamAngle(i), config_.height_m,
+                    config_.range_max_m);
+  if (!hit) return {kInf, kInf};
+  const double measured_m = *hit + noise_m;
+  const bool in_limits = measured_m >= config_.range_min_m && measured_m <= config_.range_max_m;
+  return {in_limits ? measured_m : kInf, *hit};
 }
 
+/// Standard normal by the Box-Muller transform on the 53-bit uniforms of mt19937_64, so the
+/// numbers are the same on every standard library (std::normal_distribution is not).
 double Lidar::gaussian() {
-  return 0.0;
+  if (has_spare_) {
+    has_spare_ = false;
+    return spare_gaussian_;
+  }
+  constexpr double kTwoPow53 = 9007199254740992.0;
+  const double u1 = (static_cast<double>(rng_() >> 11) + 1.0) / (kTwoPow53 + 1.0);  // (0, 1]
+  const double u2 = static_cast<double>(rng_() >> 11) / kTwoPow53;                  // [0, 1)
+  const double radius = std::sqrt(-2.0 * std::log(u1));
+  const double angle = 2 * std::numbers::pi * u2;
+  spare_gaussian_ = radius * std::sin(angle);
+  has_spare_ = true;
+  return radius * std::cos(angle);
 }
 
 }  // namespace slamprep::sim

@@ -43,6 +43,10 @@ class Robot {
   double wheelAngleRight() const;  // positive = rolls the robot forward; unwrapped
   Eigen::Vector2d linearVelocity_world() const;  // of the base origin, m/s
   double yawRate() const;                        // rad/s
+  /// Angle between the chassis' z axis and the world's z axis (rad): 0 when level.
+  double tilt_rad() const;
+  /// Height of the base origin above the floor (m): 0 when the wheels rest on it.
+  double baseHeight_m() const;
   /// Measured wheel rates relative to the chassis (rad/s), positive forward.
   double wheelRateLeft() const;
   double wheelRateRight() const;

@@ -34,6 +34,7 @@ class Scene {
   std::optional<double> castRay(const Eigen::Vector2d& origin_m, double yaw_rad, double height_m,
                                 double max_range_m) const;
   /// True when a vertical disc of radius_m centred at p_world_m overlaps static geometry.
+  /// Exact 2D test against the footprints (an obstacle of any height counts).
   bool collides(const Eigen::Vector2d& p_world_m, double radius_m) const;
 
   const World& world() const;

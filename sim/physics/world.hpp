@@ -52,6 +52,10 @@ struct World {
 /// Loads a world file. Throws InputError("file:line: key", "...") on bad input and unknown keys.
 World loadWorld(const std::filesystem::path& file);
 
+/// Corners of a wall's or box's footprint, counter-clockwise, in the world frame.
+std::vector<Eigen::Vector2d> footprint(const Wall& wall);
+std::vector<Eigen::Vector2d> footprint(const Box& box);
+
 /// 2D outline of all geometry (for plots): closed polylines in the world frame (first vertex
 /// repeated at the end). Cylinders are drawn as 48-gons.
 std::vector<std::vector<Eigen::Vector2d>> outline(const World& world);
