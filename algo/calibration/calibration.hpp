@@ -1,0 +1,10 @@
+#pragma once
+// Odometry calibration (issue 3): every method, one include.
+
+#include "algo/calibration/calibration_result.hpp"
+#include "algo/calibration/ceres_refine.hpp"
+#include "algo/calibration/direct_linear.hpp"
+#include "algo/calibration/interval.hpp"
+#include "algo/calibration/joint_censi.hpp"
+#include "algo/calibration/model_based.hpp"
+#include "algo/calibration/umbmark.hpp"

@@ -1,0 +1,135 @@
+#include "algo/calibration/calibration_result.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace slamprep::algo {
+namespace {
+
+std::string formatJ(double J21, double J22) {
+  std::ostringstream s;
+  s.precision(4);
+  s << "J21 = " << J21 << ", J22 = " << J22;
+  return s.str();
+}
+
+}  // namespace
+
+Eigen::VectorXd CalibrationResult::sigma() const {
+  const int n = estimates_mount ? 6 : 3;
+  if (covariance.rows() != n || covariance.cols() != n) return Eigen::VectorXd::Zero(n);
+  return covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+}
+
+double equilibratedConditionNumber(const Eigen::MatrixXd& A) {
+  const double inf = std::numeric_limits<double>::infinity();
+  if (A.rows() < A.cols() || A.cols() == 0) return inf;
+  Eigen::MatrixXd scaled = A;
+  for (Eigen::Index j = 0; j < A.cols(); ++j) {
+    const double norm = A.col(j).norm();
+    if (!(norm > 0.0) || !std::isfinite(norm)) return inf;
+    scaled.col(j) /= norm;
+  }
+  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(scaled).singularValues();
+  const double smin = s(s.size() - 1);
+  return smin > s(0) * 1e-15 ? s(0) / smin : inf;
+}
+
+std::string describeDegenerateDriving(const std::vector<CalibrationInterval>& intervals) {
+  // With roughly equal radii, sum dphi_L + sum dphi_R measures driving and the difference turning.
+  bool all_straight = true, all_spin = true;
+  for (const CalibrationInterval& interval : intervals) {
+    const double l = interval.sumLeft_rad(), r = interval.sumRight_rad();
+    const double scale = std::abs(l) + std::abs(r);
+    if (std::abs(r - l) > 0.05 * scale) all_straight = false;
+    if (std::abs(r + l) > 0.05 * scale) all_spin = false;
+  }
+  if (all_straight)
+    return "straight-line-only driving: the robot never turned, so the wheel base and the "
+           "radius ratio cannot be determined; add turns and spins";
+  if (all_spin)
+    return "spin-only driving: the robot never translated, so the wheel radii cannot be "
+           "separated from the wheel base; add straight or curved driving";
+  return "the wheel rotations of all intervals are (nearly) proportional (a single curvature): "
+         "drive at least two different curvatures, e.g. a figure eight plus spins";
+}
+
+RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, double max_condition) {
+  RotationFit fit;
+  const auto n = static_cast<Eigen::Index>(intervals.size());
+  Eigen::MatrixXd A(n, 2);
+  Eigen::VectorXd theta(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    A(k, 0) = intervals[k].sumLeft_rad();
+    A(k, 1) = intervals[k].sumRight_rad();
+    theta(k) = intervals[k].T_lidarStart_lidarEnd.yaw;
+  }
+  fit.condition_number = equilibratedConditionNumber(A);
+  if (!(fit.condition_number <= max_condition)) {
+    fit.reason = "rotation step ill-conditioned (condition number " +
+                 (std::isfinite(fit.condition_number) ? std::to_string(fit.condition_number)
+                                                      : std::string("inf")) +
+                 "): " + describeDegenerateDriving(intervals);
+    return fit;
+  }
+  const Eigen::Vector2d J = A.colPivHouseholderQr().solve(theta);  // normal eqs. without A^T A
+  fit.J21 = J.x();
+  fit.J22 = J.y();
+  const Eigen::VectorXd res = theta - A * J;
+  fit.residuals_rad.assign(res.data(), res.data() + n);
+  const double dof = static_cast<double>(n - 2);
+  fit.sigma_theta_rad = dof > 0 ? std::sqrt(res.squaredNorm() / dof) : 0.0;
+  fit.covariance = fit.sigma_theta_rad * fit.sigma_theta_rad * (A.transpose() * A).inverse();
+  // r_L = -J21 b and r_R = J22 b must both be positive for b > 0.
+  if (fit.J21 > 0.0 && fit.J22 < 0.0) {
+    fit.reason = "left/right encoder channels swapped: " + formatJ(fit.J21, fit.J22) +
+                 " gives negative radii (r_L = -J21 b, r_R = J22 b); swap the channels";
+    return fit;
+  }
+  if (!(fit.J21 < 0.0 && fit.J22 > 0.0)) {
+    fit.reason = "negative wheel radius: " + formatJ(fit.J21, fit.J22) +
+                 " (r_L = -J21 b, r_R = J22 b); one encoder counts backwards";
+    return fit;
+  }
+  fit.ok = true;
+  return fit;
+}
+
+UnitOdometry unitOdometry(const CalibrationInterval& interval, double J21, double J22) {
+  UnitOdometry out;
+  for (const EncoderStep& step : interval.steps) {
+    const double dth = J21 * step.dphi_left_rad + J22 * step.dphi_right_rad;
+    const double ds_per_b = 0.5 * (-J21 * step.dphi_left_rad + J22 * step.dphi_right_rad);
+    const double c = std::cos(out.o_th), s = std::sin(out.o_th);
+    const Eigen::Vector2d local(ds_per_b * sincOf(dth), ds_per_b * coscOf(dth));
+    out.c += Eigen::Vector2d(c * local.x() - s * local.y(), s * local.x() + c * local.y());
+    out.o_th += dth;
+  }
+  return out;
+}
+
+Eigen::MatrixXd twoStageCovariance(const Eigen::Matrix2d& cov1, const Eigen::MatrixXd& H,
+                                   const Eigen::MatrixXd& N, const Eigen::MatrixXd& sumGtF) {
+  const Eigen::Index m = H.rows();
+  const Eigen::MatrixXd H_inv = H.inverse();  // m <= 4, checked well-conditioned by the caller
+  const Eigen::MatrixXd K = -H_inv * sumGtF;
+  Eigen::MatrixXd C(2 + m, 2 + m);
+  C.topLeftCorner(2, 2) = cov1;
+  C.bottomLeftCorner(m, 2) = K * cov1;
+  C.topRightCorner(2, m) = (K * cov1).transpose();
+  C.bottomRightCorner(m, m) = H_inv * N * H_inv + K * cov1 * K.transpose();
+  return C;
+}
+
+Eigen::MatrixXd radiiCovariance(const Eigen::MatrixXd& cov_J, double J21, double J22, double b) {
+  Eigen::MatrixXd D = Eigen::MatrixXd::Identity(cov_J.rows(), cov_J.cols());
+  D(0, 0) = -b;    // dr_L/dJ21
+  D(0, 2) = -J21;  // dr_L/db
+  D(1, 1) = b;     // dr_R/dJ22
+  D(1, 2) = J22;   // dr_R/db
+  return D * cov_J * D.transpose();
+}
+
+}  // namespace slamprep::algo

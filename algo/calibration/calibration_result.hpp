@@ -1,0 +1,85 @@
+#pragma once
+// What every odometry calibration method reports, and the pieces the closed-form methods share.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "algo/calibration/interval.hpp"
+#include "core/diff_drive.hpp"
+#include "core/se2.hpp"
+
+namespace slamprep::algo {
+
+/// The common part of every method's result. When ok is false, `reason` says why and the numbers
+/// are not to be used (they are finite, never NaN).
+struct CalibrationResult {
+  bool ok = false;
+  std::string reason;  ///< why the method refused; empty when ok
+  /// Estimated r_L, r_R, b.
+  DiffDriveParams geometry;
+  /// True when the method estimates the lidar mount (joint, ceres).
+  bool estimates_mount = false;
+  /// Estimated T_base_lidar (identity when not estimated: the lidar is assumed at the centre).
+  SE2 T_base_lidar;
+  /// Covariance of (r_L, r_R, b) or, with the mount, (r_L, r_R, b, l_x, l_y, l_yaw); SI units.
+  Eigen::MatrixXd covariance;
+  /// Condition number of the (column-equilibrated) least-squares problem(s); the worst one.
+  double condition_number = 0.0;
+  int intervals_used = 0;  ///< intervals in the final fit (after trimming)
+  int iterations = 0;      ///< solver iterations or trimming rounds
+  double cost = 0.0;       ///< final sum of squared (weighted) residuals
+
+  /// 1-sigma of each estimated parameter (sqrt of the covariance diagonal), zeros if unknown.
+  Eigen::VectorXd sigma() const;
+};
+
+/// Condition number sigma_max / sigma_min of A after scaling every column to unit norm (units
+/// and scale of the unknowns then do not matter). +inf when a column is zero or rank deficient.
+double equilibratedConditionNumber(const Eigen::MatrixXd& A);
+
+/// Stage 1 of the model-based and joint methods: theta_k = J21 sum dphi_L + J22 sum dphi_R.
+struct RotationFit {
+  bool ok = false;
+  std::string reason;
+  double J21 = 0.0;                                      ///< -r_L / b
+  double J22 = 0.0;                                      ///< r_R / b
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();  ///< of (J21, J22)
+  double sigma_theta_rad = 0.0;       ///< rotation noise estimated from the residuals
+  double condition_number = 0.0;      ///< of the n x 2 design [sum dphi_L, sum dphi_R]
+  std::vector<double> residuals_rad;  ///< measured minus predicted rotation, per interval
+};
+
+/// Least-squares rotation fit (Eq. in DESIGN.md "model-based method", step 1). Refuses (with the
+/// reason naming the kind of driving) when the design is worse conditioned than max_condition,
+/// and detects swapped or sign-flipped encoder channels from the signs of J21 and J22.
+RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, double max_condition);
+
+/// Heading and unit-b translation of an interval given J21, J22: the odometry displacement is
+/// exactly b * c with c = sum_j R(theta_j) (sinc dth_j, cosc dth_j) (-J21 dphi_L + J22 dphi_R)/2
+/// (exact arcs over the encoder steps), and the rotation o_th = sum_j dth_j.
+struct UnitOdometry {
+  Eigen::Vector2d c = Eigen::Vector2d::Zero();
+  double o_th = 0.0;
+};
+UnitOdometry unitOdometry(const CalibrationInterval& interval, double J21, double J22);
+
+/// Names the kind of driving that leaves the wheel rotations of every interval proportional.
+std::string describeDegenerateDriving(const std::vector<CalibrationInterval>& intervals);
+
+/// Covariance of (p1, p2) for a two-stage estimator: p1 = (J21, J22) with covariance cov1, then p2
+/// minimising sum_k |e_k(p2; p1)|^2 with G_k = de_k/dp2, F_k = de_k/dp1. First order:
+///   dp2 = -H^-1 sum_k G_k^T (F_k dp1 + n_k),  H = sum_k G_k^T G_k,
+///   cov(p2) = H^-1 N H^-1 + K cov1 K^T,  N = sum_k G_k^T cov(n_k) G_k,  K = -H^-1 sum G_k^T F_k,
+///   cov(p2, p1) = K cov1  (stage-1 and stage-2 noise are independent: rotation vs translation).
+Eigen::MatrixXd twoStageCovariance(const Eigen::Matrix2d& cov1, const Eigen::MatrixXd& H,
+                                   const Eigen::MatrixXd& N, const Eigen::MatrixXd& sumGtF);
+
+/// Maps a covariance over (J21, J22, b, rest...) to (r_L, r_R, b, rest...) with r_L = -J21 b,
+/// r_R = J22 b (first-order, the Jacobian of that map).
+Eigen::MatrixXd radiiCovariance(const Eigen::MatrixXd& cov_J, double J21, double J22, double b);
+
+/// Smallest number of intervals below which every method refuses.
+inline constexpr int kMinIntervalsAbsolute = 3;
+
+}  // namespace slamprep::algo

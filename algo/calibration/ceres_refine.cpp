@@ -1,0 +1,166 @@
+#include "algo/calibration/ceres_refine.hpp"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+
+namespace slamprep::algo {
+namespace {
+
+// Residual of one interval (Ceres autodiff functor).
+//   o     = integrateStepsShifted(steps; r_L, r_R, b, offset)   exact arcs over the encoder
+//           steps inside the lidar window [t_s, t_e], shifted to encoder time by -offset
+//   pred  = l^-1 * o * l                                        predicted lidar motion
+//   r     = W log(pred^-1 * sm),  W = diag(1/sigma_x, 1/sigma_y, 1/sigma_th)
+// p = (r_L, r_R, b, l_x, l_y, l_th); offset a separate one-element block (constant unless
+// estimated).
+struct IntervalResidual {
+  const CalibrationInterval* interval;
+  Eigen::Vector3d inv_sigma;
+
+  template <typename T>
+  bool operator()(const T* p, const T* offset, T* residual) const {
+    const Pose2<T> o = integrateStepsShifted(interval->steps, p[0], p[1], p[2], offset[0]);
+    const Pose2<T> pred = lidarMotion(o, Pose2<T>{p[3], p[4], p[5]});
+    const SE2& s = interval->T_lidarStart_lidarEnd;
+    const Pose2<T> err = compose(inverse(pred), Pose2<T>{T(s.x), T(s.y), T(s.yaw)});
+    logOf(err, residual);
+    for (int i = 0; i < 3; ++i) residual[i] *= inv_sigma(i);
+    return true;
+  }
+};
+
+void buildProblem(const std::vector<CalibrationInterval>& intervals, const Eigen::Vector3d& sigma,
+                  const CeresParams& params, double* p, double* offset, ceres::Problem& problem) {
+  const Eigen::Vector3d inv_sigma = sigma.cwiseInverse();
+  for (const CalibrationInterval& interval : intervals) {
+    auto* cost = new ceres::AutoDiffCostFunction<IntervalResidual, 3, 6, 1>(
+        new IntervalResidual{&interval, inv_sigma});
+    problem.AddResidualBlock(cost, new ceres::HuberLoss(params.huber_sigmas), p, offset);
+  }
+  if (!params.estimate_time_offset) problem.SetParameterBlockConstant(offset);
+}
+
+// Unrobustified residual noise per axis, with 3n - m degrees of freedom spread over 3 axes.
+Eigen::Vector3d residualSigma(ceres::Problem& problem, const Eigen::Vector3d& sigma, int n, int m) {
+  ceres::Problem::EvaluateOptions options;
+  options.apply_loss_function = false;
+  std::vector<double> residuals;
+  problem.Evaluate(options, nullptr, &residuals, nullptr, nullptr);
+  Eigen::Vector3d sq = Eigen::Vector3d::Zero();
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < 3; ++i) sq(i) += std::pow(residuals[3 * k + i] * sigma(i), 2);
+  const double dof = std::max(1.0, (3.0 * n - m) / 3.0);
+  return (sq / dof).cwiseSqrt();
+}
+
+double jacobianCondition(ceres::Problem& problem, std::vector<double*> blocks) {
+  ceres::Problem::EvaluateOptions options;
+  options.apply_loss_function = false;
+  options.parameter_blocks = std::move(blocks);
+  ceres::CRSMatrix crs;
+  problem.Evaluate(options, nullptr, nullptr, nullptr, &crs);
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int r = 0; r < crs.num_rows; ++r)
+    for (int k = crs.rows[r]; k < crs.rows[r + 1]; ++k) J(r, crs.cols[k]) = crs.values[k];
+  return equilibratedConditionNumber(J);
+}
+
+}  // namespace
+
+CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
+                           const CeresParams& params) {
+  return calibrateCeres(intervals, calibrateJoint(intervals, params.start), params);
+}
+
+CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
+                           const JointResult& start, const CeresParams& params) {
+  CeresResult result;
+  result.estimates_mount = true;
+  if (!start.ok) {
+    result.reason = "closed-form start (joint) refused: " + start.reason;
+    result.condition_number = start.condition_number;
+    return result;
+  }
+  const int n = static_cast<int>(intervals.size());
+  const int m = params.estimate_time_offset ? 7 : 6;
+  double p[6] = {start.geometry.radius_left_m, start.geometry.radius_right_m,
+                 start.geometry.wheel_base_m,  start.T_base_lidar.x,
+                 start.T_base_lidar.y,         start.T_base_lidar.yaw};
+  double offset = 0.0;
+  const double sigma_t =
+      std::sqrt(0.5 * (start.sigma_x_m * start.sigma_x_m + start.sigma_y_m * start.sigma_y_m));
+  Eigen::Vector3d sigma(sigma_t, sigma_t, start.sigma_theta_rad);
+  sigma = sigma.cwiseMax(params.min_sigma);
+
+  // Two passes: whiten with the closed form's noise estimate, then with the refined residuals'.
+  ceres::Solver::Summary summary;
+  for (int pass = 0; pass < 2; ++pass) {
+    ceres::Problem problem;
+    buildProblem(intervals, sigma, params, p, &offset, problem);
+    ceres::Solver::Options options;
+    options.linear_solver_type = ceres::DENSE_QR;
+    options.max_num_iterations = params.max_iterations;
+    options.function_tolerance = 1e-14;
+    options.gradient_tolerance = 1e-14;
+    options.parameter_tolerance = 1e-14;
+    options.num_threads = 1;
+    ceres::Solve(options, &problem, &summary);
+    result.iterations += static_cast<int>(summary.iterations.size());
+    const Eigen::Vector3d refined = residualSigma(problem, sigma, n, m).cwiseMax(params.min_sigma);
+    if (pass == 0) {
+      sigma = refined;
+      continue;
+    }
+    result.sigma_residual = refined;
+    result.termination = ceres::TerminationTypeToString(summary.termination_type);
+    result.cost = 2.0 * summary.final_cost;
+    std::vector<double*> blocks = {p};
+    if (params.estimate_time_offset) blocks.push_back(&offset);
+    result.condition_number = jacobianCondition(problem, blocks);
+    if (summary.termination_type != ceres::CONVERGENCE) {
+      result.reason = "Ceres did not converge: " + summary.BriefReport();
+      return result;
+    }
+    if (!(result.condition_number <= params.max_condition_number)) {
+      result.reason = "parameters not identifiable (condition number " +
+                      std::to_string(result.condition_number) + ")" +
+                      (params.estimate_time_offset
+                           ? ": the time offset needs wheel rates that change across interval "
+                             "boundaries (mean-rate records cannot determine it)"
+                           : "");
+      return result;
+    }
+    ceres::Covariance::Options cov_options;
+    cov_options.algorithm_type = ceres::DENSE_SVD;
+    cov_options.num_threads = 1;
+    ceres::Covariance covariance(cov_options);
+    std::vector<std::pair<const double*, const double*>> pairs = {{p, p}};
+    if (params.estimate_time_offset) pairs.push_back({&offset, &offset});
+    if (!covariance.Compute(pairs, &problem)) {
+      result.reason = "covariance rank deficient: parameters not identifiable from these intervals";
+      return result;
+    }
+    Eigen::Matrix<double, 6, 6, Eigen::RowMajor> cov;
+    covariance.GetCovarianceBlock(p, p, cov.data());
+    result.covariance = cov;
+    if (params.estimate_time_offset) {
+      double var = 0.0;
+      covariance.GetCovarianceBlock(&offset, &offset, &var);
+      result.time_offset_sigma_s = std::sqrt(std::max(0.0, var));
+    }
+  }
+  result.geometry = {p[0], p[1], p[2]};
+  result.T_base_lidar = SE2(p[3], p[4], p[5]);
+  result.time_offset_s = offset;
+  result.intervals_used = n;
+  if (!(p[0] > 0.0 && p[1] > 0.0 && p[2] > 0.0)) {
+    result.reason = "refinement left the feasible region (a radius or b <= 0)";
+    return result;
+  }
+  result.ok = true;
+  return result;
+}
+
+}  // namespace slamprep::algo

@@ -1,0 +1,192 @@
+#include "algo/calibration/joint_censi.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace slamprep::algo {
+namespace {
+
+Eigen::Matrix2d rot(double a) {
+  return (Eigen::Matrix2d() << std::cos(a), -std::sin(a), std::sin(a), std::cos(a)).finished();
+}
+
+// Residual rows of one interval, linear in x = [b, l_x, l_y, cos l_th, sin l_th].
+// From T_base_lidar * sm_k = o_k * T_base_lidar, translation part:
+//   t_l + R(l_th) s_t = b c_k + R(o_th) t_l
+//   =>  -c_k b + (I - R(o_th)) t_l + [[s_x, -s_y], [s_y, s_x]] (cos l_th, sin l_th) = 0.   (Eq. 1)
+// (The rotation part, l_th + s_th = o_th + l_th, is stage 1.)
+Eigen::Matrix<double, 2, 5> residualRows(const CalibrationInterval& interval, double J21,
+                                         double J22) {
+  const UnitOdometry u = unitOdometry(interval, J21, J22);
+  const SE2& s = interval.T_lidarStart_lidarEnd;
+  Eigen::Matrix<double, 2, 5> L;
+  L.col(0) = -u.c;
+  L.block<2, 2>(0, 1) = Eigen::Matrix2d::Identity() - rot(u.o_th);
+  L.block<2, 2>(0, 3) << s.x, -s.y, s.y, s.x;
+  return L;
+}
+
+// One fit on a fixed set of intervals; `scores` gets each interval's normalised squared residual.
+JointResult fitOnce(const std::vector<CalibrationInterval>& intervals, const JointParams& params,
+                    std::vector<double>* scores) {
+  JointResult result;
+  const auto n = static_cast<Eigen::Index>(intervals.size());
+  const RotationFit stage1 = fitRotation(intervals, params.max_condition_number);
+  result.condition_number = stage1.condition_number;
+  result.J21 = stage1.J21;
+  result.J22 = stage1.J22;
+  result.sigma_theta_rad = stage1.sigma_theta_rad;
+  if (!stage1.ok) {
+    result.reason = stage1.reason;
+    return result;
+  }
+  Eigen::MatrixXd L(2 * n, 5);
+  for (Eigen::Index k = 0; k < n; ++k)
+    L.middleRows<2>(2 * k) = residualRows(intervals[k], stage1.J21, stage1.J22);
+  const double cond_bl = equilibratedConditionNumber(L.leftCols(3));
+  result.condition_number = std::max(result.condition_number, cond_bl);
+  if (!(cond_bl <= params.max_condition_number)) {
+    result.reason = "b and the mount position are not determined (condition number " +
+                    std::to_string(cond_bl) + "): " + describeDegenerateDriving(intervals);
+    return result;
+  }
+
+  // Stage 2: minimise x^T M x subject to x^T W x = 1, M = L^T L, W = diag(0, 0, 0, 1, 1).
+  // Lagrangian x^T M x + lambda (x^T W x - 1); stationarity (M + lambda W) x = 0 needs a non-zero
+  // kernel, det(M + lambda W) = 0, and the cost there is x^T M x = -lambda x^T W x = -lambda.
+  // Partition x = [y; z], y = (b, l_x, l_y),
+  // z = (cos, sin), M = [[A, B], [B^T, D]]. The first block row gives y = -A^-1 B z (A is
+  // invertible: checked above). Substituting, (S + lambda I) z = 0 with the Schur complement
+  // S = D - B^T A^-1 B, so det(M + lambda W) = det(A) det(S + lambda I) and
+  //   lambda^2 + tr(S) lambda + det(S) = 0,                                              (Eq. 2)
+  // a quadratic whose roots are -mu_i, mu_i the eigenvalues of the symmetric 2x2 S. The cost at a
+  // stationary point is -lambda = z^T S z = mu_i (|z| = 1), so the minimum is the smallest
+  // eigenvalue mu_0 (lambda = -mu_0) with z its unit eigenvector; -z is the same stationary point
+  // with y negated, and the sign is fixed by b > 0.
+  const Eigen::Matrix<double, 5, 5> M = L.transpose() * L;
+  const Eigen::Matrix3d A = M.topLeftCorner<3, 3>();
+  const Eigen::Matrix<double, 3, 2> B = M.topRightCorner<3, 2>();
+  const Eigen::LDLT<Eigen::Matrix3d> A_ldlt(A);
+  const Eigen::Matrix2d S = M.bottomRightCorner<2, 2>() - B.transpose() * A_ldlt.solve(B);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(S);
+  Eigen::Vector2d z = eig.eigenvectors().col(0).normalized();
+  Eigen::Vector3d y = -A_ldlt.solve(B * z);
+  if (y.x() < 0.0) {
+    y = -y;
+    z = -z;
+  }
+  result.lambda = -eig.eigenvalues()(0);
+  const double b = y.x(), l_th = std::atan2(z.y(), z.x());
+  if (!(b > 0.0)) {
+    result.reason = "stage 2 gives b = 0: the translations carry no information on b";
+    return result;
+  }
+  result.geometry = {-stage1.J21 * b, stage1.J22 * b, b};
+  result.T_base_lidar = SE2(y.y(), y.z(), l_th);
+
+  // Stage-2 Jacobian G (w.r.t. b, l_x, l_y, l_th) and residuals at the solution.
+  Eigen::Matrix<double, 5, 1> x;
+  x << y, z;
+  const Eigen::Matrix2d dR = (Eigen::Matrix2d() << -z.y(), -z.x(), z.x(), -z.y()).finished();
+  Eigen::MatrixXd G(2 * n, 4);
+  Eigen::VectorXd e = L * x;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    G.block(2 * k, 0, 2, 3) = L.block(2 * k, 0, 2, 3);
+    G.block(2 * k, 3, 2, 1) = dR * intervals[k].T_lidarStart_lidarEnd.translation();
+  }
+  result.condition_number = std::max(result.condition_number, equilibratedConditionNumber(G));
+  if (!(result.condition_number <= params.max_condition_number)) {
+    result.reason = "the mount yaw is not determined (condition number " +
+                    std::to_string(result.condition_number) +
+                    "): " + describeDegenerateDriving(intervals);
+    return result;
+  }
+
+  // Translation noise in the lidar frame: e_k = R(l_th) n_k to first order.
+  const Eigen::Matrix2d R_l = rot(l_th);
+  Eigen::Vector2d var = Eigen::Vector2d::Zero();
+  for (Eigen::Index k = 0; k < n; ++k) var += (R_l.transpose() * e.segment<2>(2 * k)).cwiseAbs2();
+  var /= std::max<double>(1.0, static_cast<double>(n - 2));  // 2n - 4 dof over two axes
+  result.sigma_x_m = std::sqrt(var.x());
+  result.sigma_y_m = std::sqrt(var.y());
+  const Eigen::Matrix2d cov_n = R_l * var.asDiagonal() * R_l.transpose();
+
+  // Fisher information of stage 2 (sandwich for the unweighted fit) and dependence on stage 1.
+  const double h = 1e-6 * std::max(std::abs(stage1.J21), std::abs(stage1.J22));
+  Eigen::Matrix4d N = Eigen::Matrix4d::Zero();
+  Eigen::MatrixXd sumGtF = Eigen::MatrixXd::Zero(4, 2);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const auto Gk = G.middleRows<2>(2 * k);
+    N += Gk.transpose() * cov_n * Gk;
+    Eigen::Matrix2d F;
+    F.col(0) = (residualRows(intervals[k], stage1.J21 + h, stage1.J22) -
+                residualRows(intervals[k], stage1.J21 - h, stage1.J22)) *
+               x / (2 * h);
+    F.col(1) = (residualRows(intervals[k], stage1.J21, stage1.J22 + h) -
+                residualRows(intervals[k], stage1.J21, stage1.J22 - h)) *
+               x / (2 * h);
+    sumGtF += Gk.transpose() * F;
+  }
+  const Eigen::MatrixXd H = G.transpose() * G;
+  result.covariance = radiiCovariance(twoStageCovariance(stage1.covariance, H, N, sumGtF),
+                                      stage1.J21, stage1.J22, b);
+  result.estimates_mount = true;
+  result.cost = e.squaredNorm();
+  result.intervals_used = static_cast<int>(n);
+
+  if (scores) {
+    const double var_t = std::max(0.5 * (var.x() + var.y()), 1e-300);
+    const double var_th = std::max(stage1.sigma_theta_rad * stage1.sigma_theta_rad, 1e-300);
+    scores->resize(n);
+    for (Eigen::Index k = 0; k < n; ++k)
+      (*scores)[k] = stage1.residuals_rad[k] * stage1.residuals_rad[k] / var_th +
+                     e.segment<2>(2 * k).squaredNorm() / var_t;
+  }
+  result.ok = true;
+  return result;
+}
+
+}  // namespace
+
+JointResult calibrateJoint(const std::vector<CalibrationInterval>& intervals,
+                           const JointParams& params) {
+  const int min_n = std::max(params.min_intervals, kMinIntervalsAbsolute);
+  std::vector<int> used(intervals.size());
+  std::iota(used.begin(), used.end(), 0);
+  auto subset = [&] {
+    std::vector<CalibrationInterval> out;
+    for (int i : used) out.push_back(intervals[i]);
+    return out;
+  };
+  if (static_cast<int>(intervals.size()) < min_n) {
+    JointResult result;
+    result.reason = "too few intervals: " + std::to_string(intervals.size()) + " (need at least " +
+                    std::to_string(min_n) + ")";
+    return result;
+  }
+  std::vector<double> scores;
+  JointResult result = fitOnce(intervals, params, &scores);
+  int round = 0;
+  for (; round < params.trim_rounds && result.ok; ++round) {
+    const int drop = static_cast<int>(params.trim_fraction * static_cast<double>(used.size()));
+    if (drop <= 0 || static_cast<int>(used.size()) - drop < min_n) break;
+    std::vector<int> order(used.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return scores[a] < scores[b]; });
+    order.resize(used.size() - drop);
+    std::sort(order.begin(), order.end());
+    std::vector<int> kept;
+    for (int i : order) kept.push_back(used[i]);
+    used = std::move(kept);
+    result = fitOnce(subset(), params, &scores);
+  }
+  result.iterations = round;
+  result.intervals_trimmed = static_cast<int>(intervals.size() - used.size());
+  result.used = used;
+  return result;
+}
+
+}  // namespace slamprep::algo

@@ -1,0 +1,41 @@
+#pragma once
+// Joint closed-form calibration of r_L, r_R, b and the lidar mount (x, y, yaw), after
+// A. Censi, A. Franchi, L. Marchionni, G. Oriolo, "Simultaneous calibration of odometry and sensor
+// parameters for mobile robots", IEEE T-RO 29(2), 2013.
+
+#include <vector>
+
+#include "algo/calibration/calibration_result.hpp"
+
+namespace slamprep::algo {
+
+struct JointParams {
+  /// Refuse when a least-squares step is worse conditioned than this (column-equilibrated).
+  double max_condition_number = 1e4;
+  /// Refuse with fewer intervals than this (after trimming).
+  int min_intervals = 8;
+  /// Rounds of outlier trimming after the first fit.
+  int trim_rounds = 3;
+  /// Fraction of the remaining intervals dropped per round, worst normalised residual first.
+  double trim_fraction = 0.01;
+};
+
+struct JointResult : CalibrationResult {
+  double J21 = 0.0;              ///< -r_L / b
+  double J22 = 0.0;              ///< r_R / b
+  double lambda = 0.0;           ///< Lagrange multiplier of the unit-circle constraint
+  double sigma_theta_rad = 0.0;  ///< scan-match rotation noise, from the residuals
+  double sigma_x_m = 0.0;        ///< scan-match translation noise along lidar x
+  double sigma_y_m = 0.0;        ///< ... along lidar y
+  int intervals_trimmed = 0;     ///< dropped as outliers
+  std::vector<int> used;         ///< indices of the intervals in the final fit
+};
+
+/// Stage 1: J21, J22 by least squares on the rotations (fitRotation). Stage 2: b and the mount
+/// from the 5x5 quadratic form under cos^2 + sin^2 = 1 (derivation in joint_censi.cpp). Then
+/// rounds of trimming. Covariance (r_L, r_R, b, l_x, l_y, l_yaw): the inverse Fisher information
+/// of each stage with the noise estimated from the residuals, stage 1 propagated into stage 2.
+JointResult calibrateJoint(const std::vector<CalibrationInterval>& intervals,
+                           const JointParams& params = {});
+
+}  // namespace slamprep::algo

@@ -1,0 +1,29 @@
+#pragma once
+// Model-based odometry calibration (the lecture; DESIGN.md "Calibration, model-based method"):
+// J21, J22 from the rotations, then b from the translations, r_L = -J21 b, r_R = J22 b. The lidar
+// is assumed at the robot centre.
+
+#include <vector>
+
+#include "algo/calibration/calibration_result.hpp"
+
+namespace slamprep::algo {
+
+struct ModelBasedParams {
+  /// Refuse when a least-squares step is worse conditioned than this (column-equilibrated).
+  double max_condition_number = 1e4;
+  /// Refuse with fewer intervals than this.
+  int min_intervals = 5;
+};
+
+struct ModelBasedResult : CalibrationResult {
+  double J21 = 0.0;  ///< -r_L / b
+  double J22 = 0.0;  ///< r_R / b
+};
+
+/// Two-stage least squares; covariance (r_L, r_R, b) from the residual noise of each stage with
+/// the rotation stage's uncertainty propagated into b (twoStageCovariance).
+ModelBasedResult calibrateModelBased(const std::vector<CalibrationInterval>& intervals,
+                                     const ModelBasedParams& params = {});
+
+}  // namespace slamprep::algo
