@@ -2,7 +2,6 @@
 
 #include <charconv>
 #include <cmath>
-#include <cstdlib>
 #include <numbers>
 #include <sstream>
 
@@ -211,7 +210,9 @@ SimConfig configFromJson(const nlohmann::json& json, const std::string& where) {
   if (used != flat.size()) {
     const std::vector<std::string> keys = configKeys();
     for (const auto& [path, value] : flat.items()) {
-      std::string dotted = path.substr(1);
+      // flatten() turns an empty object into a null leaf: nothing set there.
+      if (value.is_null() && json.at(nlohmann::json::json_pointer(path)).is_object()) continue;
+      std::string dotted = path.empty() ? path : path.substr(1);
       for (char& ch : dotted) {
         if (ch == '/') ch = '.';
       }
@@ -316,21 +317,6 @@ double footprintRadius(const RobotConfig& r) {
   const double wheel_x = std::max(r.geometry.radius_left_m, r.geometry.radius_right_m);
   return std::max({std::hypot(0.5 * r.chassis_length_m, 0.5 * r.chassis_width_m),
                    std::hypot(wheel_x, wheel_y), r.caster_offset_m + r.caster_radius_m});
-}
-
-std::filesystem::path dataDirectory() {
-  if (const char* env = std::getenv("SLAMPREP_DATA_DIR"); env != nullptr && *env != '\0') {
-    return env;
-  }
-  // This file is <root>/sim/drive/config.cpp; CMake compiles it by absolute path.
-  return std::filesystem::path(__FILE__).parent_path().parent_path().parent_path();
-}
-
-std::filesystem::path resolveDataPath(const std::string& path) {
-  const std::filesystem::path p(path);
-  if (p.is_absolute() || std::filesystem::exists(p)) return p;
-  const std::filesystem::path in_data = dataDirectory() / p;
-  return std::filesystem::exists(in_data) ? in_data : p;
 }
 
 }  // namespace slamprep::sim

@@ -27,7 +27,7 @@ struct NominalErrors {
 };
 
 struct SimConfig {
-  std::string world = "worlds/room.yaml";  ///< world file (relative: cwd, then data directory)
+  std::string world = "worlds/room.yaml";  ///< world file (relative: cwd, then source tree)
   std::string scenario = "worlds/scenarios/default.yaml";  ///< scenario file (same lookup)
   double duration_s = 0.0;          ///< simulated time; 0 = the scenario's own length
   std::uint64_t seed = 1;           ///< seeds every sensor's noise stream
@@ -64,11 +64,5 @@ void validate(const SimConfig& config, const std::string& where);
 /// Robot footprint: radius of the smallest circle about the base origin containing the chassis,
 /// wheels and casters.
 double footprintRadius(const RobotConfig& robot);
-
-/// Where the default worlds and scenarios live: $SLAMPREP_DATA_DIR, else this source tree.
-std::filesystem::path dataDirectory();
-
-/// A file path as given if it exists (or is absolute), else the same path below dataDirectory().
-std::filesystem::path resolveDataPath(const std::string& path);
 
 }  // namespace slamprep::sim

@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/odometry.hpp"
+#include "core/paths.hpp"
 #include "sim/drive/controller.hpp"
 #include "sim/drive/rng.hpp"
 #include "sim/drive/sensors.hpp"

@@ -1,0 +1,115 @@
+#include "sim/drive/config.hpp"
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+
+namespace slamprep::sim {
+namespace {
+
+std::string overrideError(const std::string& assignment) {
+  SimConfig config;
+  try {
+    applyOverride(config, assignment);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SimConfig, DefaultsMatchTheSpec) {
+  const SimConfig c;
+  EXPECT_EQ(c.physics_rate_hz, 1000.0);
+  EXPECT_EQ(c.encoders.ticks_per_revolution, 4096);
+  EXPECT_EQ(c.encoders.rate_hz, 100.0);
+  EXPECT_EQ(c.imu.rate_hz, 200.0);
+  const DiffDriveParams nominal = c.nominalGeometry();
+  EXPECT_NEAR(nominal.radius_left_m, c.robot.geometry.radius_left_m * 1.02, 1e-15);
+  EXPECT_NEAR(nominal.radius_right_m, c.robot.geometry.radius_right_m * 0.985, 1e-15);
+  EXPECT_NEAR(nominal.wheel_base_m, c.robot.geometry.wheel_base_m * 1.04, 1e-15);
+  EXPECT_NO_THROW(validate(c, "defaults"));
+}
+
+TEST(SimConfig, OverridesSetFieldsByDottedKey) {
+  SimConfig c;
+  applyOverride(c, "lidar.rate_hz=5");
+  applyOverride(c, "robot.radius_left_m=0.11");
+  applyOverride(c, "nominal.radius_left_error=0.03");
+  applyOverride(c, "encoders.ticks_per_revolution=1024");
+  applyOverride(c, "lidar.clockwise=true");
+  applyOverride(c, "mode=kinematic");
+  applyOverride(c, "seed=18446744073709551615");
+  applyOverride(c, "scenario=a=b.yaml");  // only the first '=' splits
+  EXPECT_EQ(c.lidar.rate_hz, 5.0);
+  EXPECT_EQ(c.robot.geometry.radius_left_m, 0.11);
+  EXPECT_EQ(c.nominal.radius_left_error, 0.03);
+  EXPECT_EQ(c.encoders.ticks_per_revolution, 1024);
+  EXPECT_TRUE(c.lidar.clockwise);
+  EXPECT_EQ(c.mode, SimMode::kinematic);
+  EXPECT_EQ(c.seed, 18446744073709551615ULL);
+  EXPECT_EQ(c.scenario, "a=b.yaml");
+}
+
+TEST(SimConfig, BadOverridesNameTheKey) {
+  const std::string unknown = overrideError("lidar.rate=5");
+  EXPECT_NE(unknown.find("--set lidar.rate"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("unknown"), std::string::npos);
+  EXPECT_NE(overrideError("lidar").find("key=value"), std::string::npos);
+  EXPECT_NE(overrideError("lidar.rate_hz=fast").find("--set lidar.rate_hz"), std::string::npos);
+  EXPECT_NE(overrideError("lidar.rate_hz=nan").find("finite"), std::string::npos);
+  EXPECT_NE(overrideError("encoders.ticks_per_revolution=1.5").find("whole number"),
+            std::string::npos);
+  EXPECT_NE(overrideError("mode=fast").find("physics"), std::string::npos);
+  const std::string negative = overrideError("robot.radius_left_m=-0.1");
+  EXPECT_NE(negative.find("robot.radius_left_m"), std::string::npos) << negative;
+  EXPECT_NE(negative.find("positive"), std::string::npos);
+  EXPECT_NE(overrideError("lidar.beams_per_revolution=0").find("lidar.beams_per_revolution"),
+            std::string::npos);
+  EXPECT_NE(overrideError("lidar.fov_rad=0.001").find("lidar.fov_rad"), std::string::npos);
+  EXPECT_NE(overrideError("nominal.wheel_base_error=-1").find("nominal.wheel_base_error"),
+            std::string::npos);
+  // A failed override leaves the configuration untouched.
+  SimConfig c;
+  EXPECT_THROW(applyOverride(c, "robot.wheel_base_m=0"), InputError);
+  EXPECT_EQ(c.robot.geometry.wheel_base_m, SimConfig{}.robot.geometry.wheel_base_m);
+}
+
+TEST(SimConfig, JsonRoundTripsEveryKey) {
+  SimConfig c;
+  applyOverride(c, "lidar.mount.yaw_rad=-0.25");
+  applyOverride(c, "imu.gyro_bias_radps=0.004");
+  applyOverride(c, "seed=77");
+  applyOverride(c, "mode=kinematic");
+  const nlohmann::json json = toJson(c);
+  EXPECT_EQ(json["lidar"]["mount"]["yaw_rad"], -0.25);
+  EXPECT_EQ(json.flatten().size(), configKeys().size());
+  const SimConfig back = configFromJson(json, "dataset.json: config");
+  EXPECT_EQ(toJson(back), json);
+  EXPECT_EQ(back.mode, SimMode::kinematic);
+  EXPECT_EQ(back.seed, 77u);
+}
+
+TEST(SimConfig, JsonRejectsUnknownKeysAndWrongTypes) {
+  nlohmann::json json = toJson(SimConfig{});
+  json["lidar"]["beams"] = 5;
+  try {
+    configFromJson(json, "cfg.json");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cfg.json: lidar.beams"), std::string::npos) << e.what();
+  }
+  json = toJson(SimConfig{});
+  json["encoders"]["rate_hz"] = "fast";
+  EXPECT_THROW(configFromJson(json, "cfg.json"), InputError);
+  // Missing keys keep their defaults.
+  EXPECT_EQ(configFromJson(nlohmann::json::object(), "cfg.json").lidar.rate_hz, 10.0);
+}
+
+TEST(SimConfig, FootprintCoversChassisAndWheels) {
+  const RobotConfig r;
+  // Chassis 0.40 x 0.36: half diagonal 0.269; wheels reach (0.1, 0.265): 0.283.
+  EXPECT_NEAR(footprintRadius(r), std::hypot(0.1, 0.265), 1e-12);
+}
+
+}  // namespace
+}  // namespace slamprep::sim

@@ -1,0 +1,90 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "core/odometry.hpp"
+#include "sim/drive/controller.hpp"
+#include "sim/drive/rng.hpp"
+#include "sim/drive/sensors.hpp"
+
+namespace slamprep::sim {
+namespace {
+
+TEST(Controller, UsesTheNominalGeometry) {
+  const Scenario s = parseScenario(
+      "segments:\n  - {type: arc, v_mps: 0.5, w_radps: 0.4, duration_s: 5}\n", "t.yaml");
+  const DiffDriveParams nominal{0.102, 0.0985, 0.52};
+  const Controller controller(s.profile, nominal);
+  const Eigen::Vector2d rates = controller.wheelRates(2.0);  // inside the hold
+  // J_nominal maps the targets back to the command exactly.
+  const Eigen::Vector2d twist = nominal.twist(rates.x(), rates.y());
+  EXPECT_NEAR(twist.x(), 0.5, 1e-12);
+  EXPECT_NEAR(twist.y(), 0.4, 1e-12);
+}
+
+TEST(Controller, WheelAngleIncrementIsTheExactIntegral) {
+  const Scenario s = parseScenario(
+      "segments:\n  - {type: straight, distance_m: 1.3, speed_mps: 0.7}\n"
+      "  - {type: wheel_rates, left_radps: -3, right_radps: 5, duration_s: 1.1}\n",
+      "t.yaml");
+  const Controller controller(s.profile, DiffDriveParams{});
+  // The midpoint rule is exact on linear pieces; a cell holding a kink of slope jump J errs by
+  // at most J h^2 / 8 (J <= 20 rad/s^2 here, h = 1e-4 s: 2.5e-8 rad per kink, 8 kinks).
+  const double t0 = 0.37, t1 = s.profile.duration_s() - 0.2;
+  const int n = 40000;
+  const double h = (t1 - t0) / n;
+  Eigen::Vector2d numeric = Eigen::Vector2d::Zero();
+  for (int k = 0; k < n; ++k) numeric += h * controller.wheelRates(t0 + (k + 0.5) * h);
+  const Eigen::Vector2d exact = controller.wheelAngleIncrement(t0, t1);
+  EXPECT_NEAR(exact.x(), numeric.x(), 2e-7);
+  EXPECT_NEAR(exact.y(), numeric.y(), 2e-7);
+  // Additive over adjacent intervals.
+  const Eigen::Vector2d split =
+      controller.wheelAngleIncrement(t0, 1.234) + controller.wheelAngleIncrement(1.234, t1);
+  EXPECT_NEAR((split - exact).norm(), 0.0, 1e-12);
+}
+
+TEST(Sensors, TicksAreTheFloorOfTheAngle) {
+  const double tick = radiansPerTick(4096);
+  EXPECT_EQ(quantizeTicks(0.0, 4096), 0);
+  EXPECT_EQ(quantizeTicks(0.999 * tick, 4096), 0);
+  EXPECT_EQ(quantizeTicks(1.001 * tick, 4096), 1);
+  EXPECT_EQ(quantizeTicks(-0.001 * tick, 4096), -1);
+  EXPECT_EQ(quantizeTicks(2.0 * std::numbers::pi * 10 + 0.5 * tick, 4096), 40960);
+}
+
+TEST(Sensors, SampleClockDoesNotDrift) {
+  SampleClock clock(100.0);
+  for (int k = 0; k < 123456; ++k) clock.advance();
+  EXPECT_EQ(clock.next_s(), 1234.56);
+}
+
+TEST(Sensors, ImuNoiseHasItsStatedMeanAndSigma) {
+  ImuConfig config;
+  config.gyro_bias_radps = 0.01;
+  config.gyro_noise_radps = 0.05;
+  Imu imu(config, streamSeed(3, RngStream::imu));
+  const int n = 20000;
+  double sum = 0.0, sum2 = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const double g = imu.sample(k * 0.005, 0.3, {0, 0}).gyro_z_radps - 0.3;
+    sum += g;
+    sum2 += g * g;
+  }
+  const double mean = sum / n;
+  const double sigma = std::sqrt(sum2 / n - mean * mean);
+  // Standard error of the mean: 0.05 / sqrt(20000) = 3.5e-4; of sigma: 0.05 / sqrt(40000) = 2.5e-4.
+  EXPECT_NEAR(mean, 0.01, 4 * 3.5e-4);
+  EXPECT_NEAR(sigma, 0.05, 4 * 2.5e-4);
+}
+
+TEST(Sensors, StreamsAreIndependentAndReproducible) {
+  EXPECT_NE(streamSeed(1, RngStream::imu), streamSeed(1, RngStream::lidar));
+  EXPECT_NE(streamSeed(1, RngStream::imu), streamSeed(2, RngStream::imu));
+  SplitMix64 a(streamSeed(9, RngStream::imu)), b(streamSeed(9, RngStream::imu));
+  for (int k = 0; k < 100; ++k) EXPECT_EQ(a.gaussian(), b.gaussian());
+}
+
+}  // namespace
+}  // namespace slamprep::sim

@@ -1,0 +1,127 @@
+// End-to-end: the `slamprep simulate` command, its exit codes and messages, and that a refused
+// run leaves nothing behind.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Run {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class SimulateCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("slamprep_simulate_cli_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  Run simulate(const std::string& args) {
+    const fs::path binary = fs::path(SLAMPREP_BINARY_DIR) / "slamprep";
+    const std::string command = binary.string() + " simulate " + args + " >" +
+                                (dir_ / "stdout").string() + " 2>" + (dir_ / "stderr").string();
+    const int status = std::system(command.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir_ / "stdout"),
+            slurp(dir_ / "stderr")};
+  }
+  fs::path write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return dir_ / name;
+  }
+  /// The refused run must leave neither the dataset nor a temporary sibling.
+  void expectNothingWritten() {
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_TRUE(name == "stdout" || name == "stderr" || name.ends_with(".yaml")) << name;
+    }
+  }
+  std::string out() const { return "--quiet --out " + (dir_ / "data").string(); }
+
+  fs::path dir_;
+};
+
+TEST_F(SimulateCommand, DefaultsRunAndPrintASummary) {
+  const Run run = simulate("--duration 1 --mode kinematic " + out());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(fs::exists(dir_ / "data" / "dataset.json"));
+  EXPECT_TRUE(fs::exists(dir_ / "data" / "scans.jsonl"));
+  EXPECT_NE(run.out.find("real time"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("nominal geometry"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("scans 10"), std::string::npos) << run.out;
+  // The config it ran with is in dataset.json, default world and scenario included.
+  const std::string json = slurp(dir_ / "data" / "dataset.json");
+  EXPECT_NE(json.find("worlds/room.yaml"), std::string::npos);
+  EXPECT_NE(json.find("worlds/scenarios/default.yaml"), std::string::npos);
+}
+
+TEST_F(SimulateCommand, MalformedScenarioNamesFileAndLine) {
+  const fs::path bad = write("bad.yaml", "segments:\n  - {type: straight, distance_m: [1\n");
+  const Run run = simulate("--scenario " + bad.string() + " " + out());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find(bad.string() + ":"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("malformed YAML"), std::string::npos) << run.err;
+  expectNothingWritten();
+}
+
+TEST_F(SimulateCommand, UnknownKeyIsNamed) {
+  const Run run = simulate("--set lidar.rat_hz=5 " + out());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("lidar.rat_hz"), std::string::npos) << run.err;
+  expectNothingWritten();
+}
+
+TEST_F(SimulateCommand, NegativeRadiusIsNamed) {
+  const Run run = simulate("--set robot.radius_right_m=-0.1 " + out());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("robot.radius_right_m"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("positive"), std::string::npos) << run.err;
+  expectNothingWritten();
+}
+
+TEST_F(SimulateCommand, ZeroBeamsIsNamed) {
+  const Run run = simulate("--set lidar.beams_per_revolution=0 " + out());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("lidar.beams_per_revolution"), std::string::npos) << run.err;
+  expectNothingWritten();
+}
+
+TEST_F(SimulateCommand, ScenarioTooLongForTheWorldIsRefused) {
+  const fs::path far = write("far.yaml",
+                             "segments:\n  - {type: spin, angle_deg: 30}\n"
+                             "  - {type: straight, distance_m: 20, speed_mps: 1.0}\n");
+  const Run run = simulate("--scenario " + far.string() + " " + out());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find(far.string() + ":3: segments[1] (straight)"), std::string::npos)
+      << run.err;
+  EXPECT_NE(run.err.find("free space"), std::string::npos) << run.err;
+  expectNothingWritten();
+}
+
+TEST_F(SimulateCommand, MissingWorldFileIsNamed) {
+  const Run run = simulate("--world nowhere.yaml " + out());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("nowhere.yaml"), std::string::npos) << run.err;
+  expectNothingWritten();
+}
+
+}  // namespace

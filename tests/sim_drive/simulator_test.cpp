@@ -1,0 +1,314 @@
+#include "sim/drive/simulator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/odometry.hpp"
+#include "sim/drive/controller.hpp"
+
+namespace slamprep::sim {
+namespace {
+
+/// An empty square room, inner faces at +-half_m, robot starting at the origin facing +x.
+World squareRoom(double half_m) {
+  World world;
+  world.name = "square";
+  world.source = "square_room(test)";
+  const double c = half_m + 0.1;  // centre line of 0.2 m thick walls
+  const Eigen::Vector2d corners[4] = {{-c, -c}, {c, -c}, {c, c}, {-c, c}};
+  for (int k = 0; k < 4; ++k) world.walls.push_back({corners[k], corners[(k + 1) % 4], 0.2, 2.0});
+  return world;
+}
+
+SimConfig config(SimMode mode, int beams = 90) {
+  SimConfig c;
+  c.mode = mode;
+  c.lidar.beams_per_revolution = beams;  // keeps the tests fast where beams don't matter
+  return c;
+}
+
+Scenario scenario(const std::string& segments_yaml) {
+  return parseScenario("segments:\n" + segments_yaml, "test_scenario.yaml");
+}
+
+double tickAngle(const SimConfig& c) {
+  return radiansPerTick(c.encoders.ticks_per_revolution);
+}
+
+// ---- Distortion --------------------------------------------------------------------------------
+
+/// For a pure spin at constant rate w about the base origin, the lidar frame at beam i is the
+/// stamp's lidar frame moved by T_BL^-1 R(w (t_i - t_stamp)) T_BL, so the undistorted point is
+/// p_ref = T_BL^-1 R(w dt) T_BL p_L. Returns the worst deviation from that prediction and the
+/// largest distortion |p_ref - p_L| seen, over scans inside [t_from, t_to].
+struct SpinCheck {
+  double worst_prediction_error_m = 0.0;
+  double largest_distortion_m = 0.0;
+  std::size_t beams = 0;
+};
+SpinCheck checkSpin(const Dataset& data, const SE2& T_base_lidar, double w_radps, double t_from,
+                    double t_to) {
+  SpinCheck check;
+  for (const ScanRecord& record : data.scans) {
+    const LaserScan& scan = record.scan;
+    if (scan.stamp_s < t_from || scan.endTime() > t_to) continue;
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      if (!record.p_ref_true[i]) continue;
+      const Eigen::Vector2d p_lidar = scan.point(i);
+      const SE2 motion = T_base_lidar.inverse() *
+                         SE2(0, 0, w_radps * (scan.beamTime(i) - scan.stamp_s)) * T_base_lidar;
+      const Eigen::Vector2d predicted = motion * p_lidar;
+      check.worst_prediction_error_m =
+          std::max(check.worst_prediction_error_m, (*record.p_ref_true[i] - predicted).norm());
+      check.largest_distortion_m =
+          std::max(check.largest_distortion_m, (*record.p_ref_true[i] - p_lidar).norm());
+      ++check.beams;
+    }
+  }
+  return check;
+}
+
+TEST(Simulator, KinematicSpinDistortionIsWhatTheRatePredicts) {
+  SimConfig c = config(SimMode::kinematic, 360);
+  c.duration_s = 3.0;
+  const Scenario s = scenario("  - {type: spin, angle_deg: 720, rate_radps: 1.0}\n");
+  const SimResult r = simulate(c, squareRoom(3.0), s);
+  // The controller turns w = 1 rad/s into wheel rates with the NOMINAL geometry; the true
+  // robot turns at J_true * rates. After the 0.5 s ramp the rate is constant.
+  const Controller controller(s.profile, c.nominalGeometry());
+  const Eigen::Vector2d rates = controller.wheelRates(2.0);
+  const double w_true = c.robot.geometry.twist(rates.x(), rates.y()).y();
+  EXPECT_NEAR(w_true, 1.0377, 1e-4);  // (b_n / b) (r_R / r_Rn + r_L / r_Ln) / 2
+  const SpinCheck check = checkSpin(r.dataset, c.lidar.T_base_lidar, w_true, 0.6, 3.0);
+  EXPECT_GT(check.beams, 500u);
+  // Kinematic poses are exact arcs: only rounding remains.
+  EXPECT_LT(check.worst_prediction_error_m, 1e-9);
+  // The distortion itself is real: up to w * 0.1 s * range ~ 0.1 * 3 m at the scan's end.
+  EXPECT_GT(check.largest_distortion_m, 0.2);
+}
+
+TEST(Simulator, PhysicsSpinDistortionIsWhatTheRatePredicts) {
+  SimConfig c = config(SimMode::physics, 360);
+  c.duration_s = 2.5;
+  const Scenario s = scenario("  - {type: spin, angle_deg: 720, rate_radps: 1.0}\n");
+  const SimResult r = simulate(c, squareRoom(3.0), s);
+  // The rate Bullet actually reached, from ground truth over the steady part [1.0, 2.5] s.
+  const PoseSeries& gt = r.dataset.groundtruth;
+  double turned = 0.0;
+  for (std::size_t k = 1001; k <= 2500; ++k)
+    turned += normalizeAngle(gt[k].value.yaw - gt[k - 1].value.yaw);
+  const double w = turned / 1.5;
+  const SpinCheck check = checkSpin(r.dataset, c.lidar.T_base_lidar, w, 1.0, 2.5);
+  EXPECT_GT(check.beams, 500u);
+  EXPECT_GT(check.largest_distortion_m, 0.2);
+  // Physics: the rate wobbles and the base drifts a little while spinning; what remains after
+  // the constant-rate prediction is bounded by MEASURED_SPIN_TOL (see the report in the README).
+  EXPECT_LT(check.worst_prediction_error_m, 0.01 * check.largest_distortion_m);
+  RecordProperty("spin_prediction_error_m", std::to_string(check.worst_prediction_error_m));
+}
+
+// ---- Odometry against ground truth -------------------------------------------------------------
+
+TEST(Simulator, KinematicTrueGeometryOdometryReproducesGroundTruthToQuantisation) {
+  SimConfig c = config(SimMode::kinematic, 8);
+  const Scenario s = scenario("  - {type: figure_eight, radius_m: 0.5, speed_mps: 0.5}\n");
+  const SimResult r = simulate(c, squareRoom(3.0), s);
+  const Dataset& d = r.dataset;
+  const PoseSeries odom = integrateEncoders(d.encoders, c.robot.geometry, 4096);
+  // Floor quantisation leaves each wheel angle short by e in [0, delta), delta = 2 pi / 4096.
+  // Heading is linear in the wheel angles, theta = (r_R phi_R - r_L phi_L) / b, so its error
+  // never accumulates: |e_theta| < max(r) delta / b. Position errors integrate the heading
+  // error along the path: |e_p| < |e_theta|max * s + r delta, s the distance so far.
+  const double delta = tickAngle(c);
+  const double heading_bound = 0.1 * delta / 0.5;
+  double s_m = 0.0, worst_heading = 0.0, worst_ratio = 0.0;
+  for (std::size_t k = 1; k < odom.size(); ++k) {
+    const double t = odom[k].stamp_s;
+    const SE2 truth = *d.groundtruth.at(t);
+    s_m += (truth.translation() - d.groundtruth.at(odom[k - 1].stamp_s)->translation()).norm();
+    const double e_theta = std::abs(normalizeAngle(odom[k].value.yaw - truth.yaw));
+    const double e_p = (odom[k].value.translation() - truth.translation()).norm();
+    worst_heading = std::max(worst_heading, e_theta);
+    worst_ratio = std::max(worst_ratio, e_p / (heading_bound * s_m + 0.1 * delta));
+  }
+  EXPECT_LT(worst_heading, heading_bound);
+  EXPECT_LT(worst_ratio, 1.0);
+  EXPECT_GT(s_m, 6.0);  // two circles of 2 pi 0.5 m
+  EXPECT_LT(r.summary.drift_true.max_position_m, heading_bound * s_m + 0.1 * delta);
+}
+
+TEST(Simulator, KinematicNominalDriftMatchesTheGeometryErrors) {
+  // Odometry inverts the controller: both use the nominal geometry, so nominal odometry reports
+  // exactly the commanded motion. The truth follows J_true J_nominal^-1 of the command.
+  const SimConfig c = config(SimMode::kinematic, 8);
+  const DiffDriveParams& g = c.robot.geometry;
+  const DiffDriveParams n = c.nominalGeometry();
+  const double kl = g.radius_left_m / n.radius_left_m, kr = g.radius_right_m / n.radius_right_m;
+  const double quantisation = 2 * 0.1 * tickAngle(c) / 0.5;  // heading, with margin (see above)
+  {
+    // Spin by Theta: the true robot turns k Theta, k = (b_n / b) (k_R + k_L) / 2 = 1.0377.
+    const SimResult r =
+        simulate(c, squareRoom(3.0), scenario("  - {type: spin, angle_deg: 360}\n"));
+    const double theta = 2.0 * std::numbers::pi;
+    const double k = n.wheel_base_m / g.wheel_base_m * 0.5 * (kl + kr);
+    EXPECT_NEAR(r.summary.drift_nominal.final_heading_rad, normalizeAngle(theta - k * theta),
+                quantisation);
+    EXPECT_LT(r.summary.drift_nominal.final_position_m, 1e-3);  // spins in place in both
+  }
+  {
+    // Straight D: odometry (D, 0, 0). Truth: an arc of length L = D (k_L + k_R) / 2 turning
+    // Theta = D (k_R - k_L) / b, ending at L (sin Theta / Theta, (1 - cos Theta) / Theta).
+    const double D = 2.0;
+    const SimResult r = simulate(
+        c, squareRoom(3.0), scenario("  - {type: straight, distance_m: 2.0, speed_mps: 0.5}\n"));
+    const double L = D * 0.5 * (kl + kr);
+    const double theta = D * (kr - kl) / g.wheel_base_m;
+    const Eigen::Vector2d truth_end(L * std::sin(theta) / theta, L * (1 - std::cos(theta)) / theta);
+    const double predicted_m = (Eigen::Vector2d(D, 0) - truth_end).norm();
+    EXPECT_NEAR(theta, 0.1393, 1e-4);
+    EXPECT_NEAR(predicted_m, 0.1392, 1e-4);
+    EXPECT_NEAR(r.summary.drift_nominal.final_heading_rad, -theta, quantisation);
+    // Position: quantisation of both wheels, r delta each, plus heading error times D.
+    EXPECT_NEAR(r.summary.drift_nominal.final_position_m, predicted_m, quantisation * D + 1e-3);
+  }
+}
+
+TEST(Simulator, PhysicsFigureEightTrueGeometryOdometryStaysCloseToTruth) {
+  SimConfig c = config(SimMode::physics, 8);
+  const Scenario s = scenario("  - {type: figure_eight, radius_m: 0.5, speed_mps: 0.5}\n");
+  const SimResult r = simulate(c, squareRoom(3.0), s);
+  // Measured: see the report. Rigid wheels roll at their radius; what remains is contact slip
+  // during the flips and ramps plus quantisation.
+  EXPECT_LT(r.summary.drift_true.max_position_m, 0.02);
+  EXPECT_LT(std::abs(r.summary.drift_true.final_heading_rad), 0.01);
+  // The wrong geometry dominates by far.
+  EXPECT_GT(r.summary.drift_nominal.max_position_m, 5 * r.summary.drift_true.max_position_m);
+  RecordProperty("drift_true_max_m", std::to_string(r.summary.drift_true.max_position_m));
+  RecordProperty("drift_true_final_heading_rad",
+                 std::to_string(r.summary.drift_true.final_heading_rad));
+  RecordProperty("drift_nominal_max_m", std::to_string(r.summary.drift_nominal.max_position_m));
+}
+
+// ---- The dataset -------------------------------------------------------------------------------
+
+TEST(Simulator, DatasetHasEverySensorAtItsRate) {
+  SimConfig c = config(SimMode::kinematic, 90);
+  c.duration_s = 1.25;
+  const SimResult r = simulate(
+      c, squareRoom(3.0), scenario("  - {type: arc, v_mps: 0.4, w_radps: 0.8, duration_s: 4}\n"));
+  const Dataset& d = r.dataset;
+  EXPECT_EQ(d.groundtruth.size(), 1251u);  // t = 0 and every 1 ms step
+  EXPECT_EQ(d.encoders.size(), 126u);      // 0, 10 ms, ..., 1.25 s
+  EXPECT_EQ(d.imu.size(), 251u);
+  EXPECT_EQ(d.odom_nominal.size(), d.encoders.size());
+  ASSERT_EQ(d.scans.size(), 12u);  // stamps 0 .. 1.1 s; the scan from 1.2 s is incomplete
+  for (std::size_t j = 0; j < d.scans.size(); ++j) {
+    const ScanRecord& s = d.scans[j];
+    EXPECT_DOUBLE_EQ(s.scan.stamp_s, 0.1 * j);
+    EXPECT_EQ(s.scan.size(), 90u);
+    EXPECT_EQ(s.p_ref_true.size(), 90u);
+    ASSERT_TRUE(s.T_world_base_true && s.T_odom_base_nominal);
+    EXPECT_NEAR((s.T_world_base_true->vector() - d.groundtruth.at(s.scan.stamp_s)->vector()).norm(),
+                0.0, 1e-12);
+    for (std::size_t i = 0; i < s.scan.size(); ++i) {
+      EXPECT_EQ(std::isfinite(s.scan.ranges_m[i]), s.p_ref_true[i].has_value());
+    }
+  }
+  ASSERT_TRUE(d.scans[0].p_ref_true[0]);  // beam 0 is the reference: p_ref = p_L
+  EXPECT_LT((*d.scans[0].p_ref_true[0] - d.scans[0].scan.point(0)).norm(), 1e-12);
+  EXPECT_EQ(d.info.ticks_per_revolution, 4096);
+  EXPECT_EQ(d.info.nominal_geometry.wheel_base_m, c.nominalGeometry().wheel_base_m);
+  EXPECT_EQ(d.info.config["mode"], "kinematic");
+  // IMU on the steady arc (after the 0.4 s ramp): gyro = w_true + bias, accel_y = v w
+  // (centripetal).
+  const Eigen::Vector2d rates = Controller(scenario("  - {type: arc, v_mps: 0.4, w_radps: 0.8, "
+                                                    "duration_s: 4}\n")
+                                               .profile,
+                                           c.nominalGeometry())
+                                    .wheelRates(1.0);
+  const Eigen::Vector2d twist = c.robot.geometry.twist(rates.x(), rates.y());
+  double gyro = 0.0, accel_y = 0.0;
+  int n = 0;
+  for (const ImuSample& s : d.imu) {
+    if (s.stamp_s <= 0.5) continue;
+    gyro += s.gyro_z_radps;
+    accel_y += s.accel_y_mps2;
+    ++n;
+  }
+  // Means of n = 150 samples: noise sigma / sqrt(n) = 1.6e-4 rad/s and 1.6e-3 m/s^2; 4 sigma.
+  EXPECT_NEAR(gyro / n, twist.y() + c.imu.gyro_bias_radps, 4 * 0.002 / std::sqrt(n));
+  EXPECT_NEAR(accel_y / n, twist.x() * twist.y() + c.imu.accel_bias_y_mps2,
+              4 * 0.02 / std::sqrt(n) + 1e-3);
+}
+
+std::string slurp(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(Simulator, SameSeedGivesIdenticalBytes) {
+  const auto root = std::filesystem::temp_directory_path() / "slamprep_sim_determinism";
+  std::filesystem::remove_all(root);
+  SimConfig c = config(SimMode::physics, 180);
+  c.duration_s = 1.5;
+  const Scenario s = scenario("  - {type: figure_eight, radius_m: 0.5, speed_mps: 0.5}\n");
+  c.seed = 5;
+  writeDataset(root / "a", simulate(c, squareRoom(3.0), s).dataset);
+  writeDataset(root / "b", simulate(c, squareRoom(3.0), s).dataset);
+  c.seed = 6;
+  writeDataset(root / "c", simulate(c, squareRoom(3.0), s).dataset);
+  std::size_t files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(root / "a")) {
+    const auto name = entry.path().filename();
+    SCOPED_TRACE(name.string());
+    EXPECT_EQ(slurp(root / "a" / name), slurp(root / "b" / name));
+    ++files;
+  }
+  EXPECT_GE(files, 6u);
+  // Another seed changes the sensor noise and nothing else: physics ignores the seed.
+  EXPECT_NE(slurp(root / "a" / "scans.jsonl"), slurp(root / "c" / "scans.jsonl"));
+  EXPECT_NE(slurp(root / "a" / "imu.csv"), slurp(root / "c" / "imu.csv"));
+  EXPECT_EQ(slurp(root / "a" / "groundtruth.tum"), slurp(root / "c" / "groundtruth.tum"));
+  EXPECT_EQ(slurp(root / "a" / "encoders.csv"), slurp(root / "c" / "encoders.csv"));
+  std::filesystem::remove_all(root);
+}
+
+// ---- Refusals ----------------------------------------------------------------------------------
+
+TEST(Simulator, ScenarioLeavingTheWorldIsRefusedBeforeSimulating) {
+  const SimConfig c = config(SimMode::physics);
+  try {
+    simulate(c, squareRoom(3.0),
+             scenario("  - {type: spin, angle_deg: 90}\n"
+                      "  - {type: straight, distance_m: 8.0}\n"));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("test_scenario.yaml:3: segments[1] (straight)"), std::string::npos) << what;
+    EXPECT_NE(what.find("leave the free space"), std::string::npos) << what;
+  }
+  World tight = squareRoom(0.2);  // the footprint alone does not fit
+  EXPECT_THROW(simulate(c, tight, scenario("  - {type: stop, duration_s: 1}\n")), InputError);
+}
+
+TEST(Simulator, InvalidConfigurationIsRefused) {
+  SimConfig c = config(SimMode::kinematic);
+  c.robot.geometry.radius_left_m = -0.1;
+  try {
+    simulate(c, squareRoom(3.0), scenario("  - {type: stop, duration_s: 1}\n"));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("robot.radius_left_m"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace slamprep::sim
