@@ -1,0 +1,302 @@
+#include "eval/plot/gl_canvas.hpp"
+
+// OSMesa alone provides the GL entry points; never link libGL beside it (DESIGN.md).
+#include <GL/osmesa.h>
+// clang-format off
+#include <GL/gl.h>
+#include <GL/glext.h>
+// clang-format on
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace slamprep::eval::plot {
+namespace {
+
+constexpr int kMsaaSamples = 4;  ///< llvmpipe's GL_MAX_SAMPLES
+
+/// GL >= 3.0 entry points, resolved through OSMesaGetProcAddress.
+struct GlFunctions {
+  PFNGLGENFRAMEBUFFERSPROC genFramebuffers = nullptr;
+  PFNGLDELETEFRAMEBUFFERSPROC deleteFramebuffers = nullptr;
+  PFNGLBINDFRAMEBUFFERPROC bindFramebuffer = nullptr;
+  PFNGLFRAMEBUFFERRENDERBUFFERPROC framebufferRenderbuffer = nullptr;
+  PFNGLCHECKFRAMEBUFFERSTATUSPROC checkFramebufferStatus = nullptr;
+  PFNGLGENRENDERBUFFERSPROC genRenderbuffers = nullptr;
+  PFNGLDELETERENDERBUFFERSPROC deleteRenderbuffers = nullptr;
+  PFNGLBINDRENDERBUFFERPROC bindRenderbuffer = nullptr;
+  PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC renderbufferStorageMultisample = nullptr;
+  PFNGLBLITFRAMEBUFFERPROC blitFramebuffer = nullptr;
+  PFNGLBLENDFUNCSEPARATEPROC blendFuncSeparate = nullptr;
+};
+
+template <typename F>
+void resolve(F& f, const char* name) {
+  f = reinterpret_cast<F>(OSMesaGetProcAddress(name));
+  if (!f) throw std::runtime_error(std::string("plot: OSMesa lacks ") + name);
+}
+
+GlFunctions loadFunctions() {
+  GlFunctions gl;
+  resolve(gl.genFramebuffers, "glGenFramebuffers");
+  resolve(gl.deleteFramebuffers, "glDeleteFramebuffers");
+  resolve(gl.bindFramebuffer, "glBindFramebuffer");
+  resolve(gl.framebufferRenderbuffer, "glFramebufferRenderbuffer");
+  resolve(gl.checkFramebufferStatus, "glCheckFramebufferStatus");
+  resolve(gl.genRenderbuffers, "glGenRenderbuffers");
+  resolve(gl.deleteRenderbuffers, "glDeleteRenderbuffers");
+  resolve(gl.bindRenderbuffer, "glBindRenderbuffer");
+  resolve(gl.renderbufferStorageMultisample, "glRenderbufferStorageMultisample");
+  resolve(gl.blitFramebuffer, "glBlitFramebuffer");
+  resolve(gl.blendFuncSeparate, "glBlendFuncSeparate");
+  return gl;
+}
+
+/// llvmpipe is slow to touch fresh memory (a 4x MSAA 2400x1600 colour buffer takes ~0.6 s here),
+/// so one context with its framebuffers is kept for the process and reused while the size stays
+/// the same. A mutex serialises renders; the canvas is made current on the rendering thread.
+struct SharedGl {
+  OSMesaContext context = nullptr;
+  std::vector<unsigned char> dummy = std::vector<unsigned char>(16 * 16 * 4);  ///< OSMesa's own
+  GlFunctions gl;
+  GLuint msaa_fbo = 0, resolve_fbo = 0;
+  GLuint msaa_color = 0, msaa_stencil = 0, resolve_color = 0;
+  int width = 0, height = 0, scale = 0;  ///< size the framebuffers were made for
+  int samples = 0;
+  std::vector<unsigned char> pixels;  ///< glReadPixels target, reused
+  int stencil_ref = 0;                ///< stencil value of the last no-overlap fill
+
+  void makeCurrent() {
+    if (!context) {
+      const int attribs[] = {OSMESA_FORMAT,
+                             OSMESA_RGBA,
+                             OSMESA_DEPTH_BITS,
+                             0,
+                             OSMESA_STENCIL_BITS,
+                             0,
+                             OSMESA_ACCUM_BITS,
+                             0,
+                             OSMESA_PROFILE,
+                             OSMESA_COMPAT_PROFILE,
+                             OSMESA_CONTEXT_MAJOR_VERSION,
+                             3,
+                             OSMESA_CONTEXT_MINOR_VERSION,
+                             0,
+                             0};
+      context = OSMesaCreateContextAttribs(attribs, nullptr);
+      if (!context) {
+        throw std::runtime_error(
+            "plot: OSMesa context creation failed (is libGL linked beside libOSMesa?)");
+      }
+    }
+    if (!OSMesaMakeCurrent(context, dummy.data(), GL_UNSIGNED_BYTE, 16, 16)) {
+      throw std::runtime_error("plot: OSMesaMakeCurrent failed");
+    }
+    if (!gl.genFramebuffers) gl = loadFunctions();
+  }
+
+  void deleteFramebuffers() {
+    if (msaa_fbo == 0) return;
+    const GLuint fbos[] = {msaa_fbo, resolve_fbo};
+    const GLuint rbs[] = {msaa_color, msaa_stencil, resolve_color};
+    gl.bindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl.deleteFramebuffers(2, fbos);
+    gl.deleteRenderbuffers(3, rbs);
+    msaa_fbo = resolve_fbo = msaa_color = msaa_stencil = resolve_color = 0;
+    width = height = scale = 0;
+  }
+
+  GLuint renderbuffer(int samples_wanted, GLenum format) {
+    GLuint rb = 0;
+    gl.genRenderbuffers(1, &rb);
+    gl.bindRenderbuffer(GL_RENDERBUFFER, rb);
+    gl.renderbufferStorageMultisample(GL_RENDERBUFFER, samples_wanted, format, width * scale,
+                                      height * scale);
+    return rb;
+  }
+
+  void checkComplete(const char* which) {
+    const GLenum status = gl.checkFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+      deleteFramebuffers();
+      throw std::runtime_error(std::string("plot: OSMesa ") + which +
+                               " framebuffer incomplete (status " + std::to_string(status) + ")");
+    }
+  }
+
+  void ensureFramebuffers(int w, int h, int s) {
+    if (w == width && h == height && s == scale) return;
+    deleteFramebuffers();
+    GLint max_size = 0;
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+    if (w * s > max_size || h * s > max_size) {
+      throw std::runtime_error("plot: " + std::to_string(w * s) + "x" + std::to_string(h * s) +
+                               " samples exceed GL_MAX_RENDERBUFFER_SIZE " +
+                               std::to_string(max_size) + "; lower Figure::supersample");
+    }
+    width = w, height = h, scale = s;
+    gl.genFramebuffers(1, &msaa_fbo);
+    gl.bindFramebuffer(GL_FRAMEBUFFER, msaa_fbo);
+    msaa_color = renderbuffer(kMsaaSamples, GL_RGBA8);
+    gl.framebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msaa_color);
+    msaa_stencil = renderbuffer(kMsaaSamples, GL_DEPTH24_STENCIL8);
+    gl.framebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
+                               msaa_stencil);
+    checkComplete("multisample");
+    glGetIntegerv(GL_SAMPLES, &samples);
+
+    gl.genFramebuffers(1, &resolve_fbo);
+    gl.bindFramebuffer(GL_FRAMEBUFFER, resolve_fbo);
+    resolve_color = renderbuffer(0, GL_RGBA8);
+    gl.framebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                               resolve_color);
+    checkComplete("resolve");
+  }
+
+  void setupState() {
+    gl.bindFramebuffer(GL_FRAMEBUFFER, msaa_fbo);
+    glViewport(0, 0, width * scale, height * scale);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glOrtho(0.0, width, height, 0.0, -1.0, 1.0);  // pixel units, origin top left, y down
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_STENCIL_TEST);
+    glEnable(GL_MULTISAMPLE);
+    glEnable(GL_BLEND);
+    gl.blendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glClearStencil(0);
+    glClear(GL_STENCIL_BUFFER_BIT);
+    stencil_ref = 0;
+  }
+};
+
+std::mutex& sharedMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+SharedGl& shared() {
+  static SharedGl gl;  // never destroyed before exit; the process owns it
+  return gl;
+}
+
+}  // namespace
+
+struct GlCanvas::Impl {
+  std::unique_lock<std::mutex> lock{sharedMutex()};
+  SharedGl& m = shared();
+};
+
+GlCanvas::GlCanvas(int width_px, int height_px, int supersample) : impl_(new Impl) {
+  assert(width_px > 0 && height_px > 0 && supersample >= 1);
+  SharedGl& m = impl_->m;
+  m.makeCurrent();
+  m.ensureFramebuffers(width_px, height_px, supersample);
+  m.setupState();
+  if (glGetError() != GL_NO_ERROR) throw std::runtime_error("plot: OpenGL setup failed");
+}
+
+GlCanvas::~GlCanvas() = default;
+
+int GlCanvas::samples() const {
+  return impl_->m.samples;
+}
+
+void GlCanvas::clear(const Color& c) {
+  glDisable(GL_SCISSOR_TEST);
+  glClearColor(static_cast<GLfloat>(c.r), static_cast<GLfloat>(c.g), static_cast<GLfloat>(c.b),
+               static_cast<GLfloat>(c.a));
+  glClear(GL_COLOR_BUFFER_BIT);
+}
+
+void GlCanvas::setClip(const PixelRect& r) {
+  const int s = impl_->m.scale;
+  const int left = static_cast<int>(std::floor(r.left));
+  const int right = static_cast<int>(std::ceil(r.right));
+  const int top = static_cast<int>(std::floor(r.top));
+  const int bottom = static_cast<int>(std::ceil(r.bottom));
+  glEnable(GL_SCISSOR_TEST);
+  // GL windows count rows from the bottom.
+  glScissor(left * s, (impl_->m.height - bottom) * s, std::max(0, right - left) * s,
+            std::max(0, bottom - top) * s);
+}
+
+void GlCanvas::clearClip() {
+  glDisable(GL_SCISSOR_TEST);
+}
+
+void GlCanvas::fill(const Triangles& triangles, const Color& c, bool no_overlap) {
+  if (triangles.empty()) return;
+  SharedGl& m = impl_->m;
+  std::vector<GLfloat> xy;
+  xy.reserve(triangles.size() * 2);
+  for (const Vec2& v : triangles) {
+    xy.push_back(static_cast<GLfloat>(v.x));
+    xy.push_back(static_cast<GLfloat>(v.y));
+  }
+  if (no_overlap) {
+    // Each fill stamps its own stencil value and skips samples that already carry it, so no
+    // per-fill stencil clear (a full-buffer clear costs ~50 ms here); clear once per 255 fills.
+    if (++m.stencil_ref > 255) {
+      const GLboolean scissor = glIsEnabled(GL_SCISSOR_TEST);
+      glDisable(GL_SCISSOR_TEST);
+      glClear(GL_STENCIL_BUFFER_BIT);
+      if (scissor) glEnable(GL_SCISSOR_TEST);
+      m.stencil_ref = 1;
+    }
+    glEnable(GL_STENCIL_TEST);
+    glStencilFunc(GL_NOTEQUAL, m.stencil_ref, 0xFF);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+  }
+  glColor4d(c.r, c.g, c.b, c.a);
+  glVertexPointer(2, GL_FLOAT, 0, xy.data());
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(triangles.size()));
+  if (no_overlap) glDisable(GL_STENCIL_TEST);
+}
+
+Image GlCanvas::read() {
+  SharedGl& m = impl_->m;
+  const int sw = m.width * m.scale, sh = m.height * m.scale;
+  glDisable(GL_SCISSOR_TEST);
+  m.gl.bindFramebuffer(GL_READ_FRAMEBUFFER, m.msaa_fbo);
+  m.gl.bindFramebuffer(GL_DRAW_FRAMEBUFFER, m.resolve_fbo);
+  m.gl.blitFramebuffer(0, 0, sw, sh, 0, 0, sw, sh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  m.gl.bindFramebuffer(GL_READ_FRAMEBUFFER, m.resolve_fbo);
+  m.pixels.resize(static_cast<std::size_t>(sw) * sh * 4);
+  const std::vector<unsigned char>& samples = m.pixels;
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, sw, sh, GL_RGBA, GL_UNSIGNED_BYTE, m.pixels.data());
+  m.gl.bindFramebuffer(GL_FRAMEBUFFER, m.msaa_fbo);
+  if (glGetError() != GL_NO_ERROR) throw std::runtime_error("plot: reading the pixels failed");
+
+  Image image{m.width, m.height,
+              std::vector<std::uint8_t>(static_cast<std::size_t>(m.width) * m.height * 4)};
+  const int s = m.scale, area = s * s;
+  for (int y = 0; y < m.height; ++y) {
+    const int gl_row = (m.height - 1 - y) * s;  // GL row 0 is the bottom
+    for (int x = 0; x < m.width; ++x) {
+      int sum[4] = {0, 0, 0, 0};
+      for (int dy = 0; dy < s; ++dy) {
+        const unsigned char* p = &samples[(static_cast<std::size_t>(gl_row + dy) * sw + x * s) * 4];
+        for (int dx = 0; dx < s; ++dx, p += 4) {
+          for (int c = 0; c < 4; ++c) sum[c] += p[c];
+        }
+      }
+      std::uint8_t* out = &image.rgba[(static_cast<std::size_t>(y) * m.width + x) * 4];
+      for (int c = 0; c < 4; ++c) out[c] = static_cast<std::uint8_t>((sum[c] + area / 2) / area);
+    }
+  }
+  return image;
+}
+
+}  // namespace slamprep::eval::plot
