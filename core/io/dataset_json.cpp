@@ -96,6 +96,33 @@ std::size_t lineOfByte(std::string_view text, std::size_t byte) {
   return 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + end, '\n'));
 }
 
+DatasetInfo readInfo(const json& root, const std::string& file) {
+  DatasetInfo info;
+  const std::int64_t version = requiredInteger(root, "format_version", file);
+  if (version != kFormatVersion)
+    keyError(file, "format_version",
+             "unsupported version " + std::to_string(version) + " (this build reads 1)");
+  info.format_version = kFormatVersion;
+  info.world = requiredString(root, "world", file);
+  info.scenario = requiredString(root, "scenario", file);
+  const json& seed = requiredKey(root, "", "seed", file);
+  if (!seed.is_number_unsigned() && !(seed.is_number_integer() && seed.get<std::int64_t>() == 0))
+    keyError(file, "seed", "expected a non-negative integer");
+  info.seed = seed.get<std::uint64_t>();
+  if (root.contains("true")) info.true_geometry = readGeometry(root, "true", file);
+  info.nominal_geometry = readGeometry(root, "nominal", file);
+  const json& mount = requiredObject(root, "lidar_mount", file);
+  info.T_base_lidar = SE2(finiteNumber(mount, "lidar_mount.", "x", file),
+                          finiteNumber(mount, "lidar_mount.", "y", file),
+                          finiteNumber(mount, "lidar_mount.", "yaw", file));
+  const std::int64_t ticks = requiredInteger(root, "ticks_per_revolution", file);
+  if (ticks <= 0 || ticks > std::numeric_limits<int>::max())
+    keyError(file, "ticks_per_revolution", "must be a positive int, got " + std::to_string(ticks));
+  info.ticks_per_revolution = static_cast<int>(ticks);
+  info.config = requiredObject(root, "config", file);
+  return info;
+}
+
 }  // namespace
 
 std::string formatDatasetInfo(const DatasetInfo& info, const std::string& file) {
@@ -129,33 +156,15 @@ DatasetInfo parseDatasetInfo(std::string_view text, const std::string& file) {
   } catch (const json::parse_error& e) {
     throw InputError(file + ":" + std::to_string(lineOfByte(text, e.byte)),
                      std::string("bad JSON: ") + e.what());
+  } catch (const json::exception& e) {  // out_of_range: a number like 1e999
+    throw InputError(file, std::string("bad JSON: ") + e.what());
   }
   if (!root.is_object()) throw InputError(file, "expected a JSON object");
-
-  DatasetInfo info;
-  const std::int64_t version = requiredInteger(root, "format_version", file);
-  if (version != kFormatVersion)
-    keyError(file, "format_version",
-             "unsupported version " + std::to_string(version) + " (this build reads 1)");
-  info.format_version = kFormatVersion;
-  info.world = requiredString(root, "world", file);
-  info.scenario = requiredString(root, "scenario", file);
-  const json& seed = requiredKey(root, "", "seed", file);
-  if (!seed.is_number_unsigned() && !(seed.is_number_integer() && seed.get<std::int64_t>() == 0))
-    keyError(file, "seed", "expected a non-negative integer");
-  info.seed = seed.get<std::uint64_t>();
-  if (root.contains("true")) info.true_geometry = readGeometry(root, "true", file);
-  info.nominal_geometry = readGeometry(root, "nominal", file);
-  const json& mount = requiredObject(root, "lidar_mount", file);
-  info.T_base_lidar = SE2(finiteNumber(mount, "lidar_mount.", "x", file),
-                          finiteNumber(mount, "lidar_mount.", "y", file),
-                          finiteNumber(mount, "lidar_mount.", "yaw", file));
-  const std::int64_t ticks = requiredInteger(root, "ticks_per_revolution", file);
-  if (ticks <= 0 || ticks > std::numeric_limits<int>::max())
-    keyError(file, "ticks_per_revolution", "must be a positive int, got " + std::to_string(ticks));
-  info.ticks_per_revolution = static_cast<int>(ticks);
-  info.config = requiredObject(root, "config", file);
-  return info;
+  try {
+    return readInfo(root, file);
+  } catch (const json::exception& e) {  // a type the checks missed: still a user error
+    throw InputError(file, std::string("unexpected JSON content: ") + e.what());
+  }
 }
 
 }  // namespace slamprep::io

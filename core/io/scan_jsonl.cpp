@@ -239,6 +239,23 @@ std::vector<std::optional<Eigen::Vector2d>> readPoints(const json& object, std::
   return points;
 }
 
+ScanRecord readScanObject(const json& object, const TextLocation& where) {
+  ScanRecord record;
+  LaserScan& scan = record.scan;
+  const std::size_t nrays = readNrays(object, where);
+  scan.stamp_s = readStamp(object, where);
+  readAngles(object, nrays, scan, where);
+  scan.time_increment_s = optionalNumber(object, "time_increment", 0.0, where);
+  scan.scan_time_s = optionalNumber(object, "scan_time", 0.0, where);
+  readRangeLimits(object, scan, where);
+  readRanges(object, nrays, scan, where);
+  if (find(object, "theta")) arrayOfSize(object, "theta", nrays, where);
+  record.T_odom_base_nominal = optionalPose(object, "odometry", where);
+  record.T_world_base_true = optionalPose(object, "true_pose", where);
+  record.p_ref_true = readPoints(object, nrays, where);
+  return record;
+}
+
 }  // namespace
 
 void appendScanLine(std::string& out, const ScanRecord& record, const TextLocation& where) {
@@ -284,24 +301,15 @@ ScanRecord parseScanLine(std::string_view line, const TextLocation& where) {
   json object;
   try {
     object = json::parse(line);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for 1e999
     throw InputError(where.str(), std::string("bad JSON: ") + e.what());
   }
   if (!object.is_object()) throw InputError(where.str(), "expected a JSON object per line");
-  ScanRecord record;
-  LaserScan& scan = record.scan;
-  const std::size_t nrays = readNrays(object, where);
-  scan.stamp_s = readStamp(object, where);
-  readAngles(object, nrays, scan, where);
-  scan.time_increment_s = optionalNumber(object, "time_increment", 0.0, where);
-  scan.scan_time_s = optionalNumber(object, "scan_time", 0.0, where);
-  readRangeLimits(object, scan, where);
-  readRanges(object, nrays, scan, where);
-  if (find(object, "theta")) arrayOfSize(object, "theta", nrays, where);
-  record.T_odom_base_nominal = optionalPose(object, "odometry", where);
-  record.T_world_base_true = optionalPose(object, "true_pose", where);
-  record.p_ref_true = readPoints(object, nrays, where);
-  return record;
+  try {
+    return readScanObject(object, where);
+  } catch (const json::exception& e) {  // a type the checks above missed: still a user error
+    throw InputError(where.str(), std::string("unexpected JSON content: ") + e.what());
+  }
 }
 
 std::string formatScans(const std::vector<ScanRecord>& scans, const std::string& file) {

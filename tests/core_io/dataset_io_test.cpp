@@ -1,0 +1,289 @@
+#include "core/io/dataset_io.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+
+#include "core/dataset.hpp"
+#include "core/error.hpp"
+#include "core/io/text_io.hpp"
+#include "tests/core_io/dataset_compare.hpp"
+#include "tests/core_io/synthetic_dataset.hpp"
+
+namespace slamprep {
+namespace {
+
+namespace fs = std::filesystem;
+using synthetic::makeSyntheticDataset;
+using synthetic::SyntheticDatasetParams;
+
+class DatasetIo : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::path(::testing::TempDir()) /
+            ("slamprep_core_io_" + std::to_string(::getpid()) + "_" +
+             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  // Only the target's own directory (and none of its .partial-/.old- siblings) may exist.
+  std::vector<std::string> entries() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(root_)) names.push_back(e.path().filename());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+  fs::path root_;
+};
+
+std::string slurp(const fs::path& p) {
+  return io::readTextFile(p);
+}
+void spit(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+// Replaces 1-based line `n` of a file.
+void replaceLine(const fs::path& p, std::size_t n, const std::string& line) {
+  std::istringstream in(slurp(p));
+  std::string out, current;
+  for (std::size_t k = 1; std::getline(in, current); ++k) out += (k == n ? line : current) + "\n";
+  spit(p, out);
+}
+
+std::string lineOf(const fs::path& p, std::size_t n) {
+  std::istringstream in(slurp(p));
+  std::string current;
+  for (std::size_t k = 1; std::getline(in, current); ++k)
+    if (k == n) return current;
+  return {};
+}
+
+TEST_F(DatasetIo, RoundTripIsBitExactWithTruth) {
+  const Dataset d = makeSyntheticDataset({});
+  ASSERT_TRUE(d.hasTruth());
+  writeDataset(root_ / "run", d);
+  const Dataset back = readDataset(root_ / "run");
+  EXPECT_TRUE(back.hasTruth());
+  synthetic::expectSameDataset(d, back);
+  EXPECT_EQ(entries(), std::vector<std::string>{"run"});
+  // Writing what was read gives the same bytes (determinism of the writer).
+  writeDataset(root_ / "again", back);
+  for (const char* f : {"dataset.json", "groundtruth.tum", "odom_nominal.tum", "encoders.csv",
+                        "imu.csv", "scans.jsonl"})
+    EXPECT_EQ(slurp(root_ / "run" / f), slurp(root_ / "again" / f)) << f;
+}
+
+TEST_F(DatasetIo, RoundTripIsBitExactWithoutTruth) {
+  SyntheticDatasetParams p;
+  p.with_truth = false;
+  const Dataset d = makeSyntheticDataset(p);
+  writeDataset(root_ / "real/", d);  // trailing slash names the same directory
+  const Dataset back = readDataset(root_ / "real");
+  EXPECT_FALSE(back.hasTruth());
+  EXPECT_TRUE(back.groundtruth.empty());
+  synthetic::expectSameDataset(d, back);
+  EXPECT_EQ(slurp(root_ / "real/scans.jsonl").find("p_ref_true"), std::string::npos);
+  EXPECT_EQ(slurp(root_ / "real/scans.jsonl").find("true_pose"), std::string::npos);
+}
+
+TEST_F(DatasetIo, EmptyDatasetRoundTrips) {
+  writeDataset(root_ / "empty", Dataset{});
+  synthetic::expectSameDataset(Dataset{}, readDataset(root_ / "empty"));
+}
+
+TEST_F(DatasetIo, RewritingReplacesTheOldDatasetCompletely) {
+  SyntheticDatasetParams p;
+  p.duration_s = 0.5;
+  writeDataset(root_ / "run", makeSyntheticDataset(p));
+  spit(root_ / "run" / "stale.txt", "from an older writer");
+  p.seed = 99;
+  p.with_truth = false;
+  const Dataset second = makeSyntheticDataset(p);
+  writeDataset(root_ / "run", second);
+  synthetic::expectSameDataset(second, readDataset(root_ / "run"));
+  EXPECT_FALSE(fs::exists(root_ / "run" / "stale.txt"));
+  EXPECT_EQ(entries(), std::vector<std::string>{"run"});
+}
+
+TEST_F(DatasetIo, FailedWriteLeavesNoPartialDirectoryAndKeepsTheOldDataset) {
+  SyntheticDatasetParams p;
+  p.duration_s = 0.5;
+  const Dataset old = makeSyntheticDataset(p);
+  writeDataset(root_ / "run", old);
+  Dataset bad = makeSyntheticDataset(p);
+  bad.scans.back().p_ref_true.pop_back();  // scans.jsonl is written last: the others exist then
+  try {
+    writeDataset(root_ / "run", bad);
+    FAIL() << "wrote an inconsistent dataset";
+  } catch (const InputError& e) {
+    const std::string expected =
+        (root_ / "run" / "scans.jsonl").string() + ":5: p_ref_true: has 719 entries for 720";
+    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(entries(), std::vector<std::string>{"run"});
+  synthetic::expectSameDataset(old, readDataset(root_ / "run"));
+  // A fresh target: nothing at all remains.
+  EXPECT_THROW(writeDataset(root_ / "fresh", bad), InputError);
+  EXPECT_EQ(entries(), std::vector<std::string>{"run"});
+}
+
+TEST_F(DatasetIo, RefusesToReplaceSomethingThatIsNotADataset) {
+  fs::create_directories(root_ / "home");
+  spit(root_ / "home" / "thesis.tex", "precious");
+  spit(root_ / "file", "a file");
+  SyntheticDatasetParams p;
+  p.duration_s = 0.2;
+  EXPECT_THROW(writeDataset(root_ / "home", makeSyntheticDataset(p)), InputError);
+  EXPECT_THROW(writeDataset(root_ / "file", makeSyntheticDataset(p)), InputError);
+  EXPECT_EQ(slurp(root_ / "home" / "thesis.tex"), "precious");
+  EXPECT_EQ(slurp(root_ / "file"), "a file");
+  EXPECT_EQ(entries(), (std::vector<std::string>{"file", "home"}));
+}
+
+TEST_F(DatasetIo, StalePartialDirectoryFromACrashIsNotADataset) {
+  // A crash leaves only `<dir>.partial-<pid>`; `dir` itself never appears half written.
+  fs::create_directories(io::partialDirectory(root_ / "run"));
+  EXPECT_THROW(readDataset(root_ / "run"), InputError);
+  SyntheticDatasetParams p;
+  p.duration_s = 0.2;
+  writeDataset(root_ / "run", makeSyntheticDataset(p));  // same pid: the stale one is reused
+  EXPECT_EQ(entries(), std::vector<std::string>{"run"});
+}
+
+struct Corruption {
+  const char* file;
+  std::function<void(const fs::path&)> apply;
+  std::string expected;  ///< substring after the file path
+};
+
+TEST_F(DatasetIo, MalformedFilesAreRejectedNamingFileLineAndField) {
+  SyntheticDatasetParams p;
+  p.duration_s = 0.5;
+  const Dataset d = makeSyntheticDataset(p);
+  auto line = [](std::size_t n, std::string text) {
+    return [n, text](const fs::path& f) { replaceLine(f, n, text); };
+  };
+  auto edit = [](std::size_t n, std::function<std::string(const std::string&)> change) {
+    return [n, change](const fs::path& f) { replaceLine(f, n, change(lineOf(f, n))); };
+  };
+  auto erase = [](const fs::path& f) { fs::remove(f); };
+  auto jsonEdit = [](const std::string& from, const std::string& to) {
+    return [from, to](const fs::path& f) {
+      std::string t = slurp(f);
+      const auto at = t.find(from);
+      ASSERT_NE(at, std::string::npos) << from;
+      spit(f, t.replace(at, from.size(), to));
+    };
+  };
+  auto scanEdit = [](std::size_t n, const char* key, nlohmann::json value) {
+    return [n, key, value](const fs::path& f) {
+      nlohmann::json j = nlohmann::json::parse(lineOf(f, n));
+      if (value.is_discarded())
+        j.erase(key);
+      else
+        j[key] = value;
+      replaceLine(f, n, j.dump());
+    };
+  };
+  const nlohmann::json erase_key = nlohmann::json::value_t::discarded;
+  const std::vector<Corruption> cases = {
+      {"imu.csv", erase, ": cannot open file"},
+      {"scans.jsonl", erase, ": cannot open file"},
+      {"dataset.json", jsonEdit("\"nominal\"", "\"nominal\" ]"), ":11: bad JSON"},
+      {"dataset.json", jsonEdit("\"ticks_per_revolution\"", "\"ticks\""),
+       ": ticks_per_revolution: missing required key"},
+      {"dataset.json", jsonEdit("\"r_L\": 0.1,", "\"r_L\": -0.1,"), ": nominal.r_L: must be > 0"},
+      {"dataset.json", jsonEdit("\"ticks_per_revolution\": 4096", "\"ticks_per_revolution\": 0"),
+       ": ticks_per_revolution: must be a positive int"},
+      {"encoders.csv", line(3, "1,2"), ":3: expected 3 columns"},
+      {"encoders.csv", edit(4, [](const std::string& s) { return s + ",7"; }),
+       ":4: expected 3 columns"},
+      {"encoders.csv",
+       edit(5, [](const std::string& s) { return s.substr(0, s.rfind(',')) + ",12x"; }),
+       ":5: ticks_right: not an integer"},
+      {"encoders.csv", line(1, "t,l,r"), ":1: expected the header"},
+      {"encoders.csv",
+       edit(6, [&](const std::string&) { return lineOf(root_ / "m/encoders.csv", 5); }),
+       ":6: stamp_s: duplicate timestamp"},
+      {"imu.csv", edit(3, [](const std::string& s) { return "nan" + s.substr(s.find(',')); }),
+       ":3: stamp_s: must be finite"},
+      {"imu.csv", edit(4, [](const std::string& s) { return s.substr(0, s.rfind(',')) + ",inf"; }),
+       ":4: accel_y_mps2: must be finite"},
+      {"imu.csv", edit(2, [](const std::string& s) { return "1e300" + s.substr(s.find(',')); }),
+       ":3: stamp_s: timestamp"},
+      {"groundtruth.tum",
+       edit(10, [](const std::string& s) { return "1" + s.substr(s.find(' ')); }),
+       ":10: t: timestamp 1 after"},
+      {"groundtruth.tum", line(7, "1 2 3"), ":7: expected 8 columns"},
+      {"odom_nominal.tum",
+       edit(3, [](const std::string& s) { return std::string(s).replace(s.find(' '), 1, " x "); }),
+       ":3: expected 8 columns"},
+      {"odom_nominal.tum", edit(4, [](const std::string& s) { return s + "e"; }),
+       ":4: qw: not a number"},
+      {"scans.jsonl", line(2, "{\"nrays\": 3,"), ":2: bad JSON"},
+      {"scans.jsonl", scanEdit(3, "nrays", 719), ":3: readings: has 720 entries but nrays is 719"},
+      {"scans.jsonl", scanEdit(2, "readings", erase_key), ":2: readings: missing required key"},
+      {"scans.jsonl", scanEdit(4, "stamp_s", 0.0), ":4: stamp_s: timestamp 0 after"},
+      {"scans.jsonl", scanEdit(1, "true_pose", {1, 2}), ":1: true_pose: expected [x, y, th]"},
+      {"scans.jsonl", scanEdit(2, "p_ref_true", {nullptr}), ":2: p_ref_true: has 1 entries"},
+  };
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    const fs::path dir = root_ / "m";
+    fs::remove_all(dir);
+    writeDataset(dir, d);
+    cases[c].apply(dir / cases[c].file);
+    const std::string expected = (dir / cases[c].file).string() + cases[c].expected;
+    try {
+      readDataset(dir);
+      ADD_FAILURE() << "case " << c << " accepted; expected " << expected;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos)
+          << "case " << c << ": " << e.what() << "\nexpected: " << expected;
+    }
+  }
+  EXPECT_THROW(readDataset(root_ / "does_not_exist"), InputError);
+}
+
+TEST_F(DatasetIo, TruncatedOrGarbledFilesNeverCrashTheReader) {
+  SyntheticDatasetParams p;
+  p.duration_s = 0.3;
+  p.beams = 16;
+  const Dataset d = makeSyntheticDataset(p);
+  const fs::path dir = root_ / "fuzz";
+  writeDataset(dir, d);
+  std::mt19937 rng(5);
+  int rejected = 0, trials = 0;
+  for (const char* file : {"dataset.json", "groundtruth.tum", "odom_nominal.tum", "encoders.csv",
+                           "imu.csv", "scans.jsonl"}) {
+    const std::string original = slurp(dir / file);
+    for (int k = 0; k < 40; ++k) {
+      std::string text = original;
+      std::uniform_int_distribution<std::size_t> at(0, text.size() - 1);
+      if (k % 2)
+        text.resize(at(rng));  // truncated mid-write by someone else's tool
+      else
+        text[at(rng)] = "x,.-e\n\"[]{}0 "[rng() % 14];  // one garbled byte
+      spit(dir / file, text);
+      ++trials;
+      try {
+        readDataset(dir);
+      } catch (const InputError&) {
+        ++rejected;
+      }
+    }
+    spit(dir / file, original);
+  }
+  // Most damage is detected; some is benign (a digit in a number, a cut at a line end).
+  EXPECT_GT(rejected, trials / 3);
+}
+
+}  // namespace
+}  // namespace slamprep
