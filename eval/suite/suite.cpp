@@ -46,6 +46,14 @@ void parseSweep(const std::filesystem::path& file, const YAML::Node& node, Suite
   }
 }
 
+bool parseBetter(const std::filesystem::path& file, const YAML::Node& node,
+                 const std::string& key) {
+  const auto value = as<std::string>(file, node, key + ".better");
+  if (value != "higher" && value != "lower")
+    throw InputError(where(file, node, key + ".better"), "must be higher or lower");
+  return value == "higher";
+}
+
 void parseTolerances(const std::filesystem::path& file, const YAML::Node& node, Suite& suite) {
   if (!node.IsMap()) throw InputError(where(file, node, "tolerances"), "must be a map");
   for (const auto& entry : node) {

@@ -16,12 +16,13 @@ struct SweepAxis {
   std::vector<std::string> values;
 };
 
-/// Regression tolerance for one summary metric: worse means larger, by more than
-/// max(abs, rel * |baseline|).
+/// Regression tolerance for one summary metric (its mean over trials): a regression is a move
+/// in the worse direction by more than max(abs, rel * |baseline|).
 struct Tolerance {
-  std::string metric;  ///< summary key, e.g. "deskew/odom-linear/mean_m"
-  double abs = 0.0;
-  double rel = 0.0;
+  std::string metric;             ///< summary key, e.g. "deskew/odom-linear/mean_m"
+  double abs = 0.0;               ///< absolute slack
+  double rel = 0.0;               ///< slack relative to the baseline value
+  bool higher_is_better = false;  ///< true for rates such as "calibration/joint/ok"
 };
 
 struct Suite {

@@ -141,8 +141,10 @@ std::vector<Regression> compareToBaseline(const nlohmann::json& summary,
       out.push_back({tol.metric, *base, 0, 0, "missing from the current run"});
       continue;
     }
-    const double allowed = *base + std::max(tol.abs, tol.rel * std::abs(*base));
-    if (*cur > allowed) out.push_back({tol.metric, *base, *cur, allowed, ""});
+    const double slack = std::max(tol.abs, tol.rel * std::abs(*base));
+    const double allowed = tol.higher_is_better ? *base - slack : *base + slack;
+    const bool worse = tol.higher_is_better ? *cur < allowed : *cur > allowed;
+    if (worse) out.push_back({tol.metric, *base, *cur, allowed, ""});
   }
   return out;
 }

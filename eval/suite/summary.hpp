@@ -37,11 +37,11 @@ struct Regression {
   std::string metric;
   double baseline = 0.0;
   double current = 0.0;
-  double allowed = 0.0;  ///< largest current value that would have passed
+  double allowed = 0.0;  ///< the worst current value that would have passed
   std::string note;      ///< e.g. "missing from the current summary"
 };
 
-/// Compares the `mean` of each toleranced metric; larger is worse.
+/// Compares the `mean` of each toleranced metric in its worse direction.
 std::vector<Regression> compareToBaseline(const nlohmann::json& summary,
                                           const nlohmann::json& baseline,
                                           const std::vector<Tolerance>& tolerances);

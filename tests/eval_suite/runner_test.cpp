@@ -117,12 +117,18 @@ TEST(Compare, FlagsOnlyMetricsWorseThanTheirTolerance) {
   const nlohmann::json baseline = {{"metrics", {{"a", {{"mean", 1.0}}}, {"b", {{"mean", 0.001}}}}}};
   const nlohmann::json current = {
       {"metrics", {{"a", {{"mean", 1.05}}}, {"b", {{"mean", 0.0021}}}}}};
-  const std::vector<Tolerance> tol = {{"a", 0.0, 0.1}, {"b", 0.001, 0.0}, {"c", 1.0, 0.0}};
+  const std::vector<Tolerance> tol = {
+      {"a", 0.0, 0.1}, {"b", 0.001, 0.0}, {"c", 1.0, 0.0}, {"a", 0.0, 0.01, true}};
   const auto regressions = compareToBaseline(current, baseline, tol);
   ASSERT_EQ(regressions.size(), 2u);
   EXPECT_EQ(regressions[0].metric, "b");
   EXPECT_NEAR(regressions[0].allowed, 0.002, 1e-15);
   EXPECT_EQ(regressions[1].metric, "c");  // missing counts as a regression
+  // Higher is better: a drop beyond the slack regresses, a rise never does.
+  const nlohmann::json lower = {{"metrics", {{"a", {{"mean", 0.98}}}}}};
+  const auto drop = compareToBaseline(lower, baseline, {{"a", 0.0, 0.01, true}});
+  ASSERT_EQ(drop.size(), 1u);
+  EXPECT_NEAR(drop[0].allowed, 0.99, 1e-15);
 }
 
 }  // namespace

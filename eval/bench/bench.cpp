@@ -1,0 +1,93 @@
+#include "eval/bench/bench.hpp"
+
+#include <thread>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/paths.hpp"
+#include "eval/bench/figures.hpp"
+#include "eval/bench/report.hpp"
+
+namespace slamprep::eval {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Wall-clock figures of all trials, kept apart from the deterministic results.
+nlohmann::json collectTiming(const std::vector<TrialSpec>& trials, const fs::path& timing_dir) {
+  nlohmann::json timing = nlohmann::json::object();
+  for (const auto& t : trials)
+    if (fs::exists(timing_dir / (t.id + ".json")))
+      timing[t.id] = nlohmann::json::parse(readFile(timing_dir / (t.id + ".json")));
+  return timing;
+}
+
+int defaultJobs() {
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+}  // namespace
+
+void writeResults(BenchOutcome& outcome, const std::vector<TrialSpec>& trials, bool plots) {
+  const fs::path& dir = outcome.out_dir;
+  const TrialSet set = loadTrials(trials, dir / "trials");
+  outcome.complete = set.missing.empty();
+  outcome.summary = summarize(outcome.suite, set);
+  writeFileAtomic(dir / "summary.json", outcome.summary.dump(2) + "\n");
+  writeFileAtomic(dir / "trials.csv", trialsCsv(set));
+  writeFileAtomic(dir / "timing.json", collectTiming(trials, dir / "timing").dump(2) + "\n");
+  if (plots) outcome.plots = renderSuitePlots(outcome.suite, outcome.summary, dir);
+  writeFileAtomic(dir / "README.md", renderReport(outcome.suite, outcome.summary, outcome.plots));
+}
+
+BenchOutcome runBench(const BenchOptions& options, const TrialFunction& trial) {
+  BenchOutcome outcome;
+  const fs::path suite_file = findSuite(options.suite, resolveDataPath("eval/suites"));
+  outcome.suite = loadSuite(suite_file);
+  outcome.out_dir = options.results_root / outcome.suite.name;
+  const auto trials = expandTrials(outcome.suite);
+
+  // The suite travels with its results, so `merge` can run anywhere the folder is.
+  writeFileAtomic(outcome.out_dir / "suite.yaml", readFile(suite_file));
+  const fs::path run_dir =
+      options.shard ? outcome.out_dir / "shards" / options.shard->name() : outcome.out_dir;
+  RunOptions run{options.jobs > 0 ? options.jobs : defaultJobs(), options.shard.value_or(Shard{}),
+                 run_dir / "trials", run_dir / "timing", options.progress};
+  outcome.run = runTrials(trials, trial, run);
+  if (options.shard) return outcome;  // `slamprep merge` aggregates the shards
+
+  writeResults(outcome, trials, options.plots);
+  if (options.compare) {
+    const auto baseline = nlohmann::json::parse(readFile(*options.compare));
+    outcome.regressions = compareToBaseline(outcome.summary, baseline, outcome.suite.tolerances);
+  }
+  if (options.update_baseline)
+    writeFileAtomic(outcome.out_dir / "baseline.json", outcome.summary.dump(2) + "\n");
+  return outcome;
+}
+
+BenchOutcome mergeShards(const fs::path& results_dir, bool plots) {
+  BenchOutcome outcome;
+  const fs::path suite_file = results_dir / "suite.yaml";
+  if (!fs::exists(suite_file))
+    throw InputError(results_dir.string(), "no suite.yaml: not a results folder of slamprep bench");
+  outcome.suite = loadSuite(suite_file);
+  outcome.out_dir = results_dir;
+  std::vector<fs::path> shard_dirs;
+  if (fs::is_directory(results_dir / "shards"))
+    for (const auto& entry : fs::directory_iterator(results_dir / "shards"))
+      if (fs::is_directory(entry.path() / "trials")) shard_dirs.push_back(entry.path() / "trials");
+  std::sort(shard_dirs.begin(), shard_dirs.end());
+  if (shard_dirs.empty()) throw InputError(results_dir.string(), "no shards/*/trials to merge");
+  mergeTrialFolders(shard_dirs, results_dir / "trials");
+  std::vector<fs::path> timing_dirs;
+  for (const auto& d : shard_dirs) timing_dirs.push_back(d.parent_path() / "timing");
+  for (const auto& d : timing_dirs)
+    if (fs::is_directory(d))
+      for (const auto& entry : fs::directory_iterator(d))
+        writeFileAtomic(results_dir / "timing" / entry.path().filename(), readFile(entry.path()));
+  writeResults(outcome, expandTrials(outcome.suite), plots);
+  return outcome;
+}
+
+}  // namespace slamprep::eval

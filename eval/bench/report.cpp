@@ -1,0 +1,174 @@
+#include "eval/bench/report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <sstream>
+
+namespace slamprep::eval {
+namespace {
+
+using nlohmann::json;
+
+// A table: a header row and rows of cells; rendered as Markdown or aligned text.
+struct Table {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+};
+
+std::string fmt(double v, int digits = 3) {
+  if (!std::isfinite(v)) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+// "mean ± std" of a summary metric, scaled; "-" where absent.
+std::string cell(const json& metrics, const std::string& path, double scale = 1.0, int digits = 3) {
+  if (!metrics.contains(path)) return "-";
+  const auto& m = metrics[path];
+  const double mean = m["mean"].get<double>() * scale, sd = m["std"].get<double>() * scale;
+  return m["n"].get<int>() > 1 ? fmt(mean, digits) + " ± " + fmt(sd, 2) : fmt(mean, digits);
+}
+
+std::string percent(const json& metrics, const std::string& path) {
+  if (!metrics.contains(path)) return "-";
+  return fmt(100.0 * metrics[path]["mean"].get<double>(), 3) + " %";
+}
+
+// Method names under a section ("calibration/<method>/...") in first-seen order of the keys.
+std::vector<std::string> methodsOf(const json& metrics, const std::string& section) {
+  std::vector<std::string> out;
+  std::set<std::string> seen;
+  const std::string prefix = section + "/";
+  for (const auto& [path, _] : metrics.items()) {
+    if (path.rfind(prefix, 0) != 0) continue;
+    const std::string method =
+        path.substr(prefix.size(), path.find('/', prefix.size()) - prefix.size());
+    if (seen.insert(method).second) out.push_back(method);
+  }
+  return out;
+}
+
+Table calibrationTable(const json& m) {
+  Table t{{"method", "ok", "r_L err [%]", "r_R err [%]", "b err [%]", "lidar x err [mm]",
+           "lidar y err [mm]", "lidar yaw err [deg]", "truth in 3σ", "drift after [m]"},
+          {}};
+  for (const auto& method : methodsOf(m, "calibration")) {
+    const std::string p = "calibration/" + method + "/";
+    t.rows.push_back({method, percent(m, p + "ok"), cell(m, p + "abs_error/r_L_pct"),
+                      cell(m, p + "abs_error/r_R_pct"), cell(m, p + "abs_error/b_pct"),
+                      cell(m, p + "abs_error/lidar_x_mm"), cell(m, p + "abs_error/lidar_y_mm"),
+                      cell(m, p + "abs_error/lidar_yaw_deg"), percent(m, p + "inside_3sigma"),
+                      cell(m, p + "drift_m")});
+  }
+  return t;
+}
+
+Table deskewTable(const json& m) {
+  Table t{{"method", "ok", "mean [mm]", "RMS [mm]", "p95 [mm]", "max [mm]", "rotation part [mm]",
+           "translation part [mm]"},
+          {}};
+  for (const auto& method : methodsOf(m, "deskew")) {
+    const std::string p = "deskew/" + method + "/";
+    t.rows.push_back({method, percent(m, p + "ok"), cell(m, p + "mean_m", 1e3),
+                      cell(m, p + "rms_m", 1e3), cell(m, p + "p95_m", 1e3),
+                      cell(m, p + "max_m", 1e3), cell(m, p + "rotation_mean_m", 1e3),
+                      cell(m, p + "translation_mean_m", 1e3)});
+  }
+  return t;
+}
+
+Table simulationTable(const json& m) {
+  return {{"quantity", "mean ± std over trials"},
+          {{"simulated time [s]", cell(m, "sim/duration_s")},
+           {"scans", cell(m, "sim/scans")},
+           {"distance driven [m]", cell(m, "sim/distance_m")},
+           {"turned [rad]", cell(m, "sim/turned_rad")},
+           {"final drift, nominal geometry [m]", cell(m, "sim/drift_nominal_m")},
+           {"final drift, true geometry [m]", cell(m, "sim/drift_true_m")},
+           {"scan-match translation error [mm]", cell(m, "matching/trans_error_m_rmse", 1e3)},
+           {"scan-match rotation error [deg]", cell(m, "matching/rot_error_deg_rmse")},
+           {"scan matches converged", percent(m, "matching/converged_fraction")}}};
+}
+
+std::string markdown(const Table& t) {
+  std::ostringstream out;
+  const auto row = [&](const std::vector<std::string>& cells) {
+    out << "|";
+    for (const auto& c : cells) out << " " << c << " |";
+    out << "\n";
+  };
+  row(t.header);
+  out << "|";
+  for (std::size_t i = 0; i < t.header.size(); ++i) out << (i == 0 ? " :-- |" : " --: |");
+  out << "\n";
+  for (const auto& r : t.rows) row(r);
+  return out.str();
+}
+
+// Display width of UTF-8 text (counts code points; enough for ± and σ).
+std::size_t width(const std::string& s) {
+  std::size_t n = 0;
+  for (unsigned char c : s) n += (c & 0xC0) != 0x80;
+  return n;
+}
+
+std::string aligned(const Table& t) {
+  std::vector<std::size_t> w(t.header.size(), 0);
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    w[i] = width(t.header[i]);
+    for (const auto& r : t.rows) w[i] = std::max(w[i], width(r[i]));
+  }
+  std::ostringstream out;
+  const auto row = [&](const std::vector<std::string>& cells) {
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const std::string pad(w[i] - width(cells[i]), ' ');
+      out << (i == 0 ? cells[i] + pad : pad + cells[i]) << (i + 1 < cells.size() ? "  " : "\n");
+    }
+  };
+  row(t.header);
+  for (const auto& r : t.rows) row(r);
+  return out.str();
+}
+
+}  // namespace
+
+std::string renderReport(const Suite& suite, const json& summary,
+                         const std::vector<std::string>& plots) {
+  const json& m = summary["metrics"];
+  std::ostringstream out;
+  out << "# Suite `" << suite.name << "`\n\n";
+  if (!suite.description.empty()) out << suite.description << "\n\n";
+  out << summary["trials"].get<int>() << " trials: " << suite.worlds.size() << " world(s) x "
+      << suite.scenarios.size() << " scenario(s)";
+  for (const auto& axis : suite.sweep) out << " x " << axis.values.size() << " " << axis.key;
+  out << " x " << suite.seeds << " seed(s), " << suite.mode << " mode, calibration motion from "
+      << suite.motion << ".\nReproduce with `slamprep bench --suite " << suite.name
+      << "`. Figures are mean ± standard deviation over trials; errors are absolute.\n\n";
+  if (!summary["missing"].empty())
+    out << "**Missing trials:** " << summary["missing"].size() << " (failed or not yet run).\n\n";
+  out << "## Calibration\n\nError of each method's estimate against the geometry Bullet simulated"
+         " (relative for r_L, r_R, b).\n\n"
+      << markdown(calibrationTable(m)) << "\n";
+  out << "## De-skew\n\nDistance of each corrected point to the ground-truth undistorted point of"
+         " the same beam (range noise cancels).\n\n"
+      << markdown(deskewTable(m)) << "\n";
+  out << "## Simulation and scan matching\n\n" << markdown(simulationTable(m)) << "\n";
+  if (!plots.empty()) {
+    out << "## Plots\n\n";
+    for (const auto& p : plots) out << "![" << p << "](plots/" << p << ")\n\n";
+  }
+  out << "Files: `summary.json` (schema in docs/results.md), `trials.csv` (one row per trial), "
+         "`trials/` (one JSON per trial).\n";
+  return out.str();
+}
+
+std::string renderConsoleSummary(const json& summary) {
+  const json& m = summary["metrics"];
+  return "Calibration (absolute error vs truth)\n" + aligned(calibrationTable(m)) +
+         "\nDe-skew (point error vs ground truth)\n" + aligned(deskewTable(m)) + "\n" +
+         aligned(simulationTable(m));
+}
+
+}  // namespace slamprep::eval
