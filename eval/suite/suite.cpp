@@ -66,8 +66,11 @@ void parseTolerances(const std::filesystem::path& file, const YAML::Node& node, 
         tol.abs = as<double>(file, field.second, key + ".abs");
       else if (name == "rel")
         tol.rel = as<double>(file, field.second, key + ".rel");
+      else if (name == "better")
+        tol.higher_is_better = parseBetter(file, field.second, key);
       else
-        throw InputError(where(file, field.first, key + "." + name), "unknown key (abs, rel)");
+        throw InputError(where(file, field.first, key + "." + name),
+                         "unknown key (abs, rel, better)");
     }
     if (tol.abs < 0 || tol.rel < 0) throw InputError(where(file, entry.second, key), "negative");
     suite.tolerances.push_back(tol);

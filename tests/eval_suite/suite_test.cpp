@@ -51,6 +51,25 @@ TEST(Suite, RejectsUnknownKeyWithFileAndLine) {
   }
 }
 
+TEST(Suite, ReadsTolerancesWithTheirDirection) {
+  const auto file = writeTemp("tol.yaml", R"(
+worlds: [a.yaml]
+scenarios: [b.yaml]
+tolerances:
+  deskew/none/mean_m: {abs: 0.001, rel: 0.05}
+  calibration/joint/ok: {abs: 0.0, better: higher}
+)");
+  const Suite suite = loadSuite(file);
+  ASSERT_EQ(suite.tolerances.size(), 2u);
+  EXPECT_EQ(suite.tolerances[0].metric, "deskew/none/mean_m");
+  EXPECT_DOUBLE_EQ(suite.tolerances[0].rel, 0.05);
+  EXPECT_FALSE(suite.tolerances[0].higher_is_better);
+  EXPECT_TRUE(suite.tolerances[1].higher_is_better);
+  EXPECT_THROW(loadSuite(writeTemp("tol2.yaml",
+                                   "worlds: [a]\nscenarios: [b]\ntolerances: {m: {better: up}}\n")),
+               InputError);
+}
+
 TEST(Suite, RejectsBadValues) {
   EXPECT_THROW(loadSuite(writeTemp("s0.yaml", "worlds: [a]\nscenarios: [b]\nseeds: 0\n")),
                InputError);
