@@ -124,10 +124,10 @@ void appendMarker(Triangles& out, Marker marker, const Vec2& c, double size_px,
       appendRect(out, {c.x - 0.886 * r, c.y - 0.886 * r, c.x + 0.886 * r, c.y + 0.886 * r});
       break;
     case Marker::Triangle:  // pointing up; centroid at c
-      appendPolygon(out, c, regularRing({c.x, c.y}, 1.2 * r, 3, -kPi / 2));
+      appendPolygon(out, c, regularRing(c, 1.35 * r, 3, -kPi / 2));
       break;
     case Marker::TriangleDown:
-      appendPolygon(out, c, regularRing({c.x, c.y}, 1.2 * r, 3, kPi / 2));
+      appendPolygon(out, c, regularRing(c, 1.35 * r, 3, kPi / 2));
       break;
     case Marker::Diamond:
       appendPolygon(out, c, regularRing(c, 1.15 * r, 4, 0.0));

@@ -144,9 +144,6 @@ struct SharedGl {
     gl.bindFramebuffer(GL_FRAMEBUFFER, msaa_fbo);
     msaa_color = renderbuffer(kMsaaSamples, GL_RGBA8);
     gl.framebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msaa_color);
-    msaa_stencil = renderbuffer(kMsaaSamples, GL_DEPTH24_STENCIL8);
-    gl.framebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
-                               msaa_stencil);
     checkComplete("multisample");
     glGetIntegerv(GL_SAMPLES, &samples);
 
@@ -156,6 +153,22 @@ struct SharedGl {
     gl.framebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
                                resolve_color);
     checkComplete("resolve");
+  }
+
+  /// The stencil buffer is as large as the colour buffer and only translucent strokes need it, so
+  /// it is attached on first use.
+  void ensureStencil() {
+    if (msaa_stencil != 0) return;
+    gl.bindFramebuffer(GL_FRAMEBUFFER, msaa_fbo);
+    msaa_stencil = renderbuffer(kMsaaSamples, GL_DEPTH24_STENCIL8);
+    gl.framebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
+                               msaa_stencil);
+    checkComplete("multisample stencil");
+    const GLboolean scissor = glIsEnabled(GL_SCISSOR_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    glClear(GL_STENCIL_BUFFER_BIT);
+    if (scissor) glEnable(GL_SCISSOR_TEST);
+    stencil_ref = 0;
   }
 
   void setupState() {
@@ -175,7 +188,7 @@ struct SharedGl {
     gl.blendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
     glEnableClientState(GL_VERTEX_ARRAY);
     glClearStencil(0);
-    glClear(GL_STENCIL_BUFFER_BIT);
+    if (msaa_stencil != 0) glClear(GL_STENCIL_BUFFER_BIT);
     stencil_ref = 0;
   }
 };
@@ -244,7 +257,10 @@ void GlCanvas::fill(const Triangles& triangles, const Color& c, bool no_overlap)
     xy.push_back(static_cast<GLfloat>(v.x));
     xy.push_back(static_cast<GLfloat>(v.y));
   }
+  // Overlaps only show when the colour is translucent; opaque fills skip the stencil.
+  no_overlap = no_overlap && c.a < 1.0;
   if (no_overlap) {
+    m.ensureStencil();
     // Each fill stamps its own stencil value and skips samples that already carry it, so no
     // per-fill stencil clear (a full-buffer clear costs ~50 ms here); clear once per 255 fills.
     if (++m.stencil_ref > 255) {

@@ -22,9 +22,9 @@ class GlCanvas {
   /// Restricts drawing to a pixel rectangle (rounded outwards to whole pixels).
   void setClip(const PixelRect& rect);
   void clearClip();
-  /// Draws a triangle list in `color` (alpha-blended). With `no_overlap`, every sample is painted
-  /// at most once by this call (stencil), so a translucent stroke stays even where its pieces
-  /// overlap.
+  /// Draws a triangle list in `color` (alpha-blended). With `no_overlap` and a translucent colour,
+  /// every sample is painted at most once by this call (stencil), so a translucent stroke stays
+  /// even where its pieces overlap.
   void fill(const Triangles& triangles, const Color& color, bool no_overlap = true);
   /// The pixels so far.
   Image read();

@@ -27,8 +27,8 @@ std::string formatTick(double value, double step, bool scientific);
 /// value is below 1e-3 or some value reaches 1e5 in magnitude.
 bool wantsScientific(const Range& range);
 
-/// Major ticks at multiples of a 1-2-5 step inside `range`, at most `max_major` of them (>= 2
-/// when the range allows).
+/// Major ticks at multiples of a 1-2-5 step inside `range`: at most `max_major` of them, unless
+/// that step leaves fewer than two, then the coarsest step that gives two.
 std::vector<Tick> linearTicks(const Range& range, int max_major);
 
 /// Decade ticks (every k-th decade if there are too many) with unlabelled minor ticks at 2..9;
