@@ -1,0 +1,182 @@
+#include "eval/metrics/trajectory_error.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace slamprep::eval {
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
+// |t(E)| and |angle(E)| in degrees of a pose error E.
+void appendError(const SE2& E, std::vector<double>& translation_m,
+                 std::vector<double>& rotation_deg) {
+  translation_m.push_back(E.translation().norm());
+  rotation_deg.push_back(std::abs(E.yaw) * kDegPerRad);
+}
+
+bool referenceClose(const PoseSeries& reference, const Bracket& b, double t, double max_dt) {
+  const double t_a = reference[b.index].stamp_s;
+  if (t == t_a || reference.size() == 1) return t == t_a;
+  const double t_b = reference[b.index + 1].stamp_s;
+  return t == t_b || std::max(t - t_a, t_b - t) <= max_dt;
+}
+
+std::vector<double> pathLengths(const std::vector<SE2>& poses) {
+  std::vector<double> s(poses.size(), 0.0);
+  for (std::size_t k = 1; k < poses.size(); ++k)
+    s[k] = s[k - 1] + (poses[k].translation() - poses[k - 1].translation()).norm();
+  return s;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> framePairs(std::size_t n, std::size_t d,
+                                                            bool all_pairs) {
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  for (std::size_t i = 0; i + d < n; i += all_pairs ? 1 : d) pairs.emplace_back(i, i + d);
+  return pairs;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> pathPairs(const std::vector<SE2>& poses,
+                                                           double delta_m, bool all_pairs) {
+  const std::vector<double> s = pathLengths(poses);
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  std::size_t i = 0, j = 1;
+  while (i + 1 < s.size()) {
+    j = std::max(j, i + 1);
+    while (j < s.size() && s[j] - s[i] < delta_m) ++j;  // monotone: j never moves back
+    if (j == s.size()) break;
+    pairs.emplace_back(i, j);
+    i = all_pairs ? i + 1 : j;
+  }
+  return pairs;
+}
+
+}  // namespace
+
+AssociatedPoses associateByTime(const PoseSeries& estimate, const PoseSeries& reference,
+                                double max_time_difference_s) {
+  AssociatedPoses out;
+  for (const auto& sample : estimate.samples()) {
+    const auto b = reference.bracket(sample.stamp_s);
+    if (!b || !referenceClose(reference, *b, sample.stamp_s, max_time_difference_s)) {
+      ++out.unmatched;
+      continue;
+    }
+    out.stamps_s.push_back(sample.stamp_s);
+    out.estimate.push_back(sample.value);
+    out.reference.push_back(*reference.at(sample.stamp_s));
+  }
+  return out;
+}
+
+AlignmentResult alignRigid2D(const Points2& p_est, const Points2& q_ref) {
+  AlignmentResult r;
+  if (p_est.size() != q_ref.size() || p_est.size() < 2) {
+    r.reason = "need at least two corresponding positions";
+    return r;
+  }
+  const double n = static_cast<double>(p_est.size());
+  Eigen::Vector2d p_mean = Eigen::Vector2d::Zero(), q_mean = Eigen::Vector2d::Zero();
+  for (std::size_t i = 0; i < p_est.size(); ++i) {
+    p_mean += p_est[i] / n;
+    q_mean += q_ref[i] / n;
+  }
+  // Cross-covariance terms of the centred sets; in 2D the SVD of H = sum p' q'^T reduces to
+  // theta = atan2(sum p' x q', sum p' . q') (Umeyama 1991 Eq. (40)-(42) with c = 1, no reflection
+  // possible for a rotation angle).
+  double dot = 0.0, cross = 0.0, spread = 0.0;
+  for (std::size_t i = 0; i < p_est.size(); ++i) {
+    const Eigen::Vector2d p = p_est[i] - p_mean, q = q_ref[i] - q_mean;
+    dot += p.dot(q);
+    cross += p.x() * q.y() - p.y() * q.x();
+    spread += p.squaredNorm();
+  }
+  if (!(spread > 1e-18 * n) || !std::isfinite(dot + cross)) {
+    r.reason = "estimate positions coincide (or are not finite): rotation unobservable";
+    return r;
+  }
+  const double theta = std::atan2(cross, dot);
+  const SE2 R(0.0, 0.0, theta);
+  const Eigen::Vector2d t = q_mean - R.rotation() * p_mean;  // t = mu_q - R mu_p
+  r.T_ref_est = SE2(t.x(), t.y(), theta);
+  double sq = 0.0;
+  for (std::size_t i = 0; i < p_est.size(); ++i)
+    sq += (q_ref[i] - r.T_ref_est * p_est[i]).squaredNorm();
+  r.rmse_m = std::sqrt(sq / n);
+  r.ok = true;
+  return r;
+}
+
+ApeResult absolutePoseError(const PoseSeries& estimate, const PoseSeries& reference,
+                            const ApeParams& params) {
+  ApeResult r;
+  const AssociatedPoses a = associateByTime(estimate, reference, params.max_time_difference_s);
+  r.unmatched = a.unmatched;
+  if (a.estimate.empty()) {
+    r.reason = "no estimate pose has a reference within the time tolerance";
+    return r;
+  }
+  if (params.align) {
+    Points2 p, q;
+    for (std::size_t i = 0; i < a.estimate.size(); ++i) {
+      p.push_back(a.estimate[i].translation());
+      q.push_back(a.reference[i].translation());
+    }
+    const AlignmentResult alignment = alignRigid2D(p, q);
+    if (!alignment.ok) {
+      r.reason = "alignment: " + alignment.reason;
+      return r;
+    }
+    r.T_ref_est = alignment.T_ref_est;
+  }
+  for (std::size_t i = 0; i < a.estimate.size(); ++i) {
+    const SE2 E = a.reference[i].inverse() * (r.T_ref_est * a.estimate[i]);  // E_i = Q_i^-1 P_i
+    appendError(E, r.translation_errors_m, r.rotation_errors_deg);
+  }
+  r.stamps_s = a.stamps_s;
+  r.matched = a.estimate.size();
+  r.translation_m = summarize(r.translation_errors_m);
+  r.rotation_deg = summarize(r.rotation_errors_deg);
+  r.ok = r.translation_m.ok && r.rotation_deg.ok;
+  if (!r.ok) r.reason = "errors: " + r.translation_m.reason + r.rotation_deg.reason;
+  return r;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> rpePairs(const std::vector<SE2>& reference,
+                                                          const RpeParams& params) {
+  if (params.unit == DeltaUnit::kFrames) {
+    const auto d = static_cast<std::size_t>(std::max(1.0, std::round(params.delta)));
+    return framePairs(reference.size(), d, params.all_pairs);
+  }
+  return pathPairs(reference, params.delta, params.all_pairs);
+}
+
+RpeResult relativePoseError(const PoseSeries& estimate, const PoseSeries& reference,
+                            const RpeParams& params) {
+  RpeResult r;
+  if (!(params.delta > 0.0) || !std::isfinite(params.delta)) {
+    r.reason = "delta must be a positive number";
+    return r;
+  }
+  const AssociatedPoses a = associateByTime(estimate, reference, params.max_time_difference_s);
+  r.unmatched = a.unmatched;
+  r.index_pairs = rpePairs(a.reference, params);
+  if (r.index_pairs.empty()) {
+    r.reason =
+        "no pose pair is delta apart (" + std::to_string(a.estimate.size()) + " associated poses)";
+    return r;
+  }
+  for (const auto& [i, j] : r.index_pairs) {
+    const SE2 Q_ij = between(a.reference[i], a.reference[j]);
+    const SE2 P_ij = between(a.estimate[i], a.estimate[j]);
+    appendError(Q_ij.inverse() * P_ij, r.translation_errors_m, r.rotation_errors_deg);
+  }
+  r.pairs = r.index_pairs.size();
+  r.translation_m = summarize(r.translation_errors_m);
+  r.rotation_deg = summarize(r.rotation_errors_deg);
+  r.ok = r.translation_m.ok && r.rotation_deg.ok;
+  if (!r.ok) r.reason = "errors: " + r.translation_m.reason + r.rotation_deg.reason;
+  return r;
+}
+
+}  // namespace slamprep::eval
