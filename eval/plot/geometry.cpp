@@ -43,6 +43,16 @@ void appendBar(Triangles& out, const Vec2& c, double half_length, double width, 
   appendStroke(out, {{c.x - d.x, c.y - d.y}, {c.x + d.x, c.y + d.y}}, width);
 }
 
+/// Whether the wedge left open between two butt-ended quads meeting at b is wider than 0.05 px
+/// (half-width * sin(turn angle)); below that a join disc is invisible and only costs triangles.
+bool turnsVisibly(const Vec2& a, const Vec2& b, const Vec2& c, double half_width) {
+  const double ux = b.x - a.x, uy = b.y - a.y, vx = c.x - b.x, vy = c.y - b.y;
+  const double lengths = std::hypot(ux, uy) * std::hypot(vx, vy);
+  if (lengths < 1e-18) return true;
+  const double cross = std::abs(ux * vy - uy * vx), dot = ux * vx + uy * vy;
+  return dot < 0.0 || half_width * cross / lengths > 0.05;
+}
+
 }  // namespace
 
 void appendStroke(Triangles& out, const std::vector<Vec2>& polyline, double width_px) {
@@ -55,7 +65,7 @@ void appendStroke(Triangles& out, const std::vector<Vec2>& polyline, double widt
     const Vec2 n{-(b.y - a.y) / length * half, (b.x - a.x) / length * half};  // Eq.: unit normal
     appendQuad(out, {a.x + n.x, a.y + n.y}, {b.x + n.x, b.y + n.y}, {b.x - n.x, b.y - n.y},
                {a.x - n.x, a.y - n.y});
-    if (i > 0) appendDisc(out, a, half);  // round join at the interior vertex
+    if (i > 0 && turnsVisibly(polyline[i - 1], a, b, half)) appendDisc(out, a, half);  // round join
   }
 }
 

@@ -107,6 +107,8 @@ struct TextRenderer::Run {
 struct TextRenderer::Layout {
   std::vector<Run> runs;
   TextExtent extent;
+  double base_ascent_px = 0.0;   ///< ascent of the main size alone
+  double base_descent_px = 0.0;  ///< descent of the main size alone
 };
 
 TextRenderer::TextRenderer(const std::filesystem::path& font_path) : impl_(new Impl) {
@@ -154,6 +156,10 @@ TextRenderer::Layout TextRenderer::layout(std::string_view markup, double size_p
                                           : 0.0;
     const long size_26_6 = std::max(64L, std::lround(size * 64.0));
     impl_->setSize(size_26_6);
+    if (piece.level == 0) {
+      out.base_ascent_px = face->size->metrics.ascender / 64.0;
+      out.base_descent_px = -face->size->metrics.descender / 64.0;
+    }
     const double ascent = face->size->metrics.ascender / 64.0 + rise;
     const double descent = -face->size->metrics.descender / 64.0 - rise;
     if (!piece.text.empty() || piece.level != 0) {
@@ -192,8 +198,9 @@ void TextRenderer::draw(Image& image, std::string_view markup, double size_px, d
   const double anchor_u = h == HAlign::Left     ? 0.0
                           : h == HAlign::Center ? e.width_px / 2
                                                 : e.width_px;
+  // Middle centres the main line (scripts ignored), so "10^{-2}" centres its "10" on a tick.
   const double anchor_w = v == VAlign::Top        ? -e.ascent_px
-                          : v == VAlign::Middle   ? (e.descent_px - e.ascent_px) / 2
+                          : v == VAlign::Middle   ? (line.base_descent_px - line.base_ascent_px) / 2
                           : v == VAlign::Baseline ? 0.0
                                                   : e.descent_px;
   // Integer origin keeps hinted glyphs crisp.

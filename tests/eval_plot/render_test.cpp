@@ -326,10 +326,11 @@ TEST(Render, TranslucentStrokeDoesNotDarkenAtJoints) {
   GlCanvas canvas(64, 64, 1);
   canvas.clear({1, 1, 1, 1});
   Triangles stroke;
-  appendStroke(stroke, {{8, 32}, {32, 32}, {56, 32}}, 8.0);
+  appendStroke(stroke, {{8, 32}, {32, 32}, {32, 56}}, 8.0);  // a right-angle turn
   canvas.fill(stroke, {0, 0, 0, 0.5});
   const Image image = canvas.read();
-  EXPECT_NEAR(image.pixel(32, 32)[0], 128, 1);  // at the joint
+  EXPECT_NEAR(image.pixel(32, 32)[0], 128, 1);  // joint: disc and both quads overlap here
+  EXPECT_NEAR(image.pixel(34, 34)[0], 128, 1);  // inside the corner, both quads overlap
   EXPECT_NEAR(image.pixel(20, 32)[0], 128, 1);  // on a segment
 }
 
