@@ -36,17 +36,40 @@ std::vector<std::pair<std::size_t, std::size_t>> framePairs(std::size_t n, std::
   return pairs;
 }
 
-std::vector<std::pair<std::size_t, std::size_t>> pathPairs(const std::vector<SE2>& poses,
-                                                           double delta_m, bool all_pairs) {
+using IndexPairs = std::vector<std::pair<std::size_t, std::size_t>>;
+
+IndexPairs consecutive(const std::vector<std::size_t>& marks) {
+  IndexPairs pairs;
+  for (std::size_t k = 1; k < marks.size(); ++k) pairs.emplace_back(marks[k - 1], marks[k]);
+  return pairs;
+}
+
+// Marks where the path walked since the previous mark reaches delta (evo's consecutive mode).
+IndexPairs pathSegments(const std::vector<SE2>& poses, double delta_m) {
+  std::vector<std::size_t> marks;
+  double walked = 0.0;
+  for (std::size_t k = 1; k < poses.size(); ++k) {
+    walked += (poses[k].translation() - poses[k - 1].translation()).norm();
+    if (walked >= delta_m) {
+      marks.push_back(k);
+      walked = 0.0;
+    }
+  }
+  return consecutive(marks);
+}
+
+// For every i, the j whose path length from i is nearest to delta, within the tolerance.
+IndexPairs pathAllPairs(const std::vector<SE2>& poses, double delta_m, double tol_m) {
   const std::vector<double> s = pathLengths(poses);
-  std::vector<std::pair<std::size_t, std::size_t>> pairs;
-  std::size_t i = 0, j = 1;
-  while (i + 1 < s.size()) {
-    j = std::max(j, i + 1);
-    while (j < s.size() && s[j] - s[i] < delta_m) ++j;  // monotone: j never moves back
-    if (j == s.size()) break;
-    pairs.emplace_back(i, j);
-    i = all_pairs ? i + 1 : j;
+  IndexPairs pairs;
+  std::size_t hi = 0;  // first j with s[j] - s[i] >= delta; never moves back as i grows
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    hi = std::max(hi, i);
+    while (hi < s.size() && s[hi] - s[i] < delta_m) ++hi;
+    std::size_t best = hi;
+    if (hi == s.size() || (hi > i && delta_m - (s[hi - 1] - s[i]) <= s[hi] - s[i] - delta_m))
+      best = hi - 1;  // the pose just short of delta is at least as near
+    if (best > i && std::abs(s[best] - s[i] - delta_m) <= tol_m) pairs.emplace_back(i, best);
   }
   return pairs;
 }
@@ -142,13 +165,15 @@ ApeResult absolutePoseError(const PoseSeries& estimate, const PoseSeries& refere
   return r;
 }
 
-std::vector<std::pair<std::size_t, std::size_t>> rpePairs(const std::vector<SE2>& reference,
+std::vector<std::pair<std::size_t, std::size_t>> rpePairs(const std::vector<SE2>& poses,
                                                           const RpeParams& params) {
   if (params.unit == DeltaUnit::kFrames) {
     const auto d = static_cast<std::size_t>(std::max(1.0, std::round(params.delta)));
-    return framePairs(reference.size(), d, params.all_pairs);
+    return framePairs(poses.size(), d, params.all_pairs);
   }
-  return pathPairs(reference, params.delta, params.all_pairs);
+  if (params.all_pairs)
+    return pathAllPairs(poses, params.delta, params.rel_delta_tol * params.delta);
+  return pathSegments(poses, params.delta);
 }
 
 RpeResult relativePoseError(const PoseSeries& estimate, const PoseSeries& reference,
@@ -160,7 +185,7 @@ RpeResult relativePoseError(const PoseSeries& estimate, const PoseSeries& refere
   }
   const AssociatedPoses a = associateByTime(estimate, reference, params.max_time_difference_s);
   r.unmatched = a.unmatched;
-  r.index_pairs = rpePairs(a.reference, params);
+  r.index_pairs = rpePairs(params.pairs_from_reference ? a.reference : a.estimate, params);
   if (r.index_pairs.empty()) {
     r.reason =
         "no pose pair is delta apart (" + std::to_string(a.estimate.size()) + " associated poses)";

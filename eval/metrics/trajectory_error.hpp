@@ -62,10 +62,11 @@ ApeResult absolutePoseError(const PoseSeries& estimate, const PoseSeries& refere
 enum class DeltaUnit { kFrames, kMeters };
 
 struct RpeParams {
-  double delta = 1.0;  ///< pose-pair spacing, in `unit`
-  DeltaUnit unit =
-      DeltaUnit::kFrames;  ///< frames (delta rounded, >= 1) or metres of reference path
-  bool all_pairs = false;  ///< every start index instead of consecutive segments
+  double delta = 1.0;                   ///< pose-pair spacing, in `unit`
+  DeltaUnit unit = DeltaUnit::kFrames;  ///< frames (delta rounded, >= 1) or metres of path
+  bool all_pairs = false;               ///< every start index instead of consecutive segments
+  double rel_delta_tol = 0.1;           ///< all_pairs in metres: accept |path - delta| <= tol*delta
+  bool pairs_from_reference = false;    ///< measure the path on the reference (evo: estimate)
   double max_time_difference_s = 0.01;  ///< association tolerance, see associateByTime
 };
 
@@ -86,10 +87,14 @@ struct RpeResult {
 RpeResult relativePoseError(const PoseSeries& estimate, const PoseSeries& reference,
                             const RpeParams& params = {});
 
-/// Index pairs of RPE (exposed for tests): frames: (i, i + d) for i = 0, d, 2d, ... (every i with
-/// all_pairs); metres: walking the reference path from i, j is the first index whose path length
-/// from i reaches delta, the next segment starts at j (all_pairs: from every i).
-std::vector<std::pair<std::size_t, std::size_t>> rpePairs(const std::vector<SE2>& reference,
+/// Index pairs of RPE, as evo's id_pairs_from_delta chooses them (exposed for tests), on the
+/// poses whose path is measured:
+/// - frames: (i, i + d) for i = 0, d, 2d, ...; with all_pairs for every i;
+/// - metres: walking the poses, a mark is set each time the path since the previous mark (or
+///   since pose 0) reaches delta; pairs are consecutive marks (pose 0 is not a mark);
+/// - metres, all_pairs: for every i, the j >= i whose path from i is nearest to delta (ties to
+///   the lower j), kept when |path - delta| <= rel_delta_tol * delta.
+std::vector<std::pair<std::size_t, std::size_t>> rpePairs(const std::vector<SE2>& poses,
                                                           const RpeParams& params);
 
 }  // namespace slamprep::eval

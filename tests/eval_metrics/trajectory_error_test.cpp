@@ -202,12 +202,32 @@ TEST(Rpe, ScaleErrorGivesTenPercentOfTheDelta) {
   EXPECT_NEAR(r.translation_m.mean, 0.3, 1e-14);
   r = relativePoseError(s.est, s.gt, {.delta = 3, .all_pairs = true});
   EXPECT_EQ(r.pairs, 7u);  // i = 0..6
-  // Metres along the reference: 2.5 m is first reached 3 frames on.
+  // Metres, evo's consecutive mode: marks where the path since the previous mark reaches 2.5 m.
+  // Estimate path (evo's default) 1.1 m per frame: 3.3 m at frames 3, 6, 9 -> (3,6), (6,9).
+  using Pairs = std::vector<std::pair<std::size_t, std::size_t>>;
   r = relativePoseError(s.est, s.gt, {.delta = 2.5, .unit = DeltaUnit::kMeters});
-  EXPECT_EQ(r.index_pairs,
-            (std::vector<std::pair<std::size_t, std::size_t>>{{0, 3}, {3, 6}, {6, 9}}));
+  EXPECT_EQ(r.index_pairs, (Pairs{{3, 6}, {6, 9}}));
   EXPECT_NEAR(r.translation_m.max, 0.3, 1e-14);
   EXPECT_EQ(r.rotation_deg.max, 0.0);
+  // On the reference (1 m per frame), 2 m is reached exactly at frames 2, 4, 6, 8.
+  r = relativePoseError(s.est, s.gt,
+                        {.delta = 2.0, .unit = DeltaUnit::kMeters, .pairs_from_reference = true});
+  EXPECT_EQ(r.index_pairs, (Pairs{{2, 4}, {4, 6}, {6, 8}}));
+  EXPECT_NEAR(r.translation_m.mean, 0.2, 1e-14);
+  // All pairs: from every i the nearest path to 2 m is exactly 2 frames on (i = 0..7).
+  r = relativePoseError(
+      s.est, s.gt,
+      {.delta = 2.0, .unit = DeltaUnit::kMeters, .all_pairs = true, .pairs_from_reference = true});
+  EXPECT_EQ(r.pairs, 8u);
+  EXPECT_NEAR(r.translation_m.max, 0.2, 1e-14);
+}
+
+TEST(Rpe, AllPairsInMetresTakeTheNearestPathWithinTolerance) {
+  // Path lengths 0, 1, 1.9, 3.15. delta 2, tol 0.2: from 0 the nearest is 1.9 (j = 2); from 1,
+  // 0.9 or 2.15 -> j = 3; from 2, 1.25 is 0.75 off -> none.
+  const std::vector<SE2> poses = {SE2(0, 0, 0), SE2(1, 0, 0), SE2(1.9, 0, 0), SE2(3.15, 0, 0)};
+  const auto pairs = rpePairs(poses, {.delta = 2.0, .unit = DeltaUnit::kMeters, .all_pairs = true});
+  EXPECT_EQ(pairs, (std::vector<std::pair<std::size_t, std::size_t>>{{0, 2}, {1, 3}}));
 }
 
 TEST(Rpe, HeadingDriftGivesItsAngle) {
@@ -228,6 +248,13 @@ TEST(Rpe, RefusesBadDeltaAndTooShortTrajectories) {
   EXPECT_FALSE(relativePoseError(s.est, s.gt, {.delta = std::nan("")}).ok);
   EXPECT_FALSE(relativePoseError(s.est, s.gt, {.delta = 20}).ok);
   EXPECT_FALSE(relativePoseError(s.est, s.gt, {.delta = 100, .unit = DeltaUnit::kMeters}).ok);
+  // All pairs in metres: 2.5 m is 0.5 m from the nearest pose on a 1 m grid, beyond 10 %.
+  EXPECT_FALSE(relativePoseError(s.est, s.gt,
+                                 {.delta = 2.5,
+                                  .unit = DeltaUnit::kMeters,
+                                  .all_pairs = true,
+                                  .pairs_from_reference = true})
+                   .ok);
 }
 
 }  // namespace
