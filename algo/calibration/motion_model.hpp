@@ -103,8 +103,9 @@ Pose2<T> integrateStepsShifted(const std::vector<EncoderStep>& steps, const T& r
   double t0 = 0.0;
   for (const EncoderStep& step : steps) {
     const double t1 = t0 + step.dt_s;
-    const T a = lo > T(t0) ? lo : T(t0);
-    const T e = hi < T(t1) ? hi : T(t1);
+    // Ties go to the window edge so that d/d(offset) is the edge rate at offset = 0 as well.
+    const T a = lo >= T(t0) ? lo : T(t0);
+    const T e = hi <= T(t1) ? hi : T(t1);
     if (e > a) pose = compose(pose, stepMotion(step, r_L, r_R, b, (e - a) / step.dt_s));
     t0 = t1;
   }

@@ -1,0 +1,90 @@
+#pragma once
+// Synthetic calibration intervals from known geometry, generated with core's exact arc model
+// (wheelIncrement), independent of the algo/ motion model under test.
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "algo/calibration/interval.hpp"
+#include "core/odometry.hpp"
+
+namespace slamprep::algo::testing {
+
+enum class Driving { kMixed, kStraight, kSpin };
+
+struct SyntheticSpec {
+  DiffDriveParams truth{0.098, 0.102, 0.52};
+  SE2 T_base_lidar{0.12, -0.04, 0.3};
+  int intervals = 60;
+  int steps_per_interval = 30;
+  double dt_s = 0.01;
+  Driving driving = Driving::kMixed;
+  double sigma_xy_m = 0.0;       ///< noise added to the measured lidar translation, per axis
+  double sigma_theta_rad = 0.0;  ///< noise added to the measured lidar rotation
+  unsigned seed = 1;
+};
+
+/// Wheel rates (rad/s) of interval k at step j: curves both ways, spins, near-straight driving,
+/// with the speed varying inside the interval so constant-speed shortcuts would be wrong.
+inline Eigen::Vector2d wheelRates(const SyntheticSpec& spec, int k, int j) {
+  const double wobble = 1.0 + 0.3 * std::sin(0.37 * j + 1.3 * k);
+  Eigen::Vector2d w;
+  switch (spec.driving) {
+    case Driving::kStraight:
+      w = {6.0, 6.0};
+      break;
+    case Driving::kSpin:
+      w = {-4.0, 4.0};
+      break;
+    default:
+      switch (k % 4) {
+        case 0:
+          w = {3.0, 6.0};
+          break;  // curve left
+        case 1:
+          w = {6.0, 2.5};
+          break;  // curve right
+        case 2:
+          w = {-4.0, 4.5};
+          break;  // spin
+        default:
+          w = {6.0, 6.5};
+          break;  // nearly straight
+      }
+  }
+  return wobble * w;
+}
+
+inline std::vector<CalibrationInterval> makeIntervals(const SyntheticSpec& spec) {
+  std::mt19937_64 rng(spec.seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::vector<CalibrationInterval> out;
+  double t = 0.0;
+  for (int k = 0; k < spec.intervals; ++k) {
+    CalibrationInterval interval;
+    interval.t_start_s = t;
+    SE2 o;  // true T_baseStart_baseEnd
+    for (int j = 0; j < spec.steps_per_interval; ++j) {
+      const Eigen::Vector2d w = wheelRates(spec, k, j);
+      EncoderStep step{spec.dt_s, w.x() * spec.dt_s, w.y() * spec.dt_s};
+      interval.steps.push_back(step);
+      o = o * wheelIncrement(spec.truth, step.dphi_left_rad, step.dphi_right_rad);
+      t += spec.dt_s;
+    }
+    interval.t_end_s = t;
+    const SE2 sm = spec.T_base_lidar.inverse() * o * spec.T_base_lidar;
+    const double nx = spec.sigma_xy_m * gauss(rng), ny = spec.sigma_xy_m * gauss(rng);
+    const double nth = spec.sigma_theta_rad * gauss(rng);
+    interval.T_lidarStart_lidarEnd = SE2(sm.x + nx, sm.y + ny, sm.yaw + nth);
+    out.push_back(std::move(interval));
+  }
+  return out;
+}
+
+/// Relative error |a - b| / |b|.
+inline double rel(double a, double b) {
+  return std::abs(a - b) / std::abs(b);
+}
+
+}  // namespace slamprep::algo::testing
