@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -74,8 +75,8 @@ class IcpReference {
 /// Point-to-point ICP: nearest neighbours, closed-form SVD step (Arun/Umeyama), repeat.
 IcpResult matchPointToPoint(const Points2& ref, const Points2& cur, const SE2& T_ref_cur_guess,
                             const IcpParams& params);
-IcpResult matchPointToPoint(const IcpReference& ref, const Points2& cur,
-                            const SE2& T_ref_cur_guess, const IcpParams& params);
+IcpResult matchPointToPoint(const IcpReference& ref, const Points2& cur, const SE2& T_ref_cur_guess,
+                            const IcpParams& params);
 
 /// Point-to-line ICP (Censi 2008): each current point is pulled onto the line fitted through its
 /// nearest reference point; each round solves the exact minimiser in closed form.

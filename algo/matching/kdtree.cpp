@@ -16,8 +16,9 @@ struct PointsAdaptor {
   }
 };
 
-using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
-                                                  PointsAdaptor, 2, std::uint32_t>;
+using Index =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
+                                        PointsAdaptor, 2, std::uint32_t>;
 
 }  // namespace
 
@@ -39,7 +40,9 @@ KdTree2::~KdTree2() = default;
 KdTree2::KdTree2(KdTree2&&) noexcept = default;
 KdTree2& KdTree2::operator=(KdTree2&&) noexcept = default;
 
-const Points2& KdTree2::points() const { return impl_->points; }
+const Points2& KdTree2::points() const {
+  return impl_->points;
+}
 
 std::optional<Neighbor> KdTree2::nearest(const Eigen::Vector2d& query) const {
   if (impl_->points.empty()) return std::nullopt;

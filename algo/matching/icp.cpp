@@ -1,0 +1,287 @@
+#include "algo/matching/icp.hpp"
+
+#include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <string>
+
+namespace slamprep::algo {
+namespace {
+
+/// One correspondence: current point (cur frame), reference point, line normal (p2l only).
+struct Pair {
+  Eigen::Vector2d p_cur;
+  Eigen::Vector2d q_ref;
+  Eigen::Vector2d n_ref;
+  double error_sq = 0.0;  ///< squared residual at the estimate the pair was found with
+};
+
+/// Unit normal of the line through the neighbours of `query`, or (0, 0) when they are no line.
+Eigen::Vector2d fitLineNormal(const KdTree2& tree, const Eigen::Vector2d& query,
+                              const IcpParams& params) {
+  const auto neighbors = tree.nearestK(query, params.line_neighbors);
+  const double radius_sq = params.line_max_radius_m * params.line_max_radius_m;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  std::size_t count = 0;
+  for (const Neighbor& n : neighbors)
+    if (n.distance_sq_m2 <= radius_sq) mean += tree.points()[n.index], ++count;
+  if (count < 3) return Eigen::Vector2d::Zero();
+  mean /= static_cast<double>(count);
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (const Neighbor& n : neighbors) {
+    if (n.distance_sq_m2 > radius_sq) continue;
+    const Eigen::Vector2d d = tree.points()[n.index] - mean;
+    scatter += d * d.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig;
+  eig.computeDirect(scatter);
+  const Eigen::Vector2d lambda = eig.eigenvalues();  // ascending
+  if (lambda(1) <= 0.0 ||
+      lambda(0) > params.line_max_thickness * params.line_max_thickness * lambda(1))
+    return Eigen::Vector2d::Zero();
+  return eig.eigenvectors().col(0);
+}
+
+/// Nearest-neighbour correspondences at the estimate T, gated and trimmed.
+std::vector<Pair> findPairs(const IcpReference& ref, const Points2& cur, const SE2& T,
+                            bool point_to_line, const IcpParams& params) {
+  std::vector<Pair> pairs;
+  pairs.reserve(cur.size());
+  const double gate_sq =
+      params.max_correspondence_distance_m * params.max_correspondence_distance_m;
+  const Eigen::Matrix2d R = T.rotation();
+  const Eigen::Vector2d t = T.translation();
+  for (const Eigen::Vector2d& p : cur) {
+    const Eigen::Vector2d p_ref = R * p + t;
+    const auto nn = ref.tree().nearest(p_ref);
+    if (!nn || nn->distance_sq_m2 > gate_sq) continue;
+    Pair pair{p, ref.points()[nn->index], Eigen::Vector2d::Zero(), nn->distance_sq_m2};
+    if (point_to_line) {
+      pair.n_ref = ref.normal(nn->index);
+      if (pair.n_ref.isZero()) continue;
+      const double e = pair.n_ref.dot(p_ref - pair.q_ref);
+      pair.error_sq = e * e;
+    }
+    pairs.push_back(pair);
+  }
+  // Trimmed ICP: keep the best (1 - trim_fraction) of the gated pairs.
+  const auto keep = static_cast<std::size_t>(
+      std::ceil((1.0 - std::clamp(params.trim_fraction, 0.0, 1.0)) * pairs.size()));
+  if (keep < pairs.size()) {
+    std::nth_element(pairs.begin(), pairs.begin() + keep, pairs.end(),
+                     [](const Pair& a, const Pair& b) { return a.error_sq < b.error_sq; });
+    pairs.resize(keep);
+  }
+  return pairs;
+}
+
+/// Closed-form point-to-point step from pairs (DESIGN.md "ICP": centroids, H = sum p' q'^T,
+/// H = U S V^T, R = V U^T with the reflection fixed, t = u_q - R u_p).
+std::optional<SE2> solvePointToPoint(const std::vector<Pair>& pairs) {
+  if (pairs.size() < 2) return std::nullopt;
+  Eigen::Vector2d u_p = Eigen::Vector2d::Zero(), u_q = Eigen::Vector2d::Zero();
+  for (const Pair& pr : pairs) u_p += pr.p_cur, u_q += pr.q_ref;
+  u_p /= static_cast<double>(pairs.size());
+  u_q /= static_cast<double>(pairs.size());
+  Eigen::Matrix2d H = Eigen::Matrix2d::Zero();
+  for (const Pair& pr : pairs) H += (pr.p_cur - u_p) * (pr.q_ref - u_q).transpose();
+  if (H.norm() <= 0.0) return std::nullopt;
+  Eigen::JacobiSVD<Eigen::Matrix2d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix2d V = svd.matrixV();
+  Eigen::Matrix2d R = V * svd.matrixU().transpose();
+  if (R.determinant() < 0.0) {  // a reflection: flip the axis of the smallest singular value
+    V.col(1) *= -1.0;
+    R = V * svd.matrixU().transpose();
+  }
+  const Eigen::Vector2d t = u_q - R * u_p;
+  return SE2(t.x(), t.y(), std::atan2(R(1, 0), R(0, 0)));
+}
+
+/// Largest real root of the monic-free quartic c4 x^4 + ... + c0 (companion-matrix eigenvalues).
+std::optional<double> largestRealRoot(const Eigen::Matrix<double, 5, 1>& c) {
+  Eigen::Matrix4d companion = Eigen::Matrix4d::Zero();
+  companion.block<3, 3>(1, 0).setIdentity();
+  for (int i = 0; i < 4; ++i) companion(i, 3) = -c(i) / c(4);
+  const Eigen::Vector4cd roots =
+      Eigen::EigenSolver<Eigen::Matrix4d>(companion, false).eigenvalues();
+  std::optional<double> best;
+  for (int i = 0; i < 4; ++i) {
+    const double scale = std::max(1.0, std::abs(roots(i)));
+    if (std::abs(roots(i).imag()) > 1e-6 * scale) continue;
+    if (!best || roots(i).real() > *best) best = roots(i).real();
+  }
+  return best;
+}
+
+/// Exact point-to-line step (Censi 2008). With x = (t_x, t_y, cos th, sin th) every residual
+/// n^T (R p + t - q) is linear in x: a^T x - b, a = M_p^T n, M_p = [[1,0,px,-py],[0,1,py,px]].
+/// Minimise x^T M x + g^T x subject to cos^2 + sin^2 = 1 (one Lagrange multiplier, a quartic).
+std::optional<SE2> solvePointToLine(const std::vector<Pair>& pairs) {
+  if (pairs.size() < 3) return std::nullopt;
+  Eigen::Matrix4d M = Eigen::Matrix4d::Zero();
+  Eigen::Vector4d g = Eigen::Vector4d::Zero();
+  for (const Pair& pr : pairs) {
+    const Eigen::Vector2d& p = pr.p_cur;
+    const Eigen::Vector2d& n = pr.n_ref;
+    const Eigen::Vector4d a(n.x(), n.y(), n.x() * p.x() + n.y() * p.y(),
+                            -n.x() * p.y() + n.y() * p.x());
+    M.noalias() += a * a.transpose();
+    g -= 2.0 * n.dot(pr.q_ref) * a;
+  }
+  const Eigen::Matrix2d A = M.topLeftCorner<2, 2>(), B = M.topRightCorner<2, 2>(),
+                        D = M.bottomRightCorner<2, 2>();
+  // Translation eliminated: t(c) = -A^-1 (B c + g_t / 2).
+  if (std::abs(A.determinant()) <= 1e-12 * A.squaredNorm()) return std::nullopt;
+  const Eigen::Matrix2d A_inv = A.inverse();
+  const Eigen::Matrix2d S = D - B.transpose() * A_inv * B;                      // c^T S c
+  const Eigen::Vector2d h = g.tail<2>() - B.transpose() * A_inv * g.head<2>();  // + h^T c
+  // Stationarity 2 (S + l I) c = -h with |c| = 1: using adj(S + l I) = adj(S) + l I,
+  // |(adj(S) + l I) h|^2 = 4 det(S + l I)^2 is a quartic in l; the minimum is its largest root.
+  const Eigen::Matrix2d G = (Eigen::Matrix2d() << S(1, 1), -S(0, 1), -S(1, 0), S(0, 0)).finished();
+  const double p1 = S.trace(), p0 = S.determinant();
+  const Eigen::Vector2d Gh = G * h;
+  Eigen::Matrix<double, 5, 1> c;
+  c << 4.0 * p0 * p0 - Gh.squaredNorm(), 8.0 * p1 * p0 - 2.0 * h.dot(Gh),
+      4.0 * (p1 * p1 + 2.0 * p0) - h.squaredNorm(), 8.0 * p1, 4.0;
+  const auto lambda = largestRealRoot(c);
+  if (!lambda) return std::nullopt;
+  const Eigen::Matrix2d P = S + *lambda * Eigen::Matrix2d::Identity();
+  Eigen::Vector2d cs = -(G + *lambda * Eigen::Matrix2d::Identity()) * h;  // = -adj(P) h
+  if (P.determinant() < 0.0) cs = -cs;  // c = -adj(P) h / (2 det P): only the direction matters
+  if (cs.norm() <= 0.0) return std::nullopt;
+  cs.normalize();
+  const Eigen::Vector2d t = -A_inv * (B * cs + 0.5 * g.head<2>());
+  return SE2(t.x(), t.y(), std::atan2(cs.y(), cs.x()));
+}
+
+/// Var(x | |x| < z) / Var(x) for a Gaussian cut symmetrically so that `trim` of it is dropped:
+/// 1 - 2 z phi(z) / (1 - trim), z = Phi^-1(1 - trim / 2). Undoes trimming's shrinking of sigma^2.
+double trimmedVarianceFactor(double trim) {
+  trim = std::clamp(trim, 0.0, 0.9);
+  if (trim <= 0.0) return 1.0;
+  double lo = 0.0, hi = 10.0;  // bisection on erf(z / sqrt 2) = 1 - trim
+  for (int i = 0; i < 60; ++i) {
+    const double z = 0.5 * (lo + hi);
+    (std::erf(z / std::sqrt(2.0)) < 1.0 - trim ? lo : hi) = z;
+  }
+  const double z = 0.5 * (lo + hi);
+  const double phi = std::exp(-0.5 * z * z) / std::sqrt(2.0 * std::numbers::pi);
+  return 1.0 - 2.0 * z * phi / (1.0 - trim);
+}
+
+/// sigma^2 (J^T J)^-1 with J the residual Jacobian w.r.t. (x, y, yaw) at T; sigma^2 from residuals.
+Eigen::Matrix3d covarianceAt(const std::vector<Pair>& pairs, const SE2& T, bool point_to_line,
+                             const IcpParams& params, double* rms) {
+  Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+  double sum_sq = 0.0;
+  const Eigen::Matrix2d R = T.rotation();
+  for (const Pair& pr : pairs) {
+    const Eigen::Vector2d Rp = R * pr.p_cur;
+    Eigen::Matrix<double, 2, 3> J;  // d(R p + t)/d(x, y, yaw)
+    J << 1.0, 0.0, -Rp.y(), 0.0, 1.0, Rp.x();
+    const Eigen::Vector2d e = Rp + T.translation() - pr.q_ref;
+    if (point_to_line) {
+      const Eigen::RowVector3d j = pr.n_ref.transpose() * J;
+      info.noalias() += j.transpose() * j;
+      sum_sq += std::pow(pr.n_ref.dot(e), 2);
+    } else {
+      info.noalias() += J.transpose() * J;
+      sum_sq += e.squaredNorm();
+    }
+  }
+  const double n_res = static_cast<double>(pairs.size()) * (point_to_line ? 1.0 : 2.0);
+  *rms = pairs.empty() ? 0.0 : std::sqrt(sum_sq / n_res);
+  const double sigma_sq = n_res > 3.0
+                              ? sum_sq / (n_res - 3.0) / trimmedVarianceFactor(params.trim_fraction)
+                              : params.max_variance;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(info);
+  Eigen::Vector3d variances;
+  for (int i = 0; i < 3; ++i) {
+    const double l = eig.eigenvalues()(i);
+    variances(i) = l > sigma_sq / params.max_variance ? sigma_sq / l : params.max_variance;
+  }
+  return eig.eigenvectors() * variances.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+IcpResult match(const IcpReference& ref, const Points2& cur, const SE2& guess, bool point_to_line,
+                const IcpParams& params) {
+  IcpResult result;
+  result.T_ref_cur = guess;
+  if (point_to_line && !ref.hasNormals()) {
+    result.reason = "reference has no line normals (build IcpReference with normals)";
+    return result;
+  }
+  std::vector<Pair> pairs;
+  for (result.iterations = 1; result.iterations <= params.max_iterations; ++result.iterations) {
+    pairs = findPairs(ref, cur, result.T_ref_cur, point_to_line, params);
+    if (pairs.size() < params.min_inliers) {
+      result.reason = "only " + std::to_string(pairs.size()) + " correspondences (need " +
+                      std::to_string(params.min_inliers) + "): too little overlap or a bad guess";
+      break;
+    }
+    const auto T_new = point_to_line ? solvePointToLine(pairs) : solvePointToPoint(pairs);
+    if (!T_new) {
+      result.reason = "degenerate correspondences: the step is not determined";
+      break;
+    }
+    const SE2 step = between(result.T_ref_cur, *T_new);
+    result.T_ref_cur = *T_new;
+    if (step.translation().norm() < params.translation_tolerance_m &&
+        std::abs(step.yaw) < params.rotation_tolerance_rad) {
+      result.converged = true;
+      break;
+    }
+  }
+  if (!result.converged && result.reason.empty()) {
+    result.iterations = params.max_iterations;
+    result.reason = "no convergence in " + std::to_string(params.max_iterations) + " iterations";
+  }
+  result.inliers = pairs.size();
+  result.covariance =
+      covarianceAt(pairs, result.T_ref_cur, point_to_line, params, &result.rms_residual_m);
+  return result;
+}
+
+}  // namespace
+
+IcpReference::IcpReference(Points2 ref, const IcpParams& params, bool with_normals)
+    : tree_(std::move(ref)) {
+  if (!with_normals) return;
+  normals_.reserve(tree_.size());
+  for (const Eigen::Vector2d& q : tree_.points())
+    normals_.push_back(fitLineNormal(tree_, q, params));
+}
+
+std::optional<SE2> alignPointToPoint(const Points2& p, const Points2& q) {
+  assert(p.size() == q.size());
+  std::vector<Pair> pairs;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    pairs.push_back({p[i], q[i], Eigen::Vector2d::Zero(), 0.0});
+  return solvePointToPoint(pairs);
+}
+
+IcpResult matchPointToPoint(const IcpReference& ref, const Points2& cur, const SE2& T_ref_cur_guess,
+                            const IcpParams& params) {
+  return match(ref, cur, T_ref_cur_guess, false, params);
+}
+
+IcpResult matchPointToPoint(const Points2& ref, const Points2& cur, const SE2& T_ref_cur_guess,
+                            const IcpParams& params) {
+  return match(IcpReference(ref, params, false), cur, T_ref_cur_guess, false, params);
+}
+
+IcpResult matchPointToLine(const IcpReference& ref, const Points2& cur, const SE2& T_ref_cur_guess,
+                           const IcpParams& params) {
+  return match(ref, cur, T_ref_cur_guess, true, params);
+}
+
+IcpResult matchPointToLine(const Points2& ref, const Points2& cur, const SE2& T_ref_cur_guess,
+                           const IcpParams& params) {
+  return match(IcpReference(ref, params, true), cur, T_ref_cur_guess, true, params);
+}
+
+}  // namespace slamprep::algo
