@@ -132,7 +132,6 @@ std::string polygonProblem(const std::vector<Eigen::Vector2d>& v) {
     if ((v[i] - v[(i + 1) % n]).norm() < 1e-9)
       return "vertices " + std::to_string(i) + " and " + std::to_string((i + 1) % n) +
              " coincide (do not repeat the first vertex at the end)";
-  if (std::abs(twiceSignedArea(v)) < 1e-9) return "has zero area (collinear vertices)";
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = i + 1; j < n; ++j) {
       const bool adjacent = j == i + 1 || (i == 0 && j == n - 1);
@@ -140,6 +139,7 @@ std::string polygonProblem(const std::vector<Eigen::Vector2d>& v) {
         return "edges " + std::to_string(i) + " and " + std::to_string(j) +
                " intersect (self-intersecting outline)";
     }
+  if (std::abs(twiceSignedArea(v)) < 1e-9) return "has zero area (collinear vertices)";
   return {};
 }
 

@@ -1,0 +1,123 @@
+#include "sim/physics/lidar.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "sim/physics/robot.hpp"
+#include "test_util.hpp"
+
+namespace slamprep::sim {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// Analytic distance from p (inside) along unit d to the box_room walls x = +-3, y = +-2.
+double boxRoomDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& d) {
+  const double tx = d.x() > 0 ? (3 - p.x()) / d.x() : d.x() < 0 ? (-3 - p.x()) / d.x() : 1e300;
+  const double ty = d.y() > 0 ? (2 - p.y()) / d.y() : d.y() < 0 ? (-2 - p.y()) / d.y() : 1e300;
+  return std::min(tx, ty);
+}
+
+TEST(Lidar, HeaderFollowsRosConvention) {
+  const Lidar lidar(LidarConfig{}, 1);
+  const LaserScan scan = lidar.header(12.5);
+  EXPECT_EQ(lidar.beamsPerScan(), 720u);
+  EXPECT_EQ(scan.size(), 720u);
+  EXPECT_DOUBLE_EQ(scan.stamp_s, 12.5);
+  EXPECT_DOUBLE_EQ(scan.angle_min_rad, -kPi);
+  EXPECT_DOUBLE_EQ(scan.angle_increment_rad, 2 * kPi / 720);
+  EXPECT_DOUBLE_EQ(scan.time_increment_s, 1.0 / 7200);
+  EXPECT_DOUBLE_EQ(scan.scan_time_s, 0.1);
+  EXPECT_DOUBLE_EQ(scan.range_min_m, 0.05);
+  EXPECT_DOUBLE_EQ(scan.range_max_m, 30.0);
+  EXPECT_TRUE(std::isinf(scan.ranges_m[0]) && scan.ranges_m[0] > 0);
+  // The last beam ends one increment short of a full turn: 720 beams take 0.1 s - dt.
+  EXPECT_NEAR(scan.endTime() - scan.stamp_s, 0.1 - 1.0 / 7200, 1e-15);
+
+  LidarConfig half;
+  half.fov_rad = kPi;
+  half.clockwise = true;
+  const Lidar cw(half, 1);
+  const LaserScan s = cw.header(0.0);
+  EXPECT_EQ(cw.beamsPerScan(), 360u);
+  EXPECT_DOUBLE_EQ(s.angle_min_rad, kPi / 2);
+  EXPECT_DOUBLE_EQ(s.angle_increment_rad, -2 * kPi / 720);
+  EXPECT_DOUBLE_EQ(cw.beamAngle(359), s.beamAngle(359));
+}
+
+// The brief: a still robot in box_room, noise off, off-centre mount, non-zero yaw: every one of
+// the 720 ranges equals the analytic distance within 1e-6 m.
+TEST(Lidar, StillRobotInBoxRoomMatchesAnalyticRanges) {
+  Scene scene(loadWorld(test::worldFile("box_room.yaml")));
+  Robot robot(scene, RobotConfig{}, SE2(0.4, -0.3, 0.7));
+  for (int k = 0; k < 300; ++k) {
+    scene.step(0.001);
+    robot.update();
+  }
+  LidarConfig config;
+  config.range_noise_m = 0.0;
+  config.T_base_lidar = SE2(0.15, -0.04, 0.3);
+  Lidar lidar(config, 3);
+  const SE2 T_world_lidar = robot.T_world_base() * config.T_base_lidar;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < lidar.beamsPerScan(); ++i) {
+    const Lidar::Beam beam = lidar.measure(scene, T_world_lidar, i);
+    const double yaw = T_world_lidar.yaw + lidar.beamAngle(i);
+    const double truth =
+        boxRoomDistance(T_world_lidar.translation(), {std::cos(yaw), std::sin(yaw)});
+    ASSERT_TRUE(std::isfinite(beam.range_m)) << i;
+    EXPECT_EQ(beam.range_m, beam.true_range_m);
+    worst = std::max(worst, std::abs(beam.range_m - truth));
+  }
+  EXPECT_LT(worst, 1e-6);
+  RecordProperty("worst_error_m", std::to_string(worst));
+}
+
+// Noise: N(0, sigma) per beam. Over n = 720 beams the sample mean has standard error
+// sigma/sqrt(n) = 3.7e-4 m and the sample sigma sigma/sqrt(2n) = 2.6e-4 m: 5 standard errors.
+TEST(Lidar, NoiseIsGaussianSeededAndPerBeam) {
+  const Scene scene(loadWorld(test::worldFile("box_room.yaml")));
+  LidarConfig config;  // sigma 0.01 m
+  const SE2 T_world_lidar(0.3, 0.2, 0.1);
+  auto residuals = [&](std::uint64_t seed) {
+    Lidar lidar(config, seed);
+    std::vector<double> r;
+    for (std::size_t i = 0; i < lidar.beamsPerScan(); ++i) {
+      const Lidar::Beam beam = lidar.measure(scene, T_world_lidar, i);
+      r.push_back(beam.range_m - beam.true_range_m);
+    }
+    return r;
+  };
+  const std::vector<double> a = residuals(42);
+  double mean = 0.0, var = 0.0;
+  for (double x : a) mean += x / a.size();
+  for (double x : a) var += (x - mean) * (x - mean) / (a.size() - 1);
+  EXPECT_NEAR(mean, 0.0, 5 * 0.01 / std::sqrt(720.0));
+  EXPECT_NEAR(std::sqrt(var), 0.01, 5 * 0.01 / std::sqrt(2 * 720.0));
+  EXPECT_EQ(residuals(42), a);  // same seed, same bits
+  EXPECT_NE(residuals(43), a);
+}
+
+TEST(Lidar, RangeLimitsGiveNoReturn) {
+  const Scene scene(loadWorld(test::worldFile("corridor.yaml")));
+  LidarConfig config;
+  config.range_noise_m = 0.0;
+  Lidar lidar(config, 1);
+  // Beam 360 looks along the lidar's +x axis, beam 0 along -x (angle_min = -pi).
+  ASSERT_NEAR(lidar.beamAngle(360), 0.0, 1e-15);
+  const SE2 T_world_lidar(3.0, 1.25, 0.0);
+  const Lidar::Beam far = lidar.measure(scene, T_world_lidar, 360);  // end wall 37 m away
+  EXPECT_TRUE(std::isinf(far.range_m));
+  EXPECT_TRUE(std::isinf(far.true_range_m));
+  const Lidar::Beam back = lidar.measure(scene, T_world_lidar, 0);
+  EXPECT_NEAR(back.range_m, 3.0, 1e-12);
+  // Closer than range_min (0.05 m): the truth is known, the measurement is no return.
+  const Lidar::Beam close = lidar.measure(scene, SE2(0.03, 1.25, 0.0), 0);
+  EXPECT_NEAR(close.true_range_m, 0.03, 1e-12);
+  EXPECT_TRUE(std::isinf(close.range_m));
+}
+
+}  // namespace
+}  // namespace slamprep::sim
