@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <thread>
 
 #include "core/error.hpp"
 #include "eval/plot/gl_canvas.hpp"
@@ -332,6 +333,29 @@ TEST(Render, TranslucentStrokeDoesNotDarkenAtJoints) {
   EXPECT_NEAR(image.pixel(32, 32)[0], 128, 1);  // joint: disc and both quads overlap here
   EXPECT_NEAR(image.pixel(34, 34)[0], 128, 1);  // inside the corner, both quads overlap
   EXPECT_NEAR(image.pixel(20, 32)[0], 128, 1);  // on a segment
+}
+
+TEST(Render, ConcurrentRendersMatchSerialOnes) {
+  // Renders share one OSMesa context behind a mutex; each thread makes it current in turn.
+  const Figure a{.width_px = 300, .height_px = 200, .axes = {samples::trajectoryAxes()}};
+  const Figure b{.width_px = 300, .height_px = 200, .axes = {samples::deskewAxes()}};
+  const Image serial_a = render(a), serial_b = render(b);
+  Image threaded_a, threaded_b;
+  std::thread ta([&] { threaded_a = render(a); });
+  std::thread tb([&] { threaded_b = render(b); });
+  ta.join();
+  tb.join();
+  EXPECT_EQ(threaded_a.rgba, serial_a.rgba);
+  EXPECT_EQ(threaded_b.rgba, serial_b.rgba);
+}
+
+TEST(Render, FontScaleGrowsTheMargins) {
+  Axes axes{.x_label = "x", .y_label = "y", .x_range = Range{0, 1}, .y_range = Range{0, 1}};
+  Figure normal = plain(axes), large = plain(axes);
+  large.font_scale = 1.5;
+  const PanelLayout n = layoutFigure(normal).at(0), l = layoutFigure(large).at(0);
+  EXPECT_GT(l.left_px, n.left_px + 10);  // wider tick labels and a taller rotated label
+  EXPECT_LT(l.bottom_px, n.bottom_px - 10);
 }
 
 }  // namespace
