@@ -27,6 +27,11 @@ struct RobotConfig {
 };
 
 /// Chassis, two driven wheels on hinge joints with velocity motors, low-friction caster(s).
+/// The wheels are Bullet cylinders whose collision margin is half their width: a tyre of radius
+/// r with a round profile, touching the floor in its mid-plane (contacts exactly b apart).
+/// Base pose, velocity and yaw rate are read from the wheel axle. The motors' impulse limit
+/// follows the step size Scene::step was last called with (1 ms until the first update()).
+/// Adds its bodies to the scene and removes them when destroyed: destroy it before the Scene.
 class Robot {
  public:
   Robot(Scene& scene, const RobotConfig& config, const SE2& T_world_base0);

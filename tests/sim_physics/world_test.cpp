@@ -20,6 +20,8 @@ TEST(World, LoadsShippedWorlds) {
     EXPECT_FALSE(world.name.empty()) << name;
     EXPECT_EQ(world.source, worldFile(name));
     EXPECT_FALSE(outline(world).empty()) << name;
+    // The start pose leaves room for the robot (footprint radius 0.3 m).
+    EXPECT_FALSE(Scene(world).collides(world.T_world_start.translation(), 0.3)) << name;
   }
   const World room = loadWorld(worldFile("room.yaml"));
   EXPECT_EQ(room.name, "room");
