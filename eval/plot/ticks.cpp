@@ -163,12 +163,17 @@ std::vector<Tick> logTicks(const Range& range, int max_major) {
   const double hi = std::log10(range.max);
   const int k0 = static_cast<int>(std::ceil(lo - kRelTol));
   const int k1 = static_cast<int>(std::floor(hi + kRelTol));
-  if (k1 - k0 + 1 >= 2) return decadeTicks(k0, k1, lo, hi, max_major);
-
+  const int decades = k1 - k0 + 1;
+  auto fits = [&](const std::vector<Tick>& t) {
+    return countMajor(t) >= 2 && countMajor(t) <= max_major;
+  };
+  if (decades >= 3) return decadeTicks(k0, k1, lo, hi, max_major);
+  // Two decade labels or fewer say little about the scale: label 1, 2, 5 when they fit.
   auto ticks = mantissaTicks(range, [](int m) { return m == 1 || m == 2 || m == 5; });
-  if (countMajor(ticks) >= 2 && countMajor(ticks) <= max_major) return ticks;
+  if (fits(ticks)) return ticks;
+  if (decades == 2) return decadeTicks(k0, k1, lo, hi, max_major);
   ticks = mantissaTicks(range, [](int) { return true; });
-  if (countMajor(ticks) >= 2 && countMajor(ticks) <= max_major) return ticks;
+  if (fits(ticks)) return ticks;
   return linearTicks(range, max_major);
 }
 

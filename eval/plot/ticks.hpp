@@ -31,8 +31,9 @@ bool wantsScientific(const Range& range);
 /// that step leaves fewer than two, then the coarsest step that gives two.
 std::vector<Tick> linearTicks(const Range& range, int max_major);
 
-/// Decade ticks (every k-th decade if there are too many) with unlabelled minor ticks at 2..9;
-/// a range narrower than two decades labels 1-2-5 values; narrower still falls back to linear.
+/// Decade ticks (every k-th decade if there are too many) with unlabelled minor ticks at 2..9.
+/// When at most two decades fall inside, 1-2-5 values are labelled instead if they fit (then
+/// 1..9 values), and a range too narrow for any of that falls back to linear ticks.
 /// Requires 0 < range.min < range.max.
 std::vector<Tick> logTicks(const Range& range, int max_major);
 

@@ -140,6 +140,18 @@ TEST(LogTicks, NarrowRangeLabelsOneTwoFive) {
   }
 }
 
+TEST(LogTicks, TwoDecadesGetOneTwoFiveLabelsWhenTheyFit) {
+  const auto ticks = logTicks({0.9, 11.0}, 6);
+  const std::vector<double> expected{1.0, 2.0, 5.0, 10.0};
+  EXPECT_EQ(majorValues(ticks), expected);
+  EXPECT_EQ(ticks.back().label, "10");  // one label style on the axis: plain numbers
+  // Six 1-2-5 values (5e-5 ... 2e-3) do not fit in four labels: decades only.
+  const std::vector<double> decades = majorValues(logTicks({2e-5, 3e-3}, 4));
+  ASSERT_EQ(decades.size(), 2u);
+  EXPECT_NEAR(std::log10(decades[0]), -4.0, 1e-12);
+  EXPECT_NEAR(std::log10(decades[1]), -3.0, 1e-12);
+}
+
 TEST(LogTicks, VeryNarrowRangeFallsBackToLinear) {
   const auto majors = majorValues(logTicks({1.1, 1.9}, 6));
   ASSERT_GE(majors.size(), 2u);
