@@ -13,6 +13,7 @@ struct Command {
 };
 
 // One function per command, defined in <name>_command.cpp. Add new ones to main.cpp's list.
+Command addCalibrateCommand(CLI::App& app);
 Command addSimulateCommand(CLI::App& app);
 
 }  // namespace slamprep::app

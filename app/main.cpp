@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   app.footer("Run `slamprep COMMAND --help` for a command's options.");
 
   const std::vector<Command> commands = {
+      addCalibrateCommand(app),
       addSimulateCommand(app),
   };
 

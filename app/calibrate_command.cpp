@@ -1,0 +1,277 @@
+// `slamprep calibrate`: odometry calibration (issue 3) on a dataset or on Censi interval records.
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <sstream>
+
+#include "algo/calibration/calibration.hpp"
+#include "algo/calibration/dataset_motion.hpp"
+#include "app/commands.hpp"
+#include "core/error.hpp"
+
+namespace slamprep::app {
+namespace {
+
+struct CalibrateFlags {
+  std::string dataset;
+  std::string method = "all";
+  std::string motion = "groundtruth";
+  std::string intervals_out;  // --intervals: write the intervals used as Censi records
+  std::string tuples_in;      // --tuples: run on Censi records instead of the dataset's motion
+  std::string json_out;
+  std::vector<std::string> squares;  // extra UMBmark square-run datasets
+  double keyframe_cm = 10.0;
+  double keyframe_deg = 10.0;
+  double side_m = 3.0;
+  bool time_offset = false;
+};
+
+/// One method's outcome in the units the table and JSON use.
+struct Row {
+  std::string method;
+  algo::CalibrationResult result;
+};
+
+const char* kKeys[] = {"r_L", "r_R", "b", "lidar_x", "lidar_y", "lidar_yaw"};
+
+Eigen::VectorXd values(const algo::CalibrationResult& r) {
+  Eigen::VectorXd v(r.estimates_mount ? 6 : 3);
+  v.head<3>() << r.geometry.radius_left_m, r.geometry.radius_right_m, r.geometry.wheel_base_m;
+  if (r.estimates_mount) v.tail<3>() << r.T_base_lidar.x, r.T_base_lidar.y, r.T_base_lidar.yaw;
+  return v;
+}
+
+std::optional<Eigen::VectorXd> truthValues(const Dataset* dataset) {
+  if (!dataset || !dataset->info.true_geometry) return std::nullopt;
+  const auto& g = *dataset->info.true_geometry;
+  const SE2& l = dataset->info.T_base_lidar;
+  Eigen::VectorXd v(6);
+  v << g.radius_left_m, g.radius_right_m, g.wheel_base_m, l.x, l.y, l.yaw;
+  return v;
+}
+
+// Estimate minus truth, with yaw wrapped.
+double errorOf(const Eigen::VectorXd& est, const Eigen::VectorXd& truth, int i) {
+  const double e = est(i) - truth(i);
+  return i == 5 ? normalizeAngle(e) : e;
+}
+
+nlohmann::json toJson(const Row& row, const std::optional<Eigen::VectorXd>& truth) {
+  const auto& r = row.result;
+  nlohmann::json j = {{"method", row.method}, {"ok", r.ok}, {"reason", r.reason}};
+  const Eigen::VectorXd v = values(r);
+  const bool has_sigma = r.covariance.size() > 0;
+  const Eigen::VectorXd s = r.sigma();
+  nlohmann::json sigma = nlohmann::json::object(), error = nlohmann::json::object();
+  for (int i = 0; i < v.size(); ++i) {
+    j[kKeys[i]] = r.ok ? nlohmann::json(v(i)) : nlohmann::json(nullptr);
+    sigma[kKeys[i]] = r.ok && has_sigma ? nlohmann::json(s(i)) : nlohmann::json(nullptr);
+    if (truth) error[kKeys[i]] = r.ok ? nlohmann::json(errorOf(v, *truth, i)) : nullptr;
+  }
+  j["sigma"] = sigma;
+  if (truth) j["error"] = error;
+  j["condition_number"] = std::isfinite(r.condition_number) ? nlohmann::json(r.condition_number)
+                                                            : nlohmann::json(nullptr);
+  j["intervals"] = r.intervals_used;
+  return j;
+}
+
+// Lengths in mm, the yaw in degrees: what a person reads.
+std::string human(double value, int i) {
+  std::ostringstream s;
+  s << std::fixed;
+  if (i == 5)
+    s << std::setprecision(3) << value * 180.0 / std::numbers::pi << " deg";
+  else
+    s << std::setprecision(3) << value * 1000.0 << " mm";
+  return s.str();
+}
+
+void printTable(const std::vector<Row>& rows, const std::optional<Eigen::VectorXd>& truth) {
+  for (const Row& row : rows) {
+    const auto& r = row.result;
+    std::cout << "\n" << row.method << ": ";
+    if (!r.ok) {
+      std::cout << "REFUSED: " << r.reason << "\n";
+      continue;
+    }
+    std::cout << r.intervals_used << " intervals/runs, condition number " << std::setprecision(3)
+              << r.condition_number << "\n";
+    std::cout << "  " << std::left << std::setw(10) << "param" << std::setw(16) << "estimate"
+              << std::setw(16) << "1-sigma";
+    if (truth)
+      std::cout << std::setw(16) << "truth" << std::setw(14) << "error"
+                << "error %";
+    std::cout << "\n";
+    const Eigen::VectorXd v = values(r), s = r.sigma();
+    for (int i = 0; i < v.size(); ++i) {
+      std::cout << "  " << std::setw(10) << kKeys[i] << std::setw(16) << human(v(i), i)
+                << std::setw(16) << (r.covariance.size() > 0 ? human(s(i), i) : "n/a");
+      if (truth) {
+        const double e = errorOf(v, *truth, i);
+        std::ostringstream pct;
+        if (std::abs((*truth)(i)) > 1e-12)
+          pct << std::fixed << std::setprecision(4) << 100.0 * e / std::abs((*truth)(i)) << " %";
+        else
+          pct << "-";
+        std::cout << std::setw(16) << human((*truth)(i), i) << std::setw(14) << human(e, i)
+                  << pct.str();
+      }
+      std::cout << "\n";
+    }
+  }
+}
+
+std::vector<std::string> methodsOf(const std::string& method) {
+  if (method == "all") return {"direct", "model", "joint", "ceres", "umbmark"};
+  return {method};
+}
+
+algo::CalibrationResult runUmbmark(const CalibrateFlags& flags, const Dataset* dataset) {
+  std::vector<algo::UmbmarkRun> runs;
+  auto add = [&](const Dataset& d, const std::string& where) {
+    if (d.info.scenario.find("umbmark") == std::string::npos) return false;
+    const auto run = algo::umbmarkRunFromDataset(d);
+    if (!run) throw InputError(where, "UMBmark run needs ground truth and nominal odometry");
+    runs.push_back(*run);
+    return true;
+  };
+  if (dataset) add(*dataset, flags.dataset);
+  for (const std::string& dir : flags.squares)
+    if (!add(readDataset(dir), dir))
+      throw InputError(dir, "--square: not an UMBmark square-run dataset (scenario umbmark_*)");
+  algo::UmbmarkParams params;
+  params.side_m = flags.side_m;
+  if (dataset) params.nominal = dataset->info.nominal_geometry;
+  if (runs.empty()) {
+    algo::UmbmarkResult r;
+    r.reason =
+        "no UMBmark square runs: simulate worlds/scenarios/umbmark_cw.yaml and "
+        "umbmark_ccw.yaml and pass them (DATASET or --square DIR)";
+    return r;
+  }
+  return algo::calibrateUmbmark(runs, params);
+}
+
+std::vector<algo::CalibrationInterval> intervalsFor(const CalibrateFlags& flags,
+                                                    const Dataset* dataset) {
+  if (!flags.tuples_in.empty()) return algo::readIntervalRecords(flags.tuples_in);
+  algo::IntervalParams params;
+  params.keyframe_translation_m = flags.keyframe_cm / 100.0;
+  params.keyframe_rotation_rad = flags.keyframe_deg * std::numbers::pi / 180.0;
+  std::vector<PoseSeries> chains;
+  if (flags.motion == "groundtruth") {
+    PoseSeries poses = algo::lidarPosesFromGroundTruth(*dataset);
+    if (poses.size() < 2)
+      throw InputError(flags.dataset, "--motion groundtruth: the dataset has no ground truth");
+    chains.push_back(std::move(poses));
+  } else {
+    const algo::IcpChains icp = algo::lidarPosesFromIcp(*dataset);
+    if (icp.failed_matches > 0)
+      std::cerr << "calibrate: " << icp.failed_matches << " scan matches failed (chains broken)\n";
+    chains = icp.chains;
+  }
+  const algo::IntervalSet set = algo::buildIntervals(*dataset, chains, params);
+  std::cerr << "calibrate: " << set.intervals.size() << " intervals (" << set.dropped_standstill
+            << " standing still, " << set.dropped_uncovered << " without encoder data dropped)\n";
+  return set.intervals;
+}
+
+int runCalibrate(const CalibrateFlags& flags) {
+  if (flags.dataset.empty() && flags.tuples_in.empty())
+    throw InputError("DATASET", "give a dataset directory, --tuples FILE, or both");
+  std::optional<Dataset> dataset;
+  if (!flags.dataset.empty()) dataset = readDataset(flags.dataset);
+  const Dataset* d = dataset ? &*dataset : nullptr;
+  const std::vector<std::string> methods = methodsOf(flags.method);
+  const bool needs_intervals = flags.method != "umbmark";
+  std::vector<algo::CalibrationInterval> intervals;
+  if (needs_intervals) intervals = intervalsFor(flags, d);
+  if (!flags.intervals_out.empty()) algo::writeIntervalRecords(flags.intervals_out, intervals);
+
+  std::vector<Row> rows;
+  algo::JointResult joint;
+  bool joint_done = false;
+  for (const std::string& m : methods) {
+    if (m == "direct") {
+      algo::DirectLinearParams params;
+      if (!d) {
+        algo::DirectLinearResult r;
+        r.reason = "needs the nominal geometry of a dataset (give DATASET with --tuples)";
+        rows.push_back({m, r});
+        continue;
+      }
+      params.nominal = d->info.nominal_geometry;
+      rows.push_back({m, algo::calibrateDirectLinear(intervals, params)});
+    } else if (m == "model") {
+      rows.push_back({m, algo::calibrateModelBased(intervals)});
+    } else if (m == "joint" || m == "ceres") {
+      if (!joint_done) joint = algo::calibrateJoint(intervals);
+      joint_done = true;
+      if (m == "joint") {
+        rows.push_back({m, joint});
+      } else {
+        algo::CeresParams params;
+        params.estimate_time_offset = flags.time_offset;
+        const algo::CeresResult r = algo::calibrateCeres(intervals, joint, params);
+        if (flags.time_offset && r.ok)
+          std::cerr << "calibrate: ceres time offset " << r.time_offset_s * 1e3 << " ms +- "
+                    << r.time_offset_sigma_s * 1e3 << " ms\n";
+        rows.push_back({m, r});
+      }
+    } else if (m == "umbmark") {
+      rows.push_back({m, runUmbmark(flags, d)});
+    }
+  }
+  const auto truth = truthValues(d);
+  printTable(rows, truth);
+  if (!flags.json_out.empty()) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const Row& row : rows) out.push_back(toJson(row, truth));
+    std::ofstream file(flags.json_out);
+    if (!file) throw InputError(flags.json_out, "cannot write");
+    file << out.dump(2) << "\n";
+  }
+  for (const Row& row : rows)
+    if (!row.result.ok) return 3;  // a refusal is an answer, but not a success
+  return 0;
+}
+
+}  // namespace
+
+Command addCalibrateCommand(CLI::App& app) {
+  auto flags = std::make_shared<CalibrateFlags>();
+  auto* cli = app.add_subcommand(
+      "calibrate",
+      "Odometry calibration: r_L, r_R, b (and the lidar mount) from encoders plus lidar motion.");
+  cli->add_option("DATASET", flags->dataset, "dataset directory");
+  cli->add_option("--method", flags->method, "direct|model|joint|ceres|umbmark|all")
+      ->check(CLI::IsMember({"direct", "model", "joint", "ceres", "umbmark", "all"}))
+      ->capture_default_str();
+  cli->add_option("--motion", flags->motion,
+                  "lidar motion from ICP scan matching or from ground truth (oracle)")
+      ->check(CLI::IsMember({"icp", "groundtruth"}))
+      ->capture_default_str();
+  cli->add_option("--intervals", flags->intervals_out,
+                  "write the intervals used as Censi records (JSON lines)");
+  cli->add_option("--tuples", flags->tuples_in, "run on Censi interval records instead");
+  cli->add_option("--json", flags->json_out, "write one object per method to FILE");
+  cli->add_option("--keyframe-cm", flags->keyframe_cm, "new interval every N cm of lidar motion")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cli->add_option("--keyframe-deg", flags->keyframe_deg, "... or every N degrees")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cli->add_option("--square", flags->squares, "UMBmark square-run dataset (repeatable)");
+  cli->add_option("--side", flags->side_m, "UMBmark square side (m)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cli->add_flag("--time-offset", flags->time_offset,
+                "ceres: also estimate a constant encoder-to-lidar clock offset");
+  return {cli, [flags] { return runCalibrate(*flags); }};
+}
+
+}  // namespace slamprep::app
