@@ -20,16 +20,18 @@ struct Pair {
   double error_sq = 0.0;  ///< squared residual at the estimate the pair was found with
 };
 
-/// Unit normal of the line through the neighbours of `query`, or (0, 0) when they are no line.
-Eigen::Vector2d fitLineNormal(const KdTree2& tree, const Eigen::Vector2d& query,
-                              const IcpParams& params) {
+/// The line fitted through the neighbours of `query` (centroid and unit normal), or nullopt when
+/// they are too few or no line (a corner, a blob).
+std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> fitLine(const KdTree2& tree,
+                                                                   const Eigen::Vector2d& query,
+                                                                   const IcpParams& params) {
   const auto neighbors = tree.nearestK(query, params.line_neighbors);
   const double radius_sq = params.line_max_radius_m * params.line_max_radius_m;
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
   std::size_t count = 0;
   for (const Neighbor& n : neighbors)
     if (n.distance_sq_m2 <= radius_sq) mean += tree.points()[n.index], ++count;
-  if (count < 3) return Eigen::Vector2d::Zero();
+  if (count < 3) return std::nullopt;
   mean /= static_cast<double>(count);
   Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
   for (const Neighbor& n : neighbors) {
@@ -40,10 +42,9 @@ Eigen::Vector2d fitLineNormal(const KdTree2& tree, const Eigen::Vector2d& query,
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig;
   eig.computeDirect(scatter);
   const Eigen::Vector2d lambda = eig.eigenvalues();  // ascending
-  if (lambda(1) <= 0.0 ||
-      lambda(0) > params.line_max_thickness * params.line_max_thickness * lambda(1))
-    return Eigen::Vector2d::Zero();
-  return eig.eigenvectors().col(0);
+  const double thickness_sq = params.line_max_thickness * params.line_max_thickness;
+  if (lambda(1) <= 0.0 || lambda(0) > thickness_sq * lambda(1)) return std::nullopt;
+  return std::pair{mean, Eigen::Vector2d(eig.eigenvectors().col(0))};
 }
 
 /// Nearest-neighbour correspondences at the estimate T, gated and trimmed.
@@ -63,6 +64,7 @@ std::vector<Pair> findPairs(const IcpReference& ref, const Points2& cur, const S
     if (point_to_line) {
       pair.n_ref = ref.normal(nn->index);
       if (pair.n_ref.isZero()) continue;
+      pair.q_ref = ref.linePoint(nn->index);  // the fitted line's centroid: less noisy
       const double e = pair.n_ref.dot(p_ref - pair.q_ref);
       pair.error_sq = e * e;
     }
@@ -207,6 +209,21 @@ Eigen::Matrix3d covarianceAt(const std::vector<Pair>& pairs, const SE2& T, bool 
   return eig.eigenvectors() * variances.asDiagonal() * eig.eigenvectors().transpose();
 }
 
+/// Mean squared residual of the pairs at T (what the step minimised).
+double meanSquaredResidual(const std::vector<Pair>& pairs, const SE2& T, bool point_to_line) {
+  double sum = 0.0;
+  for (const Pair& pr : pairs) {
+    const Eigen::Vector2d e = T * pr.p_cur - pr.q_ref;
+    sum += point_to_line ? std::pow(pr.n_ref.dot(e), 2) : e.squaredNorm();
+  }
+  return pairs.empty() ? 0.0 : sum / static_cast<double>(pairs.size());
+}
+
+bool small(const SE2& step, const IcpParams& params) {
+  return step.translation().norm() < params.translation_tolerance_m &&
+         std::abs(step.yaw) < params.rotation_tolerance_rad;
+}
+
 IcpResult match(const IcpReference& ref, const Points2& cur, const SE2& guess, bool point_to_line,
                 const IcpParams& params) {
   IcpResult result;
@@ -215,6 +232,10 @@ IcpResult match(const IcpReference& ref, const Points2& cur, const SE2& guess, b
     result.reason = "reference has no line normals (build IcpReference with normals)";
     return result;
   }
+  // Recent estimates with their cost: nearest-neighbour ICP can end in a limit cycle between a
+  // few correspondence sets; revisiting an estimate means converged, to the cheapest of the cycle.
+  constexpr std::size_t kHistory = 6;
+  std::vector<std::pair<SE2, double>> history;
   std::vector<Pair> pairs;
   for (result.iterations = 1; result.iterations <= params.max_iterations; ++result.iterations) {
     pairs = findPairs(ref, cur, result.T_ref_cur, point_to_line, params);
@@ -228,13 +249,26 @@ IcpResult match(const IcpReference& ref, const Points2& cur, const SE2& guess, b
       result.reason = "degenerate correspondences: the step is not determined";
       break;
     }
-    const SE2 step = between(result.T_ref_cur, *T_new);
+    const bool step_small = small(between(result.T_ref_cur, *T_new), params);
     result.T_ref_cur = *T_new;
-    if (step.translation().norm() < params.translation_tolerance_m &&
-        std::abs(step.yaw) < params.rotation_tolerance_rad) {
+    if (step_small) {
       result.converged = true;
       break;
     }
+    const double cost = meanSquaredResidual(pairs, *T_new, point_to_line);
+    const auto seen = std::find_if(history.begin(), history.end(), [&](const auto& h) {
+      return small(between(h.first, *T_new), params);
+    });
+    if (seen != history.end()) {  // a limit cycle: take its cheapest member
+      const auto best = std::min_element(
+          seen, history.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+      if (best->second < cost) result.T_ref_cur = best->first;
+      pairs = findPairs(ref, cur, result.T_ref_cur, point_to_line, params);
+      result.converged = true;
+      break;
+    }
+    history.emplace_back(*T_new, cost);
+    if (history.size() > kHistory) history.erase(history.begin());
   }
   if (!result.converged && result.reason.empty()) {
     result.iterations = params.max_iterations;
@@ -252,8 +286,12 @@ IcpReference::IcpReference(Points2 ref, const IcpParams& params, bool with_norma
     : tree_(std::move(ref)) {
   if (!with_normals) return;
   normals_.reserve(tree_.size());
-  for (const Eigen::Vector2d& q : tree_.points())
-    normals_.push_back(fitLineNormal(tree_, q, params));
+  line_points_.reserve(tree_.size());
+  for (const Eigen::Vector2d& q : tree_.points()) {
+    const auto line = fitLine(tree_, q, params);
+    normals_.push_back(line ? line->second : Eigen::Vector2d::Zero());
+    line_points_.push_back(line ? line->first : q);
+  }
 }
 
 std::optional<SE2> alignPointToPoint(const Points2& p, const Points2& q) {

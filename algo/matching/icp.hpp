@@ -66,10 +66,13 @@ class IcpReference {
   bool hasNormals() const { return !normals_.empty(); }
   /// Unit normal of the line through point i; (0, 0) where the neighbourhood is no line.
   const Eigen::Vector2d& normal(std::size_t i) const { return normals_[i]; }
+  /// A point on that line: the centroid of the neighbours it was fitted to.
+  const Eigen::Vector2d& linePoint(std::size_t i) const { return line_points_[i]; }
 
  private:
   KdTree2 tree_;
   std::vector<Eigen::Vector2d> normals_;
+  std::vector<Eigen::Vector2d> line_points_;
 };
 
 /// Point-to-point ICP: nearest neighbours, closed-form SVD step (Arun/Umeyama), repeat.

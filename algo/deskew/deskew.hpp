@@ -1,0 +1,145 @@
+#pragma once
+// Lidar motion-distortion removal (de-skew): every beam of a scan re-projected into the lidar frame
+// at one reference time, with one interface for all methods (DESIGN.md "Motion distortion",
+// "Odometry-assisted de-skew", "Odometry + ICP combined", "VICP").
+//
+// Beam i is measured at t_i = t_first + i * time_increment from the lidar pose T_X_L(t_i); its
+// de-skewed point is p_ref_i = T_X_L(t_ref)^-1 * T_X_L(t_i) * p_L_i. A method is a way to know
+// T_Lref_L(t) = T_X_L(t_ref)^-1 T_X_L(t) over the scan.
+
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "algo/matching/icp.hpp"
+#include "core/laser_scan.hpp"
+#include "core/samples.hpp"
+#include "core/se2.hpp"
+#include "core/time_series.hpp"
+
+namespace slamprep::algo {
+
+/// The methods, spelled in the CLI and JSON as deskewMethodName() returns.
+enum class DeskewMethod {
+  kNone,           ///< "none": raw points, the floor
+  kOracle,         ///< "oracle": the true pose at every beam, the ceiling
+  kConstVelocity,  ///< "const-velocity": the previous scan-to-scan motion (KISS-ICP)
+  kVicp,           ///< "vicp": velocity estimated inside ICP, re-de-skewed until it settles
+  kOdomLinear,     ///< "odom-linear": odometry interpolated at every beam
+  kOdomQuadratic,  ///< "odom-quadratic": quadratic through p_s, p_m, p_e in k linear pieces
+  kImu,            ///< "imu": rotation from the gyro, translation from odometry
+  kOdomIcp,        ///< "odom-icp": odometry de-skew, then odometry error from ICP, iterated
+};
+
+/// Every method in the order above.
+const std::vector<DeskewMethod>& allDeskewMethods();
+std::string_view deskewMethodName(DeskewMethod method);
+/// Inverse of deskewMethodName(); nullopt for an unknown name.
+std::optional<DeskewMethod> parseDeskewMethod(std::string_view name);
+/// Whether the method needs the previous scan (drive it with DeskewSequence).
+bool deskewMethodUsesPreviousScan(DeskewMethod method);
+
+/// Which instant the de-skewed points describe.
+enum class ReferenceTime { kFirst, kMiddle, kLast };
+std::string_view referenceTimeName(ReferenceTime reference);
+std::optional<ReferenceTime> parseReferenceTime(std::string_view name);
+
+/// What the stateful methods need from the previous scan (DeskewSequence fills this in).
+struct PreviousScan {
+  /// As measured. vicp and odom-icp re-de-skew it with every new estimate, so both scans of a
+  /// match carry the same correction and its error does not feed back into the next scan.
+  LaserScan scan;
+  bool stamp_is_last_beam = false;
+  /// Lidar twist (v_x, v_y, w) in its own frame, per second, from its scan-to-scan match.
+  std::optional<Eigen::Vector3d> twist_lidar;
+  /// odom-icp: the odometry error rate estimated with it (lidar frame, per second).
+  std::optional<Eigen::Vector3d> odometry_error_per_s;
+};
+
+struct DeskewInput {
+  const LaserScan* scan = nullptr;
+  /// The scan's stamp marks its last beam instead of its first (some drivers do this).
+  bool stamp_is_last_beam = false;
+  ReferenceTime reference = ReferenceTime::kFirst;
+  /// Odometry T_odom_base (odom-linear, odom-quadratic, imu, odom-icp; the guess for vicp).
+  const PoseSeries* odometry = nullptr;
+  /// Lidar mount used with odometry and oracle poses.
+  SE2 T_base_lidar;
+  /// Gyro (imu).
+  const ImuLog* imu = nullptr;
+  /// True T_world_base (oracle).
+  const PoseSeries* oracle = nullptr;
+  /// The previous scan (const-velocity, vicp, odom-icp).
+  const PreviousScan* previous = nullptr;
+};
+
+struct DeskewParams {
+  /// odom-quadratic: number of linear pieces approximating the quadratic (the lecture's k).
+  int quadratic_pieces = 4;
+  /// Odometry (or IMU) samples farther apart than this inside a scan are a gap: refuse.
+  double max_sample_gap_s = 0.1;
+  /// vicp, odom-icp: de-skew-and-match rounds at most.
+  int max_rounds = 10;
+  /// vicp, odom-icp: stop when a round moves the scan-end pose by less than this ...
+  double round_tolerance_m = 1e-4;
+  /// ... and turns it by less than this (0.1 mm at 5 m).
+  double round_tolerance_rad = 2e-5;
+  /// Scan matcher for vicp and odom-icp (point-to-line).
+  IcpParams icp;
+  /// Also build the repacked LaserScan (costs an atan2 per beam).
+  bool repack = true;
+};
+
+struct DeskewResult {
+  /// Every beam's point in the lidar frame at the reference time; nullopt for no return.
+  std::vector<std::optional<Eigen::Vector2d>> p_ref;
+  /// The points as a scan on the input's beam grid (range = |p|, angle = atan2, nearest bin),
+  /// stamped at the reference time with time_increment 0: all beams now describe one instant.
+  LaserScan repacked;
+  double first_beam_s = 0.0;  ///< time of beam 0
+  double reference_s = 0.0;   ///< time the points describe
+  /// Pose of the reference frame in the first-beam lidar frame (identity for kFirst).
+  SE2 T_first_ref;
+  /// vicp, odom-icp: the final scan-to-scan match (previous first beam <- this first beam).
+  std::optional<IcpResult> match;
+  /// vicp: the lidar twist it estimated (lidar frame, per second).
+  std::optional<Eigen::Vector3d> twist_lidar;
+  /// odom-icp: the odometry error rate it estimated (lidar frame, per second).
+  std::optional<Eigen::Vector3d> odometry_error_per_s;
+  int rounds = 0;  ///< vicp, odom-icp: de-skew-and-match rounds run
+  bool ok = false;
+  std::string reason;  ///< why it refused (ok = false), else empty
+  std::vector<std::string> warnings;
+};
+
+/// De-skews one scan. Refuses (ok = false, reason set, p_ref empty) when the method lacks its
+/// input, the scan has time_increment <= 0, or odometry/IMU do not bracket the scan or have a gap.
+DeskewResult deskew(DeskewMethod method, const DeskewInput& input, const DeskewParams& params);
+
+/// Warns when `poses` do not bracket [first beam, last beam] of `scan`, and suggests the other
+/// stamp convention when that one would be bracketed; nullopt when all is well.
+std::optional<std::string> checkBracketing(const LaserScan& scan, bool stamp_is_last_beam,
+                                           const PoseSeries& poses, std::string_view what);
+
+/// The scan-to-scan motion as VICP estimates it: both scans de-skewed with one constant lidar
+/// twist, the current matched against the previous (point-to-line), the twist re-estimated as
+/// log(T_prev_cur) / dt, until it settles. For const-velocity's next prediction and for
+/// `slamprep match`. `match` is T_prevfirst_curfirst.
+struct MotionEstimate {
+  bool ok = false;
+  std::string reason;
+  IcpResult match;
+  Eigen::Vector3d twist_lidar = Eigen::Vector3d::Zero();
+  int rounds = 0;
+};
+MotionEstimate estimateScanMotion(const PreviousScan& previous, const LaserScan& scan,
+                                  bool stamp_is_last_beam, const Eigen::Vector3d& twist_guess,
+                                  const DeskewParams& params);
+
+/// Time of beam 0 under either stamp convention.
+double firstBeamTime(const LaserScan& scan, bool stamp_is_last_beam);
+
+}  // namespace slamprep::algo
