@@ -1,0 +1,68 @@
+// End to end: the simulator (kinematic mode, default world, figure eight plus spins) writes a
+// dataset; calibration from ground-truth lidar motion recovers the true geometry and mount.
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "algo/calibration/calibration.hpp"
+#include "algo/calibration/dataset_motion.hpp"
+#include "sim/drive/simulator.hpp"
+
+namespace slamprep::algo {
+namespace {
+
+class EndToEnd : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    sim::SimConfig config;  // default world and scenario (figure eight, spins, two circles)
+    config.mode = sim::SimMode::kinematic;
+    dataset_ = new Dataset(sim::simulate(config).dataset);
+    IntervalParams params;
+    params.keyframe_translation_m = 0.10;
+    params.keyframe_rotation_rad = 10.0 * std::numbers::pi / 180.0;
+    intervals_ = new std::vector<CalibrationInterval>(
+        buildIntervals(*dataset_, {lidarPosesFromGroundTruth(*dataset_)}, params).intervals);
+  }
+  static void TearDownTestSuite() {
+    delete dataset_;
+    delete intervals_;
+  }
+
+  // Issue 3's bounds: r_L, r_R, b within 0.05 %, the mount within 1 mm and 0.05 deg. With exact
+  // kinematics the remaining error is encoder quantisation (2 pi / 4096 per tick) and the
+  // constant-rate interpolation inside 10 ms encoder steps at interval ends; observed ~0.004 %.
+  static void expectTruth(const CalibrationResult& r) {
+    ASSERT_TRUE(r.ok) << r.reason;
+    const DiffDriveParams& truth = *dataset_->info.true_geometry;
+    const SE2& mount = dataset_->info.T_base_lidar;
+    EXPECT_LT(std::abs(r.geometry.radius_left_m / truth.radius_left_m - 1), 5e-4);
+    EXPECT_LT(std::abs(r.geometry.radius_right_m / truth.radius_right_m - 1), 5e-4);
+    EXPECT_LT(std::abs(r.geometry.wheel_base_m / truth.wheel_base_m - 1), 5e-4);
+    EXPECT_LT(std::abs(r.T_base_lidar.x - mount.x), 1e-3);
+    EXPECT_LT(std::abs(r.T_base_lidar.y - mount.y), 1e-3);
+    EXPECT_LT(std::abs(normalizeAngle(r.T_base_lidar.yaw - mount.yaw)),
+              0.05 * std::numbers::pi / 180.0);
+  }
+
+  static Dataset* dataset_;
+  static std::vector<CalibrationInterval>* intervals_;
+};
+
+Dataset* EndToEnd::dataset_ = nullptr;
+std::vector<CalibrationInterval>* EndToEnd::intervals_ = nullptr;
+
+TEST_F(EndToEnd, EnoughIntervals) {
+  ASSERT_TRUE(dataset_->hasTruth());
+  EXPECT_GT(intervals_->size(), 100u);  // ~19 m and ~2200 deg at 10 cm / 10 deg keyframes
+}
+
+TEST_F(EndToEnd, JointRecoversGeometryAndMount) {
+  expectTruth(calibrateJoint(*intervals_));
+}
+
+TEST_F(EndToEnd, CeresRecoversGeometryAndMount) {
+  expectTruth(calibrateCeres(*intervals_));
+}
+
+}  // namespace
+}  // namespace slamprep::algo
