@@ -127,20 +127,63 @@ class KinematicMotion : public Motion {
 
 // ---- Sensors, streamed step by step ---------------------------------------------------------
 
+/// A planar rigid transform with its rotation's cosine and sine cached, so composing and
+/// applying it costs no trigonometry. The hot path of the lidar stream.
+struct Frame2 {
+  double c = 1.0, s = 0.0, x = 0.0, y = 0.0, yaw = 0.0;
+
+  static Frame2 from(const SE2& T) { return {std::cos(T.yaw), std::sin(T.yaw), T.x, T.y, T.yaw}; }
+  /// SE2::exp of the twist (rho_x, rho_y, theta): translation V(theta) rho (core/se2.cpp).
+  static Frame2 exp(const Eigen::Vector3d& xi) {
+    const double th = xi.z(), c = std::cos(th), s = std::sin(th);
+    const bool small = std::abs(th) < 1e-4;
+    const double a = small ? 1.0 - th * th / 6.0 : s / th;                     // sin(t) / t
+    const double b = small ? th / 2.0 - th * th * th / 24.0 : (1.0 - c) / th;  // (1 - cos t) / t
+    return {c, s, a * xi.x() - b * xi.y(), b * xi.x() + a * xi.y(), th};
+  }
+  Frame2 operator*(const Frame2& o) const {
+    return {c * o.c - s * o.s, s * o.c + c * o.s, x + c * o.x - s * o.y, y + s * o.x + c * o.y,
+            yaw + o.yaw};
+  }
+  Eigen::Vector2d operator*(const Eigen::Vector2d& p) const {
+    return {x + c * p.x() - s * p.y(), y + s * p.x() + c * p.y()};
+  }
+  Frame2 inverse() const { return {c, -s, -(c * x + s * y), s * x - c * y, -yaw}; }
+  SE2 se2() const {
+    SE2 T;
+    T.x = x;
+    T.y = y;
+    T.yaw = normalizeAngle(yaw);
+    return T;
+  }
+};
+
 /// The rotating lidar: every beam whose time falls into a step is cast from the pose
 /// interpolated to that time; the ground-truth undistorted point uses the measured range.
 class LidarStream {
  public:
   LidarStream(const LidarConfig& config, std::uint64_t seed, std::vector<ScanRecord>& out)
-      : lidar_(config, seed), T_base_lidar_(config.T_base_lidar), out_(out) {
+      : lidar_(config, seed), T_base_lidar_(Frame2::from(config.T_base_lidar)), out_(out) {
+    const LaserScan header = lidar_.header(0.0);
+    for (std::size_t i = 0; i < header.size(); ++i) {
+      const double angle = header.beamAngle(i);  // as LaserScan::point computes it
+      beam_dir_.emplace_back(std::cos(angle), std::sin(angle));
+    }
     startScan();
   }
 
   /// Casts all beams with t_prev < t <= min(t_cur, t_end) (t = 0 included on the first call).
+  /// Base pose at beam time t: T_a exp(f log(T_a^-1 T_b)), f = (t - t_a) / (t_b - t_a): the
+  /// geodesic (constant twist) between the two steps, as core/se2.hpp interpolate().
   void advance(const Scene& scene, const Interval& step, double t_end_s) {
     const double t_limit = std::min(step.b.t_s, t_end_s);
-    for (double t = nextTime(); t <= t_limit; t = nextTime()) {
-      castBeam(scene, step.pose(t) * T_base_lidar_);
+    double t = nextTime();
+    if (t > t_limit) return;
+    const Frame2 T_a = Frame2::from(step.a.T_world_base);
+    const Eigen::Vector3d xi = between(step.a.T_world_base, step.b.T_world_base).log();
+    for (; t <= t_limit; t = nextTime()) {
+      const Frame2 T_world_base = T_a * Frame2::exp(step.fraction(t) * xi);
+      castBeam(scene, T_world_base);
     }
   }
 
@@ -154,16 +197,16 @@ class LidarStream {
     beam_ = 0;
   }
 
-  void castBeam(const Scene& scene, const SE2& T_world_lidar) {
+  void castBeam(const Scene& scene, const Frame2& T_world_base) {
+    const Frame2 T_world_lidar = T_world_base * T_base_lidar_;
     if (beam_ == 0) {
       T_lidar0_world_ = T_world_lidar.inverse();
-      current_.T_world_base_true = T_world_lidar * T_base_lidar_.inverse();
+      current_.T_world_base_true = T_world_base.se2();
     }
-    const double range_m = lidar_.measure(scene, T_world_lidar, beam_).range_m;
+    const double range_m = lidar_.measure(scene, T_world_lidar.se2(), beam_).range_m;
     current_.scan.ranges_m[beam_] = range_m;
     if (std::isfinite(range_m)) {
-      const double angle = current_.scan.beamAngle(beam_);
-      const Eigen::Vector2d p_lidar(range_m * std::cos(angle), range_m * std::sin(angle));
+      const Eigen::Vector2d p_lidar = range_m * beam_dir_[beam_];
       // p_ref = T_W_L(t_stamp)^-1 * T_W_L(t_i) * p_L_i (DESIGN.md "What the simulator's truth
       // means")
       current_.p_ref_true[beam_] = T_lidar0_world_ * (T_world_lidar * p_lidar);
@@ -176,12 +219,13 @@ class LidarStream {
   }
 
   Lidar lidar_;
-  SE2 T_base_lidar_;
+  Frame2 T_base_lidar_;
+  std::vector<Eigen::Vector2d> beam_dir_;  ///< (cos, sin) of every beam angle
   std::vector<ScanRecord>& out_;
   std::int64_t scan_index_ = 0;
   ScanRecord current_;
   std::size_t beam_ = 0;
-  SE2 T_lidar0_world_;
+  Frame2 T_lidar0_world_;
 };
 
 class EncoderStream {

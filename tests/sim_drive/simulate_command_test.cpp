@@ -12,7 +12,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct CommandRun {
   int exit_code = -1;
   std::string out;
   std::string err;
@@ -36,7 +36,7 @@ class SimulateCommand : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  Run simulate(const std::string& args) {
+  CommandRun simulate(const std::string& args) {
     const fs::path binary = fs::path(SLAMPREP_BINARY_DIR) / "slamprep";
     const std::string command = binary.string() + " simulate " + args + " >" +
                                 (dir_ / "stdout").string() + " 2>" + (dir_ / "stderr").string();
@@ -61,7 +61,7 @@ class SimulateCommand : public ::testing::Test {
 };
 
 TEST_F(SimulateCommand, DefaultsRunAndPrintASummary) {
-  const Run run = simulate("--duration 1 --mode kinematic " + out());
+  const CommandRun run = simulate("--duration 1 --mode kinematic " + out());
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_TRUE(fs::exists(dir_ / "data" / "dataset.json"));
   EXPECT_TRUE(fs::exists(dir_ / "data" / "scans.jsonl"));
@@ -76,7 +76,7 @@ TEST_F(SimulateCommand, DefaultsRunAndPrintASummary) {
 
 TEST_F(SimulateCommand, MalformedScenarioNamesFileAndLine) {
   const fs::path bad = write("bad.yaml", "segments:\n  - {type: straight, distance_m: [1\n");
-  const Run run = simulate("--scenario " + bad.string() + " " + out());
+  const CommandRun run = simulate("--scenario " + bad.string() + " " + out());
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find(bad.string() + ":"), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("malformed YAML"), std::string::npos) << run.err;
@@ -84,14 +84,14 @@ TEST_F(SimulateCommand, MalformedScenarioNamesFileAndLine) {
 }
 
 TEST_F(SimulateCommand, UnknownKeyIsNamed) {
-  const Run run = simulate("--set lidar.rat_hz=5 " + out());
+  const CommandRun run = simulate("--set lidar.rat_hz=5 " + out());
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("lidar.rat_hz"), std::string::npos) << run.err;
   expectNothingWritten();
 }
 
 TEST_F(SimulateCommand, NegativeRadiusIsNamed) {
-  const Run run = simulate("--set robot.radius_right_m=-0.1 " + out());
+  const CommandRun run = simulate("--set robot.radius_right_m=-0.1 " + out());
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("robot.radius_right_m"), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("positive"), std::string::npos) << run.err;
@@ -99,7 +99,7 @@ TEST_F(SimulateCommand, NegativeRadiusIsNamed) {
 }
 
 TEST_F(SimulateCommand, ZeroBeamsIsNamed) {
-  const Run run = simulate("--set lidar.beams_per_revolution=0 " + out());
+  const CommandRun run = simulate("--set lidar.beams_per_revolution=0 " + out());
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("lidar.beams_per_revolution"), std::string::npos) << run.err;
   expectNothingWritten();
@@ -109,7 +109,7 @@ TEST_F(SimulateCommand, ScenarioTooLongForTheWorldIsRefused) {
   const fs::path far = write("far.yaml",
                              "segments:\n  - {type: spin, angle_deg: 30}\n"
                              "  - {type: straight, distance_m: 20, speed_mps: 1.0}\n");
-  const Run run = simulate("--scenario " + far.string() + " " + out());
+  const CommandRun run = simulate("--scenario " + far.string() + " " + out());
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find(far.string() + ":3: segments[1] (straight)"), std::string::npos)
       << run.err;
@@ -118,7 +118,7 @@ TEST_F(SimulateCommand, ScenarioTooLongForTheWorldIsRefused) {
 }
 
 TEST_F(SimulateCommand, MissingWorldFileIsNamed) {
-  const Run run = simulate("--world nowhere.yaml " + out());
+  const CommandRun run = simulate("--world nowhere.yaml " + out());
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("nowhere.yaml"), std::string::npos) << run.err;
   expectNothingWritten();

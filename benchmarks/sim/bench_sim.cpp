@@ -1,0 +1,67 @@
+// Simulator speed: room.yaml and the figure-eight scenario with the default configuration
+// (1 kHz physics, 720-beam 10 Hz lidar, 100 Hz encoders, 200 Hz IMU) on one core.
+// Goal: real-time factor >= 100 (simulated seconds per CPU second).
+// Counters: rtf = simulated seconds per CPU second; beams_per_s = lidar beams per CPU second.
+// Run: bench_sim [--benchmark_out=results.json --benchmark_out_format=json]
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+
+#include "sim/drive/simulator.hpp"
+
+namespace slamprep::sim {
+namespace {
+
+const std::filesystem::path kRoot(SLAMPREP_SOURCE_DIR);
+
+struct Inputs {
+  World world = loadWorld(kRoot / "worlds" / "room.yaml");
+  Scenario scenario = loadScenario(kRoot / "worlds" / "scenarios" / "figure_eight.yaml");
+};
+
+const Inputs& inputs() {
+  static const Inputs in;
+  return in;
+}
+
+void runSimulation(benchmark::State& state, const SimConfig& config) {
+  const Inputs& in = inputs();
+  double sim_s = 0.0, beams = 0.0;
+  for (auto _ : state) {
+    const SimResult result = simulate(config, in.world, in.scenario);
+    sim_s += result.summary.duration_s;
+    beams += static_cast<double>(result.summary.beams);
+    benchmark::DoNotOptimize(result.dataset.scans.data());
+  }
+  state.counters["rtf"] = benchmark::Counter(sim_s, benchmark::Counter::kIsRate);
+  state.counters["beams_per_s"] = benchmark::Counter(beams, benchmark::Counter::kIsRate);
+}
+
+/// The goal: everything on, physics mode.
+void BM_FigureEightPhysics(benchmark::State& state) {
+  runSimulation(state, SimConfig{});
+}
+
+/// Kinematic mode: no Bullet dynamics, the same ray casts.
+void BM_FigureEightKinematic(benchmark::State& state) {
+  SimConfig config;
+  config.mode = SimMode::kinematic;
+  runSimulation(state, config);
+}
+
+/// Physics with a one-beam lidar: the cost of dynamics, encoders, IMU and the loop alone.
+void BM_FigureEightPhysicsNoLidar(benchmark::State& state) {
+  SimConfig config;
+  config.lidar.beams_per_revolution = 1;
+  runSimulation(state, config);
+}
+
+BENCHMARK(BM_FigureEightPhysics)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FigureEightKinematic)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FigureEightPhysicsNoLidar)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace slamprep::sim
+
+BENCHMARK_MAIN();
