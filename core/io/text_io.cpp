@@ -128,6 +128,9 @@ bool LineCursor::next(std::string_view& line) {
 }
 
 std::string readTextFile(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw InputError(path.string(), "not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), "cannot open file (missing or unreadable)");
   in.seekg(0, std::ios::end);

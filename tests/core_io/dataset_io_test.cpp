@@ -197,6 +197,12 @@ TEST_F(DatasetIo, MalformedFilesAreRejectedNamingFileLineAndField) {
   const std::vector<Corruption> cases = {
       {"imu.csv", erase, ": cannot open file"},
       {"scans.jsonl", erase, ": cannot open file"},
+      {"encoders.csv",
+       [](const fs::path& f) {
+         fs::remove(f);
+         fs::create_directory(f);
+       },
+       ": not a regular file"},
       {"dataset.json", jsonEdit("\"nominal\"", "\"nominal\" ]"), ":11: bad JSON"},
       {"dataset.json", jsonEdit("\"ticks_per_revolution\"", "\"ticks\""),
        ": ticks_per_revolution: missing required key"},
