@@ -314,6 +314,19 @@ TEST(Simulator, ScenarioLeavingTheWorldIsRefusedBeforeSimulating) {
   EXPECT_THROW(simulate(c, tight, scenario("  - {type: stop, duration_s: 1}\n")), InputError);
 }
 
+TEST(Simulator, ShippedScenariosFitTheDefaultWorld) {
+  const std::filesystem::path root(SLAMPREP_SOURCE_DIR);
+  const World room = loadWorld(root / "worlds" / "room.yaml");
+  const Scene scene(room);
+  const SimConfig c;
+  for (const char* name : {"umbmark_cw", "umbmark_ccw", "arc", "figure_eight", "spin", "straight",
+                           "stop_and_go", "random_smooth", "default"}) {
+    SCOPED_TRACE(name);
+    const Scenario s = loadScenario(root / "worlds" / "scenarios" / (std::string(name) + ".yaml"));
+    EXPECT_NO_THROW(checkPathInWorld(scene, s, c, room.T_world_start, s.profile.duration_s()));
+  }
+}
+
 TEST(Simulator, InvalidConfigurationIsRefused) {
   SimConfig c = config(SimMode::kinematic);
   c.robot.geometry.radius_left_m = -0.1;
