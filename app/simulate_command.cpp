@@ -143,9 +143,10 @@ Command addSimulateCommand(CLI::App& app) {
       "nominal.* fractions. Before simulating, the commanded path is checked against the world: "
       "a scenario that would leave the free space is an error. Every option has a default, so "
       "`slamprep simulate --out DIR` runs the default world and scenario.");
-  cli->add_option("--world", flags->world,
-                  "World file (YAML, docs/worlds.md). Default: worlds/room.yaml; relative paths "
-                  "are looked up in the working directory, then in the slamprep data directory");
+  cli->add_option(
+      "--world", flags->world,
+      "World file (YAML, docs/worlds.md). Default: worlds/room.yaml; relative paths "
+      "are looked up in the working directory, then in the source tree slamprep was built from");
   cli->add_option("--scenario", flags->scenario,
                   "Scenario file (YAML, docs/simulate.md). Default: "
                   "worlds/scenarios/default.yaml");

@@ -250,6 +250,8 @@ void applyOverride(SimConfig& config, const std::string& assignment) {
 void validate(const SimConfig& c, const std::string& where) {
   const Checker check{where};
   check.nonNegative("duration_s", c.duration_s);
+  if (c.duration_s > 86400.0)
+    check.fail("duration_s", "must be at most 86400 (one day)", c.duration_s);
   check.positive("physics_rate_hz", c.physics_rate_hz);
   if (c.physics_rate_hz > 1e6)
     check.fail("physics_rate_hz", "must be at most 1e6", c.physics_rate_hz);

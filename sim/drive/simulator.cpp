@@ -57,6 +57,8 @@ class Motion {
   virtual StepState initial() const = 0;
   /// Advances from prev to t_s (one physics step) and returns the new true state.
   virtual StepState step(const StepState& prev, double t_s) = 0;
+  /// Why the last state cannot be trusted (the robot tipped over, the physics diverged), or "".
+  virtual std::string problem() const { return ""; }
 };
 
 /// Bullet: the controller's wheel-rate targets go to the motors; the joints give the encoders.
@@ -68,6 +70,18 @@ class PhysicsMotion : public Motion {
     angle0_ = {robot_.wheelAngleLeft(), robot_.wheelAngleRight()};
   }
   StepState initial() const override { return read(0.0); }
+  std::string problem() const override {
+    constexpr double kMaxTilt_rad = 0.5;  // ~30 deg: a diff-drive robot is on its side by then
+    const SE2 T = robot_.T_world_base();
+    if (!std::isfinite(T.x) || !std::isfinite(T.y) || !std::isfinite(T.yaw)) {
+      return "the physics diverged (non-finite pose): raise physics_rate_hz";
+    }
+    if (robot_.tilt_rad() > kMaxTilt_rad) {
+      return "the robot tipped over (tilt " + std::to_string(robot_.tilt_rad()) +
+             " rad): lower the scenario's speeds or acceleration limits, or raise physics_rate_hz";
+    }
+    return "";
+  }
   StepState step(const StepState& prev, double t_s) override {
     const Eigen::Vector2d target = controller_.wheelRates(t_s);
     robot_.setWheelRateTargets(target.x(), target.y());
@@ -357,6 +371,12 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   const std::int64_t report_every = std::max<std::int64_t>(1, steps / 200);
   for (std::int64_t n = 1; n <= steps; ++n) {
     const StepState cur = motion->step(prev, static_cast<double>(n) / config.physics_rate_hz);
+    if (const std::string problem = motion->problem(); !problem.empty()) {
+      const ProfileSegment* segment = scenario.profile.segmentAt(cur.t_s);
+      std::ostringstream what;
+      what << "at t = " << cur.t_s << " s " << problem;
+      throw InputError(segment != nullptr ? segment->where : scenario.source.string(), what.str());
+    }
     data.groundtruth.push_back(cur.t_s, cur.T_world_base);
     sense(Interval{prev, cur});
     prev = cur;
