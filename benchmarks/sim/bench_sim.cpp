@@ -57,9 +57,17 @@ void BM_FigureEightPhysicsNoLidar(benchmark::State& state) {
   runSimulation(state, config);
 }
 
+/// Physics with 10 solver iterations instead of the scene's 50: the speed/accuracy trade-off.
+void BM_FigureEightPhysicsSolver10(benchmark::State& state) {
+  SimConfig config;
+  config.solver_iterations = 10;
+  runSimulation(state, config);
+}
+
 BENCHMARK(BM_FigureEightPhysics)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FigureEightKinematic)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FigureEightPhysicsNoLidar)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FigureEightPhysicsSolver10)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace slamprep::sim

@@ -19,6 +19,7 @@ void visitFields(Config& c, Visitor&& v) {
   v("seed", c.seed);
   v("mode", c.mode);
   v("physics_rate_hz", c.physics_rate_hz);
+  v("solver_iterations", c.solver_iterations);
   v("path_margin_m", c.path_margin_m);
   auto& r = c.robot;
   v("robot.radius_left_m", r.geometry.radius_left_m);
@@ -255,6 +256,10 @@ void validate(const SimConfig& c, const std::string& where) {
   check.positive("physics_rate_hz", c.physics_rate_hz);
   if (c.physics_rate_hz > 1e6)
     check.fail("physics_rate_hz", "must be at most 1e6", c.physics_rate_hz);
+  if (c.solver_iterations < 0 || c.solver_iterations > 1000) {
+    check.fail("solver_iterations", "must be in [0, 1000] (0: the scene's default)",
+               c.solver_iterations);
+  }
   check.nonNegative("path_margin_m", c.path_margin_m);
   const RobotConfig& r = c.robot;
   check.positive("robot.radius_left_m", r.geometry.radius_left_m);

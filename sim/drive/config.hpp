@@ -33,6 +33,7 @@ struct SimConfig {
   std::uint64_t seed = 1;           ///< seeds every sensor's noise stream
   SimMode mode = SimMode::physics;  ///< physics or kinematic
   double physics_rate_hz = 1000.0;  ///< fixed physics (and ground-truth) step rate
+  int solver_iterations = 0;        ///< Bullet constraint-solver iterations; 0 keeps the Scene's
   double path_margin_m = 0.05;      ///< clearance the pre-check demands around the footprint
   RobotConfig robot;                ///< TRUE geometry and the physical robot
   NominalErrors nominal;            ///< what the odometry (and the controller) believe

@@ -1,5 +1,7 @@
 #include "sim/drive/simulator.hpp"
 
+#include <btBulletDynamicsCommon.h>
+
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -332,6 +334,9 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   const double duration_s =
       config.duration_s > 0.0 ? config.duration_s : scenario.profile.duration_s();
   Scene scene(world);
+  if (config.solver_iterations > 0) {
+    scene.dynamics().getSolverInfo().m_numIterations = config.solver_iterations;
+  }
   checkPathInWorld(scene, scenario, config, world.T_world_start, duration_s);
 
   Dataset data;
