@@ -1,5 +1,7 @@
 #include "algo/calibration/dataset_motion.hpp"
 
+#include <cassert>
+
 namespace slamprep::algo {
 
 PoseSeries lidarPosesFromGroundTruth(const Dataset& dataset) {
@@ -16,14 +18,23 @@ PoseSeries lidarPosesFromGroundTruth(const Dataset& dataset) {
 }
 
 IcpChains lidarPosesFromIcp(const Dataset& dataset, const IcpParams& params) {
+  std::vector<Points2> raw;
+  raw.reserve(dataset.scans.size());
+  for (const ScanRecord& record : dataset.scans) raw.push_back(record.scan.points());
+  return lidarPosesFromIcp(dataset, raw, params);
+}
+
+IcpChains lidarPosesFromIcp(const Dataset& dataset, const std::vector<Points2>& scan_points,
+                            const IcpParams& params) {
+  assert(scan_points.size() == dataset.scans.size());
   IcpChains out;
   const SE2& l = dataset.info.T_base_lidar;
   PoseSeries chain;
   Points2 prev_points;
   double prev_stamp = 0.0;
-  for (const ScanRecord& record : dataset.scans) {
-    const double t = record.scan.stamp_s;
-    Points2 points = record.scan.points();
+  for (std::size_t k = 0; k < dataset.scans.size(); ++k) {
+    const double t = dataset.scans[k].scan.stamp_s;
+    Points2 points = scan_points[k];
     const auto odom_prev = dataset.odom_nominal.at(prev_stamp);
     const auto odom_cur = dataset.odom_nominal.at(t);
     if (!chain.empty() && t > chain.backStamp()) {

@@ -22,6 +22,10 @@ struct IcpChains {
   int failed_matches = 0;
 };
 IcpChains lidarPosesFromIcp(const Dataset& dataset, const IcpParams& params = {});
+/// The same on given points per scan (scan_points[i]: scan i in its lidar frame at its stamp),
+/// e.g. scans de-skewed first, which removes the bias motion distortion puts into the matches.
+IcpChains lidarPosesFromIcp(const Dataset& dataset, const std::vector<Points2>& scan_points,
+                            const IcpParams& params = {});
 
 /// Intervals from all chains (buildIntervals on each), concatenated.
 IntervalSet buildIntervals(const Dataset& dataset, const std::vector<PoseSeries>& chains,

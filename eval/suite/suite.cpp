@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <set>
 
+#include "algo/deskew/deskew.hpp"
 #include "core/error.hpp"
+#include "sim/drive/config.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -101,6 +103,8 @@ void parseKey(const std::filesystem::path& file, const std::string& key, const Y
     suite.calibration_methods = stringList(file, value, key);
   else if (key == "deskew_methods")
     suite.deskew_methods = stringList(file, value, key);
+  else if (key == "deskew_geometry")
+    suite.deskew_geometry = as<std::string>(file, value, key);
   else if (key == "sweep")
     parseSweep(file, value, suite);
   else if (key == "tolerances")
@@ -122,8 +126,36 @@ void validate(const Suite& suite) {
   if (suite.duration_s < 0) throw InputError(f + ": duration_s", "must not be negative");
   if (suite.mode != "physics" && suite.mode != "kinematic")
     throw InputError(f + ": mode", "must be physics or kinematic, not '" + suite.mode + "'");
+  if (suite.deskew_geometry != "nominal" && suite.deskew_geometry != "true" &&
+      suite.deskew_geometry != "calibrated")
+    throw InputError(f + ": deskew_geometry",
+                     "must be nominal, true or calibrated, not '" + suite.deskew_geometry + "'");
   if (suite.motion != "icp" && suite.motion != "groundtruth")
     throw InputError(f + ": motion", "must be icp or groundtruth, not '" + suite.motion + "'");
+}
+
+// Method names and simulator keys are checked now, not hours into a sweep.
+void validateNames(const Suite& suite) {
+  const std::string f = suite.source.string();
+  static const std::set<std::string> kCalibration = {"direct", "model", "joint", "ceres"};
+  for (const auto& m : suite.calibration_methods)
+    if (!kCalibration.count(m))
+      throw InputError(f + ": calibration_methods",
+                       "unknown method '" + m + "' (direct, model, joint, ceres)");
+  for (const auto& m : suite.deskew_methods)
+    if (!algo::parseDeskewMethod(m))
+      throw InputError(f + ": deskew_methods", "unknown method '" + m + "'");
+  std::vector<std::pair<std::string, std::string>> assignments(suite.set.begin(), suite.set.end());
+  for (const auto& axis : suite.sweep)
+    for (const auto& v : axis.values) assignments.emplace_back(axis.key, v);
+  for (const auto& [key, value] : assignments) {
+    sim::SimConfig config;
+    try {
+      sim::applyOverride(config, key + "=" + value);
+    } catch (const InputError& e) {
+      throw InputError(f + ": " + key, e.what());
+    }
+  }
 }
 
 // File-name safe form of a sweep value.
@@ -152,6 +184,7 @@ Suite loadSuite(const std::filesystem::path& file) {
   for (const auto& entry : root)
     parseKey(file, as<std::string>(file, entry.first, "key"), entry.second, suite);
   validate(suite);
+  validateNames(suite);
   return suite;
 }
 

@@ -40,6 +40,8 @@ struct Suite {
   std::string motion = "icp";              ///< calibration motion source: icp | groundtruth
   std::vector<std::string> calibration_methods;
   std::vector<std::string> deskew_methods;
+  /// Wheel geometry the odometry-based de-skew methods use: nominal | true | calibrated.
+  std::string deskew_geometry = "nominal";
   std::vector<Tolerance> tolerances;
 };
 

@@ -78,6 +78,19 @@ TEST(Suite, RejectsBadValues) {
   EXPECT_THROW(loadSuite(writeTemp("s2.yaml", "worlds: [a]\n")), InputError);
   EXPECT_THROW(loadSuite(writeTemp("s3.yaml", "worlds: [a\n")), InputError);
   EXPECT_THROW(loadSuite("/nonexistent/suite.yaml"), InputError);
+  // Unknown methods and simulator keys fail at load time, naming the key.
+  EXPECT_THROW(
+      loadSuite(writeTemp("s4.yaml", "worlds: [a]\nscenarios: [b]\ndeskew_methods: [warp]\n")),
+      InputError);
+  EXPECT_THROW(loadSuite(writeTemp("s5.yaml",
+                                   "worlds: [a]\nscenarios: [b]\ncalibration_methods: [magic]\n")),
+               InputError);
+  try {
+    loadSuite(writeTemp("s6.yaml", "worlds: [a]\nscenarios: [b]\nsweep: {lidar.rate_hzz: [5]}\n"));
+    FAIL() << "accepted an unknown simulator key";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("lidar.rate_hzz"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -1,0 +1,111 @@
+// `slamprep bench`: the main job. Runs a suite, writes results/<suite>/, compares to a baseline.
+#include <iostream>
+
+#include "app/commands.hpp"
+#include "core/paths.hpp"
+#include "eval/bench/bench.hpp"
+#include "eval/bench/report.hpp"
+#include "eval/bench/trial.hpp"
+#include "eval/suite/progress.hpp"
+
+namespace slamprep::app {
+namespace {
+
+struct BenchFlags {
+  eval::BenchOptions options;
+  std::string shard;
+  std::string compare;
+};
+
+void printRegressions(const std::vector<eval::Regression>& regressions) {
+  std::cerr << regressions.size() << " metric(s) regressed beyond tolerance:\n";
+  for (const auto& r : regressions) {
+    if (!r.note.empty())
+      std::cerr << "  " << r.metric << ": " << r.note << "\n";
+    else
+      std::cerr << "  " << r.metric << ": " << r.current << " (baseline " << r.baseline
+                << ", tolerance allows " << r.allowed << ")\n";
+  }
+}
+
+int runBenchCommand(BenchFlags& flags) {
+  if (!flags.shard.empty()) flags.options.shard = eval::Shard::parse(flags.shard);
+  if (!flags.compare.empty()) flags.options.compare = flags.compare;
+  const eval::Suite suite =
+      eval::loadSuite(eval::findSuite(flags.options.suite, resolveDataPath("eval/suites")));
+  const auto outcome = eval::runBench(flags.options, eval::benchTrial(suite));
+  const auto& run = outcome.run;
+  std::cerr << "suite " << outcome.suite.name << ": " << run.selected << " trials (" << run.reused
+            << " reused, " << run.computed << " computed, " << run.failed.size() << " failed) in "
+            << eval::formatDuration(run.seconds) << "\n";
+  for (const auto& id : run.failed) std::cerr << "  failed: " << id << "\n";
+  if (flags.options.shard) {
+    std::cout << "shard " << flags.options.shard->name() << " written to "
+              << (outcome.out_dir / "shards" / flags.options.shard->name()).string()
+              << "; combine all shards with `slamprep merge " << outcome.out_dir.string() << "`\n";
+    return run.failed.empty() ? 0 : 1;
+  }
+  std::cout << eval::renderConsoleSummary(outcome.summary)
+            << "\nresults: " << (outcome.out_dir / "README.md").string() << "\n";
+  for (const auto& p : outcome.plots)
+    std::cout << "plot: " << (outcome.out_dir / "plots" / p).string() << "\n";
+  if (!outcome.regressions.empty()) printRegressions(outcome.regressions);
+  if (flags.options.compare && outcome.regressions.empty())
+    std::cout << "no regression against " << flags.options.compare->string() << "\n";
+  return run.failed.empty() && outcome.complete && outcome.regressions.empty() ? 0 : 1;
+}
+
+}  // namespace
+
+Command addBenchCommand(CLI::App& app) {
+  auto flags = std::make_shared<BenchFlags>();
+  auto* cli = app.add_subcommand(
+      "bench",
+      "Run an experiment suite (simulate, match, calibrate, de-skew, measure against truth) and "
+      "write results/<suite>/: README.md report, summary.json, trials.csv, plots/.");
+  cli->add_option("--suite", flags->options.suite,
+                  "Suite name under eval/suites/ (default, regression, sweep-speed, "
+                  "sweep-calibration) or a suite YAML file")
+      ->capture_default_str();
+  cli->add_option("--jobs,-j", flags->options.jobs,
+                  "Trials run at once in worker processes (0: one per core); results are the "
+                  "same bytes whatever the count")
+      ->capture_default_str();
+  cli->add_option("--shard", flags->shard,
+                  "Run only slice K of N (K/N) into results/<suite>/shards/K-of-N/; combine "
+                  "with `slamprep merge`");
+  cli->add_option("--results", flags->options.results_root, "Folder that holds results/<suite>/")
+      ->capture_default_str();
+  cli->add_option("--compare", flags->compare,
+                  "Baseline summary JSON; exit 1 naming every metric worse than its tolerance "
+                  "(tolerances are in the suite file)");
+  cli->add_flag("--update-baseline", flags->options.update_baseline,
+                "Write this run's summary as results/<suite>/baseline.json");
+  cli->add_flag("!--no-plots", flags->options.plots, "Skip rendering the PNG plots");
+  cli->add_flag("!--quiet,!-q", flags->options.progress, "No progress output");
+  return {cli, [flags] { return runBenchCommand(*flags); }};
+}
+
+Command addMergeCommand(CLI::App& app) {
+  auto dir = std::make_shared<std::string>();
+  auto plots = std::make_shared<bool>(true);
+  auto* cli = app.add_subcommand(
+      "merge",
+      "Combine the shards of a suite run (results/<suite>/shards/*/) into the results folder, "
+      "byte-identical to a single-machine run.");
+  cli->add_option("RESULTS_DIR", *dir, "The suite's results folder, e.g. results/default")
+      ->required();
+  cli->add_flag("!--no-plots", *plots, "Skip rendering the PNG plots");
+  return {cli, [dir, plots] {
+            const auto outcome = eval::mergeShards(*dir, *plots);
+            std::cout << eval::renderConsoleSummary(outcome.summary)
+                      << "\nresults: " << (outcome.out_dir / "README.md").string() << "\n";
+            if (!outcome.complete)
+              std::cerr << "incomplete: " << outcome.summary["missing"].size()
+                        << " trial(s) have no result yet; run the missing shards and merge "
+                           "again\n";
+            return outcome.complete ? 0 : 1;
+          }};
+}
+
+}  // namespace slamprep::app

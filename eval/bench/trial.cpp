@@ -1,0 +1,167 @@
+#include "eval/bench/trial.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include "algo/calibration/dataset_motion.hpp"
+#include "core/error.hpp"
+#include "core/odometry.hpp"
+#include "eval/metrics/calibration_error.hpp"
+#include "eval/metrics/odometry_drift.hpp"
+#include "eval/pipeline/calibration_run.hpp"
+#include "eval/pipeline/dataset_deskew.hpp"
+#include "sim/drive/simulator.hpp"
+
+namespace slamprep::eval {
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+sim::SimConfig simConfig(const Suite& suite, const TrialSpec& spec) {
+  sim::SimConfig config;
+  config.world = spec.world;
+  config.scenario = spec.scenario;
+  config.seed = spec.seed;
+  config.duration_s = spec.duration_s;
+  config.mode = suite.mode == "kinematic" ? sim::SimMode::kinematic : sim::SimMode::physics;
+  for (const auto& [key, value] : spec.overrides) sim::applyOverride(config, key + "=" + value);
+  return config;
+}
+
+json simJson(const sim::SimSummary& s) {
+  return {{"duration_s", s.duration_s},
+          {"scans", s.scans},
+          {"beams", s.beams},
+          {"distance_m", s.distance_m},
+          {"turned_rad", s.rotation_rad},
+          {"mean_abs_yaw_rate_radps", s.duration_s > 0 ? s.rotation_rad / s.duration_s : 0.0},
+          {"mean_speed_mps", s.duration_s > 0 ? s.distance_m / s.duration_s : 0.0},
+          {"drift_nominal_m", s.drift_nominal.final_position_m},
+          {"drift_true_m", s.drift_true.final_position_m}};
+}
+
+// Error of every scan-to-scan motion in the chains against the true lidar motion.
+json matchingJson(const Dataset& dataset, const CalibrationMotion& motion) {
+  const PoseSeries truth = algo::lidarPosesFromGroundTruth(dataset);
+  std::vector<double> trans_m, rot_deg;
+  for (const auto& chain : motion.chains)
+    for (std::size_t k = 1; k < chain.size(); ++k) {
+      const auto a = truth.at(chain[k - 1].stamp_s), b = truth.at(chain[k].stamp_s);
+      if (!a || !b) continue;
+      const SE2 err = between(between(*a, *b), between(chain[k - 1].value, chain[k].value));
+      trans_m.push_back(err.translation().norm());
+      rot_deg.push_back(std::abs(err.yaw) * 180.0 / std::numbers::pi);
+    }
+  const std::size_t pairs = trans_m.size() + motion.failed_matches;
+  if (trans_m.empty()) return {{"pairs", pairs}, {"converged_fraction", 0.0}};
+  const ErrorStats t = summarize(trans_m), r = summarize(rot_deg);
+  return {{"pairs", pairs},
+          {"converged_fraction", static_cast<double>(trans_m.size()) / pairs},
+          {"trans_error_m_mean", t.mean},
+          {"trans_error_m_rmse", t.rmse},
+          {"rot_error_deg_mean", r.mean},
+          {"rot_error_deg_rmse", r.rmse}};
+}
+
+// Estimate, sigma and absolute error of one method, plus the drift with its geometry.
+json calibrationJson(const Dataset& dataset, const algo::CalibrationResult& result) {
+  if (!result.ok) return {{"ok", false}, {"reason", result.reason}};
+  CalibrationEstimate estimate{result.geometry, std::nullopt, std::nullopt, std::nullopt};
+  const Eigen::VectorXd sigma = result.sigma();
+  if (sigma.size() >= 3) estimate.geometry_sigma = sigma.head<3>();
+  if (result.estimates_mount) {
+    estimate.T_base_lidar = result.T_base_lidar;
+    if (sigma.size() >= 6) estimate.mount_sigma = sigma.segment<3>(3);
+  }
+  const auto error =
+      calibrationError(estimate, *dataset.info.true_geometry, dataset.info.T_base_lidar);
+  json out = {{"ok", true}, {"condition_number", result.condition_number}};
+  static const std::map<std::string, std::pair<std::string, double>> kKeys = {
+      {"r_L", {"r_L_pct", 100.0}},      {"r_R", {"r_R_pct", 100.0}},
+      {"b", {"b_pct", 100.0}},          {"mount_x", {"lidar_x_mm", 1.0}},
+      {"mount_y", {"lidar_y_mm", 1.0}}, {"mount_yaw", {"lidar_yaw_deg", 1.0}}};
+  for (const auto& p : error.parameters) {
+    const auto& [key, scale] = kKeys.at(p.name);
+    out["abs_error"][key] = std::abs(p.error) * scale;
+  }
+  if (error.all_within_3_sigma) out["inside_3sigma"] = *error.all_within_3_sigma;
+  const PoseSeries odom =
+      integrateEncoders(dataset.encoders, result.geometry, dataset.info.ticks_per_revolution);
+  const DriftResult drift = odometryDrift(odom, dataset.groundtruth);
+  if (drift.ok) out["drift_m"] = drift.final_position_error_m;
+  return out;
+}
+
+json deskewJson(const DatasetDeskew& d) {
+  json out = {{"ok", d.refused == 0}};
+  if (d.refused) out["refused_scans"] = d.refused;
+  if (!d.error_m) return out;
+  out.update({{"mean_m", d.error_m->mean},
+              {"rms_m", d.error_m->rmse},
+              {"p95_m", d.error_m->p95},
+              {"max_m", d.error_m->max},
+              {"beams", d.error_m->count}});
+  return out;
+}
+
+// The geometry the odometry-based de-skew methods use in this trial.
+DiffDriveParams deskewGeometry(const Suite& suite, const Dataset& dataset,
+                               const std::map<std::string, algo::CalibrationResult>& calibrated) {
+  if (suite.deskew_geometry == "true") return *dataset.info.true_geometry;
+  if (suite.deskew_geometry == "calibrated")
+    for (const char* best : {"ceres", "joint", "model", "direct"})
+      if (auto it = calibrated.find(best); it != calibrated.end() && it->second.ok)
+        return it->second.geometry;
+  return dataset.info.nominal_geometry;
+}
+
+TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
+  TrialOutput out;
+  auto start = Clock::now();
+  const sim::SimResult sim = sim::simulate(simConfig(suite, spec));
+  const Dataset& dataset = sim.dataset;
+  out.timing["simulate_s"] = secondsSince(start);
+  out.result["sim"] = simJson(sim.summary);
+
+  std::map<std::string, algo::CalibrationResult> calibrated;
+  if (!suite.calibration_methods.empty()) {
+    start = Clock::now();
+    CalibrationMotionOptions motion_options;
+    motion_options.from_icp = suite.motion == "icp";
+    const CalibrationMotion motion = calibrationMotion(dataset, motion_options);
+    out.timing["motion_s"] = secondsSince(start);
+    if (motion_options.from_icp) out.result["matching"] = matchingJson(dataset, motion);
+    for (const auto& method : suite.calibration_methods) {
+      start = Clock::now();
+      calibrated[method] =
+          calibrateWith(method, motion.intervals.intervals, dataset.info.nominal_geometry);
+      out.timing["calibration"][method] = secondsSince(start);
+      out.result["calibration"][method] = calibrationJson(dataset, calibrated[method]);
+    }
+  }
+
+  DatasetDeskewOptions deskew_options = nominalDeskewOptions(dataset);
+  deskew_options.geometry = deskewGeometry(suite, dataset, calibrated);
+  for (const auto& name : suite.deskew_methods) {
+    const auto method = algo::parseDeskewMethod(name);
+    if (!method) throw InputError(suite.source.string() + ": deskew_methods", "unknown " + name);
+    const DatasetDeskew d = deskewDataset(dataset, *method, deskew_options);
+    out.timing["deskew"][name] = d.seconds;
+    out.result["deskew"][name] = deskewJson(d);
+  }
+  return out;
+}
+
+}  // namespace
+
+TrialFunction benchTrial(const Suite& suite) {
+  return [suite](const TrialSpec& spec) { return runTrial(suite, spec); };
+}
+
+}  // namespace slamprep::eval

@@ -1,0 +1,12 @@
+#pragma once
+// One bench trial: simulate, match, calibrate, de-skew, and measure everything against truth.
+
+#include "eval/suite/runner.hpp"
+#include "eval/suite/suite.hpp"
+
+namespace slamprep::eval {
+
+/// The trial function `bench` runs for every trial of `suite` (docs/results.md: result schema).
+TrialFunction benchTrial(const Suite& suite);
+
+}  // namespace slamprep::eval

@@ -1,0 +1,40 @@
+#pragma once
+// Calibration methods by the names the CLI and JSON use, run on a dataset's intervals.
+
+#include <string>
+#include <vector>
+
+#include "algo/calibration/calibration.hpp"
+#include "core/dataset.hpp"
+
+namespace slamprep::eval {
+
+/// "direct", "model", "joint", "ceres": the interval-based methods in the order they build on
+/// each other ("umbmark" needs square runs instead; see the calibrate command).
+const std::vector<std::string>& intervalCalibrationMethods();
+
+/// Runs one interval-based method; an unknown name is an InputError naming it.
+algo::CalibrationResult calibrateWith(const std::string& method,
+                                      const std::vector<algo::CalibrationInterval>& intervals,
+                                      const DiffDriveParams& nominal);
+
+/// Where the lidar motion for calibration comes from.
+struct CalibrationMotionOptions {
+  bool from_icp = true;  ///< scan matching; false: ground truth (an oracle run)
+  /// Match scans de-skewed with this method first ("none": raw scans, biased by distortion).
+  std::string deskew = "odom-linear";
+  algo::IntervalParams intervals;
+};
+
+struct CalibrationMotion {
+  std::vector<PoseSeries> chains;  ///< T_world_lidar chains (one for ground truth)
+  int failed_matches = 0;
+  algo::IntervalSet intervals;
+};
+
+/// Lidar motion and intervals from a dataset (de-skew with the nominal geometry, as the robot
+/// believes, then point-to-line ICP between consecutive scans; or ground truth).
+CalibrationMotion calibrationMotion(const Dataset& dataset,
+                                    const CalibrationMotionOptions& options);
+
+}  // namespace slamprep::eval

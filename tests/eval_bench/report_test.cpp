@@ -1,0 +1,38 @@
+#include "eval/bench/report.hpp"
+
+#include <gtest/gtest.h>
+
+namespace slamprep::eval {
+namespace {
+
+nlohmann::json summaryWith(double joint_b_pct, double linear_mean_m) {
+  return {{"trials", 2},
+          {"missing", nlohmann::json::array()},
+          {"metrics",
+           {{"calibration/joint/abs_error/b_pct", {{"n", 2}, {"mean", joint_b_pct}, {"std", 0.01}}},
+            {"calibration/joint/ok", {{"n", 2}, {"mean", 1.0}, {"std", 0.0}}},
+            {"deskew/odom-linear/mean_m", {{"n", 1}, {"mean", linear_mean_m}, {"std", 0.0}}}}}};
+}
+
+TEST(Report, TablesShowEveryMethodWithUnits) {
+  Suite suite;
+  suite.name = "demo";
+  suite.worlds = {"w"};
+  suite.scenarios = {"s"};
+  const std::string md = renderReport(suite, summaryWith(0.042, 0.00123), {"deskew.png"});
+  EXPECT_NE(md.find("# Suite `demo`"), std::string::npos);
+  EXPECT_NE(md.find("| joint | 100 % |"), std::string::npos) << md;
+  EXPECT_NE(md.find("0.042 ± 0.01"), std::string::npos) << md;
+  EXPECT_NE(md.find("| odom-linear | - | 1.23 |"), std::string::npos) << md;  // metres -> mm
+  EXPECT_NE(md.find("![deskew.png](plots/deskew.png)"), std::string::npos);
+}
+
+TEST(Report, IsAFunctionOfTheSummaryAlone) {
+  Suite suite;
+  suite.name = "demo";
+  EXPECT_EQ(renderReport(suite, summaryWith(1, 2), {}), renderReport(suite, summaryWith(1, 2), {}));
+  EXPECT_NE(renderReport(suite, summaryWith(1, 2), {}), renderReport(suite, summaryWith(1, 3), {}));
+}
+
+}  // namespace
+}  // namespace slamprep::eval
