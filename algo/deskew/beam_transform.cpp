@@ -1,70 +1,111 @@
 #include "algo/deskew/beam_transform.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
 namespace slamprep::algo {
 namespace {
 
-/// A rigid motion as (cos, sin, x, y): composing needs no trigonometry.
-struct Rigid {
-  double c = 1.0, s = 0.0, x = 0.0, y = 0.0;
-
-  static Rigid from(const SE2& T) { return {std::cos(T.yaw), std::sin(T.yaw), T.x, T.y}; }
-  Rigid operator*(const Rigid& b) const {
-    return {c * b.c - s * b.s, s * b.c + c * b.s, c * b.x - s * b.y + x, s * b.x + c * b.y + y};
-  }
-  Eigen::Vector2d apply(double px, double py) const {
-    return {c * px - s * py + x, s * px + c * py + y};
-  }
-};
+// sin(t)/t and (1 - cos t)/t with series near 0, as core/se2.cpp does.
+double sinc(double t) {
+  return std::abs(t) < 1e-4 ? 1.0 - t * t / 6.0 : std::sin(t) / t;
+}
+double cosc(double t) {
+  return std::abs(t) < 1e-4 ? t / 2.0 - t * t * t / 24.0 : (1.0 - std::cos(t)) / t;
+}
 
 constexpr std::size_t kReanchorEvery = 64;
 
-/// Segment k of the knots: [stamp_k, stamp_{k+1}] with its twist per second.
+/// Knot k to knot k+1: start pose and twist per second.
 struct Segment {
-  SE2 T_start;
-  double t_start = 0.0, t_end = 0.0;
+  Rigid2 T_start;
+  double t_start = 0.0;
   Eigen::Vector3d twist_per_s = Eigen::Vector3d::Zero();
 
-  SE2 at(double t) const { return T_start * SE2::exp(twist_per_s * (t - t_start)); }
+  Rigid2 at(double t) const { return T_start * Rigid2::exp(twist_per_s * (t - t_start)); }
 };
 
-Segment segment(const PoseSeries& knots, std::size_t k) {
-  Segment seg{knots[k].value, knots[k].stamp_s, knots[k + 1].stamp_s, Eigen::Vector3d::Zero()};
-  seg.twist_per_s = between(knots[k].value, knots[k + 1].value).log() / (seg.t_end - seg.t_start);
-  return seg;
+Segment segment(const Trajectory& knots, std::size_t k) {
+  const Knot& a = knots[k];
+  const Knot& b = knots[k + 1];
+  return {a.T, a.stamp_s, (a.T.inverse() * b.T).log() / (b.stamp_s - a.stamp_s)};
+}
+
+/// Segment index for t: the last k with stamp_k <= t, clamped to [0, size - 2].
+std::size_t segmentIndex(const Trajectory& knots, double t) {
+  const auto it = std::upper_bound(knots.begin(), knots.end(), t,
+                                   [](double s, const Knot& k) { return s < k.stamp_s; });
+  const std::size_t i = it == knots.begin() ? 0 : static_cast<std::size_t>(it - knots.begin()) - 1;
+  return std::min(i, knots.size() - 2);
 }
 
 }  // namespace
 
-void transformBeams(const LaserScan& scan, double first_beam_s, const PoseSeries& T_ref_lidar,
+Rigid2 Rigid2::from(const SE2& T) {
+  return {std::cos(T.yaw), std::sin(T.yaw), T.x, T.y};
+}
+
+Rigid2 Rigid2::exp(const Eigen::Vector3d& xi) {
+  const double th = xi.z(), a = sinc(th), b = cosc(th);
+  return {std::cos(th), std::sin(th), a * xi.x() - b * xi.y(), b * xi.x() + a * xi.y()};
+}
+
+SE2 Rigid2::toSE2() const {
+  return {x, y, std::atan2(s, c)};
+}
+
+Eigen::Vector3d Rigid2::log() const {
+  const double th = std::atan2(s, c), a = sinc(th), b = cosc(th);
+  const double det = a * a + b * b;  // V^-1 = [[a, b], [-b, a]] / det
+  return {(a * x + b * y) / det, (-b * x + a * y) / det, th};
+}
+
+Trajectory toTrajectory(const PoseSeries& poses) {
+  Trajectory out;
+  out.reserve(poses.size());
+  for (const auto& p : poses.samples()) out.push_back({p.stamp_s, Rigid2::from(p.value)});
+  return out;
+}
+
+Rigid2 poseAt(const Trajectory& trajectory, double t) {
+  if (trajectory.size() == 1) return trajectory.front().T;
+  return segment(trajectory, segmentIndex(trajectory, t)).at(t);
+}
+
+Trajectory relativeTo(const Trajectory& trajectory, double t) {
+  const Rigid2 T_inv = poseAt(trajectory, t).inverse();
+  Trajectory out = trajectory;
+  for (Knot& k : out) k.T = T_inv * k.T;
+  return out;
+}
+
+void transformBeams(const LaserScan& scan, double first_beam_s, const Trajectory& trajectory,
                     std::vector<std::optional<Eigen::Vector2d>>& out) {
   const std::size_t n = scan.size();
   out.assign(n, std::nullopt);
-  if (n == 0 || T_ref_lidar.empty()) return;
+  if (n == 0 || trajectory.empty()) return;
   const double dt = scan.time_increment_s;
   const double cd = std::cos(scan.angle_increment_rad), sd = std::sin(scan.angle_increment_rad);
-  const std::size_t knots = T_ref_lidar.size();
-  std::size_t k = 0;  // current segment index (knots >= 2)
+  const std::size_t knots = trajectory.size();
+  std::size_t k = knots >= 2 ? segmentIndex(trajectory, first_beam_s) : 0;
   Segment seg;
-  Rigid T, step;  // pose at beam i, and the increment over one beam
+  Rigid2 T = trajectory.front().T, step;  // pose at beam i, and the increment over one beam
   double ca = 0.0, sa = 0.0;
   bool anchor = true;
   for (std::size_t i = 0; i < n; ++i) {
     const double t = first_beam_s + i * dt;
     if (knots >= 2) {
-      std::size_t k_new = k;
-      while (k_new + 2 < knots && T_ref_lidar[k_new + 1].stamp_s < t) ++k_new;
-      if (k_new != k || i == 0) {
-        k = k_new;
-        seg = segment(T_ref_lidar, k);
-        step = Rigid::from(SE2::exp(seg.twist_per_s * dt));
+      const std::size_t k_old = k;
+      while (k + 2 < knots && trajectory[k + 1].stamp_s < t) ++k;
+      if (k != k_old || i == 0) {
+        seg = segment(trajectory, k);
+        step = Rigid2::exp(seg.twist_per_s * dt);
         anchor = true;
       }
     }
-    if (anchor || i % kReanchorEvery == 0) {  // exact pose and direction, no drift
-      T = Rigid::from(knots >= 2 ? seg.at(t) : T_ref_lidar[0].value);
+    if (anchor || i % kReanchorEvery == 0) {  // exact pose and direction: no drift
+      if (knots >= 2) T = seg.at(t);
       ca = std::cos(scan.beamAngle(i));
       sa = std::sin(scan.beamAngle(i));
       anchor = false;
@@ -91,7 +132,7 @@ LaserScan repackScan(const LaserScan& grid,
     // Bin offset from angle_min, wrapped into [-0.5, turn - 0.5) bins without remainder().
     double k = (std::atan2(p->y(), p->x()) - grid.angle_min_rad) * inv_increment;
     k -= bins_per_turn * std::floor((k + 0.5) / bins_per_turn);
-    const long bin = std::lround(k);
+    const long bin = static_cast<long>(std::floor(k + 0.5));
     if (bin < 0 || bin >= size) continue;
     out.ranges_m[bin] = std::min(out.ranges_m[bin], p->norm());
   }

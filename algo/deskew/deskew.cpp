@@ -62,14 +62,16 @@ struct Refusal {
 
 /// Samples of `poses` (times T_base_lidar) from the one at or before t0 to the one at or after
 /// t1: the knots of T_X_L(t). Refuses when they do not bracket [t0, t1] or have a gap inside.
-PoseSeries lidarKnots(const PoseSeries& poses, const SE2& T_base_lidar, const ScanTimes& t,
+Trajectory lidarKnots(const PoseSeries& poses, const SE2& T_base_lidar, const ScanTimes& t,
                       const LaserScan& scan, bool stamp_is_last_beam, double max_gap_s,
                       std::string_view what) {
   if (auto warning = checkBracketing(scan, stamp_is_last_beam, poses, what))
     throw Refusal{*warning};
   const auto b0 = poses.bracket(t.first_s), b1 = poses.bracket(t.last_s);
   const std::size_t end = poses.size() == 1 ? 0 : std::min(b1->index + 1, poses.size() - 1);
-  PoseSeries knots;
+  const Rigid2 T_bl = Rigid2::from(T_base_lidar);
+  Trajectory knots;
+  knots.reserve(end - b0->index + 1);
   for (std::size_t k = b0->index; k <= end; ++k) {
     if (k > b0->index && poses[k].stamp_s - poses[k - 1].stamp_s > max_gap_s)
       throw Refusal{std::string(what) + " has a gap of " +
@@ -77,24 +79,16 @@ PoseSeries lidarKnots(const PoseSeries& poses, const SE2& T_base_lidar, const Sc
                     " s at t = " + fmt(poses[k - 1].stamp_s) +
                     " inside the scan (max_sample_gap_s = " + fmt(max_gap_s) +
                     "); refused, not interpolated across"};
-    knots.push_back(poses[k].stamp_s, poses[k].value * T_base_lidar);
+    knots.push_back({poses[k].stamp_s, Rigid2::from(poses[k].value) * T_bl});
   }
   return knots;
 }
 
-/// Knots re-expressed relative to the pose at time t: T_Lt_L(t_k) = T_X_L(t)^-1 T_X_L(t_k).
-PoseSeries relativeTo(const PoseSeries& knots, double t) {
-  const SE2 T_inv = (knots.size() == 1 ? knots[0].value : *knots.at(t)).inverse();
-  PoseSeries out;
-  for (const auto& k : knots.samples()) out.push_back(k.stamp_s, T_inv * k.value);
-  return out;
-}
-
 /// Constant twist over the scan: T_Lref_L(t) = exp(twist (t - t_ref)), as two knots.
-PoseSeries constantTwistKnots(const Eigen::Vector3d& twist_per_s, const ScanTimes& t) {
-  PoseSeries knots;
-  knots.push_back(t.first_s, SE2::exp(twist_per_s * (t.first_s - t.ref_s)));
-  if (t.last_s > t.first_s) knots.push_back(t.last_s, SE2::exp(twist_per_s * (t.last_s - t.ref_s)));
+Trajectory constantTwistKnots(const Eigen::Vector3d& twist_per_s, const ScanTimes& t) {
+  Trajectory knots{{t.first_s, Rigid2::exp(twist_per_s * (t.first_s - t.ref_s))}};
+  if (t.last_s > t.first_s)
+    knots.push_back({t.last_s, Rigid2::exp(twist_per_s * (t.last_s - t.ref_s))});
   return knots;
 }
 
@@ -102,32 +96,28 @@ PoseSeries constantTwistKnots(const Eigen::Vector3d& twist_per_s, const ScanTime
 /// q(tau) = p_s^-1 p(t_s + tau), P(tau) = A tau^2 + B tau (+ C = 0) through (0, 0),
 /// (tau_e/2, q_m), (tau_e, q_e), Eq.: A = 2 (q_e - 2 q_m) / tau_e^2, B = (4 q_m - q_e) / tau_e;
 /// sampled at k + 1 evenly spaced times, linear (geodesic) in between.
-PoseSeries quadraticKnots(const PoseSeries& odometry, const SE2& T_base_lidar, const ScanTimes& t,
+Trajectory quadraticKnots(const PoseSeries& odometry, const SE2& T_base_lidar, const ScanTimes& t,
                           int pieces) {
   const double tau_e = t.last_s - t.first_s, t_m = 0.5 * (t.first_s + t.last_s);
   const SE2 p_s = *odometry.at(t.first_s);
-  if (tau_e <= 0.0) {  // a single beam: one pose
-    PoseSeries single;
-    single.push_back(t.first_s, p_s * T_base_lidar);
-    return single;
-  }
+  if (tau_e <= 0.0) return {{t.first_s, Rigid2::from(p_s * T_base_lidar)}};  // a single beam
   const Eigen::Vector3d q_m = between(p_s, *odometry.at(t_m)).vector();
   const Eigen::Vector3d q_e = between(p_s, *odometry.at(t.last_s)).vector();
   const Eigen::Vector3d A = 2.0 * (q_e - 2.0 * q_m) / (tau_e * tau_e);
   const Eigen::Vector3d B = (4.0 * q_m - q_e) / tau_e;
-  PoseSeries knots;
+  Trajectory knots;
   const int k = std::max(1, pieces);
   for (int j = 0; j <= k; ++j) {
     const double tau = tau_e * j / k;
     const Eigen::Vector3d q = A * tau * tau + B * tau;
-    knots.push_back(t.first_s + tau, p_s * SE2(q.x(), q.y(), q.z()) * T_base_lidar);
+    knots.push_back({t.first_s + tau, Rigid2::from(p_s * SE2(q.x(), q.y(), q.z()) * T_base_lidar)});
   }
   return knots;
 }
 
 /// Rotation from the gyro (trapezoid between its samples, linear at the scan's ends),
 /// translation from odometry: T_k = T_{k-1} exp(rho_odom, dtheta_gyro) at every IMU stamp.
-PoseSeries imuKnots(const ImuLog& imu, const PoseSeries& odometry, const SE2& T_base_lidar,
+Trajectory imuKnots(const ImuLog& imu, const PoseSeries& odometry, const SE2& T_base_lidar,
                     const ScanTimes& t, double max_gap_s) {
   auto later = [](double s, const ImuSample& x) { return s < x.stamp_s; };
   const auto after_first = std::upper_bound(imu.begin(), imu.end(), t.first_s, later);
@@ -150,17 +140,17 @@ PoseSeries imuKnots(const ImuLog& imu, const PoseSeries& odometry, const SE2& T_
   for (auto it = after_first; it != after_last; ++it)
     if (it->stamp_s > t.first_s) samples.emplace_back(it->stamp_s, it->gyro_z_radps);
   if (t.last_s > samples.back().first) samples.emplace_back(t.last_s, gyroAt(t.last_s));
-  PoseSeries knots;
+  Trajectory knots;
   SE2 T_base = SE2();
   SE2 odom_prev = *odometry.at(samples[0].first);
-  knots.push_back(samples[0].first, T_base * T_base_lidar);
+  knots.push_back({samples[0].first, Rigid2::from(T_base * T_base_lidar)});
   for (std::size_t k = 1; k < samples.size(); ++k) {
     const SE2 odom = *odometry.at(samples[k].first);
     const Eigen::Vector3d rho = between(odom_prev, odom).log();
     const double dtheta = 0.5 * (samples[k - 1].second + samples[k].second) *
                           (samples[k].first - samples[k - 1].first);
     T_base = T_base * SE2::exp({rho.x(), rho.y(), dtheta});
-    knots.push_back(samples[k].first, T_base * T_base_lidar);
+    knots.push_back({samples[k].first, Rigid2::from(T_base * T_base_lidar)});
     odom_prev = odom;
   }
   return knots;
@@ -185,16 +175,15 @@ bool settled(const SE2& change, const DeskewParams& params) {
 struct CorrectedScan {
   const LaserScan* scan = nullptr;
   ScanTimes t;
-  PoseSeries base;
+  Trajectory base;
 };
 
 /// base(t_k) * exp(eps (t_k - t_first)) at every knot; with a single identity base knot, a
 /// constant twist eps over the whole scan.
-PoseSeries correctedKnots(const CorrectedScan& s, const Eigen::Vector3d& eps) {
-  PoseSeries knots;
+Trajectory correctedKnots(const CorrectedScan& s, const Eigen::Vector3d& eps) {
   if (s.base.size() == 1) return constantTwistKnots(eps, s.t);
-  for (const auto& k : s.base.samples())
-    knots.push_back(k.stamp_s, k.value * SE2::exp(eps * (k.stamp_s - s.t.first_s)));
+  Trajectory knots = s.base;
+  for (Knot& k : knots) k.T = k.T * Rigid2::exp(eps * (k.stamp_s - s.t.first_s));
   return knots;
 }
 
@@ -257,14 +246,12 @@ ScanTimes previousTimes(const PreviousScan& prev) {
   return t;
 }
 
-PoseSeries identityKnot(double t) {
-  PoseSeries k;
-  k.push_back(t, SE2());
-  return k;
+Trajectory identityKnot(double t) {
+  return {{t, Rigid2{}}};
 }
 
 /// VICP: a constant twist over both scans, estimated jointly with the match.
-PoseSeries vicpKnots(const DeskewInput& in, const ScanTimes& t, const DeskewParams& params,
+Trajectory vicpKnots(const DeskewInput& in, const ScanTimes& t, const DeskewParams& params,
                      DeskewResult& result) {
   const PreviousScan& prev = *in.previous;
   const ScanTimes tp = previousTimes(prev);
@@ -291,7 +278,7 @@ PoseSeries vicpKnots(const DeskewInput& in, const ScanTimes& t, const DeskewPara
 
 /// Odometry + ICP (the lecture's last slide): odometry de-skew, ICP against the previous scan,
 /// the odometry error spread linearly over the beams, iterated; both scans share the correction.
-PoseSeries odomIcpKnots(const DeskewInput& in, const ScanTimes& t, const DeskewParams& params,
+Trajectory odomIcpKnots(const DeskewInput& in, const ScanTimes& t, const DeskewParams& params,
                         DeskewResult& result) {
   const PreviousScan& prev = *in.previous;
   const ScanTimes tp = previousTimes(prev);
@@ -326,7 +313,7 @@ PoseSeries odomIcpKnots(const DeskewInput& in, const ScanTimes& t, const DeskewP
 }
 
 /// T_Lref_L knots for the method, or a Refusal.
-PoseSeries methodKnots(DeskewMethod method, const DeskewInput& in, const ScanTimes& t,
+Trajectory methodKnots(DeskewMethod method, const DeskewInput& in, const ScanTimes& t,
                        const DeskewParams& params, DeskewResult& result) {
   auto need = [&](const void* p, const char* what) {
     if (!p)
@@ -337,11 +324,8 @@ PoseSeries methodKnots(DeskewMethod method, const DeskewInput& in, const ScanTim
                       params.max_sample_gap_s, what);
   };
   switch (method) {
-    case DeskewMethod::kNone: {
-      PoseSeries identity;
-      identity.push_back(t.ref_s, SE2());
-      return identity;
-    }
+    case DeskewMethod::kNone:
+      return identityKnot(t.ref_s);
     case DeskewMethod::kOracle:
       need(in.oracle, "ground-truth poses (the dataset has no truth)");
       return relativeTo(odomKnots(*in.oracle, "ground truth"), t.ref_s);
@@ -493,11 +477,10 @@ DeskewResult deskew(DeskewMethod method, const DeskewInput& in, const DeskewPara
   result.first_beam_s = t.first_s;
   result.reference_s = t.ref_s;
   try {
-    const PoseSeries knots = methodKnots(method, in, t, params, result);
+    const Trajectory knots = methodKnots(method, in, t, params, result);
     transformBeams(scan, t.first_s, knots, result.p_ref);
     // The first-beam frame seen from the reference frame is the knots' value at t_first.
-    const SE2 T_ref_first = knots.size() == 1 ? knots[0].value : *knots.at(t.first_s);
-    result.T_first_ref = T_ref_first.inverse();
+    result.T_first_ref = poseAt(knots, t.first_s).inverse().toSE2();
   } catch (const Refusal& refusal) {
     result.p_ref.clear();
     result.reason = refusal.reason;

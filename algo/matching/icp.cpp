@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -20,51 +22,94 @@ struct Pair {
   double error_sq = 0.0;  ///< squared residual at the estimate the pair was found with
 };
 
-/// The line fitted through the neighbours of `query` (centroid and unit normal), or nullopt when
-/// they are too few or no line (a corner, a blob).
-std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> fitLine(const KdTree2& tree,
-                                                                   const Eigen::Vector2d& query,
-                                                                   const IcpParams& params) {
-  const auto neighbors = tree.nearestK(query, params.line_neighbors);
-  const double radius_sq = params.line_max_radius_m * params.line_max_radius_m;
+using Line = std::pair<Eigen::Vector2d, Eigen::Vector2d>;  // (centroid, unit normal)
+
+/// Line through `neighbors` (principal axis of their scatter), or nullopt when fewer than three
+/// or no line (a corner, a blob: sqrt(lambda_min / lambda_max) above line_max_thickness).
+std::optional<Line> fitLine(const Points2& points, const std::vector<std::size_t>& neighbors,
+                            const IcpParams& params) {
+  if (neighbors.size() < 3) return std::nullopt;
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  std::size_t count = 0;
-  for (const Neighbor& n : neighbors)
-    if (n.distance_sq_m2 <= radius_sq) mean += tree.points()[n.index], ++count;
-  if (count < 3) return std::nullopt;
-  mean /= static_cast<double>(count);
+  for (std::size_t i : neighbors) mean += points[i];
+  mean /= static_cast<double>(neighbors.size());
   Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-  for (const Neighbor& n : neighbors) {
-    if (n.distance_sq_m2 > radius_sq) continue;
-    const Eigen::Vector2d d = tree.points()[n.index] - mean;
-    scatter += d * d.transpose();
-  }
+  for (std::size_t i : neighbors) scatter += (points[i] - mean) * (points[i] - mean).transpose();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig;
   eig.computeDirect(scatter);
   const Eigen::Vector2d lambda = eig.eigenvalues();  // ascending
   const double thickness_sq = params.line_max_thickness * params.line_max_thickness;
   if (lambda(1) <= 0.0 || lambda(0) > thickness_sq * lambda(1)) return std::nullopt;
-  return std::pair{mean, Eigen::Vector2d(eig.eigenvectors().col(0))};
+  return Line{mean, eig.eigenvectors().col(0)};
+}
+
+/// Neighbours of point i for its line: its index neighbours i-h..i+h when they are within
+/// line_max_radius (points in scan order, as Censi's PL-ICP uses them: no search needed),
+/// otherwise its nearest neighbours from the kd-tree (gaps, unordered point sets).
+std::vector<std::size_t> lineNeighbors(const KdTree2& tree, std::size_t i, const IcpParams& params,
+                                       std::vector<std::size_t>& scratch) {
+  const Points2& points = tree.points();
+  const double radius_sq = params.line_max_radius_m * params.line_max_radius_m;
+  const std::size_t half = params.line_neighbors / 2;
+  scratch.clear();
+  if (i >= half && i + half < points.size()) {
+    for (std::size_t j = i - half; j <= i + half; ++j)
+      if ((points[j] - points[i]).squaredNorm() <= radius_sq) scratch.push_back(j);
+    if (scratch.size() == 2 * half + 1) return scratch;
+  }
+  scratch.clear();
+  Neighbor found[KdTree2::kMaxInto];
+  const std::size_t n = tree.nearestInto(points[i], params.line_neighbors, found);
+  for (std::size_t j = 0; j < n; ++j)
+    if (found[j].distance_sq_m2 <= radius_sq) scratch.push_back(found[j].index);
+  return scratch;
 }
 
 /// Nearest-neighbour correspondences at the estimate T, gated and trimmed.
-std::vector<Pair> findPairs(const IcpReference& ref, const Points2& cur, const SE2& T,
-                            bool point_to_line, const IcpParams& params) {
+/// What the last search of one current point found. Its nearest reference point stays the nearest
+/// while the query moves less than `slack` = (d2 - d1) / 2 (d1, d2: distances to the nearest and
+/// second nearest): every other point stays farther than d2 - m >= d1 + m (triangle inequality).
+/// Late ICP rounds move points by well under a millimetre, so most searches are skipped, exactly.
+struct NearestCache {
+  std::uint32_t index = 0;
+  double slack_m = -1.0;  ///< < 0: nothing cached
+  Eigen::Vector2d query = Eigen::Vector2d::Zero();
+};
+
+/// The nearest reference point to `query`, from the cache when provably unchanged.
+Neighbor cachedNearest(const KdTree2& tree, const Eigen::Vector2d& query, NearestCache& cache) {
+  if (cache.slack_m > 0.0 && (query - cache.query).squaredNorm() < cache.slack_m * cache.slack_m)
+    return {cache.index, (tree.points()[cache.index] - query).squaredNorm()};
+  Neighbor two[2];
+  const std::size_t found = tree.nearestInto(query, 2, two);
+  cache.index = static_cast<std::uint32_t>(two[0].index);
+  cache.query = query;
+  cache.slack_m = found < 2
+                      ? std::numeric_limits<double>::infinity()
+                      : 0.5 * (std::sqrt(two[1].distance_sq_m2) - std::sqrt(two[0].distance_sq_m2));
+  return two[0];
+}
+
+/// Every `stride`-th current point takes part; `cache` holds one entry per current point.
+std::vector<Pair> findPairs(const IcpReference& ref, const Points2& cur, std::size_t stride,
+                            const SE2& T, bool point_to_line, const IcpParams& params,
+                            std::vector<NearestCache>& cache) {
   std::vector<Pair> pairs;
-  pairs.reserve(cur.size());
+  pairs.reserve(cur.size() / stride + 1);
   const double gate_sq =
       params.max_correspondence_distance_m * params.max_correspondence_distance_m;
   const Eigen::Matrix2d R = T.rotation();
   const Eigen::Vector2d t = T.translation();
-  for (const Eigen::Vector2d& p : cur) {
+  for (std::size_t i = 0; i < cur.size(); i += stride) {
+    const Eigen::Vector2d& p = cur[i];
     const Eigen::Vector2d p_ref = R * p + t;
-    const auto nn = ref.tree().nearest(p_ref);
-    if (!nn || nn->distance_sq_m2 > gate_sq) continue;
-    Pair pair{p, ref.points()[nn->index], Eigen::Vector2d::Zero(), nn->distance_sq_m2};
+    if (ref.points().empty()) break;
+    const Neighbor nn = cachedNearest(ref.tree(), p_ref, cache[i]);
+    if (nn.distance_sq_m2 > gate_sq) continue;
+    Pair pair{p, ref.points()[nn.index], Eigen::Vector2d::Zero(), nn.distance_sq_m2};
     if (point_to_line) {
-      pair.n_ref = ref.normal(nn->index);
+      pair.n_ref = ref.normal(nn.index);
       if (pair.n_ref.isZero()) continue;
-      pair.q_ref = ref.linePoint(nn->index);  // the fitted line's centroid: less noisy
+      pair.q_ref = ref.linePoint(nn.index);  // the fitted line's centroid: less noisy
       const double e = pair.n_ref.dot(p_ref - pair.q_ref);
       pair.error_sq = e * e;
     }
@@ -212,8 +257,9 @@ Eigen::Matrix3d covarianceAt(const std::vector<Pair>& pairs, const SE2& T, bool 
 /// Mean squared residual of the pairs at T (what the step minimised).
 double meanSquaredResidual(const std::vector<Pair>& pairs, const SE2& T, bool point_to_line) {
   double sum = 0.0;
+  const Eigen::Matrix2d R = T.rotation();
   for (const Pair& pr : pairs) {
-    const Eigen::Vector2d e = T * pr.p_cur - pr.q_ref;
+    const Eigen::Vector2d e = R * pr.p_cur + T.translation() - pr.q_ref;
     sum += point_to_line ? std::pow(pr.n_ref.dot(e), 2) : e.squaredNorm();
   }
   return pairs.empty() ? 0.0 : sum / static_cast<double>(pairs.size());
@@ -237,8 +283,12 @@ IcpResult match(const IcpReference& ref, const Points2& cur, const SE2& guess, b
   constexpr std::size_t kHistory = 6;
   std::vector<std::pair<SE2, double>> history;
   std::vector<Pair> pairs;
+  // Coarse to fine: every coarse_stride-th current point while the steps are large.
+  const std::size_t stride = std::max<std::size_t>(1, params.coarse_stride);
+  bool fine = stride == 1 || cur.size() / stride < params.min_inliers;
+  std::vector<NearestCache> cache(cur.size());
   for (result.iterations = 1; result.iterations <= params.max_iterations; ++result.iterations) {
-    pairs = findPairs(ref, cur, result.T_ref_cur, point_to_line, params);
+    pairs = findPairs(ref, cur, fine ? 1 : stride, result.T_ref_cur, point_to_line, params, cache);
     if (pairs.size() < params.min_inliers) {
       result.reason = "only " + std::to_string(pairs.size()) + " correspondences (need " +
                       std::to_string(params.min_inliers) + "): too little overlap or a bad guess";
@@ -249,9 +299,14 @@ IcpResult match(const IcpReference& ref, const Points2& cur, const SE2& guess, b
       result.reason = "degenerate correspondences: the step is not determined";
       break;
     }
-    const bool step_small = small(between(result.T_ref_cur, *T_new), params);
+    const SE2 step = between(result.T_ref_cur, *T_new);
     result.T_ref_cur = *T_new;
-    if (step_small) {
+    if (!fine) {
+      fine = step.translation().norm() < params.coarse_until_m &&
+             std::abs(step.yaw) < params.coarse_until_rad;
+      continue;
+    }
+    if (small(step, params)) {
       result.converged = true;
       break;
     }
@@ -263,7 +318,7 @@ IcpResult match(const IcpReference& ref, const Points2& cur, const SE2& guess, b
       const auto best = std::min_element(
           seen, history.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
       if (best->second < cost) result.T_ref_cur = best->first;
-      pairs = findPairs(ref, cur, result.T_ref_cur, point_to_line, params);
+      pairs = findPairs(ref, cur, 1, result.T_ref_cur, point_to_line, params, cache);
       result.converged = true;
       break;
     }
@@ -287,10 +342,11 @@ IcpReference::IcpReference(Points2 ref, const IcpParams& params, bool with_norma
   if (!with_normals) return;
   normals_.reserve(tree_.size());
   line_points_.reserve(tree_.size());
-  for (const Eigen::Vector2d& q : tree_.points()) {
-    const auto line = fitLine(tree_, q, params);
+  std::vector<std::size_t> scratch;
+  for (std::size_t i = 0; i < tree_.size(); ++i) {
+    const auto line = fitLine(tree_.points(), lineNeighbors(tree_, i, params, scratch), params);
     normals_.push_back(line ? line->second : Eigen::Vector2d::Zero());
-    line_points_.push_back(line ? line->first : q);
+    line_points_.push_back(line ? line->first : tree_.points()[i]);
   }
 }
 

@@ -26,9 +26,14 @@ struct IcpParams {
   /// Trimming: this fraction of the gated pairs, the worst ones, is dropped each round.
   double trim_fraction = 0.1;
   /// Converged when a round moves the estimate by less than this translation ...
-  double translation_tolerance_m = 1e-6;
+  double translation_tolerance_m = 1e-4;
   /// ... and less than this rotation.
-  double rotation_tolerance_rad = 1e-7;
+  double rotation_tolerance_rad = 1e-5;
+  /// Coarse to fine: only every n-th current point is matched while the rounds still move the
+  /// estimate by more than coarse_until_m or coarse_until_rad (1 = always all points).
+  std::size_t coarse_stride = 4;
+  double coarse_until_m = 0.002;
+  double coarse_until_rad = 0.001;
   /// Fewer surviving correspondences than this: refuse (too little overlap).
   std::size_t min_inliers = 20;
   /// Point-to-line: neighbours in `ref` (the point itself included) whose line is fitted.

@@ -1,5 +1,8 @@
 #include "algo/matching/kdtree.hpp"
 
+#include <cassert>
+#include <cmath>
+#include <limits>
 #include <nanoflann.hpp>
 
 namespace slamprep::algo {
@@ -19,6 +22,23 @@ struct PointsAdaptor {
 using Index =
     nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
                                         PointsAdaptor, 2, std::uint32_t>;
+
+/// A one-nearest result set that starts from a known candidate: its distance bounds the search.
+struct NearestResult {
+  using DistanceType = double;
+  using IndexType = std::uint32_t;
+  using CountType = std::size_t;
+  std::uint32_t index = 0;
+  double distance_sq = std::numeric_limits<double>::max();
+
+  std::size_t size() const { return 1; }
+  bool full() const { return true; }
+  bool addPoint(double d, std::uint32_t i) {
+    if (d < distance_sq) distance_sq = d, index = i;
+    return true;
+  }
+  double worstDist() const { return distance_sq; }
+};
 
 }  // namespace
 
@@ -52,6 +72,31 @@ std::optional<Neighbor> KdTree2::nearest(const Eigen::Vector2d& query) const {
   result.init(&index, &distance_sq);
   impl_->index->findNeighbors(result, query.data(), nanoflann::SearchParams());
   return Neighbor{index, distance_sq};
+}
+
+std::optional<Neighbor> KdTree2::nearest(const Eigen::Vector2d& query, std::size_t hint) const {
+  if (impl_->points.empty()) return std::nullopt;
+  assert(hint < impl_->points.size());
+  NearestResult result;
+  result.index = static_cast<std::uint32_t>(hint);
+  // Slightly above the hint's distance, so that the search still visits the hint's own leaf
+  // and ties resolve as without a hint.
+  result.distance_sq = std::nextafter((impl_->points[hint] - query).squaredNorm(),
+                                      std::numeric_limits<double>::max());
+  impl_->index->findNeighbors(result, query.data(), nanoflann::SearchParams());
+  return Neighbor{result.index, (impl_->points[result.index] - query).squaredNorm()};
+}
+
+std::size_t KdTree2::nearestInto(const Eigen::Vector2d& query, std::size_t k, Neighbor* out) const {
+  k = std::min({k, impl_->points.size(), kMaxInto});
+  if (k == 0) return 0;
+  std::uint32_t indices[kMaxInto];
+  double distances_sq[kMaxInto];
+  nanoflann::KNNResultSet<double, std::uint32_t> result(k);
+  result.init(indices, distances_sq);
+  impl_->index->findNeighbors(result, query.data(), nanoflann::SearchParams());
+  for (std::size_t i = 0; i < result.size(); ++i) out[i] = {indices[i], distances_sq[i]};
+  return result.size();
 }
 
 std::vector<Neighbor> KdTree2::nearestK(const Eigen::Vector2d& query, std::size_t k) const {

@@ -32,8 +32,15 @@ class KdTree2 {
 
   /// The nearest point to `query`; nullopt for an empty tree.
   std::optional<Neighbor> nearest(const Eigen::Vector2d& query) const;
+  /// The same, searching only for points closer than point `hint` (a likely answer, e.g. last
+  /// iteration's): exact, and much faster when the hint is good. `hint` must be < size().
+  std::optional<Neighbor> nearest(const Eigen::Vector2d& query, std::size_t hint) const;
   /// The min(k, size) nearest points, closest first.
   std::vector<Neighbor> nearestK(const Eigen::Vector2d& query, std::size_t k) const;
+  /// The same without allocating: writes min(k, size, kMaxInto) neighbours to `out`, returns
+  /// how many.
+  static constexpr std::size_t kMaxInto = 16;
+  std::size_t nearestInto(const Eigen::Vector2d& query, std::size_t k, Neighbor* out) const;
 
  private:
   struct Impl;

@@ -34,7 +34,7 @@ TEST(TransformBeams, MatchesDirectEvaluation) {
     knots.push_back(5.08, SE2(0.3, 0.1, 0.5));
     knots.push_back(5.25, SE2(0.2, 0.4, -0.1));
     std::vector<std::optional<Eigen::Vector2d>> out;
-    transformBeams(scan, scan.stamp_s, knots, out);
+    transformBeams(scan, scan.stamp_s, toTrajectory(knots), out);
     ASSERT_EQ(out.size(), scan.size());
     for (std::size_t i = 0; i < scan.size(); ++i) {
       if (!scan.valid(i)) {
@@ -53,7 +53,7 @@ TEST(TransformBeams, OneKnotIsOnePose) {
   PoseSeries knots;
   knots.push_back(0.0, SE2(1.0, 2.0, 0.5));
   std::vector<std::optional<Eigen::Vector2d>> out;
-  transformBeams(scan, scan.stamp_s, knots, out);
+  transformBeams(scan, scan.stamp_s, toTrajectory(knots), out);
   EXPECT_LT((*out[10] - SE2(1.0, 2.0, 0.5) * scan.point(10)).norm(), 1e-14);
 }
 
