@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
 
   const std::vector<Command> commands = {
       addCalibrateCommand(app),
+      addExportCommand(app),
+      addImportCommand(app),
       addSimulateCommand(app),
   };
 

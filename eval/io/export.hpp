@@ -1,0 +1,89 @@
+#pragma once
+// Dataset export (docs/export.md): a dataset directory written as a ROS 2 bag (MCAP), a CARMEN
+// log, TUM or KITTI trajectories, or CSM laser_data JSON, so other tools open it as it is.
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/dataset.hpp"
+
+namespace slamprep::eval {
+
+enum class ExportFormat { kMcap, kCarmen, kTum, kKitti, kCsm };
+
+/// "mcap", "carmen", "tum", "kitti", "csm"; throws InputError naming `where` otherwise.
+ExportFormat parseExportFormat(const std::string& name, const std::string& where = "--format");
+
+/// The wheel geometry of a calibration result (the JSON `slamprep calibrate --json` writes).
+struct CalibrationChoice {
+  DiffDriveParams geometry;
+  std::string method;  ///< which entry of the file was taken
+};
+
+/// Reads `calibrate --json` output: an array of method objects (or one object) with `ok`,
+/// `r_L`, `r_R`, `b`. Takes the first ok entry in the order ceres, joint, model, direct, umbmark,
+/// then any other. Throws InputError naming the file and key on malformed input or when no
+/// entry is ok.
+CalibrationChoice readCalibrationJson(const std::filesystem::path& file);
+
+/// Everything an export may write: the dataset plus what later steps left beside it.
+struct ExportInput {
+  Dataset dataset;
+  std::map<std::string, std::vector<ScanRecord>> deskewed;  ///< method -> deskewed_<method>.jsonl
+  std::optional<CalibrationChoice> calibration;
+};
+
+struct ExportParams {
+  /// Calibration JSON for the calibrated odometry; empty: `<dataset>/calibration.json` if it
+  /// exists, otherwise no calibrated odometry.
+  std::filesystem::path calibration_file;
+  /// MCAP: messages per chunk of about this many bytes; 0 writes an unchunked file.
+  std::size_t mcap_chunk_size_bytes = 1 << 20;
+  /// CARMEN and CSM: which scans to write: "scans" (raw) or a de-skew method name (reads
+  /// deskewed_<method>.jsonl).
+  std::string scans = "scans";
+  /// Frame names used in the MCAP messages.
+  std::string world_frame = "world";
+  std::string odom_frame = "odom";
+  std::string base_frame = "base_link";
+  std::string laser_frame = "laser";
+  /// CARMEN hostname column.
+  std::string carmen_hostname = "slamprep";
+};
+
+struct ExportResult {
+  bool ok = false;
+  std::string reason;                         ///< why nothing was written, when !ok
+  std::vector<std::filesystem::path> files;   ///< files written
+  std::map<std::string, std::size_t> counts;  ///< messages per topic / lines per kind / poses
+  std::vector<std::string> notes;             ///< what was left out and why
+};
+
+/// Reads the dataset and what lies beside it (deskewed_*.jsonl, calibration JSON).
+ExportInput loadExportInput(const std::filesystem::path& dataset_dir, const ExportParams& params);
+
+/// Writes `input` in `format` to `out` (a file for mcap, carmen and csm; a directory for tum and
+/// kitti). Every file is written under a temporary name and renamed when complete.
+ExportResult exportDataset(const ExportInput& input, ExportFormat format,
+                           const std::filesystem::path& out, const ExportParams& params = {});
+
+// The formats as text, for tests and tools.
+
+/// The MCAP file bytes (ros2 profile, CDR messages). Fills `counts` with messages per topic.
+std::string formatMcap(const ExportInput& input, const ExportParams& params,
+                       std::map<std::string, std::size_t>* counts = nullptr);
+/// CARMEN log text of `scans` with ODOM lines from the nominal odometry (docs/export.md).
+std::string formatCarmen(const Dataset& dataset, const std::vector<ScanRecord>& scans,
+                         const ExportParams& params, std::size_t* skipped_scans = nullptr);
+/// CSM laser_data JSON lines: CSM's keys only, clockwise scans reversed so that theta increases.
+std::string formatCsm(const std::vector<ScanRecord>& scans);
+/// KITTI poses: one row-major 3x4 [R | t] per line.
+std::string formatKittiPoses(const std::vector<SE2>& poses);
+
+/// Dead-reckoned odometry with the calibrated geometry, starting where the nominal one starts.
+PoseSeries calibratedOdometry(const Dataset& dataset, const DiffDriveParams& geometry);
+
+}  // namespace slamprep::eval

@@ -1,0 +1,60 @@
+#pragma once
+// Importing real logs into a dataset directory (docs/export.md, "Import"): a CARMEN log, or an
+// MCAP file (ROS 2, CDR) with sensor_msgs/LaserScan plus nav_msgs/Odometry or
+// sensor_msgs/JointState. The result has no ground truth; calibrate and deskew read it.
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/dataset.hpp"
+
+namespace slamprep::eval {
+
+struct ImportParams {
+  /// Wheel geometry written as the nominal one; encoders derived from odometry poses use it, so
+  /// re-integrating them reproduces the logged odometry whatever the values.
+  DiffDriveParams nominal_geometry;
+  /// Resolution of derived encoder ticks (from poses or joint angles): 2^20 per revolution
+  /// keeps the rounding below 6e-6 rad per sample.
+  int ticks_per_revolution = 1 << 20;
+  /// Time between beams for logs that do not carry it (CARMEN); 0 = unknown: de-skew refuses
+  /// such scans. LaserScan messages keep their own.
+  double time_increment_s = 0.0;
+  /// Lidar mount; nullopt: from the log (CARMEN laser_pose vs robot_pose, MCAP /tf_static),
+  /// identity when the log has none.
+  std::optional<SE2> T_base_lidar;
+  /// Drop the scans that the odometry does not cover instead of refusing the log.
+  bool trim = false;
+  /// MCAP topics; empty = the only channel of that message type (or /scan, /odom,
+  /// /joint_states, /imu when there are several).
+  std::string scan_topic, odom_topic, joint_topic, imu_topic;
+  /// JointState names of the wheels; empty = the one joint whose name contains "left"/"right".
+  std::string left_joint, right_joint;
+};
+
+struct ImportResult {
+  Dataset dataset;
+  std::vector<std::string> notes;  ///< what was assumed or dropped, for the user
+};
+
+/// Throws InputError naming the file, line and field on malformed logs, logs without laser or
+/// odometry lines, and scans the odometry does not cover (unless params.trim).
+ImportResult importCarmen(std::string_view text, const std::string& file,
+                          const ImportParams& params = {});
+
+/// Throws InputError naming the file, byte offset, topic and field on malformed MCAP or CDR,
+/// missing topics, non-finite values, empty scans, unsorted or duplicate stamps.
+ImportResult importMcap(std::string_view bytes, const std::string& file,
+                        const ImportParams& params = {});
+
+/// Encoder ticks that reproduce `poses` (T_odom_base) under `geometry`: each step's arc
+/// log(T_{k-1}^-1 T_k) = (s, lateral, dth) gives the wheel turns
+/// dphi_L = (s - dth b/2) / r_L, dphi_R = (s + dth b/2) / r_R (inverse of the arc model of
+/// wheelIncrement). `max_lateral_m` receives the largest lateral step, which no wheel motion
+/// explains and which is dropped.
+EncoderLog encodersFromPoses(const PoseSeries& poses, const DiffDriveParams& geometry,
+                             int ticks_per_revolution, double* max_lateral_m = nullptr);
+
+}  // namespace slamprep::eval
