@@ -82,6 +82,9 @@ Command addBenchCommand(CLI::App& app) {
   cli->add_flag("--update-baseline", flags->options.update_baseline,
                 "Write this run's summary as results/<suite>/baseline.json");
   cli->add_flag("!--no-plots", flags->options.plots, "Skip rendering the PNG plots");
+  cli->add_flag("--fresh", flags->options.fresh,
+                "Recompute every trial (by default an interrupted run resumes, reusing trials "
+                "this same build already finished)");
   cli->add_flag("!--quiet,!-q", flags->options.progress, "No progress output");
   return {cli, [flags] { return runBenchCommand(*flags); }};
 }

@@ -1,5 +1,7 @@
 #include "eval/bench/bench.hpp"
 
+#include <cstdio>
+#include <iostream>
 #include <thread>
 
 #include "core/atomic_file.hpp"
@@ -24,6 +26,31 @@ nlohmann::json collectTiming(const std::vector<TrialSpec>& trials, const fs::pat
 
 int defaultJobs() {
   return std::max(1u, std::thread::hardware_concurrency());
+}
+
+// FNV-1a of the running executable: results computed by other code are never reused.
+std::string binaryFingerprint() {
+  const std::string bytes = readFile("/proc/self/exe");
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
+// Drops stored trials made by another build (or all of them with `fresh`), so resuming only
+// ever skips work this very program did.
+void invalidateStaleTrials(const fs::path& run_dir, bool fresh) {
+  const fs::path stamp = run_dir / ".slamprep-build";
+  const std::string current = binaryFingerprint();
+  const bool stale = !fs::exists(stamp) || readFile(stamp) != current;
+  if ((fresh || stale) && fs::exists(run_dir / "trials")) {
+    if (!fresh)
+      std::cerr << "results in " << run_dir.string() << " came from another build: recomputing\n";
+    fs::remove_all(run_dir / "trials");
+    fs::remove_all(run_dir / "timing");
+  }
+  writeFileAtomic(stamp, current);
 }
 
 }  // namespace
@@ -51,6 +78,7 @@ BenchOutcome runBench(const BenchOptions& options, const TrialFunction& trial) {
   writeFileAtomic(outcome.out_dir / "suite.yaml", readFile(suite_file));
   const fs::path run_dir =
       options.shard ? outcome.out_dir / "shards" / options.shard->name() : outcome.out_dir;
+  invalidateStaleTrials(run_dir, options.fresh);
   RunOptions run{options.jobs > 0 ? options.jobs : defaultJobs(), options.shard.value_or(Shard{}),
                  run_dir / "trials", run_dir / "timing", options.progress};
   outcome.run = runTrials(trials, trial, run);

@@ -22,6 +22,7 @@ struct BenchOptions {
   bool update_baseline = false;                    ///< write summary.json as the new baseline
   bool plots = true;                               ///< render PNG plots into plots/
   bool progress = true;                            ///< progress bar / lines on stderr
+  bool fresh = false;                              ///< recompute even trials this build finished
 };
 
 struct BenchOutcome {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <set>
 #include <sstream>
 
@@ -66,15 +67,12 @@ Table calibrationTable(const json& m) {
 }
 
 Table deskewTable(const json& m) {
-  Table t{{"method", "ok", "mean [mm]", "RMS [mm]", "p95 [mm]", "max [mm]", "rotation part [mm]",
-           "translation part [mm]"},
-          {}};
+  Table t{{"method", "ok", "mean [mm]", "RMS [mm]", "p95 [mm]", "max [mm]"}, {}};
   for (const auto& method : methodsOf(m, "deskew")) {
     const std::string p = "deskew/" + method + "/";
     t.rows.push_back({method, percent(m, p + "ok"), cell(m, p + "mean_m", 1e3),
                       cell(m, p + "rms_m", 1e3), cell(m, p + "p95_m", 1e3),
-                      cell(m, p + "max_m", 1e3), cell(m, p + "rotation_mean_m", 1e3),
-                      cell(m, p + "translation_mean_m", 1e3)});
+                      cell(m, p + "max_m", 1e3)});
   }
   return t;
 }
@@ -132,6 +130,31 @@ std::string aligned(const Table& t) {
   return out.str();
 }
 
+// "default" or "circle_v1.0, lidar.rate_hz=5": what distinguishes a group.
+std::string groupName(const json& group) {
+  std::string name = std::filesystem::path(group["scenario"].get<std::string>()).stem().string();
+  const std::string world =
+      std::filesystem::path(group["world"].get<std::string>()).stem().string();
+  if (world != "room") name += " in " + world;
+  for (const auto& [key, value] : group["sweep"].items())
+    name += ", " + key + "=" + value.get<std::string>();
+  return name;
+}
+
+// Per sweep point when there are a few (mixing scenarios would blur what each one shows);
+// otherwise the whole suite at once and the plots for the breakdown.
+constexpr std::size_t kMaxGroupSections = 8;
+
+std::vector<std::pair<std::string, const json*>> sections(const json& summary) {
+  const json& groups = summary["groups"];
+  std::vector<std::pair<std::string, const json*>> out;
+  if (groups.size() > 1 && groups.size() <= kMaxGroupSections)
+    for (const auto& g : groups) out.emplace_back(groupName(g), &g["metrics"]);
+  else
+    out.emplace_back("", &summary["metrics"]);
+  return out;
+}
+
 }  // namespace
 
 std::string renderReport(const Suite& suite, const json& summary,
@@ -148,13 +171,28 @@ std::string renderReport(const Suite& suite, const json& summary,
       << "`. Figures are mean ± standard deviation over trials; errors are absolute.\n\n";
   if (!summary["missing"].empty())
     out << "**Missing trials:** " << summary["missing"].size() << " (failed or not yet run).\n\n";
-  out << "## Calibration\n\nError of each method's estimate against the geometry Bullet simulated"
-         " (relative for r_L, r_R, b).\n\n"
-      << markdown(calibrationTable(m)) << "\n";
-  out << "## De-skew\n\nDistance of each corrected point to the ground-truth undistorted point of"
-         " the same beam (range noise cancels).\n\n"
-      << markdown(deskewTable(m)) << "\n";
-  out << "## Simulation and scan matching\n\n" << markdown(simulationTable(m)) << "\n";
+  const auto parts = sections(summary);
+  const bool any_calibration = !methodsOf(m, "calibration").empty();
+  const bool any_deskew = !methodsOf(m, "deskew").empty();
+  if (any_calibration) {
+    out << "## Calibration\n\nAbsolute error of each method's estimate against the geometry "
+           "Bullet simulated (relative for r_L, r_R, b). A method that refuses (ill-conditioned "
+           "data) counts against `ok` and is left out of the errors.\n\n";
+    for (const auto& [name, metrics] : parts)
+      out << (name.empty() ? "" : "### " + name + "\n\n") << markdown(calibrationTable(*metrics))
+          << "\n";
+  }
+  if (any_deskew) {
+    out << "## De-skew\n\nDistance of each corrected point to the ground-truth undistorted point "
+           "of the same beam (range noise cancels), in millimetres.\n\n";
+    for (const auto& [name, metrics] : parts)
+      out << (name.empty() ? "" : "### " + name + "\n\n") << markdown(deskewTable(*metrics))
+          << "\n";
+  }
+  out << "## Simulation and scan matching\n\n";
+  for (const auto& [name, metrics] : parts)
+    out << (name.empty() ? "" : "### " + name + "\n\n") << markdown(simulationTable(*metrics))
+        << "\n";
   if (!plots.empty()) {
     out << "## Plots\n\n";
     for (const auto& p : plots) out << "![" << p << "](plots/" << p << ")\n\n";
@@ -165,10 +203,16 @@ std::string renderReport(const Suite& suite, const json& summary,
 }
 
 std::string renderConsoleSummary(const json& summary) {
-  const json& m = summary["metrics"];
-  return "Calibration (absolute error vs truth)\n" + aligned(calibrationTable(m)) +
-         "\nDe-skew (point error vs ground truth)\n" + aligned(deskewTable(m)) + "\n" +
-         aligned(simulationTable(m));
+  std::string out;
+  for (const auto& [name, metrics] : sections(summary)) {
+    if (!name.empty()) out += "== " + name + " ==\n";
+    if (!methodsOf(*metrics, "calibration").empty())
+      out += "Calibration (absolute error vs truth)\n" + aligned(calibrationTable(*metrics)) + "\n";
+    if (!methodsOf(*metrics, "deskew").empty())
+      out += "De-skew (point error vs ground truth)\n" + aligned(deskewTable(*metrics)) + "\n";
+    out += aligned(simulationTable(*metrics)) + "\n";
+  }
+  return out;
 }
 
 }  // namespace slamprep::eval

@@ -121,6 +121,83 @@ DiffDriveParams deskewGeometry(const Suite& suite, const Dataset& dataset,
   return dataset.info.nominal_geometry;
 }
 
+json xyArray(const std::vector<Eigen::Vector2d>& points) {
+  json out = json::array();
+  for (const auto& p : points) out.push_back({p.x(), p.y()});
+  return out;
+}
+
+// Positions of a trajectory every `step_s` (plots need no more).
+json decimated(const PoseSeries& poses, double step_s) {
+  std::vector<Eigen::Vector2d> points;
+  double next = -1e300;
+  for (const auto& s : poses.samples())
+    if (s.stamp_s >= next) {
+      points.push_back(s.value.translation());
+      next = s.stamp_s + step_s;
+    }
+  return xyArray(points);
+}
+
+// The scan whose true lidar turned most while it was taken: where distortion shows best.
+std::size_t mostDistortedScan(const Dataset& dataset) {
+  std::size_t best = 0;
+  double best_turn = -1.0;
+  for (std::size_t k = 0; k < dataset.scans.size(); ++k) {
+    const auto& scan = dataset.scans[k].scan;
+    const auto a = dataset.groundtruth.at(scan.stamp_s), b = dataset.groundtruth.at(scan.endTime());
+    if (a && b && std::abs(between(*a, *b).yaw) > best_turn) {
+      best_turn = std::abs(between(*a, *b).yaw);
+      best = k;
+    }
+  }
+  return best;
+}
+
+// Trajectories and one scan (raw, de-skewed, true) in the world frame, for the suite's plots.
+json artifactsJson(const Dataset& dataset, const DiffDriveParams* calibrated,
+                   const DatasetDeskew* deskewed, const std::string& deskew_method) {
+  const double step_s = 0.1;
+  json out;
+  out["trajectory"]["true"] = decimated(dataset.groundtruth, step_s);
+  const auto anchored = [&](const PoseSeries& odom) {  // start odometry on the true start pose
+    PoseSeries world;
+    const SE2 T_world_odom = dataset.groundtruth[0].value * odom[0].value.inverse();
+    for (const auto& s : odom.samples()) world.push_back(s.stamp_s, T_world_odom * s.value);
+    return decimated(world, step_s);
+  };
+  const int ticks = dataset.info.ticks_per_revolution;
+  out["trajectory"]["nominal"] =
+      anchored(integrateEncoders(dataset.encoders, dataset.info.nominal_geometry, ticks));
+  if (calibrated)
+    out["trajectory"]["calibrated"] =
+        anchored(integrateEncoders(dataset.encoders, *calibrated, ticks));
+  const std::size_t k = mostDistortedScan(dataset);
+  const ScanRecord& record = dataset.scans[k];
+  const auto T_world_base = dataset.groundtruth.at(record.scan.stamp_s);
+  if (!T_world_base) return out;
+  const SE2 T_world_lidar = *T_world_base * dataset.info.T_base_lidar;
+  const auto toWorld = [&](const std::vector<std::optional<Eigen::Vector2d>>& p_lidar) {
+    std::vector<Eigen::Vector2d> points;
+    for (const auto& p : p_lidar)
+      if (p) points.push_back(T_world_lidar * *p);
+    return xyArray(points);
+  };
+  std::vector<std::optional<Eigen::Vector2d>> raw;
+  for (std::size_t i = 0; i < record.scan.size(); ++i)
+    if (record.scan.valid(i)) raw.push_back(record.scan.point(i));
+  out["scan"] = {{"index", k},
+                 {"stamp_s", record.scan.stamp_s},
+                 {"lidar", {T_world_lidar.x, T_world_lidar.y, T_world_lidar.yaw}},
+                 {"raw", toWorld(raw)},
+                 {"true", toWorld(record.p_ref_true)}};
+  if (deskewed && deskewed->scans[k].ok) {
+    out["scan"]["deskewed"] = toWorld(deskewed->scans[k].p_ref);
+    out["scan"]["deskew_method"] = deskew_method;
+  }
+  return out;
+}
+
 TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
   TrialOutput out;
   auto start = Clock::now();
@@ -148,12 +225,27 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
 
   DatasetDeskewOptions deskew_options = nominalDeskewOptions(dataset);
   deskew_options.geometry = deskewGeometry(suite, dataset, calibrated);
+  std::optional<DatasetDeskew> shown;  // the scan plot shows the last method run
+  std::string shown_method;
   for (const auto& name : suite.deskew_methods) {
     const auto method = algo::parseDeskewMethod(name);
     if (!method) throw InputError(suite.source.string() + ": deskew_methods", "unknown " + name);
-    const DatasetDeskew d = deskewDataset(dataset, *method, deskew_options);
+    DatasetDeskew d = deskewDataset(dataset, *method, deskew_options);
     out.timing["deskew"][name] = d.seconds;
     out.result["deskew"][name] = deskewJson(d);
+    if (*method != algo::DeskewMethod::kNone && *method != algo::DeskewMethod::kOracle) {
+      shown = std::move(d);
+      shown_method = name;
+    }
+  }
+  // Artifacts for the plots: only the first trial, to keep results small. Arrays never enter
+  // the summary (only numeric leaves of objects do).
+  if (spec.index == 0) {
+    const DiffDriveParams* best = nullptr;
+    for (const char* name : {"ceres", "joint", "model", "direct"})
+      if (auto it = calibrated.find(name); !best && it != calibrated.end() && it->second.ok)
+        best = &it->second.geometry;
+    out.result["artifacts"] = artifactsJson(dataset, best, shown ? &*shown : nullptr, shown_method);
   }
   return out;
 }
