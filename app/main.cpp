@@ -16,8 +16,10 @@ int main(int argc, char** argv) {
 
   const std::vector<Command> commands = {
       addCalibrateCommand(app),
+      addDeskewCommand(app),
       addExportCommand(app),
       addImportCommand(app),
+      addMatchCommand(app),
       addSimulateCommand(app),
   };
 

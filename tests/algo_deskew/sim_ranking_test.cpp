@@ -1,0 +1,91 @@
+// De-skew on simulated data (Bullet, physics mode): the default room, the 1 m/s, 1 rad/s arc,
+// 10 Hz, 720 beams, 1 cm range noise, odometry from the NOMINAL geometry (the robot's belief).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <map>
+
+#include "algo/deskew/deskew_error.hpp"
+#include "algo/deskew/sequence.hpp"
+#include "core/odometry.hpp"
+#include "sim/drive/simulator.hpp"
+
+namespace slamprep::algo {
+namespace {
+
+const Dataset& arcDataset() {
+  static const Dataset d = [] {
+    sim::SimConfig config;  // defaults: worlds/room.yaml, physics, 10 Hz, 720 beams, 1 cm noise
+    config.scenario = "worlds/scenarios/arc.yaml";
+    return sim::simulate(config).dataset;
+  }();
+  return d;
+}
+
+/// Mean error over the scans taken at full speed (the arc's ramps excluded: 2 s to 6 s).
+DeskewError meanError(DeskewMethod method, const PoseSeries& odometry) {
+  const Dataset& d = arcDataset();
+  DeskewSequence sequence(method, {});
+  DeskewErrorAccumulator acc;
+  for (const ScanRecord& rec : d.scans) {
+    DeskewInput in;
+    in.scan = &rec.scan;
+    in.odometry = &odometry;
+    in.imu = &d.imu;
+    in.oracle = &d.groundtruth;
+    in.T_base_lidar = d.info.T_base_lidar;
+    const DeskewResult r = sequence.next(in);
+    EXPECT_TRUE(r.ok) << deskewMethodName(method) << " at " << rec.scan.stamp_s << ": " << r.reason;
+    if (r.ok && rec.scan.stamp_s >= 2.0 && rec.scan.stamp_s <= 6.0)
+      acc.add(r.p_ref, rec.p_ref_true);
+  }
+  return acc.summary();
+}
+
+// Physics says (docs/deskew.md derives each figure):
+// - none: points move ~tau (v + w r) during the scan, ~0.2 m on average;
+// - odometry methods with the nominal geometry keep its ~4% yaw-rate error: a few mm;
+// - odom-icp replaces that error by ICP noise (~1 mm); quadratic equals linear at 100 Hz
+//   odometry (their difference is micrometres), so "combined <= quadratic <= linear" is asserted
+//   with a 5% tolerance between the last two;
+// - the oracle uses the simulator's own poses: rounding only.
+TEST(DeskewOnSimulatedArc, MethodsRankAsPhysicsSays) {
+  const Dataset& d = arcDataset();
+  ASSERT_TRUE(d.hasTruth());
+  ASSERT_GT(d.scans.size(), 50u);
+  std::map<DeskewMethod, double> mean;
+  for (DeskewMethod m : allDeskewMethods()) {
+    mean[m] = meanError(m, d.odom_nominal).mean_m;
+    std::printf("%-16s %9.3f mm\n", std::string(deskewMethodName(m)).c_str(), mean[m] * 1e3);
+  }
+  using M = DeskewMethod;
+  EXPECT_LT(mean[M::kOracle], 1e-6);
+  EXPECT_LT(mean[M::kOracle], mean[M::kOdomIcp]);
+  EXPECT_LT(mean[M::kOdomIcp], mean[M::kOdomQuadratic]);
+  EXPECT_LT(mean[M::kOdomQuadratic], 1.05 * mean[M::kOdomLinear]);
+  EXPECT_LT(mean[M::kOdomLinear], mean[M::kNone]);
+  EXPECT_GT(mean[M::kNone], 0.1);
+  // The goals: combined from the nominal geometry <= 2 mm, IMU <= 2 mm, all >= 30x below none
+  // except the nominal-geometry odometry methods (the goal grants them the true geometry).
+  EXPECT_LT(mean[M::kOdomIcp], 0.002);
+  EXPECT_LT(mean[M::kImu], 0.002);
+  for (M m : {M::kOdomIcp, M::kImu, M::kConstVelocity, M::kVicp})
+    EXPECT_LT(30.0 * mean[m], mean[M::kNone]) << deskewMethodName(m);
+}
+
+// With the true geometry the odometry methods are left with slip and tick quantisation:
+// the goal is at most 1 mm mean.
+TEST(DeskewOnSimulatedArc, OdometryWithTrueGeometryWithin1mm) {
+  const Dataset& d = arcDataset();
+  const PoseSeries odom_true =
+      integrateEncoders(d.encoders, *d.info.true_geometry, d.info.ticks_per_revolution);
+  for (DeskewMethod m : {DeskewMethod::kOdomLinear, DeskewMethod::kOdomQuadratic}) {
+    const double e = meanError(m, odom_true).mean_m;
+    std::printf("%-16s true geometry %9.3f mm\n", std::string(deskewMethodName(m)).c_str(),
+                e * 1e3);
+    EXPECT_LT(e, 0.001) << deskewMethodName(m);
+  }
+}
+
+}  // namespace
+}  // namespace slamprep::algo
