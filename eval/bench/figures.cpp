@@ -1,5 +1,6 @@
 #include "eval/bench/figures.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -239,10 +240,10 @@ std::vector<std::string> renderSuitePlots(const Suite& suite, const json& summar
   }
   if (!methodsWith(metrics, "calibration", "ok").empty()) {
     figures.emplace_back("calibration_error.png", calibrationByMethod(metrics));
-    std::set<double> durations;
-    for (const auto& g : groups) durations.insert(statOf(g["metrics"], "sim/duration_s", "mean"));
-    if (durations.size() >= 3)
-      figures.emplace_back("calibration_vs_time.png", calibrationVsTime(groups));
+    // Only where driving time is what the suite varies; scenarios of different lengths are not.
+    const bool sweeps_time = std::any_of(suite.sweep.begin(), suite.sweep.end(),
+                                         [](const SweepAxis& a) { return a.key == "duration_s"; });
+    if (sweeps_time) figures.emplace_back("calibration_vs_time.png", calibrationVsTime(groups));
   }
   if (const auto artifacts = firstArtifacts(suite, out_dir)) {
     if (artifacts->contains("trajectory"))
