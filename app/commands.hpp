@@ -13,11 +13,13 @@ struct Command {
 };
 
 // One function per command, defined in <name>_command.cpp. Add new ones to main.cpp's list.
+Command addBenchCommand(CLI::App& app);
 Command addCalibrateCommand(CLI::App& app);
 Command addDeskewCommand(CLI::App& app);
 Command addExportCommand(CLI::App& app);
 Command addImportCommand(CLI::App& app);
 Command addMatchCommand(CLI::App& app);
+Command addMergeCommand(CLI::App& app);
 Command addSimulateCommand(CLI::App& app);
 
 }  // namespace slamprep::app

@@ -15,11 +15,13 @@ int main(int argc, char** argv) {
   app.footer("Run `slamprep COMMAND --help` for a command's options.");
 
   const std::vector<Command> commands = {
+      addBenchCommand(app),
       addCalibrateCommand(app),
       addDeskewCommand(app),
       addExportCommand(app),
       addImportCommand(app),
       addMatchCommand(app),
+      addMergeCommand(app),
       addSimulateCommand(app),
   };
 
