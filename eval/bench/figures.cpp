@@ -180,7 +180,11 @@ plot::Series xySeries(const json& points, std::string label, plot::Style style) 
 plot::Figure trajectoryFigure(const Suite& suite, const json& trajectory) {
   plot::Axes axes{.x_label = "x [m]", .y_label = "y [m]", .equal_aspect = true};
   axes.segments.push_back(worldOutline(suite));
-  axes.series.push_back(xySeries(trajectory["true"], "ground truth", plot::Style::Line));
+  // Truth wide and light underneath: calibrated odometry lies on it and must not hide it.
+  plot::Series truth = xySeries(trajectory["true"], "ground truth", plot::Style::Line);
+  truth.color = plot::rgb(0x999999);
+  truth.line_width_px = 6.0;
+  axes.series.push_back(truth);
   axes.series.push_back(
       xySeries(trajectory["nominal"], "odometry, nominal geometry", plot::Style::Line));
   if (trajectory.contains("calibrated"))
