@@ -56,7 +56,10 @@ SE2 Rigid2::toSE2() const {
 }
 
 Eigen::Vector3d Rigid2::log() const {
-  const double th = std::atan2(s, c), a = sinc(th), b = cosc(th);
+  // sinc and cosc from the stored sine and cosine: no second trigonometric evaluation.
+  const double th = std::atan2(s, c);
+  const bool tiny = std::abs(th) < 1e-4;
+  const double a = tiny ? sinc(th) : s / th, b = tiny ? cosc(th) : (1.0 - c) / th;
   const double det = a * a + b * b;  // V^-1 = [[a, b], [-b, a]] / det
   return {(a * x + b * y) / det, (-b * x + a * y) / det, th};
 }

@@ -116,8 +116,9 @@ Trajectory quadraticKnots(const PoseSeries& odometry, const SE2& T_base_lidar, c
 }
 
 /// Rotation from the gyro (trapezoid between its samples, linear at the scan's ends),
-/// translation from odometry: T_k = T_{k-1} exp(rho_odom, dtheta_gyro) at every IMU stamp.
-Trajectory imuKnots(const ImuLog& imu, const PoseSeries& odometry, const SE2& T_base_lidar,
+/// translation from odometry: T_k = T_{k-1} exp(rho_odom, dtheta_gyro) at every IMU stamp, with
+/// rho_odom the odometry's own twist over the same interval.
+Trajectory imuKnots(const ImuLog& imu, const Trajectory& odometry, const SE2& T_base_lidar,
                     const ScanTimes& t, double max_gap_s) {
   auto later = [](double s, const ImuSample& x) { return s < x.stamp_s; };
   const auto after_first = std::upper_bound(imu.begin(), imu.end(), t.first_s, later);
@@ -129,28 +130,29 @@ Trajectory imuKnots(const ImuLog& imu, const PoseSeries& odometry, const SE2& T_
     if ((it + 1)->stamp_s - it->stamp_s > max_gap_s)
       throw Refusal{"IMU has a gap of " + fmt((it + 1)->stamp_s - it->stamp_s) + " s at t = " +
                     fmt(it->stamp_s) + " inside the scan; refused, not integrated across"};
-  auto gyroAt = [&](double s) {  // linear between the bracketing samples
-    const auto hi = std::upper_bound(imu.begin(), imu.end(), s, later);
+  auto gyroAt = [&](std::vector<ImuSample>::const_iterator hi, double s) {  // linear
     const auto lo = hi - 1;
     const double f = (s - lo->stamp_s) / (hi->stamp_s - lo->stamp_s);
     return lo->gyro_z_radps + f * (hi->gyro_z_radps - lo->gyro_z_radps);
   };
   std::vector<std::pair<double, double>> samples;  // (stamp, gyro)
-  samples.emplace_back(t.first_s, gyroAt(t.first_s));
+  samples.emplace_back(t.first_s, gyroAt(after_first, t.first_s));
   for (auto it = after_first; it != after_last; ++it)
     if (it->stamp_s > t.first_s) samples.emplace_back(it->stamp_s, it->gyro_z_radps);
-  if (t.last_s > samples.back().first) samples.emplace_back(t.last_s, gyroAt(t.last_s));
+  if (t.last_s > samples.back().first) samples.emplace_back(t.last_s, gyroAt(after_last, t.last_s));
+  const Rigid2 T_bl = Rigid2::from(T_base_lidar);
   Trajectory knots;
-  SE2 T_base = SE2();
-  SE2 odom_prev = *odometry.at(samples[0].first);
-  knots.push_back({samples[0].first, Rigid2::from(T_base * T_base_lidar)});
+  knots.reserve(samples.size());
+  Rigid2 T_base;
+  Rigid2 odom_prev = poseAt(odometry, samples[0].first);
+  knots.push_back({samples[0].first, T_base * T_bl});
   for (std::size_t k = 1; k < samples.size(); ++k) {
-    const SE2 odom = *odometry.at(samples[k].first);
-    const Eigen::Vector3d rho = between(odom_prev, odom).log();
+    const Rigid2 odom = poseAt(odometry, samples[k].first);
+    const Eigen::Vector3d rho = (odom_prev.inverse() * odom).log();
     const double dtheta = 0.5 * (samples[k - 1].second + samples[k].second) *
                           (samples[k].first - samples[k - 1].first);
-    T_base = T_base * SE2::exp({rho.x(), rho.y(), dtheta});
-    knots.push_back({samples[k].first, Rigid2::from(T_base * T_base_lidar)});
+    T_base = T_base * Rigid2::exp({rho.x(), rho.y(), dtheta});
+    knots.push_back({samples[k].first, T_base * T_bl});
     odom_prev = odom;
   }
   return knots;
@@ -337,12 +339,15 @@ Trajectory methodKnots(DeskewMethod method, const DeskewInput& in, const ScanTim
       odomKnots(*in.odometry, "odometry");  // bracketing and gap checks only
       return relativeTo(quadraticKnots(*in.odometry, in.T_base_lidar, t, params.quadratic_pieces),
                         t.ref_s);
-    case DeskewMethod::kImu:
+    case DeskewMethod::kImu: {
       need(in.odometry, "odometry (for translation)");
       need(in.imu, "an IMU log");
-      odomKnots(*in.odometry, "odometry");
-      return relativeTo(
-          imuKnots(*in.imu, *in.odometry, in.T_base_lidar, t, params.max_sample_gap_s), t.ref_s);
+      // The odometry samples around the scan (base frame), checked for bracketing and gaps.
+      const Trajectory odom = lidarKnots(*in.odometry, SE2(), t, *in.scan, in.stamp_is_last_beam,
+                                         params.max_sample_gap_s, "odometry");
+      return relativeTo(imuKnots(*in.imu, odom, in.T_base_lidar, t, params.max_sample_gap_s),
+                        t.ref_s);
+    }
     case DeskewMethod::kConstVelocity:
       if (!in.previous || !in.previous->twist_lidar) {
         result.warnings.push_back("const-velocity: no previous motion yet; scan left as measured");
