@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <set>
 
 #include "core/atomic_file.hpp"
 #include "core/paths.hpp"
@@ -53,6 +52,23 @@ plot::Figure deskewByMethod(const json& metrics) {
   return {.title = "De-skew error against the ground-truth undistorted points", .axes = {axes}};
 }
 
+// One line per method: y averaged over the groups that share an x (other sweep axes folded in).
+std::vector<plot::Series> linesPerMethod(
+    const std::map<std::string, std::map<double, std::vector<double>>>& by_method) {
+  std::vector<plot::Series> out;
+  for (const auto& [method, points] : by_method) {
+    plot::Series s{.label = method, .style = plot::Style::LineMarkers};
+    for (const auto& [x, values] : points) {
+      double sum = 0.0;
+      for (double v : values) sum += v;
+      s.x.push_back(x);
+      s.y.push_back(sum / values.size());
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
 // One line per method: de-skew error against the mean angular rate of each sweep point.
 plot::Figure deskewVsRate(const json& groups) {
   plot::Axes axes{.title = "",
@@ -66,16 +82,7 @@ plot::Figure deskewVsRate(const json& groups) {
     for (const auto& method : methodsWith(m, "deskew", "mean_m"))
       by_method[method][rate].push_back(statOf(m, "deskew/" + method + "/mean_m", "mean"));
   }
-  for (const auto& [method, points] : by_method) {
-    plot::Series s{.label = method, .style = plot::Style::LineMarkers};
-    for (const auto& [rate, values] : points) {
-      double sum = 0.0;
-      for (double v : values) sum += v;
-      s.x.push_back(rate);
-      s.y.push_back(sum / values.size());
-    }
-    axes.series.push_back(s);
-  }
+  axes.series = linesPerMethod(by_method);
   return {.title = "De-skew error vs angular rate", .axes = {axes}};
 }
 
@@ -141,16 +148,7 @@ plot::Figure calibrationVsTime(const json& groups) {
       }
     }
     plot::Axes axes{.x_label = "driving time [s]", .y_label = label, .log_y = true};
-    for (const auto& [method, points] : by_method) {
-      plot::Series s{.label = method, .style = plot::Style::LineMarkers};
-      for (const auto& [t, values] : points) {
-        double sum = 0.0;
-        for (double v : values) sum += v;
-        s.x.push_back(t);
-        s.y.push_back(sum / values.size());
-      }
-      axes.series.push_back(s);
-    }
+    axes.series = linesPerMethod(by_method);
     fig.axes.push_back(axes);
   }
   return fig;
