@@ -149,6 +149,12 @@ ExportFormat parseExportFormat(const std::string& name, const std::string& where
 }
 
 CalibrationChoice readCalibrationJson(const fs::path& file) {
+  const auto best = bestCalibration(file);
+  if (!best) throw InputError(file.string(), "no calibration result with ok = true");
+  return *best;
+}
+
+std::optional<CalibrationChoice> bestCalibration(const fs::path& file) {
   const std::string text = slamprep::io::readTextFile(file);
   nlohmann::json j;
   try {
@@ -177,8 +183,7 @@ CalibrationChoice readCalibrationJson(const fs::path& file) {
       best = c;
     }
   }
-  if (!best) throw InputError(file.string(), "no calibration result with ok = true");
-  return *best;
+  return best;
 }
 
 ExportInput loadExportInput(const fs::path& dataset_dir, const ExportParams& params) {
@@ -197,10 +202,14 @@ ExportInput loadExportInput(const fs::path& dataset_dir, const ExportParams& par
     input.deskewed[method] =
         slamprep::io::parseScans(slamprep::io::readTextFile(file), file.string());
   }
-  fs::path calibration = params.calibration_file;
-  if (calibration.empty() && fs::exists(dataset_dir / "calibration.json"))
-    calibration = dataset_dir / "calibration.json";
-  if (!calibration.empty()) input.calibration = readCalibrationJson(calibration);
+  if (!params.calibration_file.empty()) {
+    input.calibration = readCalibrationJson(params.calibration_file);
+  } else if (const fs::path file = dataset_dir / "calibration.json"; fs::exists(file)) {
+    input.calibration = bestCalibration(file);
+    if (!input.calibration)
+      input.notes.push_back(file.string() +
+                            " holds no ok calibration: calibrated odometry not written");
+  }
   return input;
 }
 
@@ -445,13 +454,15 @@ std::string formatKittiPoses(const std::vector<SE2>& poses) {
 ExportResult exportDataset(const ExportInput& input, ExportFormat format, const fs::path& out,
                            const ExportParams& params) {
   ExportResult result;
+  result.notes = input.notes;
   const Dataset& d = input.dataset;
   auto write = [&](const fs::path& file, const std::string& text) {
     writeFileAtomic(file, text);
     result.files.push_back(file);
   };
-  if (!input.calibration && (format == ExportFormat::kMcap || format == ExportFormat::kTum ||
-                             format == ExportFormat::kKitti))
+  if (!input.calibration && input.notes.empty() &&
+      (format == ExportFormat::kMcap || format == ExportFormat::kTum ||
+       format == ExportFormat::kKitti))
     result.notes.push_back("no calibration JSON: calibrated odometry not written");
   switch (format) {
     case ExportFormat::kMcap: {

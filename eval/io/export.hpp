@@ -28,12 +28,15 @@ struct CalibrationChoice {
 /// then any other. Throws InputError naming the file and key on malformed input or when no
 /// entry is ok.
 CalibrationChoice readCalibrationJson(const std::filesystem::path& file);
+/// The same, but nullopt (instead of an error) when no entry is ok.
+std::optional<CalibrationChoice> bestCalibration(const std::filesystem::path& file);
 
 /// Everything an export may write: the dataset plus what later steps left beside it.
 struct ExportInput {
   Dataset dataset;
   std::map<std::string, std::vector<ScanRecord>> deskewed;  ///< method -> deskewed_<method>.jsonl
   std::optional<CalibrationChoice> calibration;
+  std::vector<std::string> notes;  ///< what was found but not used, and why
 };
 
 struct ExportParams {

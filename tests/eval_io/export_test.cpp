@@ -79,6 +79,13 @@ void checkBag(const ExportInput& in, const fs::path& bag, bool chunked) {
   EXPECT_EQ(s["stream_messages"].get<std::size_t>(), total);
   EXPECT_EQ(s["indexed_messages"].get<std::size_t>(), chunked ? total : 0u);
   EXPECT_EQ(s["statistics"]["messageCount"], std::to_string(total));
+  for (const auto& c : s["channels"]) {
+    const std::string topic = c["topic"];
+    const auto decoded = dec.topics.count(topic) ? dec.topics.at(topic).size() : 0u;
+    EXPECT_EQ(s["statistics"]["channelMessageCounts"][std::to_string(c["id"].get<int>())],
+              std::to_string(decoded))
+        << topic;
+  }
   EXPECT_EQ(s["trailing_bytes_messages"], 0) << "a message's CDR length disagrees with its schema";
   EXPECT_EQ(s["unordered_log_times"], 0);
   EXPECT_EQ(s["summary_offsets"].get<int>(), chunked ? 4 : 3);  // schema, channel, stats, chunks

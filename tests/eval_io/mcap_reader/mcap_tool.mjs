@@ -13,6 +13,8 @@ function jsonable(value) {
   if (typeof value === "bigint") return value.toString();
   if (typeof value === "number" && !Number.isFinite(value)) return String(value);
   if (ArrayBuffer.isView(value)) return Array.from(value, jsonable);
+  if (value instanceof Map)
+    return Object.fromEntries([...value].map(([k, v]) => [String(k), jsonable(v)]));
   if (Array.isArray(value)) return value.map(jsonable);
   if (value && typeof value === "object") {
     const out = {};
