@@ -40,23 +40,31 @@ std::vector<Case> cases() {
 }
 
 // Noiseless scans of a polygon world: every reference line fitted inside one wall is exact, so
-// point-to-line's fixed point is the true pose up to the few corner fits that trimming leaves;
-// 1e-4 m / 1e-5 rad is far below any physical error and far above the 1e-6 step tolerance.
+// point-to-line's fixed point is the true pose up to the few corner fits that trimming leaves.
+// With the step tolerance tightened to 1e-8 m / 1e-9 rad (the defaults, 0.1 mm / 1e-5 rad, are
+// sized for 1 cm range noise), 1e-5 m / 1e-6 rad must hold.
 TEST(Icp, PointToLineRecoversKnownTransformAndInverse) {
+  IcpParams tight;
+  tight.translation_tolerance_m = 1e-8;
+  tight.rotation_tolerance_rad = 1e-9;
   for (const Case& c : cases()) {
     const SE2 T_ref_cur = between(c.T_world_ref, c.T_world_cur);
     const Points2 ref = staticScan(c.T_world_ref), cur = staticScan(c.T_world_cur);
-    const IcpResult fwd = matchPointToLine(ref, cur, SE2(), {});
+    const IcpResult fwd = matchPointToLine(ref, cur, SE2(), tight);
     ASSERT_TRUE(fwd.converged) << fwd.reason;
-    EXPECT_NEAR(fwd.T_ref_cur.x, T_ref_cur.x, 1e-4);
-    EXPECT_NEAR(fwd.T_ref_cur.y, T_ref_cur.y, 1e-4);
-    EXPECT_NEAR(fwd.T_ref_cur.yaw, T_ref_cur.yaw, 1e-5);
-    const IcpResult inv = matchPointToLine(cur, ref, SE2(), {});
+    EXPECT_NEAR(fwd.T_ref_cur.x, T_ref_cur.x, 1e-5);
+    EXPECT_NEAR(fwd.T_ref_cur.y, T_ref_cur.y, 1e-5);
+    EXPECT_NEAR(fwd.T_ref_cur.yaw, T_ref_cur.yaw, 1e-6);
+    const IcpResult inv = matchPointToLine(cur, ref, SE2(), tight);
     ASSERT_TRUE(inv.converged) << inv.reason;
     const SE2 T_cur_ref = T_ref_cur.inverse();
-    EXPECT_NEAR(inv.T_ref_cur.x, T_cur_ref.x, 1e-4);
-    EXPECT_NEAR(inv.T_ref_cur.y, T_cur_ref.y, 1e-4);
-    EXPECT_NEAR(inv.T_ref_cur.yaw, T_cur_ref.yaw, 1e-5);
+    EXPECT_NEAR(inv.T_ref_cur.x, T_cur_ref.x, 1e-5);
+    EXPECT_NEAR(inv.T_ref_cur.y, T_cur_ref.y, 1e-5);
+    EXPECT_NEAR(inv.T_ref_cur.yaw, T_cur_ref.yaw, 1e-6);
+    // With the defaults: within the 0.1 mm / 1e-5 rad they stop at, plus the same margin.
+    const IcpResult loose = matchPointToLine(ref, cur, SE2(), {});
+    ASSERT_TRUE(loose.converged) << loose.reason;
+    EXPECT_LT(between(T_ref_cur, loose.T_ref_cur).translation().norm(), 2e-4);
     EXPECT_GT(fwd.inliers, 500u);
     EXPECT_LT(fwd.rms_residual_m, 1e-3);
   }

@@ -48,6 +48,23 @@ TEST(KdTree2, KNearestEqualsBruteForce) {
   }
 }
 
+// The hinted search and the allocation-free k-nearest answer exactly as brute force, whatever
+// the hint (a random point, usually a bad one).
+TEST(KdTree2, HintedAndInPlaceSearchesEqualBruteForce) {
+  std::mt19937 rng(13);
+  const Points2 points = randomPoints(rng, 720, 6.0);
+  const KdTree2 tree(points);
+  std::uniform_int_distribution<std::size_t> any(0, points.size() - 1);
+  for (const auto& q : randomPoints(rng, 300, 7.0)) {
+    const auto brute = bruteForceDistancesSq(points, q);
+    EXPECT_EQ(tree.nearest(q, any(rng))->distance_sq_m2, brute.front());
+    Neighbor two[2];
+    ASSERT_EQ(tree.nearestInto(q, 2, two), 2u);
+    EXPECT_EQ(two[0].distance_sq_m2, brute[0]);
+    EXPECT_EQ(two[1].distance_sq_m2, brute[1]);
+  }
+}
+
 TEST(KdTree2, EmptyAndSmallTrees) {
   const KdTree2 empty(Points2{});
   EXPECT_FALSE(empty.nearest({0.0, 0.0}));
