@@ -2,10 +2,12 @@
 #include <iostream>
 
 #include "app/commands.hpp"
+#include "core/error.hpp"
 #include "core/paths.hpp"
 #include "eval/bench/bench.hpp"
 #include "eval/bench/report.hpp"
 #include "eval/bench/trial.hpp"
+#include "eval/slurm/slurm.hpp"
 #include "eval/suite/progress.hpp"
 
 namespace slamprep::app {
@@ -15,6 +17,8 @@ struct BenchFlags {
   eval::BenchOptions options;
   std::string shard;
   std::string compare;
+  bool slurm = false;
+  eval::SlurmParams slurm_params;
 };
 
 void printRegressions(const std::vector<eval::Regression>& regressions) {
@@ -28,7 +32,48 @@ void printRegressions(const std::vector<eval::Regression>& regressions) {
   }
 }
 
+// `--slurm`: submit the shards as a job array plus a dependent merge job instead of running here.
+int runOnSlurm(BenchFlags& flags) {
+  if (!flags.shard.empty() || flags.options.fresh || flags.options.compare ||
+      flags.options.update_baseline)
+    throw InputError("--slurm",
+                     "cannot be combined with --shard, --fresh, --compare or "
+                     "--update-baseline (run them on the merged folder instead)");
+  auto& p = flags.slurm_params;
+  p.suite_arg = flags.options.suite;
+  p.results_root = flags.options.results_root;
+  p.jobs = flags.options.jobs;
+  p.plots = flags.options.plots;
+  const auto result = eval::runOnSlurm(p);
+  const std::string n = std::to_string(p.shards);
+  if (result.array_job_id.empty()) {
+    std::cout << "all " << n << " shards already complete; submitted merge job "
+              << result.merge_job_id << "\n";
+  } else {
+    std::cout << "submitted array job " << result.array_job_id << " (shard(s) ";
+    for (std::size_t i = 0; i < result.shards_submitted.size(); ++i)
+      std::cout << (i ? "," : "") << result.shards_submitted[i];
+    std::cout << " of " << n << ") and merge job " << result.merge_job_id
+              << " (afterok:" << result.array_job_id << ")\n";
+  }
+  std::cout << "scripts and logs: " << result.scripts.log_dir.string() << "\n"
+            << "follow: squeue -j "
+            << (result.array_job_id.empty() ? "" : result.array_job_id + ",") << result.merge_job_id
+            << " | sacct -j " << result.merge_job_id << " | scontrol show job "
+            << result.merge_job_id << "\n";
+  if (!p.wait) return 0;
+  if (!result.ok) {
+    std::cerr << "slurm run failed: " << result.reason
+              << "\nre-run the same command to resubmit only the shards without a result\n";
+    return 1;
+  }
+  std::cout << "all shards and the merge completed: "
+            << (result.scripts.log_dir.parent_path() / "README.md").string() << "\n";
+  return 0;
+}
+
 int runBenchCommand(BenchFlags& flags) {
+  if (flags.slurm) return runOnSlurm(flags);
   if (!flags.shard.empty()) flags.options.shard = eval::Shard::parse(flags.shard);
   if (!flags.compare.empty()) flags.options.compare = flags.compare;
   const eval::Suite suite =
@@ -86,6 +131,20 @@ Command addBenchCommand(CLI::App& app) {
                 "Recompute every trial (by default an interrupted run resumes, reusing trials "
                 "this same build already finished)");
   cli->add_flag("!--quiet,!-q", flags->options.progress, "No progress output");
+  cli->add_flag("--slurm", flags->slurm,
+                "Submit the suite to Slurm: a job array (one shard per task) and a merge job "
+                "that depends on it; shards already complete are not resubmitted");
+  cli->add_option("--shards", flags->slurm_params.shards, "Array tasks with --slurm")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cli->add_option("--partition", flags->slurm_params.partition, "sbatch --partition with --slurm");
+  cli->add_option(
+         "--sbatch-arg", flags->slurm_params.sbatch_args,
+         "Extra sbatch argument with --slurm, repeatable (e.g. --sbatch-arg=--time=1:00:00)")
+      ->allow_extra_args(false);
+  cli->add_flag("--wait", flags->slurm_params.wait,
+                "With --slurm: follow the jobs (scontrol show job) and exit non-zero naming "
+                "failed shards");
   return {cli, [flags] { return runBenchCommand(*flags); }};
 }
 

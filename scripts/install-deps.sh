@@ -38,3 +38,17 @@ if command -v npm >/dev/null 2>&1 && [ ! -d "$mcap_reader/node_modules/@mcap/cor
   (cd "$mcap_reader" && npm ci --no-audit --no-fund --loglevel=error) ||
     echo "install-deps: npm ci failed; the MCAP reader tests will skip"
 fi
+
+# Slurm and munge for the real single-node Slurm test (tests/slurm, ctest label `slurm`): it
+# starts its own munged and slurmctld/slurmd in a temporary folder, never the system services.
+# Without these packages (or without root) that test skips.
+slurm_packages=(slurmctld slurmd slurm-client munge)
+slurm_missing=()
+for p in "${slurm_packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || slurm_missing+=("$p")
+done
+if ((${#slurm_missing[@]})); then
+  export DEBIAN_FRONTEND=noninteractive
+  { apt-get update -qq && apt-get install -y -qq --no-install-recommends "${slurm_missing[@]}"; } ||
+    echo "install-deps: could not install ${slurm_missing[*]}; the Slurm test will skip"
+fi
