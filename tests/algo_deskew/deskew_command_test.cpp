@@ -1,0 +1,114 @@
+// End-to-end: `slamprep simulate` a short arc, then `slamprep deskew` and `slamprep match` on it:
+// files written, JSON keys, exit codes and messages for bad input.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class DeskewCommand : public ::testing::Test {
+ protected:
+  static fs::path dir() { return fs::temp_directory_path() / "slamprep_deskew_cli"; }
+  static void SetUpTestSuite() {
+    fs::remove_all(dir());
+    fs::create_directories(dir());
+    // 3 s of the arc (ramp included), kinematic: fast and exact.
+    const CliRun r =
+        cli("simulate --scenario worlds/scenarios/arc.yaml --duration 3 --mode "
+            "kinematic --quiet --out " +
+            (dir() / "data").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir()); }
+
+  static CliRun cli(const std::string& args) {
+    const fs::path binary = fs::path(SLAMPREP_BINARY_DIR) / "slamprep";
+    const std::string command = binary.string() + " " + args + " >" + (dir() / "stdout").string() +
+                                " 2>" + (dir() / "stderr").string();
+    const int status = std::system(command.c_str());
+    return CliRun{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir() / "stdout"),
+                  slurp(dir() / "stderr")};
+  }
+  static std::string data() { return (dir() / "data").string(); }
+};
+
+TEST_F(DeskewCommand, AllMethodsWriteScansAndJson) {
+  const fs::path json = dir() / "deskew.json";
+  const CliRun r = cli("deskew " + data() + " --method all --json " + json.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(slurp(json));
+  ASSERT_EQ(j.size(), 8u);  // every method: the dataset has truth, so the oracle too
+  for (const auto& m : j) {
+    for (const char* key : {"method", "mean_m", "rms_m", "p95_m", "max_m", "beams", "seconds"})
+      EXPECT_TRUE(m.contains(key)) << key;
+    EXPECT_TRUE(
+        fs::exists(dir() / "data" / ("deskewed_" + m["method"].get<std::string>() + ".jsonl")));
+    EXPECT_EQ(m["refused"], 0);
+  }
+  EXPECT_EQ(j[0]["method"], "none");
+  EXPECT_LT(j[1]["mean_m"].get<double>(), 1e-9);  // oracle
+  EXPECT_GT(j[0]["mean_m"].get<double>(), 0.01);  // none: really distorted
+  // Same line count as scans.jsonl; de-skewed lines carry time_increment 0.
+  auto lines = [](const fs::path& f) {
+    std::ifstream in(f);
+    std::string line;
+    std::vector<std::string> out;
+    while (std::getline(in, line))
+      if (!line.empty()) out.push_back(line);
+    return out;
+  };
+  const auto scans = lines(dir() / "data" / "scans.jsonl");
+  const auto deskewed = lines(dir() / "data" / "deskewed_odom-linear.jsonl");
+  ASSERT_EQ(scans.size(), deskewed.size());
+  EXPECT_EQ(nlohmann::json::parse(deskewed[3])["time_increment"], 0.0);
+}
+
+TEST_F(DeskewCommand, MatchWritesOneLinePerPair) {
+  const CliRun r = cli("match " + data());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(dir() / "data" / "matches.jsonl");
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) {
+    const auto m = nlohmann::json::parse(line);
+    EXPECT_EQ(m["T_ref_cur"].size(), 3u);
+    EXPECT_EQ(m["covariance"].size(), 9u);
+    EXPECT_TRUE(m["converged"].get<bool>());
+    ++n;
+  }
+  EXPECT_EQ(n, 29);  // 30 scans in 3 s at 10 Hz
+}
+
+TEST_F(DeskewCommand, BadInputNamesTheProblem) {
+  CliRun r = cli("deskew " + (dir() / "missing").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("missing"), std::string::npos) << r.err;
+  std::ofstream(dir() / "cal.json")
+      << R"([{"method": "x", "ok": true, "r_L": 0, "r_R": 0.1, "b": 0.5}])";
+  r = cli("deskew " + data() + " --no-write --geometry " + (dir() / "cal.json").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("r_L"), std::string::npos) << r.err;
+  r = cli("deskew " + data() + " --method linear");
+  EXPECT_NE(r.exit_code, 0);
+}
+
+}  // namespace
