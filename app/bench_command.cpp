@@ -44,7 +44,7 @@ int runOnSlurm(BenchFlags& flags) {
   p.results_root = flags.options.results_root;
   p.jobs = flags.options.jobs;
   p.plots = flags.options.plots;
-  const auto result = eval::runOnSlurm(p);
+  auto result = eval::submitToSlurm(p);
   const std::string n = std::to_string(p.shards);
   if (result.array_job_id.empty()) {
     std::cout << "all " << n << " shards already complete; submitted merge job "
@@ -62,6 +62,8 @@ int runOnSlurm(BenchFlags& flags) {
             << " | sacct -j " << result.merge_job_id << " | scontrol show job "
             << result.merge_job_id << "\n";
   if (!p.wait) return 0;
+  std::cout.flush();
+  eval::waitForSlurm(p, result);
   if (!result.ok) {
     std::cerr << "slurm run failed: " << result.reason
               << "\nre-run the same command to resubmit only the shards without a result\n";

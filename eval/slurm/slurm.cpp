@@ -99,7 +99,10 @@ std::string trim(const std::string& s) {
 
 std::string joinShards(const std::vector<int>& shards) {
   std::string s;
-  for (int k : shards) s += (s.empty() ? "" : ",") + std::to_string(k);
+  for (int k : shards) {
+    if (!s.empty()) s.push_back(',');
+    s.append(std::to_string(k));
+  }
   return s;
 }
 
@@ -132,11 +135,29 @@ std::vector<SlurmJobRecord> showJob(const std::string& id) {
   return parseScontrolJobs(out.output);
 }
 
+bool pollOnce(SlurmResult& result, std::string& last_line);
+
 // Follows the array and the merge until both ended; fills failed_shards and merge_state.
 void waitForJobs(const SlurmParams& params, SlurmResult& result) {
   const auto poll = std::chrono::duration<double>(std::max(0.05, params.poll_s));
   std::string last_line;
+  int scontrol_errors = 0;
   while (true) {
+    try {
+      if (pollOnce(result, last_line)) return;
+      scontrol_errors = 0;
+    } catch (const InputError& e) {
+      // slurmctld may be briefly unreachable (restart, failover): give up after ~30 polls.
+      if (++scontrol_errors > 30) throw;
+      std::cerr << "slurm: " << e.what() << " (retrying)\n";
+    }
+    std::this_thread::sleep_for(poll);
+  }
+}
+
+// One poll of the array and the merge; true once both ended (results stored in `result`).
+bool pollOnce(SlurmResult& result, std::string& last_line) {
+  {
     std::vector<int> failed;
     bool array_done = true;
     std::size_t finished = 0;
@@ -162,9 +183,9 @@ void waitForJobs(const SlurmParams& params, SlurmResult& result) {
       std::sort(failed.begin(), failed.end());
       result.failed_shards = failed;
       result.merge_state = merge_state;
-      return;
+      return true;
     }
-    std::this_thread::sleep_for(poll);
+    return false;
   }
 }
 
@@ -239,7 +260,7 @@ std::vector<SlurmJobRecord> parseScontrolJobs(const std::string& text) {
       open = false;
       continue;
     }
-    const std::string l = " " + trim(line);
+    const std::string l = std::string(1, ' ').append(trim(line));
     if (l.find(" JobId=") == 0 && open) {
       records.push_back(current);
       current = {};
@@ -288,7 +309,7 @@ SlurmScripts writeSlurmScripts(const SlurmParams& params, const fs::path& out_di
   return scripts;
 }
 
-SlurmResult runOnSlurm(const SlurmParams& params) {
+SlurmResult submitToSlurm(const SlurmParams& params) {
   if (params.shards < 1) throw InputError("--shards", "must be at least 1");
   SlurmParams p = params;
   p.results_root = fs::absolute(params.results_root).lexically_normal();
@@ -310,8 +331,11 @@ SlurmResult runOnSlurm(const SlurmParams& params) {
     result.merge_job_id = submit({"sbatch", "--parsable"}, p, result.scripts.merge_script);
   }
   result.ok = true;
-  if (!p.wait) return result;
+  return result;
+}
 
+void waitForSlurm(const SlurmParams& params, SlurmResult& result) {
+  const SlurmParams& p = params;
   waitForJobs(p, result);
   std::string reason;
   for (int k : result.failed_shards)
@@ -326,7 +350,6 @@ SlurmResult runOnSlurm(const SlurmParams& params) {
                (result.scripts.log_dir / "merge.log").string());
   result.ok = reason.empty();
   result.reason = reason;
-  return result;
 }
 
 }  // namespace slamprep::eval

@@ -50,9 +50,13 @@ std::vector<int> incompleteShards(const Suite& suite, const std::filesystem::pat
 /// submitted by hand from anywhere).
 SlurmScripts writeSlurmScripts(const SlurmParams& params, const std::filesystem::path& out_dir);
 
-/// Submits the missing shards as one array and the dependent merge job; with params.wait,
-/// follows them by polling `scontrol show job`. Throws InputError when sbatch is missing.
-SlurmResult runOnSlurm(const SlurmParams& params);
+/// Submits the missing shards as one array and the dependent merge job (params.wait is not
+/// looked at). Throws InputError when sbatch is missing or refuses.
+SlurmResult submitToSlurm(const SlurmParams& params);
+
+/// Follows submitted jobs by polling `scontrol show job` every params.poll_s until the array
+/// and the merge ended; sets ok, failed_shards, merge_state and a reason naming failed shards.
+void waitForSlurm(const SlurmParams& params, SlurmResult& result);
 
 /// The fields of one `scontrol show job` record that `wait` needs.
 struct SlurmJobRecord {

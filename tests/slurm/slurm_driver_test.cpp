@@ -72,7 +72,7 @@ TEST(SlurmDriver, ScriptsAreBashWithAbsolutePaths) {
 
 TEST(SlurmDriver, EmptyResultsNeedEveryShard) {
   Suite suite;
-  suite.name = "s";
+  suite.name = "slurm-missing";
   suite.worlds = {"worlds/room.yaml"};
   suite.scenarios = {"worlds/scenarios/arc.yaml"};
   suite.seeds = 5;
