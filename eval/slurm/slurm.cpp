@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -135,16 +136,17 @@ std::vector<SlurmJobRecord> showJob(const std::string& id) {
   return parseScontrolJobs(out.output);
 }
 
-bool pollOnce(SlurmResult& result, std::string& last_line);
+bool pollOnce(SlurmResult& result, std::map<int, std::string>& ended, std::string& last_line);
 
 // Follows the array and the merge until both ended; fills failed_shards and merge_state.
 void waitForJobs(const SlurmParams& params, SlurmResult& result) {
   const auto poll = std::chrono::duration<double>(std::max(0.05, params.poll_s));
   std::string last_line;
   int scontrol_errors = 0;
+  std::map<int, std::string> ended;  // shard -> terminal JobState
   while (true) {
     try {
-      if (pollOnce(result, last_line)) return;
+      if (pollOnce(result, ended, last_line)) return;
       scontrol_errors = 0;
     } catch (const InputError& e) {
       // slurmctld may be briefly unreachable (restart, failover): give up after ~30 polls.
@@ -156,37 +158,34 @@ void waitForJobs(const SlurmParams& params, SlurmResult& result) {
 }
 
 // One poll of the array and the merge; true once both ended (results stored in `result`).
-bool pollOnce(SlurmResult& result, std::string& last_line) {
-  {
-    std::vector<int> failed;
-    bool array_done = true;
-    std::size_t finished = 0;
-    if (!result.array_job_id.empty()) {
-      for (const auto& r : showJob(result.array_job_id)) {
-        const bool single = r.array_task_id.find_first_not_of("0123456789") == std::string::npos;
-        if (!terminalState(r.state) || !single || r.array_task_id.empty()) {
-          array_done = false;
-          continue;
-        }
-        ++finished;
-        if (r.state != "COMPLETED") failed.push_back(std::stoi(r.array_task_id));
-      }
+bool pollOnce(SlurmResult& result, std::map<int, std::string>& ended, std::string& last_line) {
+  // Task states are remembered once terminal: slurmctld forgets finished records after
+  // MinJobAge (300 s by default) while later tasks may still run.
+  bool array_known = false;
+  if (!result.array_job_id.empty())
+    for (const auto& r : showJob(result.array_job_id)) {
+      array_known = true;
+      const bool single = !r.array_task_id.empty() &&
+                          r.array_task_id.find_first_not_of("0123456789") == std::string::npos;
+      if (single && terminalState(r.state)) ended.emplace(std::stoi(r.array_task_id), r.state);
     }
-    const auto merge = showJob(result.merge_job_id);
-    const std::string merge_state = merge.empty() ? "UNKNOWN" : merge.front().state;
-    const std::string line = "slurm: " + std::to_string(finished) + "/" +
-                             std::to_string(result.shards_submitted.size()) +
-                             " shard task(s) ended, merge " + merge_state;
-    if (line != last_line) std::cerr << line << "\n";
-    last_line = line;
-    if (array_done && terminalState(merge_state)) {
-      std::sort(failed.begin(), failed.end());
-      result.failed_shards = failed;
-      result.merge_state = merge_state;
-      return true;
-    }
-    return false;
-  }
+  // A forgotten array with tasks never seen ending: their state is unknown (not COMPLETED).
+  if (!array_known)
+    for (int k : result.shards_submitted) ended.emplace(k, "UNKNOWN");
+  const bool array_done = ended.size() >= result.shards_submitted.size();
+  const auto merge = showJob(result.merge_job_id);
+  const std::string merge_state = merge.empty() ? "UNKNOWN" : merge.front().state;
+  const std::string line = "slurm: " + std::to_string(ended.size()) + "/" +
+                           std::to_string(result.shards_submitted.size()) +
+                           " shard task(s) ended, merge " + merge_state;
+  if (line != last_line) std::cerr << line << "\n";
+  last_line = line;
+  if (!array_done || !terminalState(merge_state)) return false;
+  result.failed_shards.clear();
+  for (const auto& [k, state] : ended)
+    if (state != "COMPLETED") result.failed_shards.push_back(k);
+  result.merge_state = merge_state;
+  return true;
 }
 
 std::string shardScript(const SlurmParams& params, const fs::path& out_dir, const fs::path& exe,
