@@ -117,8 +117,10 @@ cd "$source_dir"  # worlds/ resolve here, as on a cluster's shared checkout
 "$slamprep" bench --suite "$dir/slurm-tiny.yaml" --results "$dir/single" --quiet --no-plots \
   >/dev/null || fail "single-machine run"
 
-# 1. Same bytes through a 4-task array and the dependent merge.
+# 1. Same bytes through a 4-task array and the dependent merge (partition and extra sbatch
+#    arguments pass through: a wrong one would make sbatch refuse).
 "$slamprep" bench --suite "$dir/slurm-tiny.yaml" --slurm --shards 4 --wait --no-plots \
+  --partition test --sbatch-arg=--cpus-per-task=1 --sbatch-arg=--time=10 \
   --results "$dir/cluster" | tee "$dir/out1.txt" || fail "slurm run exited non-zero"
 grep -q "shard(s) 1,2,3,4 of 4" "$dir/out1.txt" || fail "expected all 4 shards submitted"
 head -1 "$dir/cluster/slurm-tiny/slurm/shard.sh" | grep -qx '#!/bin/bash' || fail "shard.sh shebang"
