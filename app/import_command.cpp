@@ -16,7 +16,11 @@ struct ImportFlags {
   std::string input;
   std::string out;
   double wheel_radius_m = 0.0;  // 0: use the left/right ones
-  std::string lidar_mount;      // "x,y,yaw"
+  DiffDriveParams geometry;
+  double time_increment_s = 0.0;
+  bool geometry_given = false;
+  bool time_increment_given = false;
+  std::string lidar_mount;  // "x,y,yaw"
   eval::ImportParams params;
 };
 
@@ -32,8 +36,9 @@ SE2 parseMount(const std::string& text) {
 
 int runImport(ImportFlags flags) {
   if (flags.wheel_radius_m > 0)
-    flags.params.nominal_geometry.radius_left_m = flags.params.nominal_geometry.radius_right_m =
-        flags.wheel_radius_m;
+    flags.geometry.radius_left_m = flags.geometry.radius_right_m = flags.wheel_radius_m;
+  if (flags.geometry_given) flags.params.nominal_geometry = flags.geometry;
+  if (flags.time_increment_given) flags.params.time_increment_s = flags.time_increment_s;
   if (!flags.lidar_mount.empty()) flags.params.T_base_lidar = parseMount(flags.lidar_mount);
   const std::string bytes = slamprep::io::readTextFile(flags.input);
   const eval::ImportResult result = flags.format == "carmen"
@@ -61,26 +66,39 @@ Command addImportCommand(CLI::App& app) {
       ->check(CLI::IsMember({"carmen", "mcap"}));
   cli->add_option("PATH", flags->input, "log file")->required();
   cli->add_option("--out", flags->out, "dataset directory to write")->required();
-  auto& g = flags->params.nominal_geometry;
-  cli->add_option("--wheel-radius", flags->wheel_radius_m, "nominal radius of both wheels (m)")
+  // The nominal geometry: any of these flags replaces the log's (CARMEN PARAM lines) or the
+  // default; the ones not given keep the default.
+  auto& g = flags->geometry;
+  auto given = [flags](auto) { flags->geometry_given = true; };
+  cli->add_option_function<double>(
+         "--wheel-radius",
+         [flags](double r) {
+           flags->wheel_radius_m = r;
+           flags->geometry_given = true;
+         },
+         "nominal radius of both wheels (m)")
       ->check(CLI::PositiveNumber);
   cli->add_option("--wheel-radius-left", g.radius_left_m, "nominal left wheel radius (m)")
       ->check(CLI::PositiveNumber)
+      ->each(given)
       ->capture_default_str();
   cli->add_option("--wheel-radius-right", g.radius_right_m, "nominal right wheel radius (m)")
       ->check(CLI::PositiveNumber)
+      ->each(given)
       ->capture_default_str();
   cli->add_option("--wheel-base", g.wheel_base_m, "nominal wheel base (m)")
       ->check(CLI::PositiveNumber)
+      ->each(given)
       ->capture_default_str();
   cli->add_option("--ticks-per-revolution", flags->params.ticks_per_revolution,
                   "resolution of the derived encoder ticks")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  cli->add_option("--time-increment", flags->params.time_increment_s,
-                  "carmen: time between beams (s); 0 = unknown (de-skew refuses)")
+  cli->add_option("--time-increment", flags->time_increment_s,
+                  "carmen: time between beams (s); default: the log's PARAM, else 0 = unknown "
+                  "(de-skew refuses)")
       ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+      ->each([flags](const std::string&) { flags->time_increment_given = true; });
   cli->add_option("--lidar-mount", flags->lidar_mount,
                   "x,y,yaw of the lidar on the base (default: from the log, else 0,0,0)");
   cli->add_flag("--trim", flags->params.trim, "drop scans the odometry does not cover");

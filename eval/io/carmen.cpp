@@ -161,6 +161,8 @@ CarmenLog parseCarmen(std::string_view text, const std::string& file) {
         slamprep::io::requireIncreasing(log.lasers.back().scan.stamp_s, l.scan.stamp_s, where,
                                         "timestamp");
       log.lasers.push_back(std::move(l));
+    } else if (fields[0] == "PARAM" && fields.size() >= 3) {
+      log.params[std::string(fields[1])] = {std::string(fields[2]), where.line};
     } else {
       ++log.skipped_lines;
     }

@@ -2,6 +2,7 @@
 // Reading CARMEN logs (the text format of the CARMEN robot toolkit that CSM, GMapping and the
 // Freiburg tools read): ODOM, ROBOTLASER1 and FLASER lines; every other message is skipped.
 
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,10 +27,17 @@ struct CarmenOdom {
   std::size_t line = 0;
 };
 
+/// A `PARAM name value ...` line.
+struct CarmenParam {
+  std::string value;
+  std::size_t line = 0;
+};
+
 struct CarmenLog {
+  std::map<std::string, CarmenParam> params;  ///< PARAM lines (the last one of a name wins)
   std::vector<CarmenOdom> odometry;
   std::vector<CarmenLaser> lasers;
-  std::size_t skipped_lines = 0;  ///< other message types (PARAM, SYNC, TRUEPOS, ...)
+  std::size_t skipped_lines = 0;  ///< other message types (SYNC, TRUEPOS, ...)
 };
 
 /// Parses a CARMEN log. Rejects, with InputError("file:line", "field: ..."): a wrong token

@@ -405,6 +405,21 @@ std::string formatCarmen(const Dataset& d, const std::vector<ScanRecord>& scans,
       "laser_pose_x laser_pose_y laser_pose_theta robot_pose_x robot_pose_y robot_pose_theta "
       "laser_tv laser_rv forward_safety_dist side_safety_dist turn_axis timestamp hostname "
       "logger_timestamp\n";
+  // Standard CARMEN parameter, then slamprep's own (other readers skip unknown PARAM names):
+  // what `slamprep import --format carmen` needs to rebuild the dataset exactly.
+  auto param = [&](const char* name, double value) {
+    out += std::string("PARAM ") + name + ' ';
+    slamprep::io::appendDouble(out, value);
+    out += ' ' + p.carmen_hostname + " 0\n";
+  };
+  param("robot_frontlaser_offset", d.info.T_base_lidar.x);
+  param("slamprep_nominal_r_L", d.info.nominal_geometry.radius_left_m);
+  param("slamprep_nominal_r_R", d.info.nominal_geometry.radius_right_m);
+  param("slamprep_nominal_b", d.info.nominal_geometry.wheel_base_m);
+  if (!scans.empty()) {
+    param("slamprep_time_increment", std::abs(scans.front().scan.time_increment_s));
+    param("slamprep_scan_time", scans.front().scan.scan_time_s);
+  }
   for (const Line& l : lines) out += l.text;
   if (skipped_scans) *skipped_scans = skipped;
   return out;

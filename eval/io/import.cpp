@@ -27,14 +27,24 @@ double medianSpacing(const std::vector<ScanRecord>& scans) {
   return dt[dt.size() / 2];
 }
 
-void checkGeometry(const ImportParams& p) {
-  const auto& g = p.nominal_geometry;
+void checkGeometry(const DiffDriveParams& g, const std::string& where) {
   for (double v : {g.radius_left_m, g.radius_right_m, g.wheel_base_m})
-    if (!std::isfinite(v) || v <= 0)
-      throw InputError("--wheel-radius/--wheel-base", "must be finite and > 0");
+    if (!std::isfinite(v) || v <= 0) throw InputError(where, "wheel radii and base must be > 0");
+}
+
+void checkParams(const ImportParams& p) {
+  if (p.nominal_geometry) checkGeometry(*p.nominal_geometry, "--wheel-radius/--wheel-base");
   if (p.ticks_per_revolution <= 0) throw InputError("--ticks-per-revolution", "must be > 0");
-  if (!std::isfinite(p.time_increment_s) || p.time_increment_s < 0)
+  if (p.time_increment_s && (!std::isfinite(*p.time_increment_s) || *p.time_increment_s < 0))
     throw InputError("--time-increment", "must be finite and >= 0");
+}
+
+/// A PARAM value of a CARMEN log as a finite number; nullopt when the log has no such PARAM.
+std::optional<double> carmenParam(const CarmenLog& log, const std::string& name,
+                                  const std::string& file) {
+  const auto it = log.params.find(name);
+  if (it == log.params.end()) return std::nullopt;
+  return slamprep::io::parseFiniteDouble(it->second.value, {file, it->second.line}, name);
 }
 
 /// Attaches the odometry to the scans; refuses (or with trim drops) scans it does not cover.
@@ -64,10 +74,11 @@ void attachOdometry(Dataset& d, bool trim, const std::vector<std::string>& scan_
   d.scans = std::move(kept);
 }
 
-DatasetInfo importedInfo(const ImportParams& p, const std::string& file, const char* format,
+DatasetInfo importedInfo(const ImportParams& p, const DiffDriveParams& nominal,
+                         const std::string& file, const char* format,
                          const std::string& encoders_from) {
   DatasetInfo info;
-  info.nominal_geometry = p.nominal_geometry;
+  info.nominal_geometry = nominal;
   info.ticks_per_revolution = p.ticks_per_revolution;
   info.config = {{"imported_from", file}, {"format", format}, {"encoders", encoders_from}};
   return info;
@@ -208,17 +219,37 @@ EncoderLog encodersFromPoses(const PoseSeries& poses, const DiffDriveParams& g,
 }
 
 ImportResult importCarmen(std::string_view text, const std::string& file, const ImportParams& p) {
-  checkGeometry(p);
+  checkParams(p);
   const CarmenLog log = parseCarmen(text, file);
   if (log.lasers.empty()) throw InputError(file, "no ROBOTLASER1 or FLASER lines");
   if (log.odometry.size() < 2) throw InputError(file, "fewer than 2 ODOM lines");
   ImportResult result;
   Dataset& d = result.dataset;
+  DiffDriveParams nominal;
+  if (p.nominal_geometry) {
+    nominal = *p.nominal_geometry;
+  } else {
+    const auto r_L = carmenParam(log, "slamprep_nominal_r_L", file);
+    const auto r_R = carmenParam(log, "slamprep_nominal_r_R", file);
+    const auto b = carmenParam(log, "slamprep_nominal_b", file);
+    if (r_L && r_R && b) {
+      nominal = {*r_L, *r_R, *b};
+      checkGeometry(nominal, file + ": PARAM slamprep_nominal_*");
+    } else {
+      result.notes.push_back("no nominal geometry given or in the log: r_L = r_R = " +
+                             std::to_string(nominal.radius_left_m) +
+                             " m, b = " + std::to_string(nominal.wheel_base_m) +
+                             " m assumed (calibration results are relative to it)");
+    }
+  }
+  double time_increment =
+      p.time_increment_s.value_or(carmenParam(log, "slamprep_time_increment", file).value_or(0.0));
+  if (!(time_increment >= 0)) throw InputError(file, "PARAM slamprep_time_increment: must be >= 0");
   for (const auto& o : log.odometry) d.odom_nominal.push_back(o.stamp_s, o.T_odom_base);
   double lateral = 0.0;
-  d.encoders =
-      encodersFromPoses(d.odom_nominal, p.nominal_geometry, p.ticks_per_revolution, &lateral);
-  d.info = importedInfo(p, file, "carmen", "derived from the ODOM poses with the nominal geometry");
+  d.encoders = encodersFromPoses(d.odom_nominal, nominal, p.ticks_per_revolution, &lateral);
+  d.info = importedInfo(p, nominal, file, "carmen",
+                        "derived from the ODOM poses with the nominal geometry");
   // The mount: laser_pose = robot_pose * T_base_lidar on every line.
   const SE2 mount = between(log.lasers[0].T_odom_base, log.lasers[0].T_odom_laser);
   double spread = 0.0;
@@ -235,7 +266,7 @@ ImportResult importCarmen(std::string_view text, const std::string& file, const 
   for (const auto& l : log.lasers) {
     ScanRecord r;
     r.scan = l.scan;
-    r.scan.time_increment_s = p.time_increment_s;
+    r.scan.time_increment_s = time_increment;
     d.scans.push_back(std::move(r));
     where.push_back(file + ":" + std::to_string(l.line));
   }
@@ -245,7 +276,7 @@ ImportResult importCarmen(std::string_view text, const std::string& file, const 
   if (lateral > 1e-6)
     result.notes.push_back("odometry has sideways steps up to " + std::to_string(lateral) +
                            " m that no wheel motion explains (dropped from the encoders)");
-  if (p.time_increment_s == 0)
+  if (time_increment == 0)
     result.notes.push_back(
         "CARMEN has no time between beams: time_increment = 0, de-skew will "
         "refuse these scans (give --time-increment)");
@@ -255,7 +286,8 @@ ImportResult importCarmen(std::string_view text, const std::string& file, const 
 }
 
 ImportResult importMcap(std::string_view bytes, const std::string& file, const ImportParams& p) {
-  checkGeometry(p);
+  checkParams(p);
+  const DiffDriveParams nominal = p.nominal_geometry.value_or(DiffDriveParams{});
   const McapFile f = readMcap(bytes, file);
   ImportResult result;
   Dataset& d = result.dataset;
@@ -326,20 +358,19 @@ ImportResult importMcap(std::string_view bytes, const std::string& file, const I
     if (d.encoders.size() < 2) throw InputError(file, joint_ch->topic + ": fewer than 2 messages");
     // Start where the logged odometry is at the first joint sample, if there is one.
     const SE2 start = odom.at(d.encoders.front().stamp_s).value_or(SE2());
-    d.odom_nominal =
-        integrateEncoders(d.encoders, p.nominal_geometry, p.ticks_per_revolution, start);
+    d.odom_nominal = integrateEncoders(d.encoders, nominal, p.ticks_per_revolution, start);
     encoders_from = "JointState " + joint_ch->topic;
   } else {
     if (odom.size() < 2) throw InputError(file, odom_ch->topic + ": fewer than 2 messages");
     double lateral = 0.0;
-    d.encoders = encodersFromPoses(odom, p.nominal_geometry, p.ticks_per_revolution, &lateral);
+    d.encoders = encodersFromPoses(odom, nominal, p.ticks_per_revolution, &lateral);
     d.odom_nominal = odom;
     encoders_from = "derived from Odometry " + odom_ch->topic + " with the nominal geometry";
     if (lateral > 1e-6)
       result.notes.push_back("odometry has sideways steps up to " + std::to_string(lateral) +
                              " m that no wheel motion explains (dropped from the encoders)");
   }
-  d.info = importedInfo(p, file, "mcap", encoders_from);
+  d.info = importedInfo(p, nominal, file, "mcap", encoders_from);
   d.info.config["scan_topic"] = scan_ch->topic;
 
   for (const McapMessage* m : messagesOf(f, imu_ch)) {

@@ -14,14 +14,17 @@ namespace slamprep::eval {
 
 struct ImportParams {
   /// Wheel geometry written as the nominal one; encoders derived from odometry poses use it, so
-  /// re-integrating them reproduces the logged odometry whatever the values.
-  DiffDriveParams nominal_geometry;
+  /// re-integrating them reproduces the logged odometry whatever the values, but calibration
+  /// results are relative to it: give the geometry the robot's odometry was configured with.
+  /// nullopt: the log's (CARMEN `PARAM slamprep_nominal_*` lines), else DiffDriveParams{}.
+  std::optional<DiffDriveParams> nominal_geometry;
   /// Resolution of derived encoder ticks (from poses or joint angles): 2^20 per revolution
   /// keeps the rounding below 6e-6 rad per sample.
   int ticks_per_revolution = 1 << 20;
-  /// Time between beams for logs that do not carry it (CARMEN); 0 = unknown: de-skew refuses
-  /// such scans. LaserScan messages keep their own.
-  double time_increment_s = 0.0;
+  /// Time between beams for logs that do not carry it (CARMEN); nullopt: the log's
+  /// `PARAM slamprep_time_increment`, else 0 = unknown (de-skew refuses such scans). LaserScan
+  /// messages keep their own.
+  std::optional<double> time_increment_s;
   /// Lidar mount; nullopt: from the log (CARMEN laser_pose vs robot_pose, MCAP /tf_static),
   /// identity when the log has none.
   std::optional<SE2> T_base_lidar;

@@ -26,7 +26,9 @@ TEST(Carmen, ReadsAHandWrittenLog) {
   const CarmenLog log = parseCarmen(kLog, "run.clf");
   ASSERT_EQ(log.odometry.size(), 3u);
   ASSERT_EQ(log.lasers.size(), 2u);
-  EXPECT_EQ(log.skipped_lines, 1u);  // PARAM
+  EXPECT_EQ(log.skipped_lines, 0u);
+  EXPECT_EQ(log.params.at("robot_front_laser_max").value, "80");
+  EXPECT_EQ(log.params.at("robot_front_laser_max").line, 2u);
   EXPECT_EQ(log.odometry[2].T_odom_base.yaw, 0.1);
   EXPECT_EQ(log.odometry[2].stamp_s, 100.4);
   const CarmenLaser& l = log.lasers[1];

@@ -239,10 +239,15 @@ TEST(ExportCarmen, FieldsSitWhereTheCarmenFormatPutsThem) {
   std::istringstream in(text);
   std::string line;
   std::vector<std::vector<std::string>> lasers, odoms;
+  std::map<std::string, double> params;
   double last = -1;
   while (std::getline(in, line)) {
     if (line[0] == '#') continue;
     auto t = tokens(line);
+    if (t[0] == "PARAM") {
+      params[t[1]] = std::stod(t[2]);
+      continue;
+    }
     const double stamp = std::stod(t[t.size() - 3]);  // timestamp hostname logger_timestamp
     EXPECT_GE(stamp, last) << "lines must be in time order";
     last = stamp;
@@ -251,6 +256,9 @@ TEST(ExportCarmen, FieldsSitWhereTheCarmenFormatPutsThem) {
   }
   ASSERT_EQ(odoms.size(), d.odom_nominal.size());
   ASSERT_EQ(lasers.size(), d.scans.size());
+  EXPECT_EQ(params["robot_frontlaser_offset"], d.info.T_base_lidar.x);
+  EXPECT_EQ(params["slamprep_nominal_b"], d.info.nominal_geometry.wheel_base_m);
+  EXPECT_EQ(params["slamprep_time_increment"], d.scans[0].scan.time_increment_s);
   // ODOM x y theta tv rv accel timestamp hostname logger_timestamp
   ASSERT_EQ(odoms[50].size(), 10u);
   EXPECT_EQ(std::stod(odoms[50][1]), d.odom_nominal[50].value.x);

@@ -84,6 +84,24 @@ TEST(ImportCarmen, ScansOutsideTheOdometryAreRefusedOrTrimmed) {
   EXPECT_THROW(importCarmen("ODOM 0 0 0 0 0 0 1 h 1\n", "x.clf"), InputError);  // no laser
 }
 
+TEST(ImportCarmen, ExportedLogCarriesGeometryAndTimingSoTheDatasetComesBack) {
+  const Dataset d = test::makeSyntheticDataset();
+  const ImportResult r = importCarmen(formatCarmen(d, d.scans, {}), "x.clf");
+  EXPECT_EQ(r.dataset.info.nominal_geometry.radius_left_m, d.info.nominal_geometry.radius_left_m);
+  EXPECT_EQ(r.dataset.info.nominal_geometry.wheel_base_m, d.info.nominal_geometry.wheel_base_m);
+  ASSERT_EQ(r.dataset.scans.size(), d.scans.size());
+  EXPECT_EQ(r.dataset.scans[3].scan.time_increment_s, d.scans[3].scan.time_increment_s);
+  EXPECT_NEAR(r.dataset.info.T_base_lidar.y, d.info.T_base_lidar.y, 1e-12);
+  // The encoders derived from the nominal odometry with the nominal geometry are the original
+  // ticks at 2^20 / 4096 = 256 times the resolution: inverting the arc model loses ~1e-12 rad,
+  // far below half a tick (3e-6 rad), so they are exact.
+  ASSERT_EQ(r.dataset.encoders.size(), d.encoders.size());
+  for (std::size_t k = 0; k < d.encoders.size(); ++k) {
+    ASSERT_EQ(r.dataset.encoders[k].ticks_left, 256 * d.encoders[k].ticks_left) << k;
+    ASSERT_EQ(r.dataset.encoders[k].ticks_right, 256 * d.encoders[k].ticks_right) << k;
+  }
+}
+
 nlohmann::json stamp(double t) {
   const auto sec = static_cast<std::int64_t>(std::floor(t));
   return {{"sec", sec}, {"nanosec", std::llround((t - sec) * 1e9)}};
