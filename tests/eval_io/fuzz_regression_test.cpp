@@ -1,1 +1,63 @@
+// Replays the fuzz corpus (fuzz/corpus/<reader>/) and the minimised crashers kept as regressions
+// (fuzz/regressions/<reader>/) through the same reader calls as the libFuzzer targets, in a
+// normal (non-fuzzer) build: every input must be read or refused with InputError.
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "fuzz/readers.hpp"
+
+namespace slamprep::fuzz {
+namespace {
+namespace fs = std::filesystem;
+
+std::vector<fs::path> inputs(const std::string& folder, const std::string& reader) {
+  std::vector<fs::path> files;
+  const fs::path dir = fs::path(SLAMPREP_SOURCE_DIR) / "fuzz" / folder / reader;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.is_regular_file()) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+/// Replays every input; returns how many were read without error.
+std::size_t replay(const std::string& folder, const std::string& reader) {
+  std::size_t accepted = 0;
+  for (const fs::path& file : inputs(folder, reader)) {
+    try {
+      readAs(reader, readFile(file));
+      ++accepted;
+    } catch (const InputError&) {
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << file << ": not an InputError: " << e.what();
+    }
+  }
+  return accepted;
+}
+
+class FuzzReplay : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(FuzzReplay, CorpusIsReadOrRefusedWithInputError) {
+  const std::string reader = GetParam();
+  // The seed corpus holds at least one valid input per reader (docs/export.md, "Fuzzing").
+  ASSERT_FALSE(inputs("corpus", reader).empty()) << "fuzz/corpus/" << reader << " is empty";
+  EXPECT_GT(replay("corpus", reader), 0u) << "no corpus input of " << reader << " is valid";
+}
+
+TEST_P(FuzzReplay, RegressionsAreRefusedWithInputError) {
+  replay("regressions", GetParam());
+}
+
+// Findings in readers this area does not own, kept until their owners fix them (reported).
+TEST_P(FuzzReplay, DISABLED_KnownBugsAreRefusedWithInputError) {
+  replay("known_bugs", GetParam());
+}
+
+INSTANTIATE_TEST_SUITE_P(Readers, FuzzReplay, ::testing::ValuesIn(readerNames()));
+
+}  // namespace
+}  // namespace slamprep::fuzz

@@ -1,0 +1,96 @@
+#pragma once
+// Every reader behind one call, shared by the libFuzzer targets (fuzz/fuzz_<reader>.cpp) and the
+// ctest replay of the corpus and regressions (tests/eval_io/fuzz_regression_test.cpp). A reader
+// passes an input when it returns or throws InputError.
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "algo/calibration/interval.hpp"
+#include "core/io/csv_logs.hpp"
+#include "core/io/dataset_json.hpp"
+#include "core/io/scan_jsonl.hpp"
+#include "core/io/tum.hpp"
+#include "eval/io/import.hpp"
+#include "eval/io/mcap.hpp"
+#include "eval/suite/suite.hpp"
+#include "sim/drive/scenario.hpp"
+#include "sim/physics/world.hpp"
+
+namespace slamprep::fuzz {
+
+inline const std::vector<std::string>& readerNames() {
+  static const std::vector<std::string> names = {"mcap",     "carmen", "dataset", "world",
+                                                 "scenario", "suite",  "censi"};
+  return names;
+}
+
+/// A per-process scratch file for the readers that only take a path (world, suite).
+inline std::filesystem::path scratchFile(const char* name) {
+  static const std::filesystem::path dir = [] {
+    auto d =
+        std::filesystem::temp_directory_path() / ("slamprep_fuzz_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(d);
+    return d;
+  }();
+  return dir / name;
+}
+
+inline void writeScratch(const std::filesystem::path& file, std::string_view text) {
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+}
+
+/// Feeds `bytes` to reader `name`. Throws whatever the reader throws.
+inline void readAs(const std::string& name, std::string_view bytes) {
+  if (name == "mcap") {
+    eval::readMcap(bytes, "fuzz.mcap");
+    eval::importMcap(bytes, "fuzz.mcap");
+  } else if (name == "carmen") {
+    eval::importCarmen(bytes, "fuzz.clf");
+  } else if (name == "dataset") {
+    // The first byte picks the dataset file parser.
+    if (bytes.empty()) return;
+    const std::string_view text = bytes.substr(1);
+    switch (static_cast<unsigned char>(bytes[0]) % 5) {
+      case 0:
+        io::parseTum(text, "fuzz.tum");
+        break;
+      case 1:
+        io::parseEncoders(text, "encoders.csv");
+        break;
+      case 2:
+        io::parseImu(text, "imu.csv");
+        break;
+      case 3:
+        io::parseScans(text, "scans.jsonl");
+        break;
+      default:
+        io::parseDatasetInfo(text, "dataset.json");
+        break;
+    }
+  } else if (name == "world") {
+    static const auto file = scratchFile("world.yaml");
+    writeScratch(file, bytes);
+    sim::loadWorld(file);
+  } else if (name == "scenario") {
+    // Includes resolve next to the (non-existent) source file, inside the scratch directory.
+    static const auto source = scratchFile("scenario.yaml");
+    sim::parseScenario(std::string(bytes), source);
+  } else if (name == "suite") {
+    static const auto file = scratchFile("suite.yaml");
+    writeScratch(file, bytes);
+    eval::loadSuite(file);
+  } else if (name == "censi") {
+    std::istringstream in{std::string(bytes)};
+    algo::readIntervalRecords(in, "tuples.json");
+  }
+}
+
+}  // namespace slamprep::fuzz
