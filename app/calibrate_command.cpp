@@ -11,6 +11,7 @@
 #include "algo/calibration/dataset_motion.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
+#include "eval/pipeline/calibration_run.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -18,14 +19,15 @@ namespace {
 struct CalibrateFlags {
   std::string dataset;
   std::string method = "all";
-  std::string motion = "groundtruth";
-  std::string intervals_out;  // --intervals: write the intervals used as Censi records
-  std::string tuples_in;      // --tuples: run on Censi records instead of the dataset's motion
+  std::string motion = "icp";          // what real logs have; groundtruth is the oracle
+  std::string deskew = "odom-linear";  // --deskew: how scans are de-skewed before matching
+  std::string intervals_out;           // --intervals: write the intervals used as Censi records
+  std::string tuples_in;  // --tuples: run on Censi records instead of the dataset's motion
   std::string json_out;
   std::vector<std::string> squares;  // extra UMBmark square-run datasets
   double keyframe_cm = 10.0;
   double keyframe_deg = 10.0;
-  double side_m = 3.0;
+  double side_m = 2.5;  // the shipped umbmark_cw/ccw.yaml squares
   bool time_offset = false;
 };
 
@@ -162,19 +164,17 @@ std::vector<algo::CalibrationInterval> intervalsFor(const CalibrateFlags& flags,
   algo::IntervalParams params;
   params.keyframe_translation_m = flags.keyframe_cm / 100.0;
   params.keyframe_rotation_rad = flags.keyframe_deg * std::numbers::pi / 180.0;
-  std::vector<PoseSeries> chains;
-  if (flags.motion == "groundtruth") {
-    PoseSeries poses = algo::lidarPosesFromGroundTruth(*dataset);
-    if (poses.size() < 2)
-      throw InputError(flags.dataset, "--motion groundtruth: the dataset has no ground truth");
-    chains.push_back(std::move(poses));
-  } else {
-    const algo::IcpChains icp = algo::lidarPosesFromIcp(*dataset);
-    if (icp.failed_matches > 0)
-      std::cerr << "calibrate: " << icp.failed_matches << " scan matches failed (chains broken)\n";
-    chains = icp.chains;
-  }
-  const algo::IntervalSet set = algo::buildIntervals(*dataset, chains, params);
+  if (flags.motion == "groundtruth" && !dataset->hasTruth())
+    throw InputError(flags.dataset, "--motion groundtruth: the dataset has no ground truth");
+  // Scan matching on raw scans is biased by motion distortion: match de-skewed scans.
+  eval::CalibrationMotionOptions options;
+  options.from_icp = flags.motion == "icp";
+  options.deskew = flags.deskew;
+  options.intervals = params;
+  const eval::CalibrationMotion motion = eval::calibrationMotion(*dataset, options);
+  if (motion.failed_matches > 0)
+    std::cerr << "calibrate: " << motion.failed_matches << " scan matches failed (chains broken)\n";
+  const algo::IntervalSet& set = motion.intervals;
   std::cerr << "calibrate: " << set.intervals.size() << " intervals (" << set.dropped_standstill
             << " standing still, " << set.dropped_uncovered << " without encoder data dropped)\n";
   return set.intervals;
@@ -254,6 +254,10 @@ Command addCalibrateCommand(CLI::App& app) {
   cli->add_option("--motion", flags->motion,
                   "lidar motion from ICP scan matching or from ground truth (oracle)")
       ->check(CLI::IsMember({"icp", "groundtruth"}))
+      ->capture_default_str();
+  cli->add_option("--deskew", flags->deskew,
+                  "with --motion icp: de-skew scans with this method (nominal geometry) before "
+                  "matching them; `none` matches raw scans, which motion distortion biases")
       ->capture_default_str();
   cli->add_option("--intervals", flags->intervals_out,
                   "write the intervals used as Censi records (JSON lines)");
