@@ -14,13 +14,13 @@ readers=("$@")
 ((${#readers[@]})) || readers=(mcap carmen dataset world scenario suite censi)
 jobs="${FUZZ_BUILD_JOBS:-2}"
 
+mkdir -p build-fuzz
+log=build-fuzz/build.log
 cmake -S fuzz -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ > build-fuzz.log 2>&1 ||
-  { cat build-fuzz.log; exit 2; }
+  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ > "$log" 2>&1 || { cat "$log"; exit 2; }
 targets=()
 for r in "${readers[@]}"; do targets+=("fuzz_$r"); done
-cmake --build build-fuzz --target "${targets[@]}" -j"$jobs" >> build-fuzz.log 2>&1 ||
-  { tail -50 build-fuzz.log; exit 2; }
+cmake --build build-fuzz --target "${targets[@]}" -j"$jobs" >> "$log" 2>&1 || { tail -50 "$log"; exit 2; }
 
 status=0
 for r in "${readers[@]}"; do
@@ -33,6 +33,13 @@ for r in "${readers[@]}"; do
     -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
     -artifact_prefix="$artifacts/" > "$log" 2>&1 || true
   execs=$(grep -o 'exec/s: [0-9]*\|#[0-9]*' "$log" | grep '^#' | tail -1 | tr -d '#')
+  # Keep the committed corpus small: merge it down to the inputs that add coverage.
+  merged="build-fuzz/merge/$r"
+  rm -rf "$merged" && mkdir -p "$merged"
+  if ./build-fuzz/fuzz_"$r" -merge=1 -timeout=10 -rss_limit_mb=2048 "$merged" "$corpus" >> "$log" 2>&1 &&
+    [ -n "$(ls -A "$merged")" ]; then
+    rm -rf "$corpus" && mv "$merged" "$corpus"
+  fi
   found=$(find "$artifacts" -type f | wc -l)
   echo "fuzz $r: ${seconds}s, ${execs:-?} executions, corpus $(ls "$corpus" | wc -l) files, $found artifacts"
   ((found == 0)) || status=1
