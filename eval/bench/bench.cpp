@@ -28,16 +28,6 @@ int defaultJobs() {
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
-// FNV-1a of the running executable: results computed by other code are never reused.
-std::string binaryFingerprint() {
-  const std::string bytes = readFile("/proc/self/exe");
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
-  return hex;
-}
-
 // Drops stored trials made by another build (or all of them with `fresh`), so resuming only
 // ever skips work this very program did.
 void invalidateStaleTrials(const fs::path& run_dir, bool fresh) {
@@ -54,6 +44,15 @@ void invalidateStaleTrials(const fs::path& run_dir, bool fresh) {
 }
 
 }  // namespace
+
+std::string binaryFingerprint() {
+  const std::string bytes = readFile("/proc/self/exe");
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
 
 void writeResults(BenchOutcome& outcome, const std::vector<TrialSpec>& trials, bool plots) {
   const fs::path& dir = outcome.out_dir;

@@ -42,6 +42,10 @@ BenchOutcome runBench(const BenchOptions& options, const TrialFunction& trial);
 /// as a single-machine run would have. `results_dir` holds the suite.yaml a bench run left there.
 BenchOutcome mergeShards(const std::filesystem::path& results_dir, bool plots);
 
+/// FNV-1a of the running executable, the stamp a run leaves beside its trials: results computed
+/// by other code are never reused.
+std::string binaryFingerprint();
+
 /// Writes trials.csv, summary.json, timing.json, README.md and plots/ for a complete suite run.
 void writeResults(BenchOutcome& outcome, const std::vector<TrialSpec>& trials, bool plots);
 

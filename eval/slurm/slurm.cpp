@@ -17,6 +17,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/paths.hpp"
+#include "eval/bench/bench.hpp"
 #include "eval/suite/runner.hpp"
 
 extern char** environ;
@@ -69,27 +70,6 @@ ProcessOutput runProcess(const std::vector<std::string>& argv) {
                      "not found on PATH: install the Slurm client (slurm-client) or run "
                      "on a cluster login node");
   return out;
-}
-
-// FNV-1a of the running executable, the same stamp `bench` leaves in each shard folder: a shard
-// computed by another build is not complete for this one.
-std::string binaryFingerprint() {
-  const std::string bytes = readFile("/proc/self/exe");
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
-  return hex;
-}
-
-bool trialComplete(const fs::path& file, const TrialSpec& spec) {
-  if (!fs::is_regular_file(file)) return false;
-  try {
-    const auto stored = nlohmann::json::parse(readFile(file));
-    return stored.contains("trial") && stored["trial"] == specJson(spec);
-  } catch (const std::exception&) {
-    return false;
-  }
 }
 
 std::string trim(const std::string& s) {
@@ -283,7 +263,7 @@ std::vector<int> incompleteShards(const Suite& suite, const fs::path& out_dir, i
         fs::is_regular_file(dir / ".slamprep-build") && readFile(dir / ".slamprep-build") == build;
     for (const auto& t : trials)
       if (complete && shard.contains(t.index))
-        complete = trialComplete(dir / "trials" / (t.id + ".json"), t);
+        complete = isTrialComplete(dir / "trials" / (t.id + ".json"), t);
     if (!complete) missing.push_back(k);
   }
   return missing;

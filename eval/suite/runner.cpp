@@ -17,17 +17,6 @@
 namespace slamprep::eval {
 namespace {
 
-// A stored result is reusable when it parses and was made from the same spec.
-bool isComplete(const std::filesystem::path& file, const TrialSpec& spec) {
-  if (!std::filesystem::exists(file)) return false;
-  try {
-    const auto stored = nlohmann::json::parse(readFile(file));
-    return stored.contains("trial") && stored["trial"] == specJson(spec);
-  } catch (const std::exception&) {
-    return false;
-  }
-}
-
 // Runs one trial in this (child) process and writes its files; returns the exit status.
 int runChild(const TrialSpec& spec, const TrialFunction& run, const RunOptions& options) {
   try {
@@ -43,6 +32,16 @@ int runChild(const TrialSpec& spec, const TrialFunction& run, const RunOptions& 
 }
 
 }  // namespace
+
+bool isTrialComplete(const std::filesystem::path& file, const TrialSpec& spec) {
+  if (!std::filesystem::exists(file)) return false;
+  try {
+    const auto stored = nlohmann::json::parse(readFile(file));
+    return stored.contains("trial") && stored["trial"] == specJson(spec);
+  } catch (const std::exception&) {
+    return false;
+  }
+}
 
 Shard Shard::parse(const std::string& text, const std::string& flag) {
   Shard shard;
@@ -79,7 +78,7 @@ RunReport runTrials(const std::vector<TrialSpec>& trials, const TrialFunction& r
   for (const auto& spec : trials) {
     if (!options.shard.contains(spec.index)) continue;
     ++report.selected;
-    if (isComplete(options.trials_dir / (spec.id + ".json"), spec))
+    if (isTrialComplete(options.trials_dir / (spec.id + ".json"), spec))
       ++report.reused;
     else
       pending.push_back(&spec);

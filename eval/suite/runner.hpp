@@ -56,6 +56,9 @@ struct RunReport {
 RunReport runTrials(const std::vector<TrialSpec>& trials, const TrialFunction& run,
                     const RunOptions& options);
 
+/// A stored trial result is reusable when it parses and was made from the same spec.
+bool isTrialComplete(const std::filesystem::path& file, const TrialSpec& spec);
+
 /// The spec as stored with its result, so a stale result (suite changed) is recomputed.
 nlohmann::json specJson(const TrialSpec& spec);
 
