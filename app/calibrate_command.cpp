@@ -19,10 +19,10 @@ namespace {
 struct CalibrateFlags {
   std::string dataset;
   std::string method = "all";
-  std::string motion = "icp";          // what real logs have; groundtruth is the oracle
-  std::string deskew = "odom-linear";  // --deskew: how scans are de-skewed before matching
-  std::string intervals_out;           // --intervals: write the intervals used as Censi records
-  std::string tuples_in;  // --tuples: run on Censi records instead of the dataset's motion
+  std::string motion = "icp";   // what real logs have; groundtruth is the oracle
+  std::string deskew = "auto";  // --deskew: how scans are de-skewed before matching
+  std::string intervals_out;    // --intervals: write the intervals used as Censi records
+  std::string tuples_in;        // --tuples: run on Censi records instead of the dataset's motion
   std::string json_out;
   std::vector<std::string> squares;  // extra UMBmark square-run datasets
   double keyframe_cm = 10.0;
@@ -256,8 +256,10 @@ Command addCalibrateCommand(CLI::App& app) {
       ->check(CLI::IsMember({"icp", "groundtruth"}))
       ->capture_default_str();
   cli->add_option("--deskew", flags->deskew,
-                  "with --motion icp: de-skew scans with this method (nominal geometry) before "
-                  "matching them; `none` matches raw scans, which motion distortion biases")
+                  "with --motion icp: de-skew scans with this method before matching them. auto: "
+                  "imu when the log has one (independent of the wheel geometry being "
+                  "calibrated), else odom-linear with the nominal geometry; none: raw scans, "
+                  "which motion distortion biases")
       ->capture_default_str();
   cli->add_option("--intervals", flags->intervals_out,
                   "write the intervals used as Censi records (JSON lines)");

@@ -28,7 +28,10 @@ CalibrationMotion calibrationMotion(const Dataset& dataset,
   if (!options.from_icp) {
     motion.chains.push_back(algo::lidarPosesFromGroundTruth(dataset));
   } else {
-    const auto method = algo::parseDeskewMethod(options.deskew);
+    const std::string name = options.deskew != "auto" ? options.deskew
+                             : dataset.imu.empty()    ? "odom-linear"
+                                                      : "imu";
+    const auto method = algo::parseDeskewMethod(name);
     if (!method) throw InputError("--deskew " + options.deskew, "unknown de-skew method");
     std::vector<Points2> points;
     if (*method == algo::DeskewMethod::kNone) {
