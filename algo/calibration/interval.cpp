@@ -124,7 +124,7 @@ std::vector<CalibrationInterval> readIntervalRecords(std::istream& in, const std
     nlohmann::json j;
     try {
       j = nlohmann::json::parse(line);
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e999
       throw InputError(where, std::string("not JSON: ") + e.what());
     }
     if (!j.is_object()) throw InputError(where, "record must be a JSON object");

@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <cstdio>
 #include <set>
 
@@ -122,8 +123,12 @@ void validate(const Suite& suite) {
   const std::string f = suite.source.string();
   if (suite.worlds.empty()) throw InputError(f + ": worlds", "at least one world is needed");
   if (suite.scenarios.empty()) throw InputError(f + ": scenarios", "at least one scenario");
-  if (suite.seeds < 1) throw InputError(f + ": seeds", "must be at least 1");
-  if (suite.duration_s < 0) throw InputError(f + ": duration_s", "must not be negative");
+  // A million trials is beyond any machine this runs on: such a count is a typo.
+  constexpr int kMaxSeeds = 100000;
+  if (suite.seeds < 1 || suite.seeds > kMaxSeeds)
+    throw InputError(f + ": seeds", "must be between 1 and " + std::to_string(kMaxSeeds));
+  if (!std::isfinite(suite.duration_s) || suite.duration_s < 0)
+    throw InputError(f + ": duration_s", "must be a finite number, not negative");
   if (suite.mode != "physics" && suite.mode != "kinematic")
     throw InputError(f + ": mode", "must be physics or kinematic, not '" + suite.mode + "'");
   if (suite.deskew_geometry != "nominal" && suite.deskew_geometry != "true" &&

@@ -115,6 +115,9 @@ double positiveField(const Context& ctx, const YAML::Node& map, const std::strin
     throw InputError(where(ctx, map[name] ? map[name] : map, prefix + name),
                      "must be positive (got " + std::to_string(value) + ")");
   }
+  // The simulator runs at most one day (config.cpp); a longer segment is a typo, not a plan.
+  if (name == "duration_s" && value > 86400.0)
+    throw InputError(where(ctx, map[name], prefix + name), "must be at most 86400 s (one day)");
   return value;
 }
 
