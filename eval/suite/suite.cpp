@@ -186,8 +186,12 @@ Suite loadSuite(const std::filesystem::path& file) {
   Suite suite;
   suite.source = file;
   suite.name = file.stem().string();
-  for (const auto& entry : root)
-    parseKey(file, as<std::string>(file, entry.first, "key"), entry.second, suite);
+  try {
+    for (const auto& entry : root)
+      parseKey(file, as<std::string>(file, entry.first, "key"), entry.second, suite);
+  } catch (const YAML::Exception& e) {  // e.g. a null key: yaml-cpp's InvalidNode
+    throw InputError(file.string() + ":" + std::to_string(e.mark.line + 1), e.msg);
+  }
   validate(suite);
   validateNames(suite);
   return suite;

@@ -294,8 +294,10 @@ void validate(const SimConfig& c, const std::string& where) {
   }
   const LidarConfig& l = c.lidar;
   check.positive("lidar.rate_hz", l.rate_hz);
-  if (l.beams_per_revolution < 1) {
-    check.fail("lidar.beams_per_revolution", "must be at least 1", l.beams_per_revolution);
+  // Real 2D lidars have up to a few thousand beams; 1e6 would be 1e7 ray casts per second.
+  if (l.beams_per_revolution < 1 || l.beams_per_revolution > 100000) {
+    check.fail("lidar.beams_per_revolution", "must be between 1 and 100000",
+               l.beams_per_revolution);
   }
   if (!(l.fov_rad > 0.0 && l.fov_rad <= 2.0 * std::numbers::pi + 1e-12)) {
     check.fail("lidar.fov_rad", "must be in (0, 2 pi]", l.fov_rad);

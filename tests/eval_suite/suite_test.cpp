@@ -78,6 +78,8 @@ TEST(Suite, RejectsBadValues) {
   EXPECT_THROW(loadSuite(writeTemp("s2.yaml", "worlds: [a]\n")), InputError);
   EXPECT_THROW(loadSuite(writeTemp("s3.yaml", "worlds: [a\n")), InputError);
   EXPECT_THROW(loadSuite("/nonexistent/suite.yaml"), InputError);
+  // A null key (found by fuzzing) is an input error, not a yaml-cpp exception.
+  EXPECT_THROW(loadSuite(writeTemp("s7.yaml", "worlds: [a]\nscenarios: [b]\n~: 3\n")), InputError);
   // Unknown methods and simulator keys fail at load time, naming the key.
   EXPECT_THROW(
       loadSuite(writeTemp("s4.yaml", "worlds: [a]\nscenarios: [b]\ndeskew_methods: [warp]\n")),
