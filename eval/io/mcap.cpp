@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "eval/io/decompress.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -236,16 +237,19 @@ struct Reader {
     const std::string compression = c.string("compression");
     const auto records_len = c.le<std::uint64_t>("records");
     const std::string_view records = c.bytes(records_len, "records");
-    if (!compression.empty())
-      c.fail("compression \"" + compression +
-             "\" is not supported (re-write the bag uncompressed, e.g. `mcap compress "
-             "--compression none`)");
-    if (uncompressed_size != records.size())
+    std::string unpacked;
+    std::string_view data = records;
+    if (!compression.empty()) {
+      unpacked = decompressChunk(compression, records, uncompressed_size,
+                                 file + ": offset " + std::to_string(offset) + ": Chunk");
+      data = unpacked;
+    }
+    if (uncompressed_size != data.size())
       c.fail("uncompressed_size " + std::to_string(uncompressed_size) + " but the records hold " +
-             std::to_string(records.size()) + " bytes");
-    if (uncompressed_crc != 0 && crc32(records) != uncompressed_crc)
+             std::to_string(data.size()) + " bytes");
+    if (uncompressed_crc != 0 && crc32(data) != uncompressed_crc)
       c.fail("uncompressed_crc does not match the records (corrupt chunk)");
-    readChunkRecords(records, offset);
+    readChunkRecords(data, offset);
     ++result.chunk_count;
   }
 

@@ -101,8 +101,8 @@ struct McapFile {
 };
 
 /// Reads a whole MCAP file (`file` names it in errors). Linear read: every record is visited in
-/// order, chunks are unpacked (compression "" only; "zstd" and "lz4" are reported as
-/// unsupported), every non-zero CRC is verified. Throws InputError naming the file, the byte
+/// order, chunks are unpacked (compression "", "zstd" or "lz4": eval/io/decompress.hpp), every
+/// non-zero CRC is verified. Throws InputError naming the file, the byte
 /// offset of the record and the field on any malformed or truncated input.
 McapFile readMcap(std::string_view bytes, const std::string& file);
 
