@@ -2,6 +2,7 @@
 // files written, JSON keys, exit codes and messages for bad input.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -27,7 +28,11 @@ std::string slurp(const fs::path& file) {
 
 class DeskewCommand : public ::testing::Test {
  protected:
-  static fs::path dir() { return fs::temp_directory_path() / "slamprep_deskew_cli"; }
+  // One folder per process: ctest runs these tests in parallel processes, each with its own
+  // SetUpTestSuite, and a shared folder let one process wipe another's dataset.
+  static fs::path dir() {
+    return fs::temp_directory_path() / ("slamprep_deskew_cli-" + std::to_string(::getpid()));
+  }
   static void SetUpTestSuite() {
     fs::remove_all(dir());
     fs::create_directories(dir());
