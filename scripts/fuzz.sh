@@ -26,6 +26,7 @@ status=0
 for r in "${readers[@]}"; do
   corpus="fuzz/corpus/$r"
   artifacts="build-fuzz/artifacts/$r"
+  rm -rf "$artifacts"  # findings of this run only
   mkdir -p "$corpus" "$artifacts" "build-fuzz/logs"
   log="build-fuzz/logs/$r.log"
   # -fork=1 -ignore_crashes=1: keep fuzzing after a finding; -max_total_time bounds the run.
