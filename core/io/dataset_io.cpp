@@ -6,7 +6,9 @@
 
 #include <cerrno>
 #include <cstring>
+#include <string>
 #include <system_error>
+#include <vector>
 
 #include "core/dataset.hpp"
 #include "core/error.hpp"
@@ -104,6 +106,50 @@ void publishDirectoryAtomically(const fs::path& dir,
   }
 }
 
+namespace {
+
+/// One odometry source of a dataset and the time span it covers.
+struct OdometrySpan {
+  const char* file;
+  double first_s;
+  double last_s;
+};
+
+/// The odometry sources the dataset has (encoders.csv, odom_nominal.tum): de-skew and calibration
+/// read whichever they are given, so every present one must cover every beam.
+std::vector<OdometrySpan> odometrySpans(const Dataset& d) {
+  std::vector<OdometrySpan> spans;
+  if (!d.encoders.empty())
+    spans.push_back({kEncodersCsv, d.encoders.front().stamp_s, d.encoders.back().stamp_s});
+  if (!d.odom_nominal.empty())
+    spans.push_back({kOdomNominalTum, d.odom_nominal.frontStamp(), d.odom_nominal.backStamp()});
+  return spans;
+}
+
+std::string seconds(double t) {
+  std::string out;
+  appendDouble(out, t);
+  return out;
+}
+
+void checkScansCovered(const Dataset& d, const std::vector<std::size_t>& scan_lines,
+                       const std::string& scans_file) {
+  const std::vector<OdometrySpan> spans = odometrySpans(d);
+  // No odometry at all: the scans can still be matched (ICP); odometry methods refuse later.
+  for (std::size_t k = 0; k < d.scans.size(); ++k) {
+    const LaserScan& scan = d.scans[k].scan;
+    for (const OdometrySpan& span : spans) {
+      if (scan.stamp_s >= span.first_s && scan.endTime() <= span.last_s) continue;
+      throw InputError(TextLocation{scans_file, scan_lines[k]}.str(),
+                       "stamp_s: the scan's beams (" + seconds(scan.stamp_s) + " .. " +
+                           seconds(scan.endTime()) + " s) are not covered by the odometry in " +
+                           span.file + " (" + seconds(span.first_s) + " .. " +
+                           seconds(span.last_s) + " s)");
+    }
+  }
+}
+
+}  // namespace
 }  // namespace io
 
 void writeDataset(const std::filesystem::path& dir, const Dataset& dataset) {
@@ -137,7 +183,9 @@ Dataset readDataset(const std::filesystem::path& dir) {
   d.odom_nominal = io::parseTum(text(io::kOdomNominalTum), name(io::kOdomNominalTum));
   d.encoders = io::parseEncoders(text(io::kEncodersCsv), name(io::kEncodersCsv));
   d.imu = io::parseImu(text(io::kImuCsv), name(io::kImuCsv));
-  d.scans = io::parseScans(text(io::kScansJsonl), name(io::kScansJsonl));
+  std::vector<std::size_t> scan_lines;
+  d.scans = io::parseScans(text(io::kScansJsonl), name(io::kScansJsonl), &scan_lines);
+  io::checkScansCovered(d, scan_lines, name(io::kScansJsonl));
   return d;
 }
 

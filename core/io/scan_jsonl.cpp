@@ -16,6 +16,22 @@ using nlohmann::json;
   throw InputError(where.str(), field + ": " + what);
 }
 
+// ---- checks shared by writing and reading ---------------------------------------------------
+
+/// What every scan line must satisfy, written or read (so writeDataset never publishes a scan
+/// that readDataset refuses): at least one beam, range limits that are distances
+/// (0 <= range_min < range_max), and time running forwards (time_increment, scan_time >= 0).
+void checkScanHeader(const LaserScan& scan, const TextLocation& where) {
+  if (scan.size() == 0) fail(where, "nrays", "an empty scan (0 beams) holds no measurement");
+  if (scan.range_min_m < 0.0)
+    fail(where, "range_min", "must not be negative (a range is a distance)");
+  if (!(scan.range_max_m > scan.range_min_m))
+    fail(where, "range_max", "must be greater than range_min");
+  if (scan.time_increment_s < 0.0)
+    fail(where, "time_increment", "must not be negative (beams are taken in time order)");
+  if (scan.scan_time_s < 0.0) fail(where, "scan_time", "must not be negative");
+}
+
 // ---- writing ---------------------------------------------------------------------------------
 
 void requireFinite(double value, const TextLocation& where, const char* field) {
@@ -253,6 +269,7 @@ ScanRecord readScanObject(const json& object, const TextLocation& where) {
   record.T_odom_base_nominal = optionalPose(object, "odometry", where);
   record.T_world_base_true = optionalPose(object, "true_pose", where);
   record.p_ref_true = readPoints(object, nrays, where);
+  checkScanHeader(scan, where);
   return record;
 }
 
@@ -269,6 +286,7 @@ void appendScanLine(std::string& out, const ScanRecord& record, const TextLocati
   requireFinite(scan.range_min_m, where, "range_min");
   if (std::isnan(scan.range_max_m) || scan.range_max_m == -HUGE_VAL)
     fail(where, "range_max", "must be finite or +inf to be written");
+  checkScanHeader(scan, where);
   if (!record.p_ref_true.empty() && record.p_ref_true.size() != n)
     fail(where, "p_ref_true",
          "has " + std::to_string(record.p_ref_true.size()) + " entries for " + std::to_string(n) +
@@ -324,8 +342,10 @@ std::string formatScans(const std::vector<ScanRecord>& scans, const std::string&
   return out;
 }
 
-std::vector<ScanRecord> parseScans(std::string_view text, const std::string& file) {
+std::vector<ScanRecord> parseScans(std::string_view text, const std::string& file,
+                                   std::vector<std::size_t>* line_numbers) {
   std::vector<ScanRecord> scans;
+  if (line_numbers) line_numbers->clear();
   LineCursor cursor(text);
   std::string_view line;
   while (cursor.next(line)) {
@@ -335,6 +355,7 @@ std::vector<ScanRecord> parseScans(std::string_view text, const std::string& fil
     if (!scans.empty())
       requireIncreasing(scans.back().scan.stamp_s, record.scan.stamp_s, where, "stamp_s");
     scans.push_back(std::move(record));
+    if (line_numbers) line_numbers->push_back(cursor.lineNumber());
   }
   return scans;
 }

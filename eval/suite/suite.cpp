@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -9,113 +10,88 @@
 #include "algo/deskew/deskew.hpp"
 #include "core/error.hpp"
 #include "sim/drive/config.hpp"
+#include "sim/yaml/yaml_fields.hpp"
 
 namespace slamprep::eval {
 namespace {
 
-// "file:line: key" for an error at a YAML node.
-std::string where(const std::filesystem::path& file, const YAML::Node& node,
-                  const std::string& key) {
-  const int line = node.Mark().line >= 0 ? node.Mark().line + 1 : 0;
-  return file.string() + (line > 0 ? ":" + std::to_string(line) : "") + ": " + key;
-}
+using sim::Bounds;
+using sim::YamlDoc;
 
-template <typename T>
-T as(const std::filesystem::path& file, const YAML::Node& node, const std::string& key) {
-  try {
-    return node.as<T>();
-  } catch (const YAML::Exception&) {
-    throw InputError(where(file, node, key), "has the wrong type");
-  }
-}
+// A million trials is beyond any machine this runs on: such a count is a typo.
+constexpr int kMaxSeeds = 100000;
 
-std::vector<std::string> stringList(const std::filesystem::path& file, const YAML::Node& node,
-                                    const std::string& key) {
-  if (node.IsScalar()) return {as<std::string>(file, node, key)};
-  if (!node.IsSequence()) throw InputError(where(file, node, key), "must be a list");
-  std::vector<std::string> out;
-  for (const auto& item : node) out.push_back(as<std::string>(file, item, key));
-  return out;
-}
-
-void parseSweep(const std::filesystem::path& file, const YAML::Node& node, Suite& suite) {
-  if (!node.IsMap()) throw InputError(where(file, node, "sweep"), "must map keys to value lists");
+void parseSweep(const YamlDoc& doc, const YAML::Node& node, Suite& suite) {
+  doc.requireMap(node, "sweep");
   for (const auto& entry : node) {
-    const auto key = as<std::string>(file, entry.first, "sweep");
-    SweepAxis axis{key, stringList(file, entry.second, "sweep." + key)};
-    if (axis.values.empty())
-      throw InputError(where(file, entry.second, "sweep." + key), "is empty");
+    const std::string key = doc.keyName(entry.first, "sweep");
+    SweepAxis axis{key, doc.stringList(entry.second, "sweep." + key)};
+    if (axis.values.empty()) doc.fail(entry.second, "sweep." + key, "is empty");
     suite.sweep.push_back(axis);
   }
 }
 
-bool parseBetter(const std::filesystem::path& file, const YAML::Node& node,
-                 const std::string& key) {
-  const auto value = as<std::string>(file, node, key + ".better");
+bool parseBetter(const YamlDoc& doc, const YAML::Node& node, const std::string& key) {
+  const std::string value = doc.string(node, key + ".better");
   if (value != "higher" && value != "lower")
-    throw InputError(where(file, node, key + ".better"), "must be higher or lower");
+    doc.fail(node, key + ".better", "must be higher or lower");
   return value == "higher";
 }
 
-void parseTolerances(const std::filesystem::path& file, const YAML::Node& node, Suite& suite) {
-  if (!node.IsMap()) throw InputError(where(file, node, "tolerances"), "must be a map");
+void parseTolerances(const YamlDoc& doc, const YAML::Node& node, Suite& suite) {
+  doc.requireMap(node, "tolerances");
+  const Bounds non_negative{0.0};
   for (const auto& entry : node) {
-    const auto metric = as<std::string>(file, entry.first, "tolerances");
+    const std::string metric = doc.keyName(entry.first, "tolerances");
     const std::string key = "tolerances." + metric;
+    doc.requireMap(entry.second, key);
+    doc.checkKeys(entry.second, key, {"abs", "rel", "better"});
     Tolerance tol{metric};
-    for (const auto& field : entry.second) {
-      const auto name = as<std::string>(file, field.first, key);
-      if (name == "abs")
-        tol.abs = as<double>(file, field.second, key + ".abs");
-      else if (name == "rel")
-        tol.rel = as<double>(file, field.second, key + ".rel");
-      else if (name == "better")
-        tol.higher_is_better = parseBetter(file, field.second, key);
-      else
-        throw InputError(where(file, field.first, key + "." + name),
-                         "unknown key (abs, rel, better)");
-    }
-    if (tol.abs < 0 || tol.rel < 0) throw InputError(where(file, entry.second, key), "negative");
+    tol.abs = doc.optionalNumber(entry.second, "abs", key, tol.abs, non_negative);
+    tol.rel = doc.optionalNumber(entry.second, "rel", key, tol.rel, non_negative);
+    if (const YAML::Node better = entry.second["better"])
+      tol.higher_is_better = parseBetter(doc, better, key);
     suite.tolerances.push_back(tol);
   }
 }
 
-void parseKey(const std::filesystem::path& file, const std::string& key, const YAML::Node& value,
-              Suite& suite) {
+void parseKey(const YamlDoc& doc, const std::string& key, const YAML::Node& value, Suite& suite) {
   if (key == "name")
-    suite.name = as<std::string>(file, value, key);
+    suite.name = doc.string(value, key);
   else if (key == "description")
-    suite.description = as<std::string>(file, value, key);
+    suite.description = doc.string(value, key);
   else if (key == "worlds")
-    suite.worlds = stringList(file, value, key);
+    suite.worlds = doc.stringList(value, key);
   else if (key == "scenarios")
-    suite.scenarios = stringList(file, value, key);
+    suite.scenarios = doc.stringList(value, key);
   else if (key == "seeds")
-    suite.seeds = as<int>(file, value, key);
+    suite.seeds = static_cast<int>(doc.integer(value, key, 1, kMaxSeeds));
   else if (key == "base_seed")
-    suite.base_seed = as<std::uint64_t>(file, value, key);
-  else if (key == "duration_s")
-    suite.duration_s = as<double>(file, value, key);
+    suite.base_seed = static_cast<std::uint64_t>(doc.integer(value, key, 0, std::int64_t{1} << 53));
+  else if (key == "duration_s")  // 0: the scenario's own duration; at most the simulator's day
+    suite.duration_s = doc.number(value, key, Bounds{0.0, 86400.0});
   else if (key == "mode")
-    suite.mode = as<std::string>(file, value, key);
+    suite.mode = doc.string(value, key);
   else if (key == "motion")
-    suite.motion = as<std::string>(file, value, key);
+    suite.motion = doc.string(value, key);
   else if (key == "calibration_methods")
-    suite.calibration_methods = stringList(file, value, key);
+    suite.calibration_methods = doc.stringList(value, key);
   else if (key == "deskew_methods")
-    suite.deskew_methods = stringList(file, value, key);
+    suite.deskew_methods = doc.stringList(value, key);
   else if (key == "deskew_geometry")
-    suite.deskew_geometry = as<std::string>(file, value, key);
+    suite.deskew_geometry = doc.string(value, key);
   else if (key == "sweep")
-    parseSweep(file, value, suite);
+    parseSweep(doc, value, suite);
   else if (key == "tolerances")
-    parseTolerances(file, value, suite);
+    parseTolerances(doc, value, suite);
   else if (key == "set") {
-    if (!value.IsMap()) throw InputError(where(file, value, key), "must map keys to values");
-    for (const auto& e : value)
-      suite.set[as<std::string>(file, e.first, key)] = as<std::string>(file, e.second, key);
+    doc.requireMap(value, key);
+    for (const auto& e : value) {
+      const std::string name = doc.keyName(e.first, key);
+      suite.set[name] = doc.string(e.second, key + "." + name);
+    }
   } else {
-    throw InputError(where(file, value, key), "unknown key");
+    assert(false && "parseKey: a key checkKeys allows is not handled");
   }
 }
 
@@ -123,8 +99,6 @@ void validate(const Suite& suite) {
   const std::string f = suite.source.string();
   if (suite.worlds.empty()) throw InputError(f + ": worlds", "at least one world is needed");
   if (suite.scenarios.empty()) throw InputError(f + ": scenarios", "at least one scenario");
-  // A million trials is beyond any machine this runs on: such a count is a typo.
-  constexpr int kMaxSeeds = 100000;
   if (suite.seeds < 1 || suite.seeds > kMaxSeeds)
     throw InputError(f + ": seeds", "must be between 1 and " + std::to_string(kMaxSeeds));
   if (!std::isfinite(suite.duration_s) || suite.duration_s < 0)
@@ -174,24 +148,19 @@ std::string sanitize(const std::string& s) {
 }  // namespace
 
 Suite loadSuite(const std::filesystem::path& file) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::BadFile&) {
-    throw InputError(file.string(), "cannot open suite file");
-  } catch (const YAML::ParserException& e) {
-    throw InputError(file.string() + ":" + std::to_string(e.mark.line + 1), e.msg);
-  }
+  const YamlDoc doc(file.string());
+  const YAML::Node root = sim::loadYamlFile(file, doc, "suite file");
   if (!root.IsMap()) throw InputError(file.string(), "a suite must be a YAML map");
   Suite suite;
   suite.source = file;
   suite.name = file.stem().string();
-  try {
-    for (const auto& entry : root)
-      parseKey(file, as<std::string>(file, entry.first, "key"), entry.second, suite);
-  } catch (const YAML::Exception& e) {  // e.g. a null key: yaml-cpp's InvalidNode
-    throw InputError(file.string() + ":" + std::to_string(e.mark.line + 1), e.msg);
-  }
+  doc.guard([&] {
+    doc.checkKeys(root, "",
+                  {"name", "description", "worlds", "scenarios", "seeds", "base_seed", "duration_s",
+                   "mode", "motion", "calibration_methods", "deskew_methods", "deskew_geometry",
+                   "sweep", "tolerances", "set"});
+    for (const auto& entry : root) parseKey(doc, doc.keyName(entry.first, ""), entry.second, suite);
+  });
   validate(suite);
   validateNames(suite);
   return suite;

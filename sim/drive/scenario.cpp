@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "sim/drive/rng.hpp"
+#include "sim/yaml/yaml_fields.hpp"
 
 namespace slamprep::sim {
 
@@ -57,92 +58,51 @@ namespace {
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr int kMaxIncludeDepth = 16;
 
-// ---- YAML access that names file, line and key in every error --------------------------------
+// ---- Reading fields (sim/yaml: every error names file, line, column and key) -----------------
 
+/// A scenario file being read: messages name `doc.file()`, includes resolve next to `path`.
 struct Context {
-  std::string file;  // as given, for messages
+  YamlDoc doc;
   std::filesystem::path path;
 };
 
-std::string where(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  std::ostringstream out;
-  out << ctx.file;
-  if (node.Mark().line >= 0) out << ":" << node.Mark().line + 1;
-  if (!key.empty()) out << ": " << key;
-  return out.str();
-}
+// Bounds no real drive reaches; they keep every derived time and knot count finite and small.
+constexpr double kMaxDuration_s = 86400.0;  ///< the simulator runs at most one day (config.cpp)
+constexpr double kMaxValue = 1e6;           ///< any other positive field (m, m/s, rad/s, m/s^2)
+constexpr int kMaxCount = 10000;            ///< laps, loops, repeats
+constexpr double kMaxKnots = 1e6;           ///< random_smooth: duration_s / interval_s
 
-void requireMap(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  if (!node.IsMap()) throw InputError(where(ctx, node, key), "expected a mapping");
-}
-
-void checkKeys(const Context& ctx, const YAML::Node& map, const std::string& prefix,
-               const std::set<std::string>& allowed) {
-  for (const auto& item : map) {
-    const std::string key = item.first.as<std::string>();
-    if (!allowed.count(key)) {
-      std::string list;
-      for (const std::string& k : allowed) list += (list.empty() ? "" : ", ") + k;
-      throw InputError(where(ctx, item.first, prefix + key),
-                       "unknown key (expected one of: " + list + ")");
-    }
-  }
-}
-
-double number(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  double value = 0.0;
-  if (!node.IsScalar() || !YAML::convert<double>::decode(node, value) || !std::isfinite(value)) {
-    throw InputError(where(ctx, node, key), "expected a finite number");
-  }
-  return value;
-}
-
-/// Reads map[name] as a number; `fallback` when absent, required when fallback is NaN.
+/// map[name] as a number; `fallback` when absent, required when fallback is NaN.
 double field(const Context& ctx, const YAML::Node& map, const std::string& prefix,
-             const std::string& name, double fallback) {
-  const YAML::Node node = map[name];
-  if (!node) {
-    if (std::isnan(fallback)) throw InputError(where(ctx, map, prefix + name), "missing");
-    return fallback;
-  }
-  return number(ctx, node, prefix + name);
+             const std::string& name, double fallback, const Bounds& bounds = {}) {
+  if (!map[name] && std::isnan(fallback)) ctx.doc.required(map, name, prefix);
+  return ctx.doc.optionalNumber(map, name, prefix, fallback, bounds);
 }
 
 double positiveField(const Context& ctx, const YAML::Node& map, const std::string& prefix,
                      const std::string& name, double fallback) {
-  const double value = field(ctx, map, prefix, name, fallback);
-  if (value <= 0.0) {
-    throw InputError(where(ctx, map[name] ? map[name] : map, prefix + name),
-                     "must be positive (got " + std::to_string(value) + ")");
-  }
-  // The simulator runs at most one day (config.cpp); a longer segment is a typo, not a plan.
-  if (name == "duration_s" && value > 86400.0)
-    throw InputError(where(ctx, map[name], prefix + name), "must be at most 86400 s (one day)");
-  return value;
+  // A longer segment than the simulator can run is a typo, not a plan.
+  const double max = name == "duration_s" ? kMaxDuration_s : kMaxValue;
+  return field(ctx, map, prefix, name, fallback, Bounds{0.0, max, true});
 }
 
 double nonZeroField(const Context& ctx, const YAML::Node& map, const std::string& prefix,
                     const std::string& name) {
-  const double value = field(ctx, map, prefix, name, std::nan(""));
-  if (value == 0.0) throw InputError(where(ctx, map[name], prefix + name), "must not be zero");
+  const double value = field(ctx, map, prefix, name, std::nan(""), Bounds{-kMaxValue, kMaxValue});
+  if (value == 0.0) ctx.doc.fail(map[name], joinKey(prefix, name), "must not be zero");
   return value;
 }
 
 int countField(const Context& ctx, const YAML::Node& map, const std::string& prefix,
                const std::string& name, int fallback) {
-  const double value = field(ctx, map, prefix, name, fallback);
-  if (value < 1 || value > 1e6 || value != std::floor(value)) {
-    throw InputError(where(ctx, map[name], prefix + name), "expected a whole number >= 1");
-  }
-  return static_cast<int>(value);
+  const YAML::Node node = map[name];
+  return node ? static_cast<int>(ctx.doc.integer(node, joinKey(prefix, name), 1, kMaxCount))
+              : fallback;
 }
 
 std::string stringField(const Context& ctx, const YAML::Node& map, const std::string& prefix,
                         const std::string& name) {
-  const YAML::Node node = map[name];
-  if (!node) throw InputError(where(ctx, map, prefix + name), "missing");
-  if (!node.IsScalar()) throw InputError(where(ctx, node, prefix + name), "expected a string");
-  return node.as<std::string>();
+  return ctx.doc.string(ctx.doc.required(map, name, prefix), joinKey(prefix, name));
 }
 
 // ---- Segment shapes ------------------------------------------------------------------------
@@ -257,29 +217,29 @@ CommandProfile loadProfile(const std::filesystem::path& file, std::vector<std::s
 AccelerationLimits parseLimits(const Context& ctx, const YAML::Node& node) {
   AccelerationLimits limits;
   if (!node) return limits;
-  requireMap(ctx, node, "limits");
-  checkKeys(ctx, node, "limits.",
-            {"linear_accel_mps2", "angular_accel_radps2", "wheel_accel_radps2"});
-  limits.linear_mps2 = positiveField(ctx, node, "limits.", "linear_accel_mps2", limits.linear_mps2);
+  ctx.doc.requireMap(node, "limits");
+  ctx.doc.checkKeys(node, "limits",
+                    {"linear_accel_mps2", "angular_accel_radps2", "wheel_accel_radps2"});
+  limits.linear_mps2 = positiveField(ctx, node, "limits", "linear_accel_mps2", limits.linear_mps2);
   limits.angular_radps2 =
-      positiveField(ctx, node, "limits.", "angular_accel_radps2", limits.angular_radps2);
+      positiveField(ctx, node, "limits", "angular_accel_radps2", limits.angular_radps2);
   limits.wheel_radps2 =
-      positiveField(ctx, node, "limits.", "wheel_accel_radps2", limits.wheel_radps2);
+      positiveField(ctx, node, "limits", "wheel_accel_radps2", limits.wheel_radps2);
   return limits;
 }
 
 void parseSegment(const Context& ctx, const YAML::Node& seg, const std::string& key,
                   const AccelerationLimits& limits, std::vector<std::string>& stack,
                   CommandProfile& profile) {
-  requireMap(ctx, seg, key);
-  const std::string p = key + ".";
+  ctx.doc.requireMap(seg, key);
+  const std::string& p = key;
   const std::string type = stringField(ctx, seg, p, "type");
-  const std::string at = where(ctx, seg, key) + " (" + type + ")";
+  const std::string at = ctx.doc.whereLine(seg, key) + " (" + type + ")";
   std::vector<ProfileSegment> out;
   SegmentBuilder build{ctx, limits, out};
   auto keys = [&](std::set<std::string> allowed) {
     allowed.insert("type");
-    checkKeys(ctx, seg, p, allowed);
+    ctx.doc.checkKeys(seg, p, allowed);
   };
   if (type == "straight") {
     keys({"distance_m", "speed_mps"});
@@ -291,8 +251,9 @@ void parseSegment(const Context& ctx, const YAML::Node& seg, const std::string& 
                positiveField(ctx, seg, p, "rate_radps", 1.0));
   } else if (type == "arc") {
     keys({"v_mps", "w_radps", "duration_s", "angle_deg"});
-    const Eigen::Vector2d twist(field(ctx, seg, p, "v_mps", std::nan("")),
-                                field(ctx, seg, p, "w_radps", std::nan("")));
+    const Bounds signed_value{-kMaxValue, kMaxValue};
+    const Eigen::Vector2d twist(field(ctx, seg, p, "v_mps", std::nan(""), signed_value),
+                                field(ctx, seg, p, "w_radps", std::nan(""), signed_value));
     if (twist.isZero()) throw InputError(at, "v_mps and w_radps are both zero");
     if (seg["duration_s"].IsDefined() == seg["angle_deg"].IsDefined()) {
       throw InputError(at, "give exactly one of duration_s and angle_deg");
@@ -307,8 +268,9 @@ void parseSegment(const Context& ctx, const YAML::Node& seg, const std::string& 
     build.twist(type, at, twist, area_s);
   } else if (type == "wheel_rates") {
     keys({"left_radps", "right_radps", "duration_s"});
-    const Eigen::Vector2d rates(field(ctx, seg, p, "left_radps", std::nan("")),
-                                field(ctx, seg, p, "right_radps", std::nan("")));
+    const Bounds signed_value{-kMaxValue, kMaxValue};
+    const Eigen::Vector2d rates(field(ctx, seg, p, "left_radps", std::nan(""), signed_value),
+                                field(ctx, seg, p, "right_radps", std::nan(""), signed_value));
     if (rates.isZero()) throw InputError(at, "left_radps and right_radps are both zero");
     const double ramp_s = rates.cwiseAbs().maxCoeff() / limits.wheel_radps2;
     build.add(type, at, CommandKind::wheel_rates,
@@ -319,9 +281,8 @@ void parseSegment(const Context& ctx, const YAML::Node& seg, const std::string& 
   } else if (type == "umbmark") {
     keys({"direction", "side_m", "speed_mps", "turn_rate_radps", "pause_s", "laps"});
     const std::string direction = stringField(ctx, seg, p, "direction");
-    if (direction != "cw" && direction != "ccw") {
-      throw InputError(where(ctx, seg["direction"], p + "direction"), "expected cw or ccw");
-    }
+    if (direction != "cw" && direction != "ccw")
+      ctx.doc.fail(seg["direction"], joinKey(p, "direction"), "expected cw or ccw");
     const double side_m = positiveField(ctx, seg, p, "side_m", 3.0);
     const double speed = positiveField(ctx, seg, p, "speed_mps", 0.5);
     const double turn = positiveField(ctx, seg, p, "turn_rate_radps", 0.5);
@@ -355,18 +316,20 @@ void parseSegment(const Context& ctx, const YAML::Node& seg, const std::string& 
           "seed"});
     const double duration_s = positiveField(ctx, seg, p, "duration_s", std::nan(""));
     const double interval_s = positiveField(ctx, seg, p, "interval_s", 1.0);
-    const double min_v = field(ctx, seg, p, "min_speed_mps", 0.0);
-    const double max_v = field(ctx, seg, p, "max_speed_mps", 0.5);
+    if (duration_s / interval_s > kMaxKnots)
+      ctx.doc.fail(seg["interval_s"], joinKey(p, "interval_s"),
+                   "too small for duration_s: more than 1e6 knots");
+    const Bounds speed{-kMaxValue, kMaxValue};
+    const double min_v = field(ctx, seg, p, "min_speed_mps", 0.0, speed);
+    const double max_v = field(ctx, seg, p, "max_speed_mps", 0.5, speed);
     if (max_v < min_v) throw InputError(at, "max_speed_mps is below min_speed_mps");
-    const double max_w = field(ctx, seg, p, "max_turn_rate_radps", 1.0);
-    if (max_w < 0.0) throw InputError(at, "max_turn_rate_radps must not be negative");
-    const double seed = field(ctx, seg, p, "seed", 1.0);
-    if (seed < 0 || seed != std::floor(seed) || seed > 9e15) {
-      throw InputError(where(ctx, seg["seed"], p + "seed"), "expected a whole number >= 0");
-    }
+    const double max_w = field(ctx, seg, p, "max_turn_rate_radps", 1.0, Bounds{0.0, kMaxValue});
+    const YAML::Node seed = seg["seed"];
+    const std::int64_t seed_value =
+        seed ? ctx.doc.integer(seed, joinKey(p, "seed"), 0, std::int64_t{1} << 53) : 1;
     build.add(type, at, CommandKind::twist,
               randomSmooth(duration_s, interval_s, min_v, max_v, max_w,
-                           static_cast<std::uint64_t>(seed), limits));
+                           static_cast<std::uint64_t>(seed_value), limits));
   } else if (type == "include") {
     keys({"file"});
     std::filesystem::path file = stringField(ctx, seg, p, "file");
@@ -374,39 +337,44 @@ void parseSegment(const Context& ctx, const YAML::Node& seg, const std::string& 
     profile.append(loadProfile(file, stack, nullptr));
     return;
   } else {
-    throw InputError(where(ctx, seg["type"], p + "type"),
-                     "unknown segment type '" + type +
-                         "' (expected straight, spin, arc, wheel_rates, stop, umbmark, "
-                         "figure_eight, stop_and_go, random_smooth or include)");
+    ctx.doc.fail(seg["type"], joinKey(p, "type"),
+                 "unknown segment type '" + type +
+                     "' (expected straight, spin, arc, wheel_rates, stop, umbmark, "
+                     "figure_eight, stop_and_go, random_smooth or include)");
   }
   for (ProfileSegment& segment : out) profile.append(std::move(segment));
 }
 
-CommandProfile parseProfile(const std::string& text, const Context& ctx,
-                            std::vector<std::string>& stack, Scenario* top) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    throw InputError(ctx.file + ":" + std::to_string(e.mark.line + 1), "malformed YAML: " + e.msg);
-  }
-  if (!root.IsMap()) throw InputError(ctx.file, "expected a mapping with a 'segments' list");
-  checkKeys(ctx, root, "", {"name", "description", "limits", "segments"});
+CommandProfile readProfile(const Context& ctx, const YAML::Node& root,
+                           std::vector<std::string>& stack, Scenario* top) {
+  if (!root.IsMap()) throw InputError(ctx.doc.file(), "expected a mapping with a 'segments' list");
+  ctx.doc.checkKeys(root, "", {"name", "description", "limits", "segments"});
   const AccelerationLimits limits = parseLimits(ctx, root["limits"]);
   const YAML::Node segments = root["segments"];
-  if (!segments) throw InputError(ctx.file + ": segments", "missing");
-  if (!segments.IsSequence() || segments.size() == 0) {
-    throw InputError(where(ctx, segments, "segments"), "expected a non-empty list");
-  }
+  if (!segments) throw InputError(ctx.doc.file() + ": segments", "missing");
+  if (!segments.IsSequence() || segments.size() == 0)
+    ctx.doc.fail(segments, "segments", "expected a non-empty list");
   CommandProfile profile;
   for (std::size_t k = 0; k < segments.size(); ++k) {
-    parseSegment(ctx, segments[k], "segments[" + std::to_string(k) + "]", limits, stack, profile);
+    const std::string key = "segments[" + std::to_string(k) + "]";
+    parseSegment(ctx, segments[k], key, limits, stack, profile);
+    // Checked as segments are added, so a huge count of long segments stops at the first day.
+    if (profile.duration_s() > kMaxDuration_s)
+      ctx.doc.fail(segments[k], key,
+                   "the scenario lasts more than one day (86400 s) by the end of this segment");
   }
   if (top != nullptr) {
     top->limits = limits;
-    top->name = root["name"] ? root["name"].as<std::string>() : ctx.path.stem().string();
+    const YAML::Node name = root["name"];
+    top->name = name ? ctx.doc.string(name, "name") : ctx.path.stem().string();
   }
   return profile;
+}
+
+CommandProfile parseProfile(const std::string& text, const Context& ctx,
+                            std::vector<std::string>& stack, Scenario* top) {
+  const YAML::Node root = parseYaml(text, ctx.doc);
+  return ctx.doc.guard([&] { return readProfile(ctx, root, stack, top); });
 }
 
 std::string readText(const std::filesystem::path& file, const std::string& where_s) {
@@ -427,7 +395,7 @@ CommandProfile loadProfile(const std::filesystem::path& file, std::vector<std::s
     throw InputError(file.string(), "include cycle (or nesting deeper than 16)");
   }
   stack.push_back(id);
-  CommandProfile profile = parseProfile(text, {file.string(), file}, stack, top);
+  CommandProfile profile = parseProfile(text, {YamlDoc(file.string()), file}, stack, top);
   stack.pop_back();
   return profile;
 }
@@ -446,7 +414,7 @@ Scenario parseScenario(const std::string& yaml_text, const std::filesystem::path
   Scenario scenario;
   scenario.source = source;
   std::vector<std::string> stack{std::filesystem::weakly_canonical(source).string()};
-  scenario.profile = parseProfile(yaml_text, {source.string(), source}, stack, &scenario);
+  scenario.profile = parseProfile(yaml_text, {YamlDoc(source.string()), source}, stack, &scenario);
   return scenario;
 }
 

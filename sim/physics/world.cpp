@@ -4,95 +4,41 @@
 
 #include <cmath>
 #include <numbers>
-#include <set>
-#include <sstream>
 
 #include "core/error.hpp"
+#include "sim/yaml/yaml_fields.hpp"
 
 namespace slamprep::sim {
 namespace {
 
-/// Where a node sits: "file:line: key" (yaml-cpp marks are 0-based).
-struct Context {
-  std::string file;
-  std::string where(const YAML::Node& node, const std::string& key) const {
-    const YAML::Mark mark = node.Mark();
-    std::ostringstream out;
-    out << file;
-    if (!mark.is_null()) out << ":" << mark.line + 1;
-    out << ": " << key;
-    return out.str();
-  }
-  [[noreturn]] void fail(const YAML::Node& node, const std::string& key,
-                         const std::string& what) const {
-    throw InputError(where(node, key), what);
-  }
-};
+// World sizes are checked against bounds no real environment reaches: coordinates and sizes
+// beyond 10 km are typos (1e300 used to pass and only failed, by luck, in simulate's start check).
+constexpr double kMaxCoordinate_m = 1e4;  ///< |x|, |y| of every point
+constexpr double kMaxSize_m = 1e4;        ///< lengths: thickness, height, radius, box sizes
+const Bounds kCoordinate{-kMaxCoordinate_m, kMaxCoordinate_m};
+const Bounds kSize{0.0, kMaxSize_m, true};
+const Bounds kYaw{-360.0, 360.0};  ///< yaw_deg
 
-void requireMap(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  if (!node.IsMap()) ctx.fail(node, key, "expected a mapping {key: value, ...}");
+/// An optional size field: the default when the key is absent.
+double optionalSize(const YamlDoc& doc, const YAML::Node& parent, const std::string& name,
+                    const std::string& key, double fallback) {
+  return doc.optionalNumber(parent, name, key, fallback, kSize);
 }
 
-/// Rejects keys of `node` that are not in `allowed`.
-void checkKeys(const Context& ctx, const YAML::Node& node, const std::string& key,
-               const std::set<std::string>& allowed) {
-  for (const auto& entry : node) {
-    const std::string name = entry.first.as<std::string>();
-    if (!allowed.contains(name)) {
-      std::string list;
-      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      ctx.fail(entry.first, key.empty() ? name : key + "." + name,
-               "unknown key '" + name + "' (allowed: " + list + ")");
-    }
-  }
-}
-
-double readNumber(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  if (!node.IsScalar()) ctx.fail(node, key, "expected a number");
-  double value = 0.0;
-  try {
-    value = node.as<double>();
-  } catch (const YAML::BadConversion&) {
-    ctx.fail(node, key, "expected a number, got '" + node.Scalar() + "'");
-  }
-  if (!std::isfinite(value)) ctx.fail(node, key, "must be finite");
-  return value;
-}
-
-double readPositive(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  const double value = readNumber(ctx, node, key);
-  if (value <= 0.0) ctx.fail(node, key, "must be positive, got " + node.Scalar());
-  return value;
-}
-
-/// An optional positive field: the default when the key is absent.
-double optionalPositive(const Context& ctx, const YAML::Node& parent, const std::string& name,
-                        const std::string& key, double fallback) {
-  const YAML::Node node = parent[name];
-  return node ? readPositive(ctx, node, key + "." + name) : fallback;
-}
-
-Eigen::Vector2d readPoint(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  if (!node.IsSequence() || node.size() != 2) ctx.fail(node, key, "expected a point [x, y]");
-  return {readNumber(ctx, node[0], key + "[0]"), readNumber(ctx, node[1], key + "[1]")};
-}
-
-const YAML::Node required(const Context& ctx, const YAML::Node& parent, const std::string& name,
-                          const std::string& key) {
-  const YAML::Node node = parent[name];
-  if (!node) ctx.fail(parent, key + "." + name, "missing required key '" + name + "'");
-  return node;
+Eigen::Vector2d requiredPoint(const YamlDoc& doc, const YAML::Node& node, const std::string& name,
+                              const std::string& key) {
+  return doc.point(doc.required(node, name, key), key + "." + name, kCoordinate);
 }
 
 /// Calls parse(item, "key[i]") for every entry of the optional sequence `root[key]`.
 template <typename Parse>
-void forEachItem(const Context& ctx, const YAML::Node& root, const std::string& key, Parse parse) {
+void forEachItem(const YamlDoc& doc, const YAML::Node& root, const std::string& key, Parse parse) {
   const YAML::Node list = root[key];
   if (!list || list.IsNull()) return;
-  if (!list.IsSequence()) ctx.fail(list, key, "expected a list");
+  if (!list.IsSequence()) doc.fail(list, key, "expected a list");
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string item_key = key + "[" + std::to_string(i) + "]";
-    requireMap(ctx, list[i], item_key);
+    doc.requireMap(list[i], item_key);
     parse(list[i], item_key);
   }
 }
@@ -143,108 +89,100 @@ std::string polygonProblem(const std::vector<Eigen::Vector2d>& v) {
   return {};
 }
 
-Wall parseWall(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  checkKeys(ctx, node, key, {"from", "to", "thickness", "height"});
+Wall parseWall(const YamlDoc& doc, const YAML::Node& node, const std::string& key) {
+  doc.checkKeys(node, key, {"from", "to", "thickness", "height"});
   Wall wall;
-  wall.from_m = readPoint(ctx, required(ctx, node, "from", key), key + ".from");
-  wall.to_m = readPoint(ctx, required(ctx, node, "to", key), key + ".to");
-  if ((wall.to_m - wall.from_m).norm() < 1e-9) ctx.fail(node, key, "'from' and 'to' coincide");
-  wall.thickness_m = optionalPositive(ctx, node, "thickness", key, wall.thickness_m);
-  wall.height_m = optionalPositive(ctx, node, "height", key, wall.height_m);
+  wall.from_m = requiredPoint(doc, node, "from", key);
+  wall.to_m = requiredPoint(doc, node, "to", key);
+  if ((wall.to_m - wall.from_m).norm() < 1e-9) doc.fail(node, key, "'from' and 'to' coincide");
+  wall.thickness_m = optionalSize(doc, node, "thickness", key, wall.thickness_m);
+  wall.height_m = optionalSize(doc, node, "height", key, wall.height_m);
   return wall;
 }
 
-Box parseBox(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  checkKeys(ctx, node, key, {"center", "size", "yaw_deg", "height"});
-  const Eigen::Vector2d c = readPoint(ctx, required(ctx, node, "center", key), key + ".center");
-  const YAML::Node yaw = node["yaw_deg"];
-  const double yaw_deg = yaw ? readNumber(ctx, yaw, key + ".yaw_deg") : 0.0;
+Box parseBox(const YamlDoc& doc, const YAML::Node& node, const std::string& key) {
+  doc.checkKeys(node, key, {"center", "size", "yaw_deg", "height"});
+  const Eigen::Vector2d c = requiredPoint(doc, node, "center", key);
+  const double yaw_deg = doc.optionalNumber(node, "yaw_deg", key, 0.0, kYaw);
   Box box;
   box.T_world_box = SE2(c.x(), c.y(), yaw_deg * std::numbers::pi / 180.0);
-  const YAML::Node size = required(ctx, node, "size", key);
+  const YAML::Node size = doc.required(node, "size", key);
   if (!size.IsSequence() || size.size() != 2)
-    ctx.fail(size, key + ".size", "expected [size_x, size_y]");
-  box.size_m = {readPositive(ctx, size[0], key + ".size[0]"),
-                readPositive(ctx, size[1], key + ".size[1]")};
-  box.height_m = optionalPositive(ctx, node, "height", key, box.height_m);
+    doc.fail(size, key + ".size", "expected [size_x, size_y]");
+  box.size_m = {doc.number(size[0], key + ".size[0]", kSize),
+                doc.number(size[1], key + ".size[1]", kSize)};
+  box.height_m = optionalSize(doc, node, "height", key, box.height_m);
   return box;
 }
 
-Cylinder parseCylinder(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  checkKeys(ctx, node, key, {"center", "radius", "height"});
+Cylinder parseCylinder(const YamlDoc& doc, const YAML::Node& node, const std::string& key) {
+  doc.checkKeys(node, key, {"center", "radius", "height"});
   Cylinder cyl;
-  cyl.center_m = readPoint(ctx, required(ctx, node, "center", key), key + ".center");
-  cyl.radius_m = readPositive(ctx, required(ctx, node, "radius", key), key + ".radius");
-  cyl.height_m = optionalPositive(ctx, node, "height", key, cyl.height_m);
+  cyl.center_m = requiredPoint(doc, node, "center", key);
+  cyl.radius_m = doc.number(doc.required(node, "radius", key), key + ".radius", kSize);
+  cyl.height_m = optionalSize(doc, node, "height", key, cyl.height_m);
   return cyl;
 }
 
-Polygon parsePolygon(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  checkKeys(ctx, node, key, {"vertices", "height"});
-  const YAML::Node list = required(ctx, node, "vertices", key);
-  if (!list.IsSequence()) ctx.fail(list, key + ".vertices", "expected a list of points [x, y]");
+Polygon parsePolygon(const YamlDoc& doc, const YAML::Node& node, const std::string& key) {
+  doc.checkKeys(node, key, {"vertices", "height"});
+  const YAML::Node list = doc.required(node, "vertices", key);
+  if (!list.IsSequence()) doc.fail(list, key + ".vertices", "expected a list of points [x, y]");
+  // polygonProblem is O(n^2): 10^4 vertices (10^8 pair tests) is far beyond any hand-made world.
+  constexpr std::size_t kMaxVertices = 10000;
+  if (list.size() > kMaxVertices)
+    doc.fail(list, key + ".vertices", "more than " + std::to_string(kMaxVertices) + " vertices");
   Polygon poly;
   for (std::size_t i = 0; i < list.size(); ++i)
     poly.vertices_m.push_back(
-        readPoint(ctx, list[i], key + ".vertices[" + std::to_string(i) + "]"));
+        doc.point(list[i], key + ".vertices[" + std::to_string(i) + "]", kCoordinate));
   if (const std::string problem = polygonProblem(poly.vertices_m); !problem.empty())
-    ctx.fail(list, key + ".vertices", "degenerate polygon: " + problem);
-  poly.height_m = optionalPositive(ctx, node, "height", key, poly.height_m);
+    doc.fail(list, key + ".vertices", "degenerate polygon: " + problem);
+  poly.height_m = optionalSize(doc, node, "height", key, poly.height_m);
   return poly;
 }
 
-SE2 parseStart(const Context& ctx, const YAML::Node& node) {
-  requireMap(ctx, node, "start");
-  checkKeys(ctx, node, "start", {"x", "y", "yaw_deg"});
-  const double x = readNumber(ctx, required(ctx, node, "x", "start"), "start.x");
-  const double y = readNumber(ctx, required(ctx, node, "y", "start"), "start.y");
-  const YAML::Node yaw = node["yaw_deg"];
-  const double yaw_deg = yaw ? readNumber(ctx, yaw, "start.yaw_deg") : 0.0;
+SE2 parseStart(const YamlDoc& doc, const YAML::Node& node) {
+  doc.requireMap(node, "start");
+  doc.checkKeys(node, "start", {"x", "y", "yaw_deg"});
+  const double x = doc.number(doc.required(node, "x", "start"), "start.x", kCoordinate);
+  const double y = doc.number(doc.required(node, "y", "start"), "start.y", kCoordinate);
+  const double yaw_deg = doc.optionalNumber(node, "yaw_deg", "start", 0.0, kYaw);
   return SE2(x, y, yaw_deg * std::numbers::pi / 180.0);
 }
 
-YAML::Node loadYaml(const std::filesystem::path& file) {
-  try {
-    return YAML::LoadFile(file.string());
-  } catch (const YAML::BadFile&) {
-    throw InputError(file.string(), "cannot open world file");
-  } catch (const YAML::Exception& e) {
-    throw InputError(file.string() + ":" + std::to_string(e.mark.line + 1),
-                     "YAML syntax error: " + e.msg);
-  }
-}
-
-}  // namespace
-
-World loadWorld(const std::filesystem::path& file) {
-  const Context ctx{file.string()};
-  const YAML::Node root = loadYaml(file);
+World parseWorld(const YamlDoc& doc, const YAML::Node& root, const std::filesystem::path& file) {
   if (!root.IsMap()) throw InputError(file.string(), "expected a mapping at the top level");
-  checkKeys(ctx, root, "", {"name", "start", "walls", "boxes", "cylinders", "polygons"});
+  doc.checkKeys(root, "", {"name", "start", "walls", "boxes", "cylinders", "polygons"});
   World world;
   world.source = file;
   world.name = file.stem().string();
-  if (const YAML::Node name = root["name"]) {
-    if (!name.IsScalar()) ctx.fail(name, "name", "expected a string");
-    world.name = name.Scalar();
-  }
-  if (const YAML::Node start = root["start"]) world.T_world_start = parseStart(ctx, start);
-  forEachItem(ctx, root, "walls", [&](const YAML::Node& n, const std::string& k) {
-    world.walls.push_back(parseWall(ctx, n, k));
+  if (const YAML::Node name = root["name"]) world.name = doc.string(name, "name");
+  if (const YAML::Node start = root["start"]) world.T_world_start = parseStart(doc, start);
+  forEachItem(doc, root, "walls", [&](const YAML::Node& n, const std::string& k) {
+    world.walls.push_back(parseWall(doc, n, k));
   });
-  forEachItem(ctx, root, "boxes", [&](const YAML::Node& n, const std::string& k) {
-    world.boxes.push_back(parseBox(ctx, n, k));
+  forEachItem(doc, root, "boxes", [&](const YAML::Node& n, const std::string& k) {
+    world.boxes.push_back(parseBox(doc, n, k));
   });
-  forEachItem(ctx, root, "cylinders", [&](const YAML::Node& n, const std::string& k) {
-    world.cylinders.push_back(parseCylinder(ctx, n, k));
+  forEachItem(doc, root, "cylinders", [&](const YAML::Node& n, const std::string& k) {
+    world.cylinders.push_back(parseCylinder(doc, n, k));
   });
-  forEachItem(ctx, root, "polygons", [&](const YAML::Node& n, const std::string& k) {
-    world.polygons.push_back(parsePolygon(ctx, n, k));
+  forEachItem(doc, root, "polygons", [&](const YAML::Node& n, const std::string& k) {
+    world.polygons.push_back(parsePolygon(doc, n, k));
   });
   if (world.walls.empty() && world.boxes.empty() && world.cylinders.empty() &&
       world.polygons.empty())
     throw InputError(file.string(), "world has no geometry (walls, boxes, cylinders, polygons)");
   return world;
+}
+
+}  // namespace
+
+World loadWorld(const std::filesystem::path& file) {
+  const YamlDoc doc(file.string());
+  const YAML::Node root = loadYamlFile(file, doc, "world file");
+  return doc.guard([&] { return parseWorld(doc, root, file); });
 }
 
 std::vector<Eigen::Vector2d> footprint(const Wall& wall) {

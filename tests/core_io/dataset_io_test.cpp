@@ -226,7 +226,9 @@ TEST_F(DatasetIo, MalformedFilesAreRejectedNamingFileLineAndField) {
       {"imu.csv", edit(2, [](const std::string& s) { return "1e300" + s.substr(s.find(',')); }),
        ":3: stamp_s: timestamp"},
       {"groundtruth.tum",
-       edit(10, [](const std::string& s) { return "1" + s.substr(s.find(' ')); }),
+       // Appended, not "1" + ...: GCC 12 warns falsely (-Wrestrict) on that here.
+       edit(10,
+            [](const std::string& s) { return std::string("1").append(s.substr(s.find(' '))); }),
        ":10: t: timestamp 1 after"},
       {"groundtruth.tum", line(7, "1 2 3"), ":7: expected 8 columns"},
       {"odom_nominal.tum",
@@ -256,6 +258,60 @@ TEST_F(DatasetIo, MalformedFilesAreRejectedNamingFileLineAndField) {
     }
   }
   EXPECT_THROW(readDataset(root_ / "does_not_exist"), InputError);
+}
+
+// "A lidar whose odometry does not cover its scans" (issue 6): every beam of every scan, first
+// to last, must lie inside the span of each odometry the dataset has (encoders.csv and
+// odom_nominal.tum; an imported log may have only one of them). Without any odometry the scans
+// are still readable (ICP-only use).
+TEST_F(DatasetIo, ScansOutsideTheOdometryAreRejectedNamingTheScanLine) {
+  SyntheticDatasetParams p;
+  p.duration_s = 0.5;
+  p.beams = 16;
+  const Dataset good = makeSyntheticDataset(p);
+  ASSERT_EQ(good.scans.size(), 5u);
+  auto expectRefused = [&](const Dataset& d, const std::string& expected) {
+    const fs::path dir = root_ / "cover";
+    fs::remove_all(dir);
+    writeDataset(dir, d);
+    try {
+      readDataset(dir);
+      ADD_FAILURE() << "accepted; expected " << expected;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find((dir / "scans.jsonl").string() + expected),
+                std::string::npos)
+          << e.what();
+    }
+  };
+  // The last scan's last beam 1 ms after the last encoder sample.
+  Dataset late = good;
+  LaserScan& last = late.scans.back().scan;
+  last.time_increment_s = (late.encoders.back().stamp_s + 1e-3 - last.stamp_s) / 15;
+  expectRefused(late, ":5: stamp_s: the scan's beams");
+  // The first scan starting before the odometry.
+  Dataset early = good;
+  early.scans.front().scan.stamp_s = early.encoders.front().stamp_s - 1e-6;
+  expectRefused(early, ":1: stamp_s:");
+  // Only odom_nominal (no encoders), ending 1 ms before the last beam: checked against it.
+  Dataset odom_only = good;
+  odom_only.encoders.clear();
+  PoseSeries shorter;
+  for (const auto& s : good.odom_nominal.samples())
+    if (s.stamp_s < good.scans.back().scan.endTime() - 1e-3) shorter.push_back(s.stamp_s, s.value);
+  odom_only.odom_nominal = shorter;
+  expectRefused(odom_only, ":5: stamp_s:");
+  // Only encoders: checked against them.
+  Dataset encoders_only = late;
+  encoders_only.odom_nominal = PoseSeries{};
+  expectRefused(encoders_only, ":5: stamp_s:");
+  // Covered scans read back; so do scans of a dataset with no odometry at all.
+  writeDataset(root_ / "ok", good);
+  EXPECT_EQ(readDataset(root_ / "ok").scans.size(), 5u);
+  Dataset no_odometry = late;
+  no_odometry.encoders.clear();
+  no_odometry.odom_nominal = PoseSeries{};
+  writeDataset(root_ / "scans_only", no_odometry);
+  EXPECT_EQ(readDataset(root_ / "scans_only").scans.size(), 5u);
 }
 
 TEST_F(DatasetIo, TruncatedOrGarbledFilesNeverCrashTheReader) {

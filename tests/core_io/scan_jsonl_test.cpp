@@ -165,5 +165,43 @@ TEST(ScanJsonl, WriterRefusesUnreadableValues) {
   EXPECT_THROW(line(r), InputError);
 }
 
+// Scans no algorithm can use, refused on reading (a file from another tool) and on writing (so
+// writeDataset never publishes what readDataset refuses). Each check was missing before issue 6.
+TEST(ScanJsonl, RefusesEmptyScansNegativeRangeMinAndBackwardTime) {
+  const std::string head = R"({"stamp_s":1,"angle_min":0,"angle_increment":0.1,)";
+  expectError(head + R"("nrays":0,"readings":[]})", "s.jsonl:7: nrays: an empty scan");
+  expectError(head + R"("nrays":1,"readings":[1],"range_min":-1})",
+              "s.jsonl:7: range_min: must not be negative");
+  expectError(head + R"("nrays":1,"readings":[1],"range_min":2,"range_max":2})",
+              "s.jsonl:7: range_max: must be greater than range_min");
+  expectError(head + R"("nrays":1,"readings":[1],"time_increment":-0.001})",
+              "s.jsonl:7: time_increment: must not be negative");
+  expectError(head + R"("nrays":1,"readings":[1],"scan_time":-0.1})",
+              "s.jsonl:7: scan_time: must not be negative");
+  // A single beam with range_min 0 and no range_max (unlimited) is fine.
+  EXPECT_NO_THROW(parseScanLine(head + R"("nrays":1,"readings":[1],"range_min":0})", {"s", 1}));
+
+  auto refusedOnWrite = [](auto change, const char* field) {
+    ScanRecord r = smallRecord();
+    change(r);
+    try {
+      line(r);
+      ADD_FAILURE() << "wrote a scan with a bad " << field;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("s.jsonl:1: ") + field), std::string::npos)
+          << e.what();
+    }
+  };
+  refusedOnWrite(
+      [](ScanRecord& r) {
+        r.scan.ranges_m.clear();
+        r.p_ref_true.clear();
+      },
+      "nrays");
+  refusedOnWrite([](ScanRecord& r) { r.scan.range_min_m = -0.1; }, "range_min");
+  refusedOnWrite([](ScanRecord& r) { r.scan.range_max_m = 0.1; }, "range_max");
+  refusedOnWrite([](ScanRecord& r) { r.scan.time_increment_s = -1e-4; }, "time_increment");
+}
+
 }  // namespace
 }  // namespace slamprep::io

@@ -52,10 +52,12 @@ inline Dataset makeSyntheticDataset(const SyntheticDatasetParams& p) {
   }
   if (n_gt > 2) d.groundtruth.push_back(t0 + p.duration_s + 1.0, SE2(-0.0, 1.0, std::numbers::pi));
 
-  const int n_enc = static_cast<int>(p.duration_s * p.encoder_hz);
+  // Encoders (and the odometry) from one sample before the first scan to past the last beam of
+  // the last scan: readDataset refuses scans the odometry does not cover.
+  const int n_enc = static_cast<int>(p.duration_s * p.encoder_hz) + 3;
   std::int64_t left = 0, right = 0;
   for (int k = 0; k < n_enc; ++k) {
-    const double t = t0 + k / p.encoder_hz + noisy(1e-5);
+    const double t = t0 + (k - 1) / p.encoder_hz + noisy(1e-5);
     left += 30 + static_cast<std::int64_t>(unit(rng) * 5) - (k % 50 == 0 ? 100 : 0);
     right += 31 + static_cast<std::int64_t>(unit(rng) * 5);
     d.encoders.push_back({t, left, right});

@@ -84,9 +84,9 @@ TEST(ReaderHardening, WorldYaml) {
                  [](const fs::path& f) { sim::loadWorld(f); });
 }
 
-// Gaps found in readers owned by other areas are DISABLED tests (the suite stays green; see
-// them with --gtest_also_run_disabled_tests) and reported; this area does not edit that code.
-TEST(ReaderHardening, DISABLED_WorldYamlAbsurdSize) {
+// Was accepted by the reader (simulate's start check happened to refuse it); sizes and
+// coordinates are now bounded by 10 km (issue 6).
+TEST(ReaderHardening, WorldYamlAbsurdSize) {
   const fs::path file = scratchDir() / "world.yaml";
   std::string w = kWorld;
   w.replace(w.find("radius: 0.5"), 11, "radius: 1e300");
@@ -277,14 +277,14 @@ TEST_F(DatasetHardening, AbsurdValues) {
   expectEditRejected("scans.jsonl", "\"nrays\":8", "\"nrays\":1000000000", {"scans.jsonl:1"});
 }
 
-TEST_F(DatasetHardening, DISABLED_NegativeRangeMinIsRejected) {
+// The three gaps below were accepted by readDataset until issue 6's hardening (core/io).
+TEST_F(DatasetHardening, NegativeRangeMinIsRejected) {
   expectEditRejected("scans.jsonl", "\"range_min\":0.05", "\"range_min\":-1", {"scans.jsonl:1"});
 }
 
-// Gaps found in readDataset (reported, not fixed here: core/io is not this area's code). They
-// are DISABLED so the suite stays green; run with --gtest_also_run_disabled_tests to see them.
-TEST_F(DatasetHardening, DISABLED_EmptyScanIsRejected) {
-  // writeDataset publishes a scan with no beams and readDataset reads it back.
+TEST_F(DatasetHardening, EmptyScanIsRejected) {
+  // writeDataset published a scan with no beams and readDataset read it back; now the writer
+  // refuses it (and the reader would too).
   test::SyntheticParams p;
   p.duration_s = 0.5;
   p.beams = 8;
@@ -298,8 +298,8 @@ TEST_F(DatasetHardening, DISABLED_EmptyScanIsRejected) {
       InputError);
 }
 
-TEST_F(DatasetHardening, DISABLED_ScansOutsideTheOdometryAreRejected) {
-  // Odometry (encoders, odom_nominal) ends at 0.5 s; a scan stamped 100 s is accepted.
+TEST_F(DatasetHardening, ScansOutsideTheOdometryAreRejected) {
+  // Odometry (encoders, odom_nominal) ends at 0.5 s; a scan stamped 100 s was accepted.
   std::string t = text("scans.jsonl");
   const std::string last = t.substr(t.rfind('\n', t.size() - 2) + 1);
   std::string moved = last;

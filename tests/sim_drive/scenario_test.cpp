@@ -180,7 +180,7 @@ TEST(Scenario, ErrorsNameFileLineAndKey) {
   EXPECT_NE(errorOf("segments: [ {type: straight").find("malformed YAML"), std::string::npos);
   const std::string unknown =
       errorOf("segments:\n  - {type: straight, distance_m: 1}\n  - {type: spin, angel_deg: 9}\n");
-  EXPECT_NE(unknown.find("test.yaml:3: segments[1].angel_deg"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("test.yaml:3:18: segments[1].angel_deg"), std::string::npos) << unknown;
   EXPECT_NE(unknown.find("unknown key"), std::string::npos);
   const std::string negative =
       errorOf("segments:\n  - {type: straight, distance_m: 1, speed_mps: -2}\n");
@@ -220,6 +220,45 @@ TEST(Scenario, IncludeCyclesAreRejected) {
     EXPECT_NE(std::string(e.what()).find("cannot open"), std::string::npos) << e.what();
   }
   std::filesystem::remove_all(dir);
+}
+
+// yaml-cpp's own exceptions used to escape for keys and values of the wrong kind ("{}:", found by
+// fuzz_scenario, threw YAML::BadConversion); each is now an InputError naming line and column.
+TEST(Scenario, KeysAndValuesOfTheWrongKindAreInputErrors) {
+  EXPECT_NE(errorOf("{}:").find("test.yaml:1:1: key: expected a plain key, got a mapping"),
+            std::string::npos)
+      << errorOf("{}:");
+  EXPECT_NE(errorOf("segments:\n  - {[a]: 1, type: stop, duration_s: 1}\n")
+                .find("test.yaml:2:6: segments[0]: expected a plain key, got a list"),
+            std::string::npos);
+  const std::string name = errorOf("name: [x]\nsegments:\n  - {type: stop, duration_s: 1}\n");
+  EXPECT_NE(name.find("test.yaml:1:7: name: expected a string, got a list"), std::string::npos)
+      << name;
+  const std::string type = errorOf("segments:\n  - {type: {a: 1}}\n");
+  EXPECT_NE(type.find("test.yaml:2:12: segments[0].type: expected a string"), std::string::npos)
+      << type;
+}
+
+// Sizes that would make the profile absurdly long or large: one day at most in total, counts of
+// at most 10^4, random_smooth at most 10^6 knots, other values at most 10^6 (m, m/s, rad/s).
+TEST(Scenario, AbsurdSizesAreRefusedNamingTheKey) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{type: straight, distance_m: 1e300}", "segments[0].distance_m: must be between"},
+      {"{type: straight, distance_m: 1, speed_mps: 1e7}", "segments[0].speed_mps: must be"},
+      {"{type: umbmark, direction: cw, laps: 100000}", "segments[0].laps: expected a whole"},
+      {"{type: stop_and_go, distance_m: 1, repeats: 2.5}", "segments[0].repeats: expected a whole"},
+      {"{type: random_smooth, duration_s: 1000, interval_s: 1e-6}", "segments[0].interval_s"},
+      {"{type: random_smooth, duration_s: 10, seed: -1}", "segments[0].seed: expected a whole"},
+      {"{type: arc, v_mps: 1, w_radps: .inf, duration_s: 1}", "segments[0].w_radps: expected a"},
+      // Each segment below a day, together above it: refused at the segment that crosses it.
+      {"{type: stop, duration_s: 86400}\n  - {type: stop, duration_s: 1}",
+       "test.yaml:3:5: segments[1]: the scenario lasts more than one day"},
+  };
+  for (const auto& [segment, expected] : cases) {
+    const std::string msg = errorOf("segments:\n  - " + segment + "\n");
+    EXPECT_NE(msg.find(expected), std::string::npos) << segment << "\n" << msg;
+  }
+  EXPECT_EQ(errorOf("segments:\n  - {type: stop, duration_s: 86400}\n"), "");
 }
 
 }  // namespace
