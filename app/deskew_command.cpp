@@ -1,6 +1,5 @@
 // `slamprep deskew`: lidar motion-distortion removal on a dataset, every method through one
 // interface (algo/deskew), error against ground truth when the dataset has it (docs/deskew.md).
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -8,14 +7,13 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "algo/deskew/deskew_error.hpp"
-#include "algo/deskew/sequence.hpp"
 #include "app/commands.hpp"
 #include "core/atomic_file.hpp"
 #include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "core/io/scan_jsonl.hpp"
 #include "core/odometry.hpp"
+#include "eval/pipeline/dataset_deskew.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -96,107 +94,73 @@ Geometry chooseGeometry(const DeskewFlags& flags, const Dataset& dataset) {
   return geometryFromCalibration(flags.geometry, dataset);
 }
 
-/// Ground truth of scan k at the reference time: p_ref_true moved from the stamp's lidar frame.
-std::vector<std::optional<Eigen::Vector2d>> truthAtReference(const Dataset& d, std::size_t k,
-                                                             double reference_s) {
-  const ScanRecord& rec = d.scans[k];
-  if (rec.p_ref_true.empty() || reference_s == rec.scan.stamp_s) return rec.p_ref_true;
-  const auto T0 = d.groundtruth.at(rec.scan.stamp_s), Tr = d.groundtruth.at(reference_s);
-  if (!T0 || !Tr) return {};
-  const SE2 T_ref_stamp = between(*Tr * d.info.T_base_lidar, *T0 * d.info.T_base_lidar);
-  std::vector<std::optional<Eigen::Vector2d>> out;
-  for (const auto& p : rec.p_ref_true)
-    out.push_back(p ? std::optional(T_ref_stamp * *p) : std::nullopt);
-  return out;
-}
+using eval::ErrorStats;
 
 struct MethodRun {
   algo::DeskewMethod method;
-  algo::DeskewError error;
-  bool has_truth = false;
-  double seconds = 0.0;
-  std::size_t scans = 0, refused = 0, warnings = 0;
-  std::string first_problem;
-  std::vector<ScanRecord> output;
+  eval::DatasetDeskew result;
+  std::vector<ScanRecord> output;  ///< de-skewed scans; refused ones as measured
 };
 
 MethodRun runMethod(algo::DeskewMethod method, const Dataset& d, const PoseSeries& odometry,
                     const Geometry& geometry, const DeskewFlags& flags) {
-  MethodRun run{method, {}, false, 0.0, d.scans.size(), 0, 0, {}, {}};
-  algo::DeskewSequenceParams params;
-  params.deskew.quadratic_pieces = flags.quadratic_pieces;
-  algo::DeskewSequence sequence(method, params);
-  algo::DeskewErrorAccumulator errors;
-  const bool oracle = method == algo::DeskewMethod::kOracle;
+  eval::DatasetDeskewOptions options;
+  options.geometry = geometry.wheels;
+  options.odometry = odometry;
+  options.T_base_lidar = geometry.T_base_lidar;
+  options.reference = *algo::parseReferenceTime(flags.reference);
+  options.stamp_is_last_beam = flags.stamp_is_last_beam;
+  options.params.deskew.quadratic_pieces = flags.quadratic_pieces;
+  if (!flags.window.empty()) {
+    options.measure_from_s = flags.window[0];
+    options.measure_to_s = flags.window[1];
+  }
+  MethodRun run{method, eval::deskewDataset(d, method, options), {}};
   for (std::size_t k = 0; k < d.scans.size(); ++k) {
-    algo::DeskewInput in;
-    in.scan = &d.scans[k].scan;
-    in.stamp_is_last_beam = flags.stamp_is_last_beam;
-    in.reference = *algo::parseReferenceTime(flags.reference);
-    in.odometry = &odometry;
-    in.imu = &d.imu;
-    in.oracle = d.groundtruth.empty() ? nullptr : &d.groundtruth;
-    // The oracle is the truth: the true mount. Everything else: the chosen geometry's mount.
-    in.T_base_lidar = oracle ? d.info.T_base_lidar : geometry.T_base_lidar;
-    const auto start = std::chrono::steady_clock::now();
-    algo::DeskewResult r = sequence.next(in);
-    run.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    run.warnings += r.warnings.size();
-    ScanRecord rec;
-    if (!r.ok) {
-      ++run.refused;
-      if (run.first_problem.empty())
-        run.first_problem = "scan " + std::to_string(k) + ": " + r.reason;
-      rec = d.scans[k];  // written as measured: time_increment > 0 marks it not de-skewed
-      rec.p_ref_true.clear();
-    } else {
+    const algo::DeskewResult& r = run.result.scans[k];
+    ScanRecord rec = d.scans[k];  // a refused scan is written as measured: time_increment > 0
+    rec.p_ref_true.clear();       // marks it not de-skewed
+    if (r.ok) {
       rec.scan = r.repacked;
       rec.T_world_base_true = d.groundtruth.at(r.reference_s);
       rec.T_odom_base_nominal = d.odom_nominal.at(r.reference_s);
-      const auto truth = truthAtReference(d, k, r.reference_s);
-      const double stamp = d.scans[k].scan.stamp_s;
-      const bool counted =
-          flags.window.empty() || (stamp >= flags.window[0] && stamp <= flags.window[1]);
-      if (!truth.empty() && counted) {
-        errors.add(r.p_ref, truth);
-        run.has_truth = true;
-      }
     }
-    if (!r.warnings.empty() && run.first_problem.empty())
-      run.first_problem = "scan " + std::to_string(k) + ": " + r.warnings.front();
     run.output.push_back(std::move(rec));
   }
-  run.error = errors.summary();
   return run;
 }
 
 nlohmann::ordered_json toJson(const MethodRun& run) {
-  auto num = [&](double v) {
-    return run.has_truth ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
+  const auto& e = run.result.error_m;
+  auto num = [&](const std::optional<ErrorStats>& stats, double ErrorStats::*field) {
+    return stats ? nlohmann::ordered_json((*stats).*field) : nlohmann::ordered_json(nullptr);
   };
   return {{"method", std::string(algo::deskewMethodName(run.method))},
-          {"mean_m", num(run.error.mean_m)},
-          {"rms_m", num(run.error.rms_m)},
-          {"p95_m", num(run.error.p95_m)},
-          {"max_m", num(run.error.max_m)},
-          {"beams", run.error.beams},
-          {"seconds", run.seconds},
-          {"scans", run.scans},
-          {"refused", run.refused}};
+          {"mean_m", num(e, &ErrorStats::mean)},
+          {"rms_m", num(e, &ErrorStats::rmse)},
+          {"p95_m", num(e, &ErrorStats::p95)},
+          {"max_m", num(e, &ErrorStats::max)},
+          {"rotation_mean_m", num(run.result.rotation_induced_m, &ErrorStats::mean)},
+          {"translation_mean_m", num(run.result.translation_induced_m, &ErrorStats::mean)},
+          {"beams", e ? e->count : 0},
+          {"seconds", run.result.seconds},
+          {"scans", run.result.scans.size()},
+          {"refused", run.result.refused}};
 }
 
 void printRow(const MethodRun& run) {
   std::cout << std::left << std::setw(16) << algo::deskewMethodName(run.method) << std::right
             << std::fixed;
-  if (run.has_truth)
-    std::cout << std::setprecision(3) << std::setw(10) << run.error.mean_m * 1e3 << std::setw(10)
-              << run.error.rms_m * 1e3 << std::setw(10) << run.error.p95_m * 1e3 << std::setw(10)
-              << run.error.max_m * 1e3 << std::setw(10) << run.error.beams;
+  if (const auto& e = run.result.error_m)
+    std::cout << std::setprecision(3) << std::setw(10) << e->mean * 1e3 << std::setw(10)
+              << e->rmse * 1e3 << std::setw(10) << e->p95 * 1e3 << std::setw(10) << e->max * 1e3
+              << std::setw(10) << e->count;
   else
     std::cout << std::setw(50) << "(no ground truth)";
-  std::cout << std::setprecision(4) << std::setw(10) << run.seconds << std::setw(9) << run.refused
-            << "\n";
-  if (!run.first_problem.empty()) std::cout << "    first note: " << run.first_problem << "\n";
+  std::cout << std::setprecision(4) << std::setw(10) << run.result.seconds << std::setw(9)
+            << run.result.refused << "\n";
+  if (!run.result.first_note.empty())
+    std::cout << "    first note: " << run.result.first_note << "\n";
 }
 
 int runDeskew(const DeskewFlags& flags) {

@@ -482,12 +482,13 @@ DeskewResult deskew(DeskewMethod method, const DeskewInput& in, const DeskewPara
   result.first_beam_s = t.first_s;
   result.reference_s = t.ref_s;
   try {
-    const Trajectory knots = methodKnots(method, in, t, params, result);
-    transformBeams(scan, t.first_s, knots, result.p_ref);
+    result.T_ref_lidar = methodKnots(method, in, t, params, result);
+    transformBeams(scan, t.first_s, result.T_ref_lidar, result.p_ref);
     // The first-beam frame seen from the reference frame is the knots' value at t_first.
-    result.T_first_ref = poseAt(knots, t.first_s).inverse().toSE2();
+    result.T_first_ref = poseAt(result.T_ref_lidar, t.first_s).inverse().toSE2();
   } catch (const Refusal& refusal) {
     result.p_ref.clear();
+    result.T_ref_lidar.clear();
     result.reason = refusal.reason;
     return result;
   }

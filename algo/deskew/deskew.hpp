@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "algo/deskew/beam_transform.hpp"
 #include "algo/matching/icp.hpp"
 #include "core/laser_scan.hpp"
 #include "core/samples.hpp"
@@ -103,6 +104,9 @@ struct DeskewResult {
   double reference_s = 0.0;   ///< time the points describe
   /// Pose of the reference frame in the first-beam lidar frame (identity for kFirst).
   SE2 T_first_ref;
+  /// The lidar motion the method assumed, seen from the reference frame: beam i was moved by
+  /// poseAt(T_ref_lidar, t_i). Lets an evaluation split the error by its cause.
+  Trajectory T_ref_lidar;
   /// vicp, odom-icp: the final scan-to-scan match (previous first beam <- this first beam).
   std::optional<IcpResult> match;
   /// vicp: the lidar twist it estimated (lidar frame, per second).

@@ -22,7 +22,6 @@ DeskewErrorResult deskewError(const BeamPoints& p_corrected, const BeamPoints& p
                std::to_string(beam_pose_errors.size());
     return r;
   }
-  std::vector<double> rotation_m, translation_m;
   for (std::size_t i = 0; i < p_true.size(); ++i) {
     if (!p_true[i] || !p_corrected[i]) {
       r.missing += p_true[i] && !p_corrected[i];
@@ -36,8 +35,8 @@ DeskewErrorResult deskewError(const BeamPoints& p_corrected, const BeamPoints& p
     const SE2& delta = beam_pose_errors[i];
     const Eigen::Vector2d e_rotation = delta.rotation() * *p_true[i] - *p_true[i];
     const Eigen::Vector2d e_translation = delta.translation();
-    rotation_m.push_back(e_rotation.norm());
-    translation_m.push_back(e_translation.norm());
+    r.rotation_errors_m.push_back(e_rotation.norm());
+    r.translation_errors_m.push_back(e_translation.norm());
     r.max_split_residual_m =
         std::max(r.max_split_residual_m, (error - e_rotation - e_translation).norm());
   }
@@ -49,8 +48,8 @@ DeskewErrorResult deskewError(const BeamPoints& p_corrected, const BeamPoints& p
     return r;
   }
   if (r.has_split) {
-    r.rotation_induced_m = summarize(rotation_m);
-    r.translation_induced_m = summarize(translation_m);
+    r.rotation_induced_m = summarize(r.rotation_errors_m);
+    r.translation_induced_m = summarize(r.translation_errors_m);
     if (!r.rotation_induced_m.ok || !r.translation_induced_m.ok) {
       r.reason = "pose errors are not finite";
       return r;

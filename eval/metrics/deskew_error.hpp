@@ -28,8 +28,10 @@ struct DeskewErrorResult {
   std::vector<double> errors_m;  ///< per compared beam, in beam order
   /// Filled when per-beam pose errors were given:
   bool has_split = false;
-  ErrorStats rotation_induced_m;     ///< |(R(Delta_i) - I) p_true| per compared beam
-  ErrorStats translation_induced_m;  ///< |t(Delta_i)| per compared beam
+  ErrorStats rotation_induced_m;             ///< |(R(Delta_i) - I) p_true| per compared beam
+  ErrorStats translation_induced_m;          ///< |t(Delta_i)| per compared beam
+  std::vector<double> rotation_errors_m;     ///< per compared beam, in beam order
+  std::vector<double> translation_errors_m;  ///< per compared beam, in beam order
   /// max over beams of |(p_corrected - p_true) - (rotation part + translation part)|: 0 when the
   /// pose errors explain the corrected points (same range, no repacking onto a beam grid).
   double max_split_residual_m = 0.0;

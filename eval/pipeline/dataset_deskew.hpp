@@ -2,6 +2,7 @@
 // De-skew every scan of a dataset with one method, and measure it against the ground-truth
 // undistorted points when the dataset has them. Shared by `slamprep bench` and the CLI.
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,8 +16,16 @@ namespace slamprep::eval {
 struct DatasetDeskewOptions {
   /// Wheel geometry the odometry-based methods integrate the encoders with.
   DiffDriveParams geometry;
-  /// Lidar mount the odometry-based and oracle methods use.
+  /// Odometry to use as it is instead of the encoders integrated with `geometry` (an imported
+  /// log has odometry but may have no encoders).
+  std::optional<PoseSeries> odometry;
+  /// Lidar mount the odometry-based methods use (the oracle always uses the dataset's own).
   SE2 T_base_lidar;
+  /// The scans' stamps mark their last beam instead of their first.
+  bool stamp_is_last_beam = false;
+  /// Only scans stamped in [from, to] count in the error figures (all are de-skewed).
+  double measure_from_s = -std::numeric_limits<double>::infinity();
+  double measure_to_s = std::numeric_limits<double>::infinity();
   /// Which instant the corrected points describe.
   algo::ReferenceTime reference = algo::ReferenceTime::kFirst;
   /// Method parameters (point-to-line ICP inside vicp and odom-icp, quadratic pieces, ...).
@@ -30,10 +39,18 @@ struct DatasetDeskew {
   std::vector<algo::DeskewResult> scans;  ///< one per dataset scan, in order
   int refused = 0;                        ///< scans the method refused
   std::string first_reason;               ///< why the first refused scan was refused
+  std::size_t warnings = 0;               ///< warnings over all scans
+  std::string first_note;                 ///< "scan k: ..." of the first refusal or warning
   double seconds = 0.0;                   ///< wall-clock time of the method alone
   /// Distance of each corrected point to the true undistorted point of its beam, over all
   /// scans; nullopt without ground truth.
   std::optional<ErrorStats> error_m;
+  /// The same error split by its cause (docs/metrics.md, "De-skew error"): the part the
+  /// method's rotation error explains and the part its translation error explains.
+  std::optional<ErrorStats> rotation_induced_m;
+  std::optional<ErrorStats> translation_induced_m;
+  /// max over beams of what the split leaves unexplained (range noise: the truth is noiseless).
+  double max_split_residual_m = 0.0;
 };
 
 /// Runs `method` over the scans in order (stateful methods see the previous scan).

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "algo/deskew/deskew_error.hpp"
+#include "eval/metrics/deskew_error.hpp"
 #include "tests/algo_deskew/synthetic_world.hpp"
 
 namespace slamprep::algo {
@@ -42,7 +42,7 @@ DeskewInput inputFor(const Scenario& s, const PoseSeries* odometry) {
 }
 
 double maxError(const DeskewResult& r, const SyntheticScan& synth) {
-  return deskewError(r.p_ref, synth.p_ref_true).max_m;
+  return eval::deskewError(r.p_ref, synth.p_ref_true).error_m.max;
 }
 
 /// Largest ratio |error_i| / (e_pos + (r_i + 0.2 m) e_yaw) over the beams: the per-beam bound of
@@ -82,7 +82,8 @@ TEST(DeskewOracle, RestoresConstantVelocityAndAccelerationTo1e9) {
     const DeskewResult oracle = deskew(DeskewMethod::kOracle, inputFor(s, nullptr), {});
     ASSERT_TRUE(oracle.ok) << oracle.reason;
     EXPECT_LT(maxError(oracle, s.synth), 1e-9);
-    EXPECT_GT(deskewError(none.p_ref, s.synth.p_ref_true).mean_m, 0.01);  // there was distortion
+    EXPECT_GT(eval::deskewError(none.p_ref, s.synth.p_ref_true).error_m.mean,
+              0.01);  // there was distortion
   }
 }
 
@@ -130,8 +131,8 @@ TEST(DeskewOdometry, QuadraticBeatsLinearUnderConstantAcceleration) {
                             m.alpha_radps2 * (T / k) * (T / k) / 8),
             2.0);
   EXPECT_LT(worstBoundRatio(lin, s.synth, m.a_mps2 * h * h / 8, m.alpha_radps2 * h * h / 8), 2.0);
-  const double mean_lin = deskewError(lin.p_ref, s.synth.p_ref_true).mean_m;
-  const double mean_quad = deskewError(quad.p_ref, s.synth.p_ref_true).mean_m;
+  const double mean_lin = eval::deskewError(lin.p_ref, s.synth.p_ref_true).error_m.mean;
+  const double mean_quad = eval::deskewError(quad.p_ref, s.synth.p_ref_true).error_m.mean;
   EXPECT_LT(2.0 * mean_quad, mean_lin) << mean_quad << " vs " << mean_lin;
 }
 
@@ -154,8 +155,8 @@ TEST(DeskewImu, GyroRotationBeatsSlowOdometry) {
   const double h = 0.05;
   // Rotation: exact up to the 1 kHz truth's own piecewise-constant twist, alpha (1 ms)^2 / 8.
   EXPECT_LT(worstBoundRatio(r, s.synth, m.a_mps2 * h * h / 8, m.alpha_radps2 * 1e-6 / 8), 2.0);
-  EXPECT_LT(5.0 * deskewError(r.p_ref, s.synth.p_ref_true).mean_m,
-            deskewError(lin.p_ref, s.synth.p_ref_true).mean_m);
+  EXPECT_LT(5.0 * eval::deskewError(r.p_ref, s.synth.p_ref_true).error_m.mean,
+            eval::deskewError(lin.p_ref, s.synth.p_ref_true).error_m.mean);
 }
 
 // A clockwise lidar is the mirror image of a counterclockwise one: mirror the world (y -> -y),

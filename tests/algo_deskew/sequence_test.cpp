@@ -2,11 +2,15 @@
 
 #include <gtest/gtest.h>
 
-#include "algo/deskew/deskew_error.hpp"
+#include "eval/metrics/deskew_error.hpp"
 #include "tests/algo_deskew/synthetic_world.hpp"
 
 namespace slamprep::algo {
 namespace {
+
+void append(std::vector<double>& errors_m, const eval::DeskewErrorResult& scan) {
+  errors_m.insert(errors_m.end(), scan.errors_m.begin(), scan.errors_m.end());
+}
 
 using namespace slamprep::testing;
 
@@ -39,9 +43,9 @@ const Run& run() {
 
 /// Mean de-skew error of a method over the run (first two scans skipped: the stateful methods
 /// have no history there).
-DeskewError runMethod(DeskewMethod method, const PoseSeries& odometry) {
+eval::ErrorStats runMethod(DeskewMethod method, const PoseSeries& odometry) {
   DeskewSequence seq(method, {});
-  DeskewErrorAccumulator acc;
+  std::vector<double> errors_m;  // every beam of every counted scan
   for (std::size_t k = 0; k < run().scans.size(); ++k) {
     DeskewInput in;
     in.scan = &run().scans[k].scan;
@@ -50,9 +54,9 @@ DeskewError runMethod(DeskewMethod method, const PoseSeries& odometry) {
     in.T_base_lidar = kTbaseLidar;
     const DeskewResult r = seq.next(in);
     EXPECT_TRUE(r.ok) << deskewMethodName(method) << " scan " << k << ": " << r.reason;
-    if (k >= 2) acc.add(r.p_ref, run().scans[k].p_ref_true);
+    if (k >= 2) append(errors_m, eval::deskewError(r.p_ref, run().scans[k].p_ref_true));
   }
-  return acc.summary();
+  return eval::summarize(errors_m);
 }
 
 // The ranking physics predicts, on analytic data shaped like the simulated goal (1 m/s, 1 rad/s,
@@ -67,7 +71,7 @@ DeskewError runMethod(DeskewMethod method, const PoseSeries& odometry) {
 // - const-velocity and vicp on a constant arc: the same ICP noise, under 2 mm.
 // - oracle: rounding only; exact odometry: rounding only.
 TEST(DeskewSequence, MethodsRankAsPhysicsSays) {
-  auto mean = [](DeskewMethod m, const PoseSeries& odom) { return runMethod(m, odom).mean_m; };
+  auto mean = [](DeskewMethod m, const PoseSeries& odom) { return runMethod(m, odom).mean; };
   const PoseSeries& biased = run().odom_biased;
   const double none = mean(DeskewMethod::kNone, biased);
   const double oracle = mean(DeskewMethod::kOracle, biased);

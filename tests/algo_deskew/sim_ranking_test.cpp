@@ -5,13 +5,17 @@
 #include <cstdio>
 #include <map>
 
-#include "algo/deskew/deskew_error.hpp"
 #include "algo/deskew/sequence.hpp"
 #include "core/odometry.hpp"
+#include "eval/metrics/deskew_error.hpp"
 #include "sim/drive/simulator.hpp"
 
 namespace slamprep::algo {
 namespace {
+
+void append(std::vector<double>& errors_m, const eval::DeskewErrorResult& scan) {
+  errors_m.insert(errors_m.end(), scan.errors_m.begin(), scan.errors_m.end());
+}
 
 const Dataset& arcDataset() {
   static const Dataset d = [] {
@@ -23,10 +27,10 @@ const Dataset& arcDataset() {
 }
 
 /// Mean error over the scans taken at full speed (the arc's ramps excluded: 2 s to 6 s).
-DeskewError meanError(DeskewMethod method, const PoseSeries& odometry) {
+eval::ErrorStats meanError(DeskewMethod method, const PoseSeries& odometry) {
   const Dataset& d = arcDataset();
   DeskewSequence sequence(method, {});
-  DeskewErrorAccumulator acc;
+  std::vector<double> errors_m;  // every beam of every counted scan
   for (const ScanRecord& rec : d.scans) {
     DeskewInput in;
     in.scan = &rec.scan;
@@ -37,9 +41,9 @@ DeskewError meanError(DeskewMethod method, const PoseSeries& odometry) {
     const DeskewResult r = sequence.next(in);
     EXPECT_TRUE(r.ok) << deskewMethodName(method) << " at " << rec.scan.stamp_s << ": " << r.reason;
     if (r.ok && rec.scan.stamp_s >= 2.0 && rec.scan.stamp_s <= 6.0)
-      acc.add(r.p_ref, rec.p_ref_true);
+      append(errors_m, eval::deskewError(r.p_ref, rec.p_ref_true));
   }
-  return acc.summary();
+  return eval::summarize(errors_m);
 }
 
 // Physics says (docs/deskew.md derives each figure):
@@ -55,7 +59,7 @@ TEST(DeskewOnSimulatedArc, MethodsRankAsPhysicsSays) {
   ASSERT_GT(d.scans.size(), 50u);
   std::map<DeskewMethod, double> mean;
   for (DeskewMethod m : allDeskewMethods()) {
-    mean[m] = meanError(m, d.odom_nominal).mean_m;
+    mean[m] = meanError(m, d.odom_nominal).mean;
     std::printf("%-16s %9.3f mm\n", std::string(deskewMethodName(m)).c_str(), mean[m] * 1e3);
   }
   using M = DeskewMethod;
@@ -80,7 +84,7 @@ TEST(DeskewOnSimulatedArc, OdometryWithTrueGeometryWithin1mm) {
   const PoseSeries odom_true =
       integrateEncoders(d.encoders, *d.info.true_geometry, d.info.ticks_per_revolution);
   for (DeskewMethod m : {DeskewMethod::kOdomLinear, DeskewMethod::kOdomQuadratic}) {
-    const double e = meanError(m, odom_true).mean_m;
+    const double e = meanError(m, odom_true).mean;
     std::printf("%-16s true geometry %9.3f mm\n", std::string(deskewMethodName(m)).c_str(),
                 e * 1e3);
     EXPECT_LT(e, 0.001) << deskewMethodName(m);
