@@ -9,6 +9,7 @@
 #include "core/odometry.hpp"
 #include "eval/metrics/calibration_error.hpp"
 #include "eval/metrics/odometry_drift.hpp"
+#include "eval/metrics/trajectory_error.hpp"
 #include "eval/pipeline/calibration_run.hpp"
 #include "eval/pipeline/dataset_deskew.hpp"
 #include "sim/drive/simulator.hpp"
@@ -69,6 +70,20 @@ json matchingJson(const Dataset& dataset, const CalibrationMotion& motion) {
           {"rot_error_deg_rmse", r.rmse}};
 }
 
+// Dead-reckoning error against the truth, as evo computes it: APE after putting the first poses
+// together (--align_origin), RPE per metre driven.
+json odometryJson(const PoseSeries& odom, const PoseSeries& truth) {
+  const ApeResult ape = absolutePoseError(odom, truth, {.align = false, .align_origin = true});
+  const RpeResult rpe = relativePoseError(odom, truth, {.delta = 1.0, .unit = DeltaUnit::kMeters});
+  json out = json::object();
+  if (ape.ok)
+    out.update({{"ape_rmse_m", ape.translation_m.rmse}, {"ape_max_m", ape.translation_m.max}});
+  if (rpe.ok)
+    out.update({{"rpe_trans_rmse_m", rpe.translation_m.rmse},
+                {"rpe_rot_rmse_deg", rpe.rotation_deg.rmse}});
+  return out;
+}
+
 // Estimate, sigma and absolute error of one method, plus the drift with its geometry.
 json calibrationJson(const Dataset& dataset, const algo::CalibrationResult& result) {
   if (!result.ok) return {{"ok", false}, {"reason", result.reason}};
@@ -95,6 +110,7 @@ json calibrationJson(const Dataset& dataset, const algo::CalibrationResult& resu
       integrateEncoders(dataset.encoders, result.geometry, dataset.info.ticks_per_revolution);
   const DriftResult drift = odometryDrift(odom, dataset.groundtruth);
   if (drift.ok) out["drift_m"] = drift.final_position_error_m;
+  out.update(odometryJson(odom, dataset.groundtruth));
   return out;
 }
 
@@ -107,6 +123,12 @@ json deskewJson(const DatasetDeskew& d) {
               {"p95_m", d.error_m->p95},
               {"max_m", d.error_m->max},
               {"beams", d.error_m->count}});
+  if (d.rotation_induced_m && d.translation_induced_m)
+    out.update({{"rotation_mean_m", d.rotation_induced_m->mean},
+                {"rotation_p95_m", d.rotation_induced_m->p95},
+                {"translation_mean_m", d.translation_induced_m->mean},
+                {"translation_p95_m", d.translation_induced_m->p95},
+                {"split_residual_max_m", d.max_split_residual_m}});
   return out;
 }
 
@@ -205,6 +227,11 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
   const Dataset& dataset = sim.dataset;
   out.timing["simulate_s"] = secondsSince(start);
   out.result["sim"] = simJson(sim.summary);
+  const int ticks = dataset.info.ticks_per_revolution;
+  for (const auto& [name, geometry] : {std::pair{"nominal", dataset.info.nominal_geometry},
+                                       std::pair{"true", *dataset.info.true_geometry}})
+    out.result["odometry"][name] =
+        odometryJson(integrateEncoders(dataset.encoders, geometry, ticks), dataset.groundtruth);
 
   std::map<std::string, algo::CalibrationResult> calibrated;
   if (!suite.calibration_methods.empty()) {

@@ -151,6 +151,8 @@ ApeResult absolutePoseError(const PoseSeries& estimate, const PoseSeries& refere
       return r;
     }
     r.T_ref_est = alignment.T_ref_est;
+  } else if (params.align_origin) {
+    r.T_ref_est = a.reference.front() * a.estimate.front().inverse();
   }
   for (std::size_t i = 0; i < a.estimate.size(); ++i) {
     const SE2 E = a.reference[i].inverse() * (r.T_ref_est * a.estimate[i]);  // E_i = Q_i^-1 P_i

@@ -39,6 +39,8 @@ AlignmentResult alignRigid2D(const Points2& p_est, const Points2& q_ref);
 
 struct ApeParams {
   bool align = true;                    ///< rigid SE(2) alignment of the positions first (evo -a)
+  bool align_origin = false;            ///< else: first estimate pose onto the reference's (evo
+                                        ///< --align_origin), the natural frame of dead reckoning
   double max_time_difference_s = 0.01;  ///< association tolerance, see associateByTime
 };
 

@@ -121,6 +121,32 @@ TEST(Ape, AlignmentRemovesAGlobalRotationAboutTheOrigin) {
   EXPECT_LT(r.rotation_deg.max, 1e-9);
 }
 
+// Dead reckoning in its own odom frame: origin alignment puts the first poses together and keeps
+// the drift, which a full alignment would partly absorb.
+TEST(Ape, OriginAlignmentKeepsDriftThatFullAlignmentAbsorbs) {
+  const PoseSeries gt = curvyTruth();
+  const SE2 T_odom_world = gt[0].value.inverse();  // odometry starts at its own identity
+  PoseSeries odom;
+  for (const auto& s : gt.samples())  // heading error growing 0.01 rad per second
+    odom.push_back(s.stamp_s, T_odom_world * s.value * SE2(0.0, 0.0, 0.01 * s.stamp_s));
+  const ApeResult origin = absolutePoseError(odom, gt, {.align = false, .align_origin = true});
+  ASSERT_TRUE(origin.ok) << origin.reason;
+  // The positions coincide (the body rotation moves none), only the heading drifts.
+  EXPECT_LT(origin.translation_m.max, 1e-12);
+  EXPECT_NEAR(origin.rotation_deg.max, 0.2 * kDegPerRad, 1e-9);
+  EXPECT_NEAR(origin.rotation_errors_deg.front(), 0.0, 1e-12);
+
+  // A world-frame drift of the positions: 1 cm per second along x.
+  PoseSeries drifting;
+  for (const auto& s : gt.samples())
+    drifting.push_back(s.stamp_s, T_odom_world * SE2(0.01 * s.stamp_s, 0.0, 0.0) * s.value);
+  const ApeResult kept = absolutePoseError(drifting, gt, {.align = false, .align_origin = true});
+  ASSERT_TRUE(kept.ok);
+  EXPECT_NEAR(kept.translation_errors_m.front(), 0.0, 1e-12);
+  EXPECT_NEAR(kept.translation_m.max, 0.2, 1e-12);  // 20 s at 1 cm/s
+  EXPECT_LT(absolutePoseError(drifting, gt).translation_m.max, kept.translation_m.max);
+}
+
 TEST(Association, InterpolatesBetweenReferenceSamplesAndCountsTheUnmatched) {
   // Reference moves at a constant twist, so geodesic interpolation is exact.
   PoseSeries gt;
