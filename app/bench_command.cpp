@@ -172,4 +172,23 @@ Command addMergeCommand(CLI::App& app) {
           }};
 }
 
+Command addPlotCommand(CLI::App& app) {
+  auto dir = std::make_shared<std::string>();
+  auto* cli = app.add_subcommand(
+      "plot",
+      "Render the plots of a results folder off-screen (OSMesa) into RESULTS_DIR/plots/ and "
+      "rewrite its README.md around them; `bench` and `merge` call this themselves.");
+  cli->add_option("RESULTS_DIR", *dir,
+                  "A finished results folder with suite.yaml and summary.json, e.g. "
+                  "results/default")
+      ->required();
+  return {cli, [dir] {
+            const auto plots = eval::plotResults(*dir);
+            for (const auto& p : plots)
+              std::cout << "plot: " << (std::filesystem::path(*dir) / "plots" / p).string() << "\n";
+            std::cout << "report: " << (std::filesystem::path(*dir) / "README.md").string() << "\n";
+            return 0;
+          }};
+}
+
 }  // namespace slamprep::app

@@ -20,6 +20,7 @@ Command addExportCommand(CLI::App& app);
 Command addImportCommand(CLI::App& app);
 Command addMatchCommand(CLI::App& app);
 Command addMergeCommand(CLI::App& app);
+Command addPlotCommand(CLI::App& app);
 Command addSimulateCommand(CLI::App& app);
 
 }  // namespace slamprep::app

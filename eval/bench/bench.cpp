@@ -43,6 +43,15 @@ void invalidateStaleTrials(const fs::path& run_dir, bool fresh) {
   writeFileAtomic(stamp, current);
 }
 
+// The plots (if asked) and the README that embeds them.
+std::vector<std::string> writeReport(const Suite& suite, const nlohmann::json& summary,
+                                     const fs::path& dir, bool plots) {
+  std::vector<std::string> names;
+  if (plots) names = renderSuitePlots(suite, summary, dir);
+  writeFileAtomic(dir / "README.md", renderReport(suite, summary, names));
+  return names;
+}
+
 }  // namespace
 
 std::string binaryFingerprint() {
@@ -54,6 +63,24 @@ std::string binaryFingerprint() {
   return hex;
 }
 
+std::vector<std::string> plotResults(const fs::path& results_dir) {
+  for (const char* file : {"suite.yaml", "summary.json"})
+    if (!fs::exists(results_dir / file))
+      throw InputError((results_dir / file).string(),
+                       "missing: not a finished results folder of `slamprep bench` (or `merge`)");
+  const Suite suite = loadSuite(results_dir / "suite.yaml");
+  const fs::path summary_file = results_dir / "summary.json";
+  nlohmann::json summary;
+  try {
+    summary = nlohmann::json::parse(readFile(summary_file));
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(summary_file.string(), std::string("not valid JSON: ") + e.what());
+  }
+  if (!summary.contains("metrics") || !summary.contains("groups"))
+    throw InputError(summary_file.string(), "no \"metrics\" or \"groups\": not a bench summary");
+  return writeReport(suite, summary, results_dir, true);
+}
+
 void writeResults(BenchOutcome& outcome, const std::vector<TrialSpec>& trials, bool plots) {
   const fs::path& dir = outcome.out_dir;
   const TrialSet set = loadTrials(trials, dir / "trials");
@@ -62,8 +89,7 @@ void writeResults(BenchOutcome& outcome, const std::vector<TrialSpec>& trials, b
   writeFileAtomic(dir / "summary.json", outcome.summary.dump(2) + "\n");
   writeFileAtomic(dir / "trials.csv", trialsCsv(set));
   writeFileAtomic(dir / "timing.json", collectTiming(trials, dir / "timing").dump(2) + "\n");
-  if (plots) outcome.plots = renderSuitePlots(outcome.suite, outcome.summary, dir);
-  writeFileAtomic(dir / "README.md", renderReport(outcome.suite, outcome.summary, outcome.plots));
+  outcome.plots = writeReport(outcome.suite, outcome.summary, dir, plots);
 }
 
 BenchOutcome runBench(const BenchOptions& options, const TrialFunction& trial) {

@@ -46,6 +46,10 @@ BenchOutcome mergeShards(const std::filesystem::path& results_dir, bool plots);
 /// by other code are never reused.
 std::string binaryFingerprint();
 
+/// `slamprep plot`: renders the plots of a results folder (suite.yaml, summary.json, trials/)
+/// into plots/ and rewrites its README.md around them; returns the plot file names.
+std::vector<std::string> plotResults(const std::filesystem::path& results_dir);
+
 /// Writes trials.csv, summary.json, timing.json, README.md and plots/ for a complete suite run.
 void writeResults(BenchOutcome& outcome, const std::vector<TrialSpec>& trials, bool plots);
 

@@ -1,0 +1,47 @@
+#!/bin/bash
+# `slamprep plot RESULTS_DIR`: re-renders a finished results folder's plots and README, and
+# refuses a folder that is not one (exit 2, naming the missing file).
+set -euo pipefail
+slamprep=${1:?usage: plot_cli_test.sh SLAMPREP_BINARY SOURCE_DIR}
+source_dir=${2:?usage: plot_cli_test.sh SLAMPREP_BINARY SOURCE_DIR}
+dir=$(mktemp -d /tmp/slamprep-plot.XXXXXX)
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+cat >"$dir/plot-tiny.yaml" <<YAML
+name: plot-tiny
+description: One short kinematic arc.
+worlds: [worlds/room.yaml]
+scenarios: [worlds/scenarios/arc.yaml]
+mode: kinematic
+duration_s: 1
+calibration_methods: []
+deskew_methods: [none, oracle, odom-linear]
+YAML
+cd "$source_dir"
+"$slamprep" bench --suite "$dir/plot-tiny.yaml" --results "$dir" --quiet --no-plots >/dev/null \
+  || fail "bench"
+results=$dir/plot-tiny
+[ ! -e "$results/plots" ] || fail "--no-plots rendered plots"
+grep -q "## Plots" "$results/README.md" && fail "README embeds plots before any were rendered"
+cp "$results/summary.json" "$dir/summary.before"
+
+"$slamprep" plot "$results" >"$dir/out.txt" || fail "plot exited $?"
+for png in deskew_by_method.png trajectory.png scan.png; do
+  [ "$(head -c 8 "$results/plots/$png" | od -An -tx1 | tr -d ' ')" = 89504e470d0a1a0a ] \
+    || fail "$png is not a PNG"
+  grep -q "](plots/$png)" "$results/README.md" || fail "README does not embed $png"
+  grep -q "plot: $results/plots/$png" "$dir/out.txt" || fail "plot did not print $png"
+done
+cmp -s "$results/summary.json" "$dir/summary.before" || fail "plot changed summary.json"
+
+# Not a results folder: exit 2, the missing file named, nothing written.
+mkdir "$dir/empty"
+set +e
+"$slamprep" plot "$dir/empty" 2>"$dir/err.txt"
+code=$?
+set -e
+[ "$code" = 2 ] || fail "expected exit 2 on an empty folder, got $code"
+grep -q "suite.yaml" "$dir/err.txt" || fail "error does not name suite.yaml: $(cat "$dir/err.txt")"
+[ -z "$(ls -A "$dir/empty")" ] || fail "plot wrote into a folder it refused"
+echo "plot CLI ok"
