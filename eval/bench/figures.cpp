@@ -1,9 +1,12 @@
 #include "eval/bench/figures.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 
+#include "algo/deskew/deskew.hpp"
 #include "core/atomic_file.hpp"
 #include "core/paths.hpp"
 #include "eval/plot/plot.hpp"
@@ -35,21 +38,41 @@ double statOf(const json& metrics, const std::string& path, const char* stat) {
   return metrics.contains(path) ? metrics[path][stat].get<double>() : std::nan("");
 }
 
+// De-skew methods in the order of algo::allDeskewMethods() (none first, the floor), without the
+// oracle: it sits at the rounding floor (~1e-12 mm) and would stretch a log axis over 10
+// decades; the tables report it.
+std::vector<std::string> plottedDeskewMethods(const json& metrics) {
+  const auto present = methodsWith(metrics, "deskew", "mean_m");
+  std::vector<std::string> out;
+  for (const auto method : algo::allDeskewMethods()) {
+    const std::string name(algo::deskewMethodName(method));
+    if (method != algo::DeskewMethod::kOracle &&
+        std::find(present.begin(), present.end(), name) != present.end())
+      out.push_back(name);
+  }
+  return out;
+}
+
+constexpr const char* kOracleNote = "oracle (rounding floor, ~1e-12 mm) not drawn";
+
 // Mean de-skew error per method over all trials, with 1-sigma bars; log y.
 plot::Figure deskewByMethod(const json& metrics) {
-  plot::Axes axes{.title = "De-skew error by method (all trials)",
-                  .y_label = "mean point error [m]",
+  plot::Axes axes{.title = kOracleNote,
+                  .y_label = "mean point error [mm]",
                   .log_y = true,
                   .legend = plot::LegendPosition::None};
   plot::Series bars{.style = plot::Style::Bars};
-  for (const auto& m : methodsWith(metrics, "deskew", "mean_m")) {
+  for (const auto& m : plottedDeskewMethods(metrics)) {
     axes.categories.push_back(m);
     bars.x.push_back(axes.categories.size() - 1);
-    bars.y.push_back(statOf(metrics, "deskew/" + m + "/mean_m", "mean"));
-    bars.y_err.push_back(statOf(metrics, "deskew/" + m + "/mean_m", "std"));
+    bars.y.push_back(1e3 * statOf(metrics, "deskew/" + m + "/mean_m", "mean"));
+    bars.y_err.push_back(1e3 * statOf(metrics, "deskew/" + m + "/mean_m", "std"));
   }
   axes.series.push_back(bars);
-  return {.title = "De-skew error against the ground-truth undistorted points", .axes = {axes}};
+  return {.title =
+              "De-skew error against the ground-truth undistorted points (mean ± 1σ over "
+              "trials)",
+          .axes = {axes}};
 }
 
 // One line per method: y averaged over the groups that share an x (other sweep axes folded in).
@@ -69,21 +92,70 @@ std::vector<plot::Series> linesPerMethod(
   return out;
 }
 
-// One line per method: de-skew error against the mean angular rate of each sweep point.
-plot::Figure deskewVsRate(const json& groups) {
-  plot::Axes axes{.title = "",
-                  .x_label = "mean |angular rate| [rad/s]",
-                  .y_label = "mean point error [m]",
-                  .log_y = true};
-  std::map<std::string, std::map<double, std::vector<double>>> by_method;
-  for (const auto& g : groups) {
-    const json& m = g["metrics"];
-    const double rate = statOf(m, "sim/mean_abs_yaw_rate_radps", "mean");
-    for (const auto& method : methodsWith(m, "deskew", "mean_m"))
-      by_method[method][rate].push_back(statOf(m, "deskew/" + method + "/mean_m", "mean"));
+// "lidar.rate_hz=5, ...": the sweep values of a group, which separate the panels.
+std::string sweepKey(const json& group) {
+  std::string key;
+  for (const auto& [axis, value] : group["sweep"].items())
+    key += (key.empty() ? "" : ", ") + axis + "=" + value.get<std::string>();
+  return key;
+}
+
+// "rate=5" before "rate=10": numbers inside the strings compare by value.
+bool naturalLess(const std::string& a, const std::string& b) {
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    if (std::isdigit(static_cast<unsigned char>(a[i])) &&
+        std::isdigit(static_cast<unsigned char>(b[j]))) {
+      char *end_a = nullptr, *end_b = nullptr;  // strtod: never throws, saturates
+      const double x = std::strtod(a.c_str() + i, &end_a), y = std::strtod(b.c_str() + j, &end_b);
+      if (x != y) return x < y;
+      const std::size_t na = end_a - (a.c_str() + i), nb = end_b - (b.c_str() + j);
+      i += na;
+      j += nb;
+    } else {
+      if (a[i] != b[j]) return a[i] < b[j];
+      ++i;
+      ++j;
+    }
   }
-  axes.series = linesPerMethod(by_method);
-  return {.title = "De-skew error vs angular rate", .axes = {axes}};
+  return a.size() - i < b.size() - j;
+}
+
+// De-skew error against the mean angular rate of each scenario, one line per method; one panel
+// per value of the other sweep axes (e.g. lidar rate), so they are not averaged together.
+plot::Figure deskewVsRate(const json& groups) {
+  std::map<std::string, std::vector<const json*>, decltype(&naturalLess)> panels(naturalLess);
+  for (const auto& g : groups) panels[sweepKey(g)].push_back(&g);
+  const int cols = std::min<int>(panels.size(), 3);
+  const int rows = (static_cast<int>(panels.size()) + cols - 1) / cols;
+  plot::Figure fig{.width_px = 700 * cols + 100,
+                   .height_px = 650 * rows + 50,
+                   .title = std::string("De-skew error vs angular rate (") + kOracleNote + ")",
+                   .rows = rows,
+                   .cols = cols};
+  for (const auto& [key, members] : panels) {
+    plot::Axes axes{.title = key,
+                    .x_label = "mean |angular rate| [rad/s]",
+                    .y_label = "mean point error [mm]",
+                    .log_y = true};
+    std::vector<std::string> methods;
+    std::map<std::string, std::map<double, std::vector<double>>> by_method;
+    for (const json* g : members) {
+      const json& m = (*g)["metrics"];
+      const double rate = statOf(m, "sim/mean_abs_yaw_rate_radps", "mean");
+      methods = plottedDeskewMethods(m);
+      for (const auto& method : methods)
+        by_method[method][rate].push_back(1e3 * statOf(m, "deskew/" + method + "/mean_m", "mean"));
+    }
+    for (std::size_t i = 0; i < methods.size(); ++i) {
+      auto series = linesPerMethod({{methods[i], by_method[methods[i]]}}).front();
+      series.color = plot::paletteColor(i);
+      series.dashed = methods[i] == "odom-quadratic";  // lies on odom-linear at 100 Hz odometry
+      axes.series.push_back(series);
+    }
+    fig.axes.push_back(axes);
+  }
+  return fig;
 }
 
 // Absolute calibration error per parameter, one bar per method, 1-sigma over trials.
@@ -186,8 +258,10 @@ plot::Figure trajectoryFigure(const Suite& suite, const json& trajectory) {
   axes.series.push_back(
       xySeries(trajectory["nominal"], "odometry, nominal geometry", plot::Style::Line));
   if (trajectory.contains("calibrated"))
-    axes.series.push_back(
-        xySeries(trajectory["calibrated"], "odometry, calibrated geometry", plot::Style::Line));
+    axes.series.push_back(xySeries(
+        trajectory["calibrated"],
+        "odometry, calibrated geometry (" + trajectory.value("calibrated_method", "?") + ")",
+        plot::Style::Line));
   axes.series[1].dashed = true;
   return {.width_px = 1200,
           .height_px = 1000,

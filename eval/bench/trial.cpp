@@ -178,7 +178,8 @@ std::size_t mostDistortedScan(const Dataset& dataset) {
 
 // Trajectories and one scan (raw, de-skewed, true) in the world frame, for the suite's plots.
 json artifactsJson(const Dataset& dataset, const DiffDriveParams* calibrated,
-                   const DatasetDeskew* deskewed, const std::string& deskew_method) {
+                   const std::string& calibrated_method, const DatasetDeskew* deskewed,
+                   const std::string& deskew_method) {
   const double step_s = 0.1;
   json out;
   out["trajectory"]["true"] = decimated(dataset.groundtruth, step_s);
@@ -191,9 +192,11 @@ json artifactsJson(const Dataset& dataset, const DiffDriveParams* calibrated,
   const int ticks = dataset.info.ticks_per_revolution;
   out["trajectory"]["nominal"] =
       anchored(integrateEncoders(dataset.encoders, dataset.info.nominal_geometry, ticks));
-  if (calibrated)
+  if (calibrated) {
     out["trajectory"]["calibrated"] =
         anchored(integrateEncoders(dataset.encoders, *calibrated, ticks));
+    out["trajectory"]["calibrated_method"] = calibrated_method;
+  }
   const std::size_t k = mostDistortedScan(dataset);
   const ScanRecord& record = dataset.scans[k];
   const auto T_world_base = dataset.groundtruth.at(record.scan.stamp_s);
@@ -269,10 +272,14 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
   // the summary (only numeric leaves of objects do).
   if (spec.index == 0) {
     const DiffDriveParams* best = nullptr;
+    std::string best_name;
     for (const char* name : {"ceres", "joint", "model", "direct"})
-      if (auto it = calibrated.find(name); !best && it != calibrated.end() && it->second.ok)
+      if (auto it = calibrated.find(name); !best && it != calibrated.end() && it->second.ok) {
         best = &it->second.geometry;
-    out.result["artifacts"] = artifactsJson(dataset, best, shown ? &*shown : nullptr, shown_method);
+        best_name = name;
+      }
+    out.result["artifacts"] =
+        artifactsJson(dataset, best, best_name, shown ? &*shown : nullptr, shown_method);
   }
   return out;
 }
