@@ -92,6 +92,15 @@ std::vector<plot::Series> linesPerMethod(
   return out;
 }
 
+// The marker Auto would give the i-th series: fixed per method when panels show subsets.
+plot::Marker methodMarker(std::size_t i) {
+  static const plot::Marker kShapes[] = {plot::Marker::Circle,       plot::Marker::Square,
+                                         plot::Marker::Triangle,     plot::Marker::Diamond,
+                                         plot::Marker::TriangleDown, plot::Marker::Plus,
+                                         plot::Marker::Cross};
+  return kShapes[i % std::size(kShapes)];
+}
+
 // "lidar.rate_hz=5, ...": the sweep values of a group, which separate the panels.
 std::string sweepKey(const json& group) {
   std::string key;
@@ -150,6 +159,7 @@ plot::Figure deskewVsRate(const json& groups) {
     for (std::size_t i = 0; i < methods.size(); ++i) {
       auto series = linesPerMethod({{methods[i], by_method[methods[i]]}}).front();
       series.color = plot::paletteColor(i);
+      series.marker = methodMarker(i);
       series.dashed = methods[i] == "odom-quadratic";  // lies on odom-linear at 100 Hz odometry
       axes.series.push_back(series);
     }
@@ -206,9 +216,18 @@ plot::Figure calibrationVsTime(const json& groups) {
       {"lidar_yaw_deg", "lidar yaw |error| [deg]"}};
   plot::Figure fig{.width_px = 1400,
                    .height_px = 1000,
-                   .title = "Calibration error vs driving time",
+                   .title =
+                       "Calibration error vs driving time (mean over trials and the "
+                       "other sweep axes)",
                    .rows = 2,
                    .cols = 2};
+  // One colour per method in every panel, the same as in calibration_error.png.
+  std::vector<std::string> methods;
+  for (const auto& g : groups)
+    for (const auto& method : methodsWith(g["metrics"], "calibration", "ok"))
+      if (std::find(methods.begin(), methods.end(), method) == methods.end())
+        methods.push_back(method);
+  std::sort(methods.begin(), methods.end());
   for (const auto& [key, label] : params) {
     std::map<std::string, std::map<double, std::vector<double>>> by_method;
     for (const auto& g : groups) {
@@ -220,7 +239,12 @@ plot::Figure calibrationVsTime(const json& groups) {
       }
     }
     plot::Axes axes{.x_label = "driving time [s]", .y_label = label, .log_y = true};
-    axes.series = linesPerMethod(by_method);
+    for (auto series : linesPerMethod(by_method)) {
+      const auto it = std::find(methods.begin(), methods.end(), series.label);
+      series.color = plot::paletteColor(it - methods.begin());
+      series.marker = methodMarker(it - methods.begin());
+      axes.series.push_back(series);
+    }
     fig.axes.push_back(axes);
   }
   return fig;
