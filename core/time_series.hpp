@@ -43,6 +43,8 @@ class TimeSeries {
     samples_.push_back({stamp_s, value});
   }
 
+  /// Reserves room for n samples (writers that know the count avoid reallocating).
+  void reserve(std::size_t n) { samples_.reserve(n); }
   std::size_t size() const { return samples_.size(); }
   bool empty() const { return samples_.empty(); }
   const Stamped<T>& operator[](std::size_t i) const { return samples_[i]; }

@@ -1,6 +1,8 @@
 // Ray-cast speed in room.yaml: the harness' Lidar::measure over full 720-beam scans against bare
 // btCollisionWorld::rayTest with ClosestRayResultCallback over the SAME rays (same origins,
-// directions, height and range). Goal: harness time <= 1.3 x bare rayTest.
+// directions, height and range). Goal: harness time <= 1.3 x bare rayTest. The harness casts
+// through PlanarCaster (exact 2D caster over the static prisms); Scene::castRayBullet, the
+// Bullet reference it is tested against, is timed too.
 // Run: bench_raycast [--benchmark_out=results.json --benchmark_out_format=json]
 
 #include <benchmark/benchmark.h>
@@ -92,9 +94,23 @@ void BM_SceneCastRay(benchmark::State& state) {
                           static_cast<std::int64_t>(lidar.beamsPerScan()));
 }
 
+/// Scene::castRayBullet: the Bullet reference of castRay (rayTest plus the cylinder refinement).
+void BM_SceneCastRayBullet(benchmark::State& state) {
+  Setup& s = setup();
+  const Lidar lidar(s.config, 1);
+  for (auto _ : state)
+    for (const SE2& T : s.T_world_lidar)
+      for (std::size_t i = 0; i < lidar.beamsPerScan(); ++i)
+        benchmark::DoNotOptimize(s.scene.castRayBullet(T.translation(), T.yaw + lidar.beamAngle(i),
+                                                       s.config.height_m, s.config.range_max_m));
+  state.SetItemsProcessed(state.iterations() * kPoses *
+                          static_cast<std::int64_t>(lidar.beamsPerScan()));
+}
+
 BENCHMARK(BM_HarnessLidarMeasure)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BareRayTest)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SceneCastRay)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SceneCastRayBullet)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace slamprep::sim

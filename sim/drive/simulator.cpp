@@ -164,6 +164,9 @@ struct Frame2 {
   Eigen::Vector2d operator*(const Eigen::Vector2d& p) const {
     return {x + c * p.x() - s * p.y(), y + s * p.x() + c * p.y()};
   }
+  Eigen::Vector2d rotate(const Eigen::Vector2d& v) const {
+    return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
+  }
   Frame2 inverse() const { return {c, -s, -(c * x + s * y), s * x - c * y, -yaw}; }
   SE2 se2() const {
     SE2 T;
@@ -219,7 +222,10 @@ class LidarStream {
       T_lidar0_world_ = T_world_lidar.inverse();
       current_.T_world_base_true = T_world_base.se2();
     }
-    const double range_m = lidar_.measure(scene, T_world_lidar.se2(), beam_).range_m;
+    const Eigen::Vector2d dir_world = T_world_lidar.rotate(beam_dir_[beam_]);
+    const double range_m =
+        lidar_.measure(scene, Eigen::Vector2d(T_world_lidar.x, T_world_lidar.y), dir_world, beam_)
+            .range_m;
     current_.scan.ranges_m[beam_] = range_m;
     if (std::isfinite(range_m)) {
       const Eigen::Vector2d p_lidar = range_m * beam_dir_[beam_];
@@ -329,14 +335,12 @@ SimResult simulate(const SimConfig& config, const ProgressCallback& progress) {
 }
 
 SimResult simulate(const SimConfig& config, const World& world, const Scenario& scenario,
-                   const ProgressCallback& progress) {
+                   const ProgressCallback& progress, ScenePhysicsParams physics) {
   validate(config, "config");
   const double duration_s =
       config.duration_s > 0.0 ? config.duration_s : scenario.profile.duration_s();
-  Scene scene(world);
-  if (config.solver_iterations > 0) {
-    scene.dynamics().getSolverInfo().m_numIterations = config.solver_iterations;
-  }
+  if (config.solver_iterations > 0) physics.solver_iterations = config.solver_iterations;
+  Scene scene(world, physics);
   checkPathInWorld(scene, scenario, config, world.T_world_start, duration_s);
 
   Dataset data;
@@ -362,6 +366,14 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   EncoderStream encoders(config.encoders, data.encoders);
   ImuStream imu(config.imu, streamSeed(config.seed, RngStream::imu), data.imu);
 
+  const auto steps =
+      static_cast<std::int64_t>(std::ceil(duration_s * config.physics_rate_hz - 1e-9));
+  // Every output's length is known: reserve it, so the logs are not copied while they grow.
+  data.groundtruth.reserve(static_cast<std::size_t>(steps) + 1);
+  data.encoders.reserve(static_cast<std::size_t>(duration_s * config.encoders.rate_hz) + 2);
+  data.imu.reserve(static_cast<std::size_t>(duration_s * config.imu.rate_hz) + 2);
+  data.scans.reserve(static_cast<std::size_t>(duration_s * config.lidar.rate_hz) + 2);
+
   StepState prev = motion->initial();
   data.groundtruth.push_back(prev.t_s, prev.T_world_base);
   auto sense = [&](const Interval& step) {
@@ -371,8 +383,6 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   };
   sense(Interval{prev, prev});  // samples at t = 0
 
-  const auto steps =
-      static_cast<std::int64_t>(std::ceil(duration_s * config.physics_rate_hz - 1e-9));
   const std::int64_t report_every = std::max<std::int64_t>(1, steps / 200);
   for (std::int64_t n = 1; n <= steps; ++n) {
     const StepState cur = motion->step(prev, static_cast<double>(n) / config.physics_rate_hz);

@@ -44,9 +44,10 @@ struct SimResult {
 /// bad configuration, bad files, or a scenario that leaves the world's free space.
 SimResult simulate(const SimConfig& config, const ProgressCallback& progress = {});
 
-/// Simulates an already loaded world and scenario (tests build them in memory).
+/// Simulates an already loaded world and scenario (tests build them in memory). `physics` sets
+/// Bullet's solver (config.solver_iterations, when > 0, overrides its iterations).
 SimResult simulate(const SimConfig& config, const World& world, const Scenario& scenario,
-                   const ProgressCallback& progress = {});
+                   const ProgressCallback& progress = {}, ScenePhysicsParams physics = {});
 
 /// Drives the commanded profile kinematically with the true geometry (the path the robot will
 /// take, up to slip) from `T_world_start` and checks every 10 ms that the footprint plus margin

@@ -33,13 +33,19 @@ LaserScan Lidar::header(double stamp_s) const {
 }
 
 Lidar::Beam Lidar::measure(const Scene& scene, const SE2& T_world_lidar, std::size_t i) {
+  const double yaw = T_world_lidar.yaw + beamAngle(i);
+  return measure(scene, T_world_lidar.translation(), Eigen::Vector2d(std::cos(yaw), std::sin(yaw)),
+                 i);
+}
+
+Lidar::Beam Lidar::measure(const Scene& scene, const Eigen::Vector2d& origin_world_m,
+                           const Eigen::Vector2d& dir_world, [[maybe_unused]] std::size_t i) {
   assert(i < beams_per_scan_);
   constexpr double kInf = std::numeric_limits<double>::infinity();
   // One draw per beam, hit or not, so beam i's noise depends only on the seed and i.
   const double noise_m = config_.range_noise_m * gaussian();
   const std::optional<double> hit =
-      scene.castRay(T_world_lidar.translation(), T_world_lidar.yaw + beamAngle(i), config_.height_m,
-                    config_.range_max_m);
+      scene.castRay(origin_world_m, dir_world, config_.height_m, config_.range_max_m);
   if (!hit) return {kInf, kInf};
   const double measured_m = *hit + noise_m;
   const bool in_limits = measured_m >= config_.range_min_m && measured_m <= config_.range_max_m;

@@ -40,6 +40,10 @@ class Lidar {
   /// Measures beam i from the lidar pose at that beam's time. Draws noise from the lidar's own
   /// seeded generator, so call it in beam order.
   Beam measure(const Scene& scene, const SE2& T_world_lidar, std::size_t i);
+  /// The same with the beam's world-frame origin and unit direction given (callers that keep
+  /// the lidar's rotation as cosine and sine avoid the trigonometry).
+  Beam measure(const Scene& scene, const Eigen::Vector2d& origin_world_m,
+               const Eigen::Vector2d& dir_world, std::size_t i);
   /// Angle of beam i in the lidar frame (same as header().beamAngle(i)).
   double beamAngle(std::size_t i) const { return angle_min_rad_ + i * angle_increment_rad_; }
 

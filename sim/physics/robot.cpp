@@ -10,10 +10,10 @@
 namespace slamprep::sim {
 namespace {
 
-/// A rigid body that owns its shape and motion state.
+/// A rigid body that owns its shape. No motion state: poses are read from getWorldTransform(),
+/// so Bullet has nothing to synchronise after a step.
 struct Body {
   std::unique_ptr<btCollisionShape> shape;
-  std::unique_ptr<btDefaultMotionState> motion;
   std::unique_ptr<btRigidBody> body;
 };
 
@@ -23,8 +23,8 @@ Body makeBody(std::unique_ptr<btCollisionShape> shape, double mass_kg, const btT
   btVector3 inertia(0, 0, 0);
   shape->calculateLocalInertia(mass_kg, inertia);
   b.shape = std::move(shape);
-  b.motion = std::make_unique<btDefaultMotionState>(pose);
-  btRigidBody::btRigidBodyConstructionInfo info(mass_kg, b.motion.get(), b.shape.get(), inertia);
+  btRigidBody::btRigidBodyConstructionInfo info(mass_kg, nullptr, b.shape.get(), inertia);
+  info.m_startWorldTransform = pose;
   info.m_friction = friction;
   info.m_rollingFriction = 0.0;
   info.m_restitution = 0.0;
@@ -118,8 +118,14 @@ Robot::Impl::Impl(Scene& s, const RobotConfig& c, const SE2& T0) : scene(s), con
     return j;
   };
 
-  for (Body* b : {&chassis, &wheel_left, &wheel_right, &caster_front, &caster_back})
-    scene.dynamics().addRigidBody(b->body.get(), kRobotGroup, btBroadphaseProxy::AllFilter);
+  // Collision pairs: the robot's bodies never touch each other (joined by the joints or apart),
+  // and the chassis box never touches the floor (it rides chassis_clearance_m above it; the
+  // simulator's tilt check refuses the run long before), so Bullet need not test those pairs
+  // every step. Static geometry and the floor are seen by every body that can reach them.
+  const int mask = btBroadphaseProxy::AllFilter ^ kRobotGroup;
+  for (Body* b : {&wheel_left, &wheel_right, &caster_front, &caster_back})
+    scene.dynamics().addRigidBody(b->body.get(), kRobotGroup, mask);
+  scene.dynamics().addRigidBody(chassis.body.get(), kRobotGroup, mask ^ kFloorGroup);
   hinge_left = hinge(wheel_left, g.radius_left_m, g.wheel_base_m / 2);
   hinge_right = hinge(wheel_right, g.radius_right_m, -g.wheel_base_m / 2);
   joint_front = ball(caster_front, config.caster_offset_m);

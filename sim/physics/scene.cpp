@@ -58,7 +58,8 @@ std::vector<std::array<std::size_t, 3>> triangulate(const std::vector<Eigen::Vec
 }
 
 /// Adds a vertical prism (side walls and top cap) over a simple outline to the mesh.
-void addPrism(btTriangleMesh& mesh, const std::vector<Eigen::Vector2d>& outline, double height) {
+void addPrismTriangles(btTriangleMesh& mesh, const std::vector<Eigen::Vector2d>& outline,
+                       double height) {
   const std::vector<Eigen::Vector2d> v = counterClockwise(outline);
   for (std::size_t i = 0; i < v.size(); ++i) {
     const Eigen::Vector2d& p = v[i];
@@ -103,82 +104,138 @@ std::optional<double> rayCircle(const Eigen::Vector2d& o, const Eigen::Vector2d&
   return t;
 }
 
-/// Closest-hit callback that also remembers which compound child was hit.
-struct ClosestChildCallback : btCollisionWorld::ClosestRayResultCallback {
+/// Closest-hit callback that also remembers the user index of the object hit (cylinder index).
+struct ClosestObjectCallback : btCollisionWorld::ClosestRayResultCallback {
   using ClosestRayResultCallback::ClosestRayResultCallback;
-  int child = -1;  ///< compound child index for convex children, -1 for the mesh
+  int cylinder = -1;  ///< index into World::cylinders, -1 for a mesh
   btScalar addSingleResult(btCollisionWorld::LocalRayResult& result,
                            bool normal_in_world) override {
-    const auto* info = result.m_localShapeInfo;
-    child = (info && info->m_shapePart == -1) ? info->m_triangleIndex : -1;
+    cylinder = result.m_collisionObject->getUserIndex();
     return ClosestRayResultCallback::addSingleResult(result, normal_in_world);
   }
 };
+
+/// btDiscreteDynamicsWorld without the per-step motion prediction for continuous collision
+/// detection when no body uses it (ccd motion threshold 0, the default): Bullet's own
+/// createPredictiveContacts then integrates every body once more and creates nothing.
+class FixedStepWorld : public btDiscreteDynamicsWorld {
+ public:
+  using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
+
+ protected:
+  void createPredictiveContacts(btScalar dt_s) override {
+    for (int i = 0; i < m_nonStaticRigidBodies.size(); ++i) {
+      if (m_nonStaticRigidBodies[i]->getCcdSquareMotionThreshold() != 0) {
+        btDiscreteDynamicsWorld::createPredictiveContacts(dt_s);
+        return;
+      }
+    }
+    releasePredictiveContacts();
+    for (int i = 0; i < m_nonStaticRigidBodies.size(); ++i)
+      m_nonStaticRigidBodies[i]->setHitFraction(1.0);  // as Bullet does
+  }
+};
+
+/// Collision configuration with small memory pools: Bullet's default 4096-entry pools cost
+/// ~10 ms to set up per Scene and this world holds a handful of contact pairs (the pools fall
+/// back to the heap when full).
+btDefaultCollisionConstructionInfo smallPools() {
+  btDefaultCollisionConstructionInfo info;
+  info.m_defaultMaxPersistentManifoldPoolSize = 64;
+  info.m_defaultMaxCollisionAlgorithmPoolSize = 64;
+  return info;
+}
 
 }  // namespace
 
 struct Scene::Impl {
   World world;
-  btDefaultCollisionConfiguration config;
+  PlanarCaster caster;
+  btDefaultCollisionConfiguration config{smallPools()};
   btCollisionDispatcher dispatcher{&config};
   btDbvtBroadphase broadphase;
   btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld dynamics{&dispatcher, &broadphase, &solver, &config};
+  FixedStepWorld dynamics{&dispatcher, &broadphase, &solver, &config};
 
   btStaticPlaneShape floor_shape{btVector3(0, 0, 1), 0.0};
   btCollisionObject floor;
-  btTriangleMesh mesh{true, false};  // 32-bit indices, 3-component vertices
-  std::unique_ptr<btBvhTriangleMeshShape> mesh_shape;
-  std::vector<std::unique_ptr<btCylinderShapeZ>> cylinder_shapes;
-  btCompoundShape static_shape{true, 0};
-  btCollisionObject statics;
-  int first_cylinder_child = 0;
+  /// Every wall, box, polygon and cylinder is its own collision object, so the broadphase pairs
+  /// a robot only with the objects near it (a single compound spanning the room overlaps every
+  /// body and its children had to be walked every step).
+  std::vector<std::unique_ptr<btTriangleMesh>> meshes;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes;
+  std::vector<std::unique_ptr<btCollisionObject>> statics;
   double time_s = 0.0;
 
-  explicit Impl(const World& w);
+  Impl(const World& w, const ScenePhysicsParams& params);
   ~Impl();
+  void addStatic(std::unique_ptr<btCollisionShape> shape, const btTransform& pose, int cylinder);
+  void addPrism(const std::vector<Eigen::Vector2d>& outline, double height_m);
 };
 
-Scene::Impl::Impl(const World& w) : world(w) {
+void Scene::Impl::addStatic(std::unique_ptr<btCollisionShape> shape, const btTransform& pose,
+                            int cylinder) {
+  auto object = std::make_unique<btCollisionObject>();
+  object->setCollisionShape(shape.get());
+  object->setWorldTransform(pose);
+  object->setFriction(0.5);
+  object->setUserIndex(cylinder);
+  // Never moves: with setForceUpdateAllAabbs(false) Bullet skips its AABB every step.
+  object->setActivationState(ISLAND_SLEEPING);
+  // Robots and rays see static objects; static objects and the floor never pair up.
+  dynamics.addCollisionObject(object.get(), kStaticGroup,
+                              btBroadphaseProxy::AllFilter ^ kStaticGroup);
+  shapes.push_back(std::move(shape));
+  statics.push_back(std::move(object));
+}
+
+void Scene::Impl::addPrism(const std::vector<Eigen::Vector2d>& outline, double height_m) {
+  // A triangle mesh: its ray test is an exact ray-triangle intersection.
+  meshes.push_back(std::make_unique<btTriangleMesh>(true, false));  // 32-bit indices, 3 floats
+  addPrismTriangles(*meshes.back(), outline, height_m);
+  addStatic(std::make_unique<btBvhTriangleMeshShape>(meshes.back().get(), true),
+            btTransform::getIdentity(), -1);
+}
+
+Scene::Impl::Impl(const World& w, const ScenePhysicsParams& params) : world(w), caster(w) {
+  assert(params.solver_iterations > 0 && params.contact_relaxation > 0 &&
+         params.contact_relaxation < 2);
   dynamics.setGravity(btVector3(0, 0, -9.81));
-  dynamics.getSolverInfo().m_numIterations = 50;
+  dynamics.setForceUpdateAllAabbs(false);  // only active (robot) bodies move
+  btContactSolverInfo& solver_info = dynamics.getSolverInfo();
+  solver_info.m_numIterations = params.solver_iterations;
+  solver_info.m_sor = params.contact_relaxation;
 
   floor.setCollisionShape(&floor_shape);
   floor.setFriction(1.0);
   floor.setRollingFriction(0.0);
-  dynamics.addCollisionObject(&floor, kFloorGroup, btBroadphaseProxy::AllFilter);
+  floor.setActivationState(ISLAND_SLEEPING);
+  dynamics.addCollisionObject(&floor, kFloorGroup,
+                              btBroadphaseProxy::AllFilter ^ (kStaticGroup | kFloorGroup));
 
-  // Walls, boxes and polygons become one triangle mesh: its ray test is an exact ray-triangle
-  // intersection. Cylinders stay exact primitives (btCylinderShapeZ) and are refined analytically.
-  for (const Wall& wall : world.walls) addPrism(mesh, footprint(wall), wall.height_m);
-  for (const Box& box : world.boxes) addPrism(mesh, footprint(box), box.height_m);
-  for (const Polygon& poly : world.polygons) addPrism(mesh, poly.vertices_m, poly.height_m);
-  btTransform identity = btTransform::getIdentity();
-  if (mesh.getNumTriangles() > 0) {
-    mesh_shape = std::make_unique<btBvhTriangleMeshShape>(&mesh, true);
-    static_shape.addChildShape(identity, mesh_shape.get());
-  }
-  first_cylinder_child = static_shape.getNumChildShapes();
-  for (const Cylinder& cyl : world.cylinders) {
+  for (const Wall& wall : world.walls) addPrism(footprint(wall), wall.height_m);
+  for (const Box& box : world.boxes) addPrism(footprint(box), box.height_m);
+  for (const Polygon& poly : world.polygons) addPrism(poly.vertices_m, poly.height_m);
+  // Cylinders stay exact primitives (btCylinderShapeZ); Bullet's ray test against them is
+  // iterative, so castRayBullet refines their hits analytically.
+  for (std::size_t i = 0; i < world.cylinders.size(); ++i) {
+    const Cylinder& cyl = world.cylinders[i];
     const double h = cyl.height_m / 2;
-    cylinder_shapes.push_back(
-        std::make_unique<btCylinderShapeZ>(btVector3(cyl.radius_m, cyl.radius_m, h)));
-    btTransform pose = identity;
+    btTransform pose = btTransform::getIdentity();
     pose.setOrigin(at(cyl.center_m, h));
-    static_shape.addChildShape(pose, cylinder_shapes.back().get());
+    addStatic(std::make_unique<btCylinderShapeZ>(btVector3(cyl.radius_m, cyl.radius_m, h)), pose,
+              static_cast<int>(i));
   }
-  statics.setCollisionShape(&static_shape);
-  statics.setFriction(0.5);
-  dynamics.addCollisionObject(&statics, kStaticGroup, btBroadphaseProxy::AllFilter);
   dynamics.updateAabbs();
 }
 
 Scene::Impl::~Impl() {
-  dynamics.removeCollisionObject(&statics);
+  for (auto& object : statics) dynamics.removeCollisionObject(object.get());
   dynamics.removeCollisionObject(&floor);
 }
 
-Scene::Scene(const World& world) : impl_(std::make_unique<Impl>(world)) {}
+Scene::Scene(const World& world, const ScenePhysicsParams& params)
+    : impl_(std::make_unique<Impl>(world, params)) {}
 Scene::~Scene() = default;
 btDiscreteDynamicsWorld& Scene::dynamics() {
   return impl_->dynamics;
@@ -201,24 +258,29 @@ void Scene::step(double dt_s) {
 
 std::optional<double> Scene::castRay(const Eigen::Vector2d& origin_m, double yaw_rad,
                                      double height_m, double max_range_m) const {
+  return castRay(origin_m, Eigen::Vector2d(std::cos(yaw_rad), std::sin(yaw_rad)), height_m,
+                 max_range_m);
+}
+
+std::optional<double> Scene::castRay(const Eigen::Vector2d& origin_m, const Eigen::Vector2d& dir,
+                                     double height_m, double max_range_m) const {
+  return impl_->caster.cast(origin_m, dir, height_m, max_range_m);
+}
+
+std::optional<double> Scene::castRayBullet(const Eigen::Vector2d& origin_m, double yaw_rad,
+                                           double height_m, double max_range_m) const {
   assert(max_range_m > 0);
   const Eigen::Vector2d dir(std::cos(yaw_rad), std::sin(yaw_rad));
   const btVector3 from = at(origin_m, height_m);
   const btVector3 to = at(origin_m + max_range_m * dir, height_m);
-  ClosestChildCallback callback(from, to);
-  // Fast path: test the one static object directly, skipping the broadphase (robots ignored).
-  btTransform from_pose = btTransform::getIdentity(), to_pose = btTransform::getIdentity();
-  from_pose.setOrigin(from);
-  to_pose.setOrigin(to);
-  const btCollisionObject& statics = impl_->statics;
-  btCollisionWorld::rayTestSingle(from_pose, to_pose, const_cast<btCollisionObject*>(&statics),
-                                  &impl_->static_shape, statics.getWorldTransform(), callback);
+  ClosestObjectCallback callback(from, to);
+  callback.m_collisionFilterMask = kStaticGroup;  // static geometry only: no floor, no robots
+  impl_->dynamics.rayTest(from, to, callback);
   if (!callback.hasHit()) return std::nullopt;
   double range_m = callback.m_closestHitFraction * max_range_m;
-  const int cyl = callback.child - impl_->first_cylinder_child;
-  if (callback.child >= 0 && cyl >= 0) {
+  if (callback.cylinder >= 0) {
     // Bullet's convex cast against a cylinder is iterative (~1e-5 m): refine it exactly.
-    const Cylinder& c = impl_->world.cylinders[static_cast<std::size_t>(cyl)];
+    const Cylinder& c = impl_->world.cylinders[static_cast<std::size_t>(callback.cylinder)];
     if (const auto exact = rayCircle(origin_m, dir, c.center_m, c.radius_m)) range_m = *exact;
   }
   if (range_m > max_range_m) return std::nullopt;

@@ -76,15 +76,17 @@ TEST(Robot, DrivesStraightAndDistanceMatchesWheelAngle) {
               1e-3);
   EXPECT_NEAR(robot.yawRate(), 0.0, 1e-3);
   EXPECT_NEAR(robot.wheelRateLeft(), 10.0, 1e-2);
-  // While moving the encoders lead the base by about v * dt (measured 0.89 mm at 1 m/s,
-  // 1 kHz; it scales with dt and vanishes again at rest): a Bullet integration lag.
+  // While moving the encoders lead the base: a Bullet integration lag of about v * dt (measured
+  // 0.89 mm at 1 m/s, 1 kHz, with 50 solver iterations) plus the compliance of the unconverged
+  // solver at the default 10 iterations and relaxation 1.5 (measured 2.22 mm in total). It
+  // vanishes again at rest (the slip check below). Bound: 3 v dt.
   {
     const double dist = (robot.T_world_base().translation() - s0.pose.translation()).norm();
     const double rolled =
         config.geometry.radius_left_m *
         (robot.wheelAngleLeft() - s0.left_rad + robot.wheelAngleRight() - s0.right_rad) / 2;
     EXPECT_GT(rolled - dist, 0.0);
-    EXPECT_LT(rolled - dist, 1.0 * 1.0 * kDt);
+    EXPECT_LT(rolled - dist, 3.0 * 1.0 * kDt);
   }
   drive.ramp(cruise, {0, 0}, 0.5);
   drive.hold({0, 0}, 0.3);
@@ -100,9 +102,13 @@ TEST(Robot, DrivesStraightAndDistanceMatchesWheelAngle) {
   // (0.15 mm of travel per tick for r = 0.1 m) summed over both ramps.
   EXPECT_NEAR(dist, (rolled_left + rolled_right) / 2, 1e-4 * dist);
   EXPECT_NEAR(rolled_left, rolled_right, 1e-4 * dist);
-  EXPECT_NEAR(normalizeAngle(p.yaw - s0.pose.yaw), 0.0, 1e-4);
+  // Heading: 50 solver iterations kept it within 1e-4 rad; the default 10 iterations let the
+  // wheels slip unequally during the 2 m/s^2 ramps (twice the scenarios' default limit): measured
+  // -5.0e-4 rad of yaw and -2.7e-4 rad on the displacement's direction over 2.5 m. Bound: 1e-3
+  // rad (2.5 mm sideways over the run).
+  EXPECT_NEAR(normalizeAngle(p.yaw - s0.pose.yaw), 0.0, 1e-3);
   // Heading of the displacement is the commanded yaw.
-  EXPECT_NEAR(std::atan2(p.y - s0.pose.y, p.x - s0.pose.x), 0.4, 1e-4);
+  EXPECT_NEAR(std::atan2(p.y - s0.pose.y, p.x - s0.pose.x), 0.4, 1e-3);
   // No tipping, no bouncing: chassis stays level within 0.1 degrees and on the floor within
   // 0.1 mm (measured 1.3e-5 rad and 1e-7 m).
   EXPECT_LT(drive.max_tilt_rad, 2e-3);
@@ -122,8 +128,9 @@ TEST(Robot, SpinsInPlaceAtTheKinematicRate) {
   drive.ramp({0, 0}, spin, 0.5);
   const double yaw1 = drive.yaw_unwrapped_rad;
   drive.hold(spin, 3.0);
-  // Mean rate over the hold: measured 1 + 2e-5 rad/s.
-  EXPECT_NEAR((drive.yaw_unwrapped_rad - yaw1) / 3.0, 1.0, 1e-3);
+  // Mean rate over the hold: measured 1 + 2e-5 rad/s with 50 solver iterations, 1 + 9.7e-4 rad/s
+  // with the default 10 (the motors settle less exactly; the encoders see it, below). Bound 2e-3.
+  EXPECT_NEAR((drive.yaw_unwrapped_rad - yaw1) / 3.0, 1.0, 2e-3);
   EXPECT_NEAR(robot.yawRate(), 1.0, 0.02);  // instantaneous: contact jitter, measured < 0.1 %
   EXPECT_NEAR(robot.linearVelocity_world().norm(), 0.0, 1e-3);
   const double turned = drive.yaw_unwrapped_rad - yaw0;
@@ -133,7 +140,8 @@ TEST(Robot, SpinsInPlaceAtTheKinematicRate) {
       config.geometry.wheel_base_m;
   EXPECT_GT(turned, 3.2);  // 0.25 rad in the ramp + 3 rad held
   // The rounded tyres touch the floor in their mid-planes, so the effective wheel base is b:
-  // measured relative error 2e-4 (a flat-edged cylinder gives 5e-2). Bound: 1e-3.
+  // measured relative error 2e-4 with 50 solver iterations, 3.5e-4 with the default 10 (a
+  // flat-edged cylinder gives 5e-2). Bound: 1e-3.
   EXPECT_NEAR(turned, expected, 1e-3 * expected);
   // The base origin stays put (measured 0.3 mm over 3.25 rad).
   EXPECT_LT((robot.T_world_base().translation() - s0.pose.translation()).norm(), 2e-3);

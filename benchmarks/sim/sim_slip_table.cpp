@@ -1,0 +1,67 @@
+// Slip against Bullet's solver settings: for every shipped scenario in room.yaml, the largest
+// position error of wheel odometry integrated with the TRUE geometry (slip + tick quantisation,
+// SimSummary::drift_true.max_position_m), for solver iterations x contact relaxation, plus the
+// CPU time of the figure eight with the full sensor set. Not a test: it prints a table for
+// docs/simulate.md and results/benchmarks.md.
+// Run: sim_slip_table [iterations,...] [relaxation,...]   (defaults: 50,30,20,15,12,10 and 1,1.5)
+
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "sim/drive/simulator.hpp"
+
+namespace {
+
+std::vector<double> parseList(const char* text, std::vector<double> fallback) {
+  if (text == nullptr) return fallback;
+  std::vector<double> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) out.push_back(std::stod(item));
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace slamprep::sim;
+  const std::filesystem::path root(SLAMPREP_SOURCE_DIR);
+  const std::vector<double> iterations =
+      parseList(argc > 1 ? argv[1] : nullptr, {50, 30, 20, 15, 12, 10});
+  const std::vector<double> relaxations = parseList(argc > 2 ? argv[2] : nullptr, {1.0, 1.5});
+  const std::vector<std::string> scenarios = {"figure_eight",  "arc",  "umbmark_ccw", "umbmark_cw",
+                                              "random_smooth", "spin", "stop_and_go", "default"};
+  const World world = loadWorld(root / "worlds" / "room.yaml");
+  std::vector<Scenario> loaded;
+  for (const std::string& name : scenarios)
+    loaded.push_back(loadScenario(root / "worlds" / "scenarios" / (name + ".yaml")));
+
+  std::printf("| iterations | relaxation | figure-eight CPU (s) | real-time factor |");
+  for (const std::string& name : scenarios) std::printf(" %s (mm) |", name.c_str());
+  std::printf("\n");
+  for (const double relaxation : relaxations)
+    for (const double iters : iterations) {
+      const ScenePhysicsParams physics{static_cast<int>(iters), relaxation};
+      SimConfig config;
+      std::printf("| %d | %.2f |", physics.solver_iterations, relaxation);
+      double cpu_s = 0.0, sim_s = 0.0;
+      std::string row;
+      for (std::size_t k = 0; k < scenarios.size(); ++k) {
+        const std::clock_t start = std::clock();
+        const SimResult result = simulate(config, world, loaded[k], {}, physics);
+        if (k == 0) {
+          cpu_s = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+          sim_s = result.summary.duration_s;
+        }
+        char cell[32];
+        std::snprintf(cell, sizeof cell, " %.2f |", result.summary.drift_true.max_position_m * 1e3);
+        row += cell;
+      }
+      std::printf(" %.3f | %.0f |%s\n", cpu_s, sim_s / cpu_s, row.c_str());
+      std::fflush(stdout);
+    }
+  return 0;
+}
