@@ -34,10 +34,12 @@ for r in "${readers[@]}"; do
     -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
     -artifact_prefix="$artifacts/" > "$log" 2>&1 || true
   execs=$(grep -o 'exec/s: [0-9]*\|#[0-9]*' "$log" | grep '^#' | tail -1 | tr -d '#')
-  # Keep the committed corpus small: merge it down to the inputs that add coverage.
+  # Keep the committed corpus small: merge it down to the inputs that add edge coverage
+  # (-use_counters=0: hit counts would keep ~4x more files, 1350 instead of 332 for dataset).
   merged="build-fuzz/merge/$r"
   rm -rf "$merged" && mkdir -p "$merged"
-  if ./build-fuzz/fuzz_"$r" -merge=1 -timeout=10 -rss_limit_mb=2048 "$merged" "$corpus" >> "$log" 2>&1 &&
+  if ./build-fuzz/fuzz_"$r" -merge=1 -use_counters=0 -timeout=10 -rss_limit_mb=2048 \
+    "$merged" "$corpus" >> "$log" 2>&1 &&
     [ -n "$(ls -A "$merged")" ]; then
     rm -rf "$corpus" && mv "$merged" "$corpus"
   fi
