@@ -153,6 +153,10 @@ void checkScansCovered(const Dataset& d, const std::vector<std::size_t>& scan_li
 }  // namespace io
 
 void writeDataset(const std::filesystem::path& dir, const Dataset& dataset) {
+  // What readDataset would refuse is not published: scan k goes to line k + 1 of scans.jsonl.
+  std::vector<std::size_t> scan_lines(dataset.scans.size());
+  for (std::size_t k = 0; k < scan_lines.size(); ++k) scan_lines[k] = k + 1;
+  io::checkScansCovered(dataset, scan_lines, (dir / io::kScansJsonl).string());
   io::publishDirectoryAtomically(dir, [&](const std::filesystem::path& partial) {
     // Errors name the final path: that is the file the user asked for.
     const std::filesystem::path target = dir;

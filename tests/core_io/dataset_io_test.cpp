@@ -10,6 +10,7 @@
 
 #include "core/dataset.hpp"
 #include "core/error.hpp"
+#include "core/io/scan_jsonl.hpp"
 #include "core/io/text_io.hpp"
 #include "tests/core_io/dataset_compare.hpp"
 #include "tests/core_io/synthetic_dataset.hpp"
@@ -270,17 +271,29 @@ TEST_F(DatasetIo, ScansOutsideTheOdometryAreRejectedNamingTheScanLine) {
   p.beams = 16;
   const Dataset good = makeSyntheticDataset(p);
   ASSERT_EQ(good.scans.size(), 5u);
+  // Refused by the writer (nothing is published) and, when the files come from elsewhere, by
+  // the reader: the same dataset written by a writer without the check is emulated by writing
+  // the covered dataset and replacing its scans.jsonl.
   auto expectRefused = [&](const Dataset& d, const std::string& expected) {
     const fs::path dir = root_ / "cover";
     fs::remove_all(dir);
-    writeDataset(dir, d);
+    const std::string where = (dir / "scans.jsonl").string() + expected;
+    try {
+      writeDataset(dir, d);
+      ADD_FAILURE() << "written; expected " << expected;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(dir));
+    Dataset covered = d;
+    covered.scans.clear();
+    writeDataset(dir, covered);
+    spit(dir / "scans.jsonl", io::formatScans(d.scans, "scans.jsonl"));
     try {
       readDataset(dir);
-      ADD_FAILURE() << "accepted; expected " << expected;
+      ADD_FAILURE() << "read; expected " << expected;
     } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find((dir / "scans.jsonl").string() + expected),
-                std::string::npos)
-          << e.what();
+      EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << e.what();
     }
   };
   // The last scan's last beam 1 ms after the last encoder sample.
