@@ -176,6 +176,15 @@ std::vector<std::pair<std::string, const json*>> sections(const json& summary) {
   return out;
 }
 
+// One Markdown table per section, under the section's heading when there are several.
+std::string perSection(const std::vector<std::pair<std::string, const json*>>& parts,
+                       Table (*table)(const json&)) {
+  std::string out;
+  for (const auto& [name, metrics] : parts)
+    out += (name.empty() ? "" : "### " + name + "\n\n") + markdown(table(*metrics)) + "\n";
+  return out;
+}
+
 }  // namespace
 
 std::string renderReport(const Suite& suite, const json& summary,
@@ -199,33 +208,24 @@ std::string renderReport(const Suite& suite, const json& summary,
     out << "## Calibration\n\nAbsolute error of each method's estimate against the geometry "
            "Bullet simulated (relative for r_L, r_R, b). A method that refuses (ill-conditioned "
            "data) counts against `ok` and is left out of the errors.\n\n";
-    for (const auto& [name, metrics] : parts)
-      out << (name.empty() ? "" : "### " + name + "\n\n") << markdown(calibrationTable(*metrics))
-          << "\n";
+    out << perSection(parts, calibrationTable);
   }
   if (any_deskew) {
     out << "## De-skew\n\nDistance of each corrected point to the ground-truth undistorted point "
            "of the same beam (range noise cancels), in millimetres, and the same error split by "
-           "its "
-           "cause: the part the method's rotation error explains and the part its translation "
+           "its cause: the part the method's rotation error explains and the part its translation "
            "error explains (docs/metrics.md).\n\n";
-    for (const auto& [name, metrics] : parts)
-      out << (name.empty() ? "" : "### " + name + "\n\n") << markdown(deskewTable(*metrics))
-          << "\n";
+    out << perSection(parts, deskewTable);
   }
   if (!odometryTable(m).rows.empty()) {
     out << "## Odometry\n\nWheel odometry integrated with each geometry against the ground "
            "truth, as evo computes it: APE on positions with the first poses put together "
            "(`--align_origin`), RPE over consecutive 1 m stretches of path. The true geometry "
            "shows what slip and encoder quantisation alone leave.\n\n";
-    for (const auto& [name, metrics] : parts)
-      out << (name.empty() ? "" : "### " + name + "\n\n") << markdown(odometryTable(*metrics))
-          << "\n";
+    out << perSection(parts, odometryTable);
   }
   out << "## Simulation and scan matching\n\n";
-  for (const auto& [name, metrics] : parts)
-    out << (name.empty() ? "" : "### " + name + "\n\n") << markdown(simulationTable(*metrics))
-        << "\n";
+  out << perSection(parts, simulationTable);
   if (!plots.empty()) {
     out << "## Plots\n\n";
     for (const auto& p : plots) out << "![" << p << "](plots/" << p << ")\n\n";
