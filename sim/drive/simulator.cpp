@@ -406,6 +406,11 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
       progress(std::min(cur.t_s, duration_s), duration_s);
   }
 
+  // A scan completed after the last encoder sample (its last beam inside the final encoder
+  // period) is not covered by the odometry: readDataset would refuse it, so it is not kept.
+  while (!data.scans.empty() && !data.encoders.empty() &&
+         data.scans.back().scan.endTime() > data.encoders.back().stamp_s)
+    data.scans.pop_back();
   data.odom_nominal =
       integrateEncoders(data.encoders, info.nominal_geometry, info.ticks_per_revolution);
   for (ScanRecord& record : data.scans) {

@@ -270,6 +270,26 @@ std::string slurp(const std::filesystem::path& file) {
   return s.str();
 }
 
+// A run that ends just before a scan's last beam reaches the next encoder sample: with 10 Hz,
+// 90 beams and 100 Hz encoders, the scan from 1.0 s completes at 1.0 + 89/900 = 1.0989 s, after
+// the last encoder sample (1.09 s) of a 1.0995 s run. The odometry does not cover that scan, so
+// the simulator drops it and the dataset stays readable.
+TEST(Simulator, DropsAFinalScanTheEncodersDoNotCover) {
+  SimConfig c = config(SimMode::kinematic, 90);
+  c.duration_s = 1.0995;
+  const SimResult r = simulate(
+      c, squareRoom(3.0), scenario("  - {type: arc, v_mps: 0.4, w_radps: 0.8, duration_s: 4}\n"));
+  const Dataset& d = r.dataset;
+  ASSERT_NEAR(d.encoders.back().stamp_s, 1.09, 1e-12);
+  ASSERT_EQ(d.scans.size(), 10u);  // stamps 0 .. 0.9 s; 1.0 s would end at 1.0989 s
+  EXPECT_LE(d.scans.back().scan.endTime(), d.encoders.back().stamp_s);
+  const auto dir = std::filesystem::temp_directory_path() / "slamprep_sim_last_scan";
+  std::filesystem::remove_all(dir);
+  writeDataset(dir, d);
+  EXPECT_EQ(readDataset(dir).scans.size(), 10u);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Simulator, SameSeedGivesIdenticalBytes) {
   const auto root = std::filesystem::temp_directory_path() / "slamprep_sim_determinism";
   std::filesystem::remove_all(root);
