@@ -16,6 +16,8 @@ jobs="${SANITIZE_JOBS:-$(nproc)}"
 # unless SANITIZE_LEAKS=0.
 export ASAN_OPTIONS="detect_leaks=${SANITIZE_LEAKS:-1}:abort_on_error=1:strict_string_checks=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+# Leaks inside system libraries (Mesa) are not ours: scripts/lsan-suppressions.txt names them.
+export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan-suppressions.txt:print_suppressions=0"
 
 if [[ "${1:-}" == "--ci" ]]; then
   shift

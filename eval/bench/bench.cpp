@@ -76,8 +76,15 @@ std::vector<std::string> plotResults(const fs::path& results_dir) {
   } catch (const nlohmann::json::exception& e) {
     throw InputError(summary_file.string(), std::string("not valid JSON: ") + e.what());
   }
-  if (!summary.contains("metrics") || !summary.contains("groups"))
-    throw InputError(summary_file.string(), "no \"metrics\" or \"groups\": not a bench summary");
+  const bool shaped = summary.is_object() &&
+                      summary.value("metrics", nlohmann::json()).is_object() &&
+                      summary.value("groups", nlohmann::json()).is_array() &&
+                      summary.value("trials", nlohmann::json()).is_number_integer() &&
+                      summary.value("missing", nlohmann::json()).is_array();
+  if (!shaped)
+    throw InputError(summary_file.string(),
+                     "not a bench summary (needs \"metrics\", \"groups\", \"trials\", "
+                     "\"missing\"; docs/results.md)");
   return writeReport(suite, summary, results_dir, true);
 }
 

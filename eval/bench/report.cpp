@@ -167,12 +167,13 @@ std::string groupName(const json& group) {
 constexpr std::size_t kMaxGroupSections = 8;
 
 std::vector<std::pair<std::string, const json*>> sections(const json& summary) {
-  const json& groups = summary["groups"];
+  static const json kNoGroups = json::array(), kNoMetrics = json::object();
+  const json& groups = summary.contains("groups") ? summary["groups"] : kNoGroups;
   std::vector<std::pair<std::string, const json*>> out;
   if (groups.size() > 1 && groups.size() <= kMaxGroupSections)
     for (const auto& g : groups) out.emplace_back(groupName(g), &g["metrics"]);
   else
-    out.emplace_back("", &summary["metrics"]);
+    out.emplace_back("", summary.contains("metrics") ? &summary["metrics"] : &kNoMetrics);
   return out;
 }
 
@@ -189,18 +190,18 @@ std::string perSection(const std::vector<std::pair<std::string, const json*>>& p
 
 std::string renderReport(const Suite& suite, const json& summary,
                          const std::vector<std::string>& plots) {
-  const json& m = summary["metrics"];
+  const json& m = summary.value("metrics", json::object());
   std::ostringstream out;
   out << "# Suite `" << suite.name << "`\n\n";
   if (!suite.description.empty()) out << suite.description << "\n\n";
-  out << summary["trials"].get<int>() << " trials: " << suite.worlds.size() << " world(s) x "
+  out << summary.value("trials", 0) << " trials: " << suite.worlds.size() << " world(s) x "
       << suite.scenarios.size() << " scenario(s)";
   for (const auto& axis : suite.sweep) out << " x " << axis.values.size() << " " << axis.key;
   out << " x " << suite.seeds << " seed(s), " << suite.mode << " mode, calibration motion from "
       << suite.motion << ".\nReproduce with `slamprep bench --suite " << suite.name
       << "`. Figures are mean ± standard deviation over trials; errors are absolute.\n\n";
-  if (!summary["missing"].empty())
-    out << "**Missing trials:** " << summary["missing"].size() << " (failed or not yet run).\n\n";
+  if (const std::size_t missing = summary.value("missing", json::array()).size())
+    out << "**Missing trials:** " << missing << " (failed or not yet run).\n\n";
   const auto parts = sections(summary);
   const bool any_calibration = !methodsOf(m, "calibration").empty();
   const bool any_deskew = !methodsOf(m, "deskew").empty();
