@@ -75,23 +75,6 @@ plot::Figure deskewByMethod(const json& metrics) {
           .axes = {axes}};
 }
 
-// One line per method: y averaged over the groups that share an x (other sweep axes folded in).
-std::vector<plot::Series> linesPerMethod(
-    const std::map<std::string, std::map<double, std::vector<double>>>& by_method) {
-  std::vector<plot::Series> out;
-  for (const auto& [method, points] : by_method) {
-    plot::Series s{.label = method, .style = plot::Style::LineMarkers};
-    for (const auto& [x, values] : points) {
-      double sum = 0.0;
-      for (double v : values) sum += v;
-      s.x.push_back(x);
-      s.y.push_back(sum / values.size());
-    }
-    out.push_back(s);
-  }
-  return out;
-}
-
 // The marker Auto would give the i-th series: fixed per method when panels show subsets.
 plot::Marker methodMarker(std::size_t i) {
   static const plot::Marker kShapes[] = {plot::Marker::Circle,       plot::Marker::Square,
@@ -99,6 +82,23 @@ plot::Marker methodMarker(std::size_t i) {
                                          plot::Marker::TriangleDown, plot::Marker::Plus,
                                          plot::Marker::Cross};
   return kShapes[i % std::size(kShapes)];
+}
+
+// One method's line, y averaged over the groups that share an x (other sweep axes folded in),
+// in the colour and marker of its place in the figure's method list, the same in every panel.
+plot::Series meanLine(const std::string& method, std::size_t index,
+                      const std::map<double, std::vector<double>>& points) {
+  plot::Series s{.label = method,
+                 .style = plot::Style::LineMarkers,
+                 .color = plot::paletteColor(index),
+                 .marker = methodMarker(index)};
+  for (const auto& [x, values] : points) {
+    double sum = 0.0;
+    for (double v : values) sum += v;
+    s.x.push_back(x);
+    s.y.push_back(sum / values.size());
+  }
+  return s;
 }
 
 // "lidar.rate_hz=5, ...": the sweep values of a group, which separate the panels.
@@ -157,9 +157,7 @@ plot::Figure deskewVsRate(const json& groups) {
         by_method[method][rate].push_back(1e3 * statOf(m, "deskew/" + method + "/mean_m", "mean"));
     }
     for (std::size_t i = 0; i < methods.size(); ++i) {
-      auto series = linesPerMethod({{methods[i], by_method[methods[i]]}}).front();
-      series.color = plot::paletteColor(i);
-      series.marker = methodMarker(i);
+      auto series = meanLine(methods[i], i, by_method[methods[i]]);
       series.dashed = methods[i] == "odom-quadratic";  // lies on odom-linear at 100 Hz odometry
       axes.series.push_back(series);
     }
@@ -239,12 +237,9 @@ plot::Figure calibrationVsTime(const json& groups) {
       }
     }
     plot::Axes axes{.x_label = "driving time [s]", .y_label = label, .log_y = true};
-    for (auto series : linesPerMethod(by_method)) {
-      const auto it = std::find(methods.begin(), methods.end(), series.label);
-      series.color = plot::paletteColor(it - methods.begin());
-      series.marker = methodMarker(it - methods.begin());
-      axes.series.push_back(series);
-    }
+    for (std::size_t i = 0; i < methods.size(); ++i)
+      if (const auto it = by_method.find(methods[i]); it != by_method.end())
+        axes.series.push_back(meanLine(methods[i], i, it->second));
     fig.axes.push_back(axes);
   }
   return fig;

@@ -255,6 +255,8 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
 
   DatasetDeskewOptions deskew_options = nominalDeskewOptions(dataset);
   deskew_options.geometry = deskewGeometry(suite, dataset, calibrated);
+  deskew_options.odometry = integrateEncoders(  // once, not once per method
+      dataset.encoders, deskew_options.geometry, dataset.info.ticks_per_revolution);
   std::optional<DatasetDeskew> shown;  // the scan plot shows the last method run
   std::string shown_method;
   for (const auto& name : suite.deskew_methods) {

@@ -80,10 +80,11 @@ DatasetDeskewOptions nominalDeskewOptions(const Dataset& dataset) {
 
 DatasetDeskew deskewDataset(const Dataset& dataset, algo::DeskewMethod method,
                             const DatasetDeskewOptions& options) {
-  const PoseSeries odometry = options.odometry
-                                  ? *options.odometry
-                                  : integrateEncoders(dataset.encoders, options.geometry,
-                                                      dataset.info.ticks_per_revolution);
+  const PoseSeries integrated = options.odometry
+                                    ? PoseSeries()
+                                    : integrateEncoders(dataset.encoders, options.geometry,
+                                                        dataset.info.ticks_per_revolution);
+  const PoseSeries& odometry = options.odometry ? *options.odometry : integrated;
   algo::DeskewSequence sequence(method, options.params);
   DatasetDeskew out;
   PooledErrors pooled;
