@@ -5,10 +5,10 @@
 #include "core/error.hpp"
 #include "core/paths.hpp"
 #include "eval/bench/bench.hpp"
+#include "eval/bench/progress.hpp"
 #include "eval/bench/report.hpp"
+#include "eval/bench/slurm.hpp"
 #include "eval/bench/trial.hpp"
-#include "eval/slurm/slurm.hpp"
-#include "eval/suite/progress.hpp"
 
 namespace slamprep::app {
 namespace {

@@ -11,7 +11,8 @@
 #include "algo/calibration/dataset_motion.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
-#include "eval/pipeline/calibration_run.hpp"
+#include "eval/bench/calibration_run.hpp"
+#include "eval/formats/dataset_io.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -143,7 +144,7 @@ algo::CalibrationResult runUmbmark(const CalibrateFlags& flags, const Dataset* d
   };
   if (dataset) add(*dataset, flags.dataset);
   for (const std::string& dir : flags.squares)
-    if (!add(readDataset(dir), dir))
+    if (!add(eval::readDataset(dir), dir))
       throw InputError(dir, "--square: not an UMBmark square-run dataset (scenario umbmark_*)");
   algo::UmbmarkParams params;
   params.side_m = flags.side_m;
@@ -184,7 +185,7 @@ int runCalibrate(const CalibrateFlags& flags) {
   if (flags.dataset.empty() && flags.tuples_in.empty())
     throw InputError("DATASET", "give a dataset directory, --tuples FILE, or both");
   std::optional<Dataset> dataset;
-  if (!flags.dataset.empty()) dataset = readDataset(flags.dataset);
+  if (!flags.dataset.empty()) dataset = eval::readDataset(flags.dataset);
   const Dataset* d = dataset ? &*dataset : nullptr;
   const std::vector<std::string> methods = methodsOf(flags.method);
   const bool needs_intervals = flags.method != "umbmark";

@@ -11,9 +11,10 @@
 #include "core/atomic_file.hpp"
 #include "core/dataset.hpp"
 #include "core/error.hpp"
-#include "core/io/scan_jsonl.hpp"
 #include "core/odometry.hpp"
-#include "eval/pipeline/dataset_deskew.hpp"
+#include "eval/bench/dataset_deskew.hpp"
+#include "eval/formats/dataset_io.hpp"
+#include "eval/formats/scan_jsonl.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -164,7 +165,7 @@ void printRow(const MethodRun& run) {
 }
 
 int runDeskew(const DeskewFlags& flags) {
-  const Dataset d = readDataset(flags.dataset);
+  const Dataset d = eval::readDataset(flags.dataset);
   const Geometry geometry = chooseGeometry(flags, d);
   std::vector<algo::DeskewMethod> methods;
   if (flags.method == "all") {
@@ -185,7 +186,7 @@ int runDeskew(const DeskewFlags& flags) {
   if (odometry.empty())
     std::cerr << "deskew: " << flags.dataset << " has no odometry: odometry methods will refuse\n";
   std::filesystem::path out_dir = flags.out.empty() ? flags.dataset : flags.out;
-  if (!flags.no_write && !flags.out.empty()) writeDataset(out_dir, d);
+  if (!flags.no_write && !flags.out.empty()) eval::writeDataset(out_dir, d);
   if (!flags.window.empty() && !(flags.window[0] <= flags.window[1]))
     throw InputError("--window", "T0 must not exceed T1");
   std::cout << "de-skew of " << d.scans.size() << " scans, reference " << flags.reference
@@ -201,7 +202,7 @@ int runDeskew(const DeskewFlags& flags) {
     json.push_back(toJson(run));
     if (!flags.no_write) {
       const std::string name = "deskewed_" + std::string(algo::deskewMethodName(m)) + ".jsonl";
-      writeFileAtomic(out_dir / name, io::formatScans(run.output, (out_dir / name).string()));
+      writeFileAtomic(out_dir / name, eval::formatScans(run.output, (out_dir / name).string()));
     }
   }
   if (!flags.no_write)

@@ -3,7 +3,7 @@
 #include <iostream>
 
 #include "app/commands.hpp"
-#include "eval/io/export.hpp"
+#include "eval/formats/export.hpp"
 
 namespace slamprep::app {
 namespace {

@@ -5,8 +5,9 @@
 
 #include "app/commands.hpp"
 #include "core/error.hpp"
-#include "core/io/text_io.hpp"
-#include "eval/io/import.hpp"
+#include "eval/formats/dataset_io.hpp"
+#include "eval/formats/import.hpp"
+#include "eval/formats/text_io.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -26,12 +27,12 @@ struct ImportFlags {
 
 SE2 parseMount(const std::string& text) {
   std::vector<std::string_view> fields;
-  slamprep::io::splitFields(text, ',', fields);
+  slamprep::eval::splitFields(text, ',', fields);
   if (fields.size() != 3) throw InputError("--lidar-mount", "expected x,y,yaw (m, m, rad)");
-  const slamprep::io::TextLocation where{"--lidar-mount", 0};
-  return {slamprep::io::parseFiniteDouble(fields[0], where, "x"),
-          slamprep::io::parseFiniteDouble(fields[1], where, "y"),
-          slamprep::io::parseFiniteDouble(fields[2], where, "yaw")};
+  const slamprep::eval::TextLocation where{"--lidar-mount", 0};
+  return {slamprep::eval::parseFiniteDouble(fields[0], where, "x"),
+          slamprep::eval::parseFiniteDouble(fields[1], where, "y"),
+          slamprep::eval::parseFiniteDouble(fields[2], where, "yaw")};
 }
 
 int runImport(ImportFlags flags) {
@@ -40,11 +41,11 @@ int runImport(ImportFlags flags) {
   if (flags.geometry_given) flags.params.nominal_geometry = flags.geometry;
   if (flags.time_increment_given) flags.params.time_increment_s = flags.time_increment_s;
   if (!flags.lidar_mount.empty()) flags.params.T_base_lidar = parseMount(flags.lidar_mount);
-  const std::string bytes = slamprep::io::readTextFile(flags.input);
+  const std::string bytes = slamprep::eval::readTextFile(flags.input);
   const eval::ImportResult result = flags.format == "carmen"
                                         ? eval::importCarmen(bytes, flags.input, flags.params)
                                         : eval::importMcap(bytes, flags.input, flags.params);
-  writeDataset(flags.out, result.dataset);
+  eval::writeDataset(flags.out, result.dataset);
   const Dataset& d = result.dataset;
   std::cout << "imported " << d.scans.size() << " scans, " << d.encoders.size()
             << " encoder samples, " << d.odom_nominal.size() << " odometry poses, " << d.imu.size()

@@ -13,6 +13,7 @@
 #include "core/atomic_file.hpp"
 #include "core/dataset.hpp"
 #include "core/error.hpp"
+#include "eval/formats/dataset_io.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -40,7 +41,7 @@ nlohmann::ordered_json line(double stamp_ref, double stamp_cur, const algo::IcpR
 }
 
 int runMatch(const MatchFlags& flags) {
-  const Dataset d = readDataset(flags.dataset);
+  const Dataset d = eval::readDataset(flags.dataset);
   const bool vicp = flags.deskew == "vicp";
   algo::DeskewParams params;
   std::string text;

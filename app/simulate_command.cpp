@@ -12,6 +12,7 @@
 
 #include "app/commands.hpp"
 #include "core/error.hpp"
+#include "eval/formats/dataset_io.hpp"
 #include "sim/drive/simulator.hpp"
 
 namespace slamprep::app {
@@ -124,7 +125,7 @@ int run(const SimulateFlags& flags, const CLI::App& cli) {
       sim::simulate(config, [&](double t_s, double duration_s) { progress(t_s, duration_s); });
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  writeDataset(flags.out, result.dataset);
+  eval::writeDataset(flags.out, result.dataset);
   printSummary(result.summary, wall_s, flags.out);
   return 0;
 }

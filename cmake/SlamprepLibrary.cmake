@@ -1,14 +1,30 @@
-# slamprep_library(NAME): a static library from every .cpp below the calling folder, or an
-# interface library while the folder has none yet. The folder layout is the architecture.
+# slamprep_library(NAME [RECURSE] [PUBLIC deps...] [PRIVATE deps...])
+# A static library `slamprep_NAME` (alias and exported name `slamprep::NAME`) from the .cpp files of
+# the calling folder (and its subfolders with RECURSE). Its headers install under
+# include/slamprep/<folder>/, so `#include "core/se2.hpp"` reads the same in the tree and installed.
 function(slamprep_library name)
-  file(GLOB_RECURSE sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
-  if(sources)
-    add_library(${name} STATIC ${sources})
-    set(scope PUBLIC)
+  cmake_parse_arguments(ARG "RECURSE" "" "PUBLIC;PRIVATE" ${ARGN})
+  if(ARG_RECURSE)
+    file(GLOB_RECURSE sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+    file(GLOB_RECURSE headers CONFIGURE_DEPENDS RELATIVE ${SLAMPREP_ROOT}
+         ${CMAKE_CURRENT_SOURCE_DIR}/*.hpp)
   else()
-    add_library(${name} INTERFACE)
-    set(scope INTERFACE)
+    file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+    file(GLOB headers CONFIGURE_DEPENDS RELATIVE ${SLAMPREP_ROOT} ${CMAKE_CURRENT_SOURCE_DIR}/*.hpp)
   endif()
-  target_include_directories(${name} ${scope} ${SLAMPREP_ROOT})
-  set(SLAMPREP_SCOPE ${scope} PARENT_SCOPE)
+  set(target slamprep_${name})
+  add_library(${target} STATIC ${sources})
+  add_library(slamprep::${name} ALIAS ${target})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${name} POSITION_INDEPENDENT_CODE ON)
+  target_compile_features(${target} PUBLIC cxx_std_20)
+  target_compile_options(${target} PRIVATE ${SLAMPREP_WARNINGS})
+  target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${SLAMPREP_ROOT}>
+                                              $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/slamprep>)
+  target_link_libraries(${target} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})
+
+  install(TARGETS ${target} EXPORT slamprepTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  foreach(header ${headers})
+    get_filename_component(dir ${header} DIRECTORY)
+    install(FILES ${SLAMPREP_ROOT}/${header} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/slamprep/${dir})
+  endforeach()
 endfunction()

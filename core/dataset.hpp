@@ -51,10 +51,4 @@ struct Dataset {
   bool hasTruth() const { return info.true_geometry.has_value() && !groundtruth.empty(); }
 };
 
-/// Writes `dataset` to `dir` atomically: into a temporary sibling first, renamed when complete.
-void writeDataset(const std::filesystem::path& dir, const Dataset& dataset);
-
-/// Reads a dataset directory. Throws InputError naming file, line and field on malformed input.
-Dataset readDataset(const std::filesystem::path& dir);
-
 }  // namespace slamprep

@@ -1,6 +1,6 @@
 #pragma once
 // Every reader behind one call, shared by the libFuzzer targets (fuzz/fuzz_<reader>.cpp) and the
-// ctest replay of the corpus and regressions (tests/eval_io/fuzz_regression_test.cpp). A reader
+// ctest replay of the corpus and regressions (tests/formats/fuzz_regression_test.cpp). A reader
 // passes an input when it returns or throws InputError.
 
 #include <unistd.h>
@@ -13,13 +13,13 @@
 #include <vector>
 
 #include "algo/calibration/interval.hpp"
-#include "core/io/csv_logs.hpp"
-#include "core/io/dataset_json.hpp"
-#include "core/io/scan_jsonl.hpp"
-#include "core/io/tum.hpp"
-#include "eval/io/import.hpp"
-#include "eval/io/mcap.hpp"
-#include "eval/suite/suite.hpp"
+#include "eval/bench/suite.hpp"
+#include "eval/formats/csv_logs.hpp"
+#include "eval/formats/dataset_json.hpp"
+#include "eval/formats/import.hpp"
+#include "eval/formats/mcap.hpp"
+#include "eval/formats/scan_jsonl.hpp"
+#include "eval/formats/tum.hpp"
 #include "sim/drive/scenario.hpp"
 #include "sim/physics/world.hpp"
 
@@ -60,19 +60,19 @@ inline void readAs(const std::string& name, std::string_view bytes) {
     const std::string_view text = bytes.substr(1);
     switch (static_cast<unsigned char>(bytes[0]) % 5) {
       case 0:
-        io::parseTum(text, "fuzz.tum");
+        eval::parseTum(text, "fuzz.tum");
         break;
       case 1:
-        io::parseEncoders(text, "encoders.csv");
+        eval::parseEncoders(text, "encoders.csv");
         break;
       case 2:
-        io::parseImu(text, "imu.csv");
+        eval::parseImu(text, "imu.csv");
         break;
       case 3:
-        io::parseScans(text, "scans.jsonl");
+        eval::parseScans(text, "scans.jsonl");
         break;
       default:
-        io::parseDatasetInfo(text, "dataset.json");
+        eval::parseDatasetInfo(text, "dataset.json");
         break;
     }
   } else if (name == "world") {

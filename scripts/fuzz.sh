@@ -4,7 +4,7 @@
 #   scripts/fuzz.sh [SECONDS_PER_READER] [READER...]     default: 60 s, every reader
 # Crashes (and non-InputError exceptions, hangs > 10 s, > 2 GB) are kept in
 # build-fuzz/artifacts/<reader>/ and the run goes on (fork mode); copy each one, minimised, to
-# fuzz/regressions/<reader>/ so ctest replays it (tests/eval_io/fuzz_regression_test.cpp).
+# fuzz/regressions/<reader>/ so ctest replays it (tests/formats/fuzz_regression_test.cpp).
 # Exit status: 0 when no reader produced an artifact, 1 otherwise.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -26,7 +26,7 @@ else
   echo "install-deps: all packages present"
 fi
 
-# Node packages for the MCAP export tests (tests/eval_io/mcap_reader): the independent @mcap/core
+# Node packages for the MCAP export tests (tests/formats/mcap_reader): the independent @mcap/core
 # reader and ROS 2 CDR deserialiser, pinned by package-lock.json. Without node or npm those tests
 # skip (GTEST_SKIP with the reason); nothing else needs them.
 if ! command -v npm >/dev/null 2>&1; then
@@ -34,7 +34,7 @@ if ! command -v npm >/dev/null 2>&1; then
   { apt-get update -qq && apt-get install -y -qq --no-install-recommends nodejs npm; } ||
     echo "install-deps: could not install nodejs/npm; the MCAP reader tests will skip"
 fi
-mcap_reader="$(dirname "$0")/../tests/eval_io/mcap_reader"
+mcap_reader="$(dirname "$0")/../tests/formats/mcap_reader"
 if command -v npm >/dev/null 2>&1 && [ ! -d "$mcap_reader/node_modules/@mcap/core" ]; then
   (cd "$mcap_reader" && npm ci --no-audit --no-fund --loglevel=error) ||
     echo "install-deps: npm ci failed; the MCAP reader tests will skip"

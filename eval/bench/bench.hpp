@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "eval/suite/runner.hpp"
-#include "eval/suite/summary.hpp"
+#include "eval/bench/runner.hpp"
+#include "eval/bench/summary.hpp"
 
 namespace slamprep::eval {
 

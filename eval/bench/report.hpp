@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "eval/suite/suite.hpp"
+#include "eval/bench/suite.hpp"
 
 namespace slamprep::eval {
 

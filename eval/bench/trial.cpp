@@ -7,11 +7,11 @@
 #include "algo/calibration/dataset_motion.hpp"
 #include "core/error.hpp"
 #include "core/odometry.hpp"
+#include "eval/bench/calibration_run.hpp"
+#include "eval/bench/dataset_deskew.hpp"
 #include "eval/metrics/calibration_error.hpp"
 #include "eval/metrics/odometry_drift.hpp"
 #include "eval/metrics/trajectory_error.hpp"
-#include "eval/pipeline/calibration_run.hpp"
-#include "eval/pipeline/dataset_deskew.hpp"
 #include "sim/drive/simulator.hpp"
 
 namespace slamprep::eval {

@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "core/odometry.hpp"
+#include "eval/formats/dataset_io.hpp"
 #include "sim/drive/controller.hpp"
 
 namespace slamprep::sim {
@@ -285,8 +286,8 @@ TEST(Simulator, DropsAFinalScanTheEncodersDoNotCover) {
   EXPECT_LE(d.scans.back().scan.endTime(), d.encoders.back().stamp_s);
   const auto dir = std::filesystem::temp_directory_path() / "slamprep_sim_last_scan";
   std::filesystem::remove_all(dir);
-  writeDataset(dir, d);
-  EXPECT_EQ(readDataset(dir).scans.size(), 10u);
+  eval::writeDataset(dir, d);
+  EXPECT_EQ(eval::readDataset(dir).scans.size(), 10u);
   std::filesystem::remove_all(dir);
 }
 
@@ -297,10 +298,10 @@ TEST(Simulator, SameSeedGivesIdenticalBytes) {
   c.duration_s = 1.5;
   const Scenario s = scenario("  - {type: figure_eight, radius_m: 0.5, speed_mps: 0.5}\n");
   c.seed = 5;
-  writeDataset(root / "a", simulate(c, squareRoom(3.0), s).dataset);
-  writeDataset(root / "b", simulate(c, squareRoom(3.0), s).dataset);
+  eval::writeDataset(root / "a", simulate(c, squareRoom(3.0), s).dataset);
+  eval::writeDataset(root / "b", simulate(c, squareRoom(3.0), s).dataset);
   c.seed = 6;
-  writeDataset(root / "c", simulate(c, squareRoom(3.0), s).dataset);
+  eval::writeDataset(root / "c", simulate(c, squareRoom(3.0), s).dataset);
   std::size_t files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(root / "a")) {
     const auto name = entry.path().filename();

@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "core/atomic_file.hpp"
-#include "eval/slurm/slurm.hpp"
+#include "eval/bench/slurm.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -1,0 +1,50 @@
+#include "eval/bench/calibration_run.hpp"
+
+#include "algo/calibration/dataset_motion.hpp"
+#include "core/error.hpp"
+#include "eval/bench/dataset_deskew.hpp"
+
+namespace slamprep::eval {
+
+const std::vector<std::string>& intervalCalibrationMethods() {
+  static const std::vector<std::string> methods = {"direct", "model", "joint", "ceres"};
+  return methods;
+}
+
+algo::CalibrationResult calibrateWith(const std::string& method,
+                                      const std::vector<algo::CalibrationInterval>& intervals,
+                                      const DiffDriveParams& nominal) {
+  if (method == "direct") return algo::calibrateDirectLinear(intervals, {nominal});
+  if (method == "model") return algo::calibrateModelBased(intervals);
+  if (method == "joint") return algo::calibrateJoint(intervals);
+  if (method == "ceres") return algo::calibrateCeres(intervals);
+  throw InputError("calibration method '" + method + "'",
+                   "unknown (direct, model, joint, ceres, umbmark)");
+}
+
+CalibrationMotion calibrationMotion(const Dataset& dataset,
+                                    const CalibrationMotionOptions& options) {
+  CalibrationMotion motion;
+  if (!options.from_icp) {
+    motion.chains.push_back(algo::lidarPosesFromGroundTruth(dataset));
+  } else {
+    const std::string name = options.deskew != "auto" ? options.deskew
+                             : dataset.imu.empty()    ? "odom-linear"
+                                                      : "imu";
+    const auto method = algo::parseDeskewMethod(name);
+    if (!method) throw InputError("--deskew " + options.deskew, "unknown de-skew method");
+    std::vector<Points2> points;
+    if (*method == algo::DeskewMethod::kNone) {
+      for (const auto& record : dataset.scans) points.push_back(record.scan.points());
+    } else {
+      points = correctedPoints(deskewDataset(dataset, *method, nominalDeskewOptions(dataset)));
+    }
+    auto icp = algo::lidarPosesFromIcp(dataset, points);
+    motion.chains = std::move(icp.chains);
+    motion.failed_matches = icp.failed_matches;
+  }
+  motion.intervals = algo::buildIntervals(dataset, motion.chains, options.intervals);
+  return motion;
+}
+
+}  // namespace slamprep::eval

@@ -1,0 +1,140 @@
+#include "eval/bench/dataset_deskew.hpp"
+
+#include <chrono>
+
+#include "core/odometry.hpp"
+#include "eval/metrics/deskew_error.hpp"
+
+namespace slamprep::eval {
+namespace {
+
+// The true undistorted points moved from the first-beam frame to the result's reference frame,
+// using the TRUE motion between the two instants (not the method's estimate).
+BeamPoints truthAtReference(const Dataset& dataset, const ScanRecord& record,
+                            const algo::DeskewResult& result) {
+  if (result.reference_s == result.first_beam_s) return record.p_ref_true;
+  const SE2& l = dataset.info.T_base_lidar;
+  const auto T_w_first = dataset.groundtruth.at(result.first_beam_s);
+  const auto T_w_ref = dataset.groundtruth.at(result.reference_s);
+  if (!T_w_first || !T_w_ref) return {};
+  const SE2 T_ref_first = between(*T_w_ref * l, *T_w_first * l);
+  BeamPoints out(record.p_ref_true.size());
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (record.p_ref_true[i]) out[i] = T_ref_first * *record.p_ref_true[i];
+  return out;
+}
+
+// Delta_i = T_ref_beam_est * T_ref_beam_true^-1 for every beam (eval::beamPoseError): what the
+// method assumed against the true lidar motion, both seen from the reference frame.
+std::vector<SE2> beamPoseErrors(const Dataset& dataset, const ScanRecord& record,
+                                const algo::DeskewResult& result) {
+  const SE2& l = dataset.info.T_base_lidar;
+  const auto T_w_ref = dataset.groundtruth.at(result.reference_s);
+  if (!T_w_ref) return {};
+  const SE2 T_lidarref_w = (*T_w_ref * l).inverse();
+  std::vector<SE2> out(record.scan.size());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const double t_i = result.first_beam_s + i * record.scan.time_increment_s;
+    const auto T_w_beam = dataset.groundtruth.at(t_i);
+    if (!T_w_beam) return {};
+    const SE2 T_ref_beam_true = T_lidarref_w * (*T_w_beam * l);
+    out[i] = beamPoseError(algo::poseAt(result.T_ref_lidar, t_i).toSE2(), T_ref_beam_true);
+  }
+  return out;
+}
+
+// Per-beam errors of all scans, pooled before summarising.
+struct PooledErrors {
+  std::vector<double> total_m, rotation_m, translation_m;
+  double max_residual_m = 0.0;
+  bool split = true;  ///< every compared scan had its pose errors
+
+  void add(const DeskewErrorResult& e) {
+    total_m.insert(total_m.end(), e.errors_m.begin(), e.errors_m.end());
+    split = split && e.has_split;
+    if (!e.has_split) return;
+    rotation_m.insert(rotation_m.end(), e.rotation_errors_m.begin(), e.rotation_errors_m.end());
+    translation_m.insert(translation_m.end(), e.translation_errors_m.begin(),
+                         e.translation_errors_m.end());
+    max_residual_m = std::max(max_residual_m, e.max_split_residual_m);
+  }
+};
+
+void measure(const Dataset& dataset, const ScanRecord& record, const algo::DeskewResult& result,
+             PooledErrors& pooled) {
+  const BeamPoints truth = truthAtReference(dataset, record, result);
+  if (truth.size() != result.p_ref.size()) return;
+  const DeskewErrorResult e =
+      deskewError(result.p_ref, truth, beamPoseErrors(dataset, record, result));
+  if (e.ok) pooled.add(e);
+}
+
+}  // namespace
+
+DatasetDeskewOptions nominalDeskewOptions(const Dataset& dataset) {
+  DatasetDeskewOptions options;
+  options.geometry = dataset.info.nominal_geometry;
+  options.T_base_lidar = dataset.info.T_base_lidar;
+  return options;
+}
+
+DatasetDeskew deskewDataset(const Dataset& dataset, algo::DeskewMethod method,
+                            const DatasetDeskewOptions& options) {
+  const PoseSeries integrated = options.odometry
+                                    ? PoseSeries()
+                                    : integrateEncoders(dataset.encoders, options.geometry,
+                                                        dataset.info.ticks_per_revolution);
+  const PoseSeries& odometry = options.odometry ? *options.odometry : integrated;
+  algo::DeskewSequence sequence(method, options.params);
+  DatasetDeskew out;
+  PooledErrors pooled;
+  for (std::size_t k = 0; k < dataset.scans.size(); ++k) {
+    const ScanRecord& record = dataset.scans[k];
+    algo::DeskewInput input;
+    input.scan = &record.scan;
+    input.stamp_is_last_beam = options.stamp_is_last_beam;
+    input.reference = options.reference;
+    input.odometry = &odometry;
+    // The oracle is the truth, mount included.
+    input.T_base_lidar =
+        method == algo::DeskewMethod::kOracle ? dataset.info.T_base_lidar : options.T_base_lidar;
+    input.imu = &dataset.imu;
+    input.oracle = dataset.groundtruth.empty() ? nullptr : &dataset.groundtruth;
+    const auto start = std::chrono::steady_clock::now();
+    algo::DeskewResult result = sequence.next(input);
+    out.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::string note = !result.ok                ? result.reason
+                             : result.warnings.empty() ? std::string()
+                                                       : result.warnings.front();
+    if (out.first_note.empty() && !note.empty())
+      out.first_note = "scan " + std::to_string(k) + ": " + note;
+    out.warnings += result.warnings.size();
+    if (!result.ok && out.refused++ == 0) out.first_reason = result.reason;
+    const double stamp = record.scan.stamp_s;
+    const bool counted = stamp >= options.measure_from_s && stamp <= options.measure_to_s;
+    if (result.ok && counted && !record.p_ref_true.empty())
+      measure(dataset, record, result, pooled);
+    out.scans.push_back(std::move(result));
+  }
+  if (pooled.total_m.empty()) return out;
+  out.error_m = summarize(std::move(pooled.total_m));
+  if (!pooled.split) return out;
+  out.rotation_induced_m = summarize(std::move(pooled.rotation_m));
+  out.translation_induced_m = summarize(std::move(pooled.translation_m));
+  out.max_split_residual_m = pooled.max_residual_m;
+  return out;
+}
+
+std::vector<Points2> correctedPoints(const DatasetDeskew& deskewed) {
+  std::vector<Points2> out;
+  out.reserve(deskewed.scans.size());
+  for (const auto& scan : deskewed.scans) {
+    Points2 points;
+    for (const auto& p : scan.p_ref)
+      if (p) points.push_back(*p);
+    out.push_back(std::move(points));
+  }
+  return out;
+}
+
+}  // namespace slamprep::eval

@@ -1,0 +1,176 @@
+#include "eval/bench/summary.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+
+namespace slamprep::eval {
+namespace {
+
+void flattenInto(const nlohmann::json& node, const std::string& path,
+                 std::map<std::string, double>& out) {
+  if (node.is_object()) {
+    for (const auto& [key, value] : node.items())
+      if (!(path.empty() && key == "trial"))
+        flattenInto(value, path.empty() ? key : path + "/" + key, out);
+  } else if (node.is_number()) {
+    const double v = node.get<double>();
+    if (std::isfinite(v)) out[path] = v;
+  } else if (node.is_boolean()) {
+    out[path] = node.get<bool>() ? 1.0 : 0.0;
+  }
+}
+
+nlohmann::json statsOf(const std::vector<double>& values) {
+  double sum = 0.0;
+  for (double v : values) sum += v;
+  const double mean = sum / values.size();
+  double sq = 0.0;
+  for (double v : values) sq += (v - mean) * (v - mean);
+  return {{"n", values.size()},
+          {"mean", mean},
+          {"std", values.size() > 1 ? std::sqrt(sq / (values.size() - 1)) : 0.0},
+          {"min", *std::min_element(values.begin(), values.end())},
+          {"max", *std::max_element(values.begin(), values.end())}};
+}
+
+// Metric path -> stats over the given results.
+nlohmann::json statsOver(const std::vector<const nlohmann::json*>& results) {
+  std::map<std::string, std::vector<double>> values;
+  for (const auto* r : results)
+    for (const auto& [path, v] : flattenMetrics(*r)) values[path].push_back(v);
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [path, v] : values) out[path] = statsOf(v);
+  return out;
+}
+
+}  // namespace
+
+TrialSet loadTrials(const std::vector<TrialSpec>& trials, const std::filesystem::path& trials_dir) {
+  TrialSet set;
+  for (const auto& spec : trials) {
+    const auto file = trials_dir / (spec.id + ".json");
+    if (!std::filesystem::exists(file)) {
+      set.missing.push_back(spec.id);
+      continue;
+    }
+    try {
+      set.results.push_back(nlohmann::json::parse(readFile(file)));
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(file.string(), std::string("not a valid trial result: ") + e.what());
+    }
+  }
+  return set;
+}
+
+std::map<std::string, double> flattenMetrics(const nlohmann::json& result) {
+  std::map<std::string, double> out;
+  flattenInto(result, "", out);
+  return out;
+}
+
+nlohmann::json summarize(const Suite& suite, const TrialSet& set) {
+  std::vector<const nlohmann::json*> all;
+  std::map<std::string, std::vector<const nlohmann::json*>> by_group;
+  std::map<std::string, nlohmann::json> group_keys;
+  for (const auto& r : set.results) {
+    all.push_back(&r);
+    // A group is one sweep point in one world and scenario: everything but the seed.
+    nlohmann::json key = {{"world", r["trial"]["world"]},
+                          {"scenario", r["trial"]["scenario"]},
+                          {"sweep", r["trial"]["sweep"]}};
+    by_group[key.dump()].push_back(&r);
+    group_keys[key.dump()] = key;
+  }
+  nlohmann::json groups = nlohmann::json::array();
+  for (const auto& [k, members] : by_group) {
+    nlohmann::json g = group_keys[k];
+    g["trials"] = members.size();
+    g["metrics"] = statsOver(members);
+    groups.push_back(g);
+  }
+  return {{"format_version", 1},    {"suite", suite.name},       {"trials", set.results.size()},
+          {"missing", set.missing}, {"metrics", statsOver(all)}, {"groups", groups}};
+}
+
+std::string trialsCsv(const TrialSet& set) {
+  std::vector<std::map<std::string, double>> rows;
+  std::set<std::string> columns;
+  for (const auto& r : set.results) {
+    rows.push_back(flattenMetrics(r));
+    for (const auto& [path, v] : rows.back()) columns.insert(path);
+  }
+  std::ostringstream csv;
+  csv << "id,world,scenario,seed";
+  for (const auto& c : columns) csv << ',' << c;
+  csv << '\n';
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& t = set.results[i]["trial"];
+    csv << t["id"].get<std::string>() << ',' << t["world"].get<std::string>() << ','
+        << t["scenario"].get<std::string>() << ',' << t["seed"].get<std::uint64_t>();
+    for (const auto& c : columns) {
+      csv << ',';
+      if (auto it = rows[i].find(c); it != rows[i].end()) csv << nlohmann::json(it->second).dump();
+    }
+    csv << '\n';
+  }
+  return csv.str();
+}
+
+std::vector<Regression> compareToBaseline(const nlohmann::json& summary,
+                                          const nlohmann::json& baseline,
+                                          const std::vector<Tolerance>& tolerances) {
+  std::vector<Regression> out;
+  const auto mean = [](const nlohmann::json& s,
+                       const std::string& metric) -> std::optional<double> {
+    if (!s.contains("metrics") || !s["metrics"].contains(metric)) return std::nullopt;
+    return s["metrics"][metric]["mean"].get<double>();
+  };
+  for (const auto& tol : tolerances) {
+    const auto base = mean(baseline, tol.metric);
+    const auto cur = mean(summary, tol.metric);
+    if (!base) {
+      out.push_back({tol.metric, 0, cur.value_or(0), 0, "missing from the baseline"});
+      continue;
+    }
+    if (!cur) {
+      out.push_back({tol.metric, *base, 0, 0, "missing from the current run"});
+      continue;
+    }
+    const double slack = std::max(tol.abs, tol.rel * std::abs(*base));
+    const double allowed = tol.higher_is_better ? *base - slack : *base + slack;
+    const bool worse = tol.higher_is_better ? *cur < allowed : *cur > allowed;
+    if (worse) out.push_back({tol.metric, *base, *cur, allowed, ""});
+  }
+  return out;
+}
+
+std::size_t mergeTrialFolders(const std::vector<std::filesystem::path>& shard_trials_dirs,
+                              const std::filesystem::path& trials_dir) {
+  std::map<std::string, std::string> merged;  // file name -> content
+  for (const auto& dir : shard_trials_dirs) {
+    if (!std::filesystem::is_directory(dir)) throw InputError(dir.string(), "no such shard folder");
+    std::vector<std::filesystem::path> files;
+    for (const auto& entry : std::filesystem::directory_iterator(dir))
+      if (entry.path().extension() == ".json") files.push_back(entry.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& file : files) {
+      const std::string text = readFile(file);
+      const auto [it, inserted] = merged.emplace(file.filename().string(), text);
+      if (!inserted && it->second != text)
+        throw InputError(file.string(), "differs from the same trial in another shard");
+    }
+  }
+  for (const auto& [name, text] : merged) {
+    const auto target = trials_dir / name;
+    if (std::filesystem::exists(target) && readFile(target) == text) continue;
+    writeFileAtomic(target, text);
+  }
+  return merged.size();
+}
+
+}  // namespace slamprep::eval

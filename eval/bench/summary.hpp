@@ -1,0 +1,54 @@
+#pragma once
+// Aggregating trial results: the suite summary (summary.json), the per-trial table (trials.csv),
+// regression comparison against a committed baseline, and merging of shards.
+
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "eval/bench/suite.hpp"
+
+namespace slamprep::eval {
+
+/// The trial results of a suite in trial order, and the ids that have none.
+struct TrialSet {
+  std::vector<nlohmann::json> results;
+  std::vector<std::string> missing;
+};
+
+/// Reads trials_dir/<id>.json for every trial (all shards).
+TrialSet loadTrials(const std::vector<TrialSpec>& trials, const std::filesystem::path& trials_dir);
+
+/// Numeric leaves of a result (bools as 0/1) by '/'-joined path, skipping the "trial" spec.
+std::map<std::string, double> flattenMetrics(const nlohmann::json& result);
+
+/// summary.json: for every metric path, {n, mean, std, min, max} over all trials, and the same
+/// per sweep point ("groups"). Depends only on the set of results, so shards merge to the same
+/// bytes as a single run.
+nlohmann::json summarize(const Suite& suite, const TrialSet& set);
+
+/// trials.csv: one row per trial (index order), one column per metric path (sorted).
+std::string trialsCsv(const TrialSet& set);
+
+/// A metric that got worse than its baseline by more than its tolerance allows.
+struct Regression {
+  std::string metric;
+  double baseline = 0.0;
+  double current = 0.0;
+  double allowed = 0.0;  ///< the worst current value that would have passed
+  std::string note;      ///< e.g. "missing from the current summary"
+};
+
+/// Compares the `mean` of each toleranced metric in its worse direction.
+std::vector<Regression> compareToBaseline(const nlohmann::json& summary,
+                                          const nlohmann::json& baseline,
+                                          const std::vector<Tolerance>& tolerances);
+
+/// Copies the trial results of several shard folders into `trials_dir`; a trial present in two
+/// shards must be byte-identical. Returns how many trial files were merged.
+std::size_t mergeTrialFolders(const std::vector<std::filesystem::path>& shard_trials_dirs,
+                              const std::filesystem::path& trials_dir);
+
+}  // namespace slamprep::eval

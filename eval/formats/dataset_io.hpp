@@ -1,0 +1,35 @@
+#pragma once
+// The dataset directory on disk (docs/dataset.md): reading, writing, file names and the atomic
+// directory publish.
+
+#include <filesystem>
+#include <functional>
+
+#include "core/dataset.hpp"
+
+namespace slamprep::eval {
+
+/// Writes `dataset` to `dir` atomically: into a temporary sibling first, renamed when complete.
+void writeDataset(const std::filesystem::path& dir, const Dataset& dataset);
+
+/// Reads a dataset directory. Throws InputError naming file, line and field on malformed input.
+Dataset readDataset(const std::filesystem::path& dir);
+
+inline constexpr const char* kDatasetJson = "dataset.json";
+inline constexpr const char* kGroundTruthTum = "groundtruth.tum";
+inline constexpr const char* kOdomNominalTum = "odom_nominal.tum";
+inline constexpr const char* kEncodersCsv = "encoders.csv";
+inline constexpr const char* kImuCsv = "imu.csv";
+inline constexpr const char* kScansJsonl = "scans.jsonl";
+
+/// `<dir>.partial-<pid>`: the sibling a directory is written into before it is published.
+std::filesystem::path partialDirectory(const std::filesystem::path& dir);
+
+/// Creates the partial sibling of `dir`, lets `fill(partial_dir)` write into it, then renames it
+/// onto `dir`. An existing `dir` is replaced only when it is empty or holds a dataset.json (it is
+/// swapped atomically with renameat2(RENAME_EXCHANGE) where the filesystem supports it). On any
+/// exception the partial directory is removed and the exception propagates; `dir` is untouched.
+void publishDirectoryAtomically(const std::filesystem::path& dir,
+                                const std::function<void(const std::filesystem::path&)>& fill);
+
+}  // namespace slamprep::eval

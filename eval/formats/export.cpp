@@ -1,0 +1,577 @@
+#include "eval/formats/export.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/odometry.hpp"
+#include "eval/formats/dataset_io.hpp"
+#include "eval/formats/mcap.hpp"
+#include "eval/formats/ros2_messages.hpp"
+#include "eval/formats/scan_jsonl.hpp"
+#include "eval/formats/text_io.hpp"
+#include "eval/formats/tum.hpp"
+
+namespace slamprep::eval {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr double kStandardGravity_mps2 = 9.80665;
+
+// rosbag2's offered_qos_profiles (Humble YAML, enum values: history 1 keep_last, reliability 1
+// reliable, durability 1 transient_local / 2 volatile, liveliness 1 automatic).
+std::string qosYaml(bool latched) {
+  const std::string infinite = "\n    sec: 2147483647\n    nsec: 4294967295";
+  return std::string("- history: 1\n  depth: ") + (latched ? "1" : "100") +
+         "\n  reliability: 1\n  durability: " + (latched ? "1" : "2") + "\n  deadline:" + infinite +
+         "\n  lifespan:" + infinite + "\n  liveliness: 1\n  liveliness_lease_duration:" + infinite +
+         "\n  avoid_ros_namespace_conventions: false\n";
+}
+
+std::uint64_t logTimeNs(double stamp_s, const std::string& where) {
+  const RosTime t = rosTimeFromSeconds(stamp_s, where);
+  if (t.nanoseconds() < 0)
+    throw InputError(where, "negative stamp " + std::to_string(stamp_s) +
+                                " s: MCAP log times are unsigned nanoseconds");
+  return static_cast<std::uint64_t>(t.nanoseconds());
+}
+
+/// Body twist (v_x, v_y, w) over the step that ends at sample k: log(T_{k-1}^-1 T_k) / dt.
+Eigen::Vector3d twistAt(const PoseSeries& poses, std::size_t k) {
+  if (k == 0 || poses.size() < 2) return Eigen::Vector3d::Zero();
+  const double dt = poses[k].stamp_s - poses[k - 1].stamp_s;
+  return between(poses[k - 1].value, poses[k].value).log() / dt;
+}
+
+/// The twist at time t from the step that contains it (zero outside the series).
+Eigen::Vector3d twistAtTime(const PoseSeries& poses, double t) {
+  const auto b = poses.bracket(t);
+  if (!b || poses.size() < 2) return Eigen::Vector3d::Zero();
+  return twistAt(poses, b->index + 1);
+}
+
+LaserScanMsg laserScanMsg(const LaserScan& s, const std::string& frame, const std::string& where) {
+  LaserScanMsg m;
+  m.header = {rosTimeFromSeconds(s.stamp_s, where), frame};
+  m.angle_min = static_cast<float>(s.angle_min_rad);
+  m.angle_max = static_cast<float>(s.size() == 0 ? s.angle_min_rad : s.beamAngle(s.size() - 1));
+  m.angle_increment = static_cast<float>(s.angle_increment_rad);
+  m.time_increment = static_cast<float>(s.time_increment_s);
+  m.scan_time = static_cast<float>(s.scan_time_s);
+  m.range_min = static_cast<float>(s.range_min_m);
+  m.range_max = static_cast<float>(s.range_max_m);
+  m.ranges.reserve(s.size());
+  for (double r : s.ranges_m) m.ranges.push_back(static_cast<float>(r));
+  return m;
+}
+
+OdometryMsg odometryMsg(const PoseSeries& poses, std::size_t k, const ExportParams& p,
+                        const std::string& where) {
+  OdometryMsg m;
+  m.header = {rosTimeFromSeconds(poses[k].stamp_s, where), p.odom_frame};
+  m.child_frame_id = p.base_frame;
+  const SE2& T = poses[k].value;
+  m.position = {T.x, T.y, 0.0};
+  m.orientation = quaternionFromYaw(T.yaw);
+  const Eigen::Vector3d xi = twistAt(poses, k);
+  m.linear = {xi.x(), xi.y(), 0.0};
+  m.angular = {0.0, 0.0, xi.z()};
+  return m;
+}
+
+TransformStampedMsg transformMsg(double stamp_s, const std::string& parent,
+                                 const std::string& child, const SE2& T, const std::string& where) {
+  TransformStampedMsg t;
+  t.header = {rosTimeFromSeconds(stamp_s, where), parent};
+  t.child_frame_id = child;
+  t.translation = {T.x, T.y, 0.0};
+  t.rotation = quaternionFromYaw(T.yaw);
+  return t;
+}
+
+/// Messages of every topic, merged into log-time order before they go to the writer.
+struct Pending {
+  std::uint64_t log_ns;
+  std::uint16_t channel;
+  std::string data;
+};
+
+// Preference order when a calibration file holds several methods.
+int methodRank(const std::string& m) {
+  static const char* order[] = {"ceres", "joint", "model", "direct", "umbmark"};
+  for (int i = 0; i < 5; ++i)
+    if (m == order[i]) return i;
+  return 5;
+}
+
+double positiveNumber(const nlohmann::json& j, const char* key, const std::string& where) {
+  if (!j.contains(key) || !j[key].is_number())
+    throw InputError(where, std::string(key) + ": missing or not a number");
+  const double v = j[key].get<double>();
+  if (!std::isfinite(v) || v <= 0) throw InputError(where, std::string(key) + ": must be > 0");
+  return v;
+}
+
+void requireScans(const std::vector<ScanRecord>& scans, const std::string& what) {
+  if (scans.empty()) throw InputError(what, "no scans to export");
+}
+
+std::string appendSe2Line(const SE2& T) {
+  const double c = std::cos(T.yaw), s = std::sin(T.yaw);
+  const double v[12] = {c, -s, 0, T.x, s, c, 0, T.y, 0, 0, 1, 0};
+  std::string line;
+  for (int i = 0; i < 12; ++i) {
+    if (i) line += ' ';
+    slamprep::eval::appendDouble(line, v[i] == 0.0 ? 0.0 : v[i]);  // no "-0.0" in KITTI files
+  }
+  return line + "\n";
+}
+
+const std::vector<ScanRecord>& chosenScans(const ExportInput& input, const ExportParams& params) {
+  if (params.scans == "scans") return input.dataset.scans;
+  const auto it = input.deskewed.find(params.scans);
+  if (it == input.deskewed.end())
+    throw InputError("--scans", "the dataset has no deskewed_" + params.scans + ".jsonl");
+  return it->second;
+}
+
+}  // namespace
+
+ExportFormat parseExportFormat(const std::string& name, const std::string& where) {
+  if (name == "mcap") return ExportFormat::kMcap;
+  if (name == "carmen") return ExportFormat::kCarmen;
+  if (name == "tum") return ExportFormat::kTum;
+  if (name == "kitti") return ExportFormat::kKitti;
+  if (name == "csm") return ExportFormat::kCsm;
+  throw InputError(where, "unknown format \"" + name + "\" (mcap, carmen, tum, kitti, csm)");
+}
+
+CalibrationChoice readCalibrationJson(const fs::path& file) {
+  const auto best = bestCalibration(file);
+  if (!best) throw InputError(file.string(), "no calibration result with ok = true");
+  return *best;
+}
+
+std::optional<CalibrationChoice> bestCalibration(const fs::path& file) {
+  const std::string text = slamprep::eval::readTextFile(file);
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file.string(), std::string("bad JSON: ") + e.what());
+  }
+  if (j.is_object()) j = nlohmann::json::array({j});
+  if (!j.is_array()) throw InputError(file.string(), "expected an array of method results");
+  std::optional<CalibrationChoice> best;
+  int best_rank = 1 << 30;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const auto& e = j[i];
+    const std::string where = file.string() + ": [" + std::to_string(i) + "]";
+    if (!e.is_object()) throw InputError(where, "not an object");
+    if (e.contains("ok") && !(e["ok"].is_boolean() && e["ok"].get<bool>())) continue;
+    const std::string method =
+        e.contains("method") && e["method"].is_string() ? e["method"].get<std::string>() : "";
+    CalibrationChoice c;
+    c.method = method;
+    c.geometry.radius_left_m = positiveNumber(e, "r_L", where);
+    c.geometry.radius_right_m = positiveNumber(e, "r_R", where);
+    c.geometry.wheel_base_m = positiveNumber(e, "b", where);
+    if (methodRank(method) < best_rank) {
+      best_rank = methodRank(method);
+      best = c;
+    }
+  }
+  return best;
+}
+
+ExportInput loadExportInput(const fs::path& dataset_dir, const ExportParams& params) {
+  ExportInput input;
+  input.dataset = readDataset(dataset_dir);
+  std::error_code ec;
+  std::vector<fs::path> deskewed;
+  for (const auto& entry : fs::directory_iterator(dataset_dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.starts_with("deskewed_") && name.ends_with(".jsonl")) deskewed.push_back(entry.path());
+  }
+  std::sort(deskewed.begin(), deskewed.end());  // directory order is not deterministic
+  for (const fs::path& file : deskewed) {
+    const std::string name = file.filename().string();
+    const std::string method = name.substr(9, name.size() - 9 - 6);
+    input.deskewed[method] =
+        slamprep::eval::parseScans(slamprep::eval::readTextFile(file), file.string());
+  }
+  if (!params.calibration_file.empty()) {
+    input.calibration = readCalibrationJson(params.calibration_file);
+  } else if (const fs::path file = dataset_dir / "calibration.json"; fs::exists(file)) {
+    input.calibration = bestCalibration(file);
+    if (!input.calibration)
+      input.notes.push_back(file.string() +
+                            " holds no ok calibration: calibrated odometry not written");
+  }
+  return input;
+}
+
+PoseSeries calibratedOdometry(const Dataset& d, const DiffDriveParams& geometry) {
+  const SE2 start = d.odom_nominal.empty() ? SE2() : d.odom_nominal[0].value;
+  return integrateEncoders(d.encoders, geometry, d.info.ticks_per_revolution, start);
+}
+
+std::string formatMcap(const ExportInput& input, const ExportParams& p,
+                       std::map<std::string, std::size_t>* counts) {
+  const Dataset& d = input.dataset;
+  McapWriterParams wp;
+  wp.chunk_size_bytes = p.mcap_chunk_size_bytes;
+  McapWriter writer(wp);
+  std::map<std::string, std::uint16_t> schema_ids;
+  auto schema = [&](std::string_view type) {
+    auto it = schema_ids.find(std::string(type));
+    if (it != schema_ids.end()) return it->second;
+    const auto id = writer.addSchema(std::string(type), "ros2msg", ros2MsgSchema(type));
+    schema_ids.emplace(std::string(type), id);
+    return id;
+  };
+  std::vector<std::string> topics;
+  auto channel = [&](std::string_view type, const std::string& topic, bool latched = false) {
+    topics.push_back(topic);
+    return writer.addChannel(schema(type), topic, "cdr",
+                             {{"offered_qos_profiles", qosYaml(latched)}});
+  };
+  std::vector<Pending> pending;
+  const std::string scans_where = "scans.jsonl";
+
+  auto addScans = [&](const std::vector<ScanRecord>& scans, std::uint16_t ch,
+                      const std::string& file) {
+    for (std::size_t i = 0; i < scans.size(); ++i) {
+      const LaserScan& s = scans[i].scan;
+      const std::string where = file + ":" + std::to_string(i + 1);
+      // Logged when the last beam is in: a consumer has the odometry that covers the scan
+      // before the scan itself (docs/export.md).
+      pending.push_back(
+          {logTimeNs(s.endTime(), where), ch, encodeCdr(laserScanMsg(s, p.laser_frame, where))});
+    }
+  };
+  addScans(d.scans, channel(kLaserScanType, "/scan"), scans_where);
+  for (const auto& [method, scans] : input.deskewed)
+    addScans(scans, channel(kLaserScanType, "/scan_deskewed/" + method),
+             "deskewed_" + method + ".jsonl");
+
+  auto addOdometry = [&](const PoseSeries& poses, std::uint16_t ch, const std::string& file) {
+    for (std::size_t k = 0; k < poses.size(); ++k) {
+      const std::string where = file + ":" + std::to_string(k + 2);
+      pending.push_back(
+          {logTimeNs(poses[k].stamp_s, where), ch, encodeCdr(odometryMsg(poses, k, p, where))});
+    }
+  };
+  if (!d.odom_nominal.empty())
+    addOdometry(d.odom_nominal, channel(kOdometryType, "/odom"), "odom_nominal.tum");
+  if (input.calibration)
+    addOdometry(calibratedOdometry(d, input.calibration->geometry),
+                channel(kOdometryType, "/odom_calibrated"), "encoders.csv");
+
+  if (!d.imu.empty()) {
+    const auto ch = channel(kImuType, "/imu");
+    for (std::size_t k = 0; k < d.imu.size(); ++k) {
+      const ImuSample& s = d.imu[k];
+      const std::string where = "imu.csv:" + std::to_string(k + 2);
+      ImuMsg m;
+      m.header = {rosTimeFromSeconds(s.stamp_s, where), p.base_frame};
+      m.orientation_covariance[0] = -1.0;  // REP 145: no orientation estimate
+      m.angular_velocity = {0.0, 0.0, s.gyro_z_radps};
+      // Planar robot on level ground: the z specific force is +g.
+      m.linear_acceleration = {s.accel_x_mps2, s.accel_y_mps2, kStandardGravity_mps2};
+      pending.push_back({logTimeNs(s.stamp_s, where), ch, encodeCdr(m)});
+    }
+  }
+
+  if (!d.encoders.empty()) {
+    const auto ch = channel(kJointStateType, "/joint_states");
+    const double rad_per_tick = radiansPerTick(d.info.ticks_per_revolution);
+    for (std::size_t k = 0; k < d.encoders.size(); ++k) {
+      const EncoderSample& s = d.encoders[k];
+      const std::string where = "encoders.csv:" + std::to_string(k + 2);
+      JointStateMsg m;
+      m.header = {rosTimeFromSeconds(s.stamp_s, where), p.base_frame};
+      m.name = {"wheel_left_joint", "wheel_right_joint"};
+      m.position = {double(s.ticks_left) * rad_per_tick, double(s.ticks_right) * rad_per_tick};
+      pending.push_back({logTimeNs(s.stamp_s, where), ch, encodeCdr(m)});
+    }
+  }
+
+  if (d.hasTruth()) {
+    const auto ch = channel(kTfType, "/tf");
+    for (std::size_t k = 0; k < d.groundtruth.size(); ++k) {
+      const auto& g = d.groundtruth[k];
+      const std::string where = "groundtruth.tum:" + std::to_string(k + 2);
+      TfMsg m{{transformMsg(g.stamp_s, p.world_frame, p.base_frame, g.value, where)}};
+      pending.push_back({logTimeNs(g.stamp_s, where), ch, encodeCdr(m)});
+    }
+  }
+
+  std::stable_sort(pending.begin(), pending.end(),
+                   [](const Pending& a, const Pending& b) { return a.log_ns < b.log_ns; });
+  {
+    // The static mount, first of all, at the earliest time in the bag.
+    const auto ch = channel(kTfType, "/tf_static", true);
+    const std::uint64_t t0 = pending.empty() ? 0 : pending.front().log_ns;
+    TfMsg m{{transformMsg(0.0, p.base_frame, p.laser_frame, d.info.T_base_lidar, "dataset.json")}};
+    m.transforms[0].header.stamp = rosTimeFromNanoseconds(static_cast<std::int64_t>(t0));
+    writer.addMessage(ch, t0, t0, encodeCdr(m));
+  }
+  for (const Pending& m : pending) writer.addMessage(m.channel, m.log_ns, m.log_ns, m.data);
+  if (counts) {
+    counts->clear();
+    for (const auto& t : topics) (*counts)[t] = 0;
+    (*counts)["/tf_static"] = 1;
+    for (const Pending& m : pending) ++(*counts)[topics[m.channel]];
+  }
+  return writer.finish();
+}
+
+std::string formatCarmen(const Dataset& d, const std::vector<ScanRecord>& scans,
+                         const ExportParams& p, std::size_t* skipped_scans) {
+  struct Line {
+    double stamp_s;
+    int order;  // ODOM before a ROBOTLASER1 of the same stamp
+    std::string text;
+  };
+  std::vector<Line> lines;
+  const PoseSeries& odom = d.odom_nominal;
+  for (std::size_t k = 0; k < odom.size(); ++k) {
+    const SE2& T = odom[k].value;
+    const Eigen::Vector3d xi = twistAt(odom, k);
+    std::string s = "ODOM";
+    for (double v : {T.x, T.y, T.yaw, xi.x(), xi.z(), 0.0, odom[k].stamp_s}) {
+      s += ' ';
+      slamprep::eval::appendDouble(s, v);
+    }
+    s += ' ' + p.carmen_hostname + ' ';
+    slamprep::eval::appendDouble(s, odom[k].stamp_s);
+    lines.push_back({odom[k].stamp_s, 0, s + "\n"});
+  }
+  // CARMEN has no "no return": such beams read max_range. An unlimited range_max becomes the
+  // longest finite reading of the log plus one metre.
+  double longest_m = 0.0;
+  for (const auto& r : scans)
+    for (double v : r.scan.ranges_m)
+      if (std::isfinite(v)) longest_m = std::max(longest_m, v);
+  std::size_t skipped = 0;
+  for (const auto& record : scans) {
+    const LaserScan& scan = record.scan;
+    const auto T_odom_base = odom.at(scan.stamp_s);
+    if (!T_odom_base || scan.size() == 0) {
+      ++skipped;
+      continue;
+    }
+    const double max_range =
+        std::isfinite(scan.range_max_m) ? scan.range_max_m : std::floor(longest_m) + 1.0;
+    // CARMEN angles increase: a clockwise scan is written last beam first.
+    const bool reverse = scan.angle_increment_rad < 0;
+    const std::size_t n = scan.size();
+    const double start = reverse ? scan.beamAngle(n - 1) : scan.angle_min_rad;
+    const double resolution = std::abs(scan.angle_increment_rad);
+    const SE2 laser = *T_odom_base * d.info.T_base_lidar;
+    const Eigen::Vector3d xi = twistAtTime(odom, scan.stamp_s);
+    std::string s = "ROBOTLASER1 0";  // laser_type: 0 (not read by CSM or GMapping)
+    for (double v : {start, resolution * double(n - 1), resolution, max_range, 0.0}) {
+      s += ' ';
+      slamprep::eval::appendDouble(s, v);
+    }
+    s += " 0 " + std::to_string(n);  // remission_mode, num_readings
+    for (std::size_t i = 0; i < n; ++i) {
+      const double r = scan.ranges_m[reverse ? n - 1 - i : i];
+      s += ' ';
+      slamprep::eval::appendDouble(s, std::isfinite(r) ? r : max_range);
+    }
+    s += " 0";  // num_remissions
+    for (double v : {laser.x, laser.y, laser.yaw, T_odom_base->x, T_odom_base->y, T_odom_base->yaw,
+                     xi.x(), xi.z(), 0.0, 0.0, 0.0, scan.stamp_s}) {
+      s += ' ';
+      slamprep::eval::appendDouble(s, v);
+    }
+    s += ' ' + p.carmen_hostname + ' ';
+    slamprep::eval::appendDouble(s, scan.stamp_s);
+    lines.push_back({scan.stamp_s, 1, s + "\n"});
+  }
+  std::stable_sort(lines.begin(), lines.end(), [](const Line& a, const Line& b) {
+    return a.stamp_s != b.stamp_s ? a.stamp_s < b.stamp_s : a.order < b.order;
+  });
+  std::string out =
+      "# CARMEN log written by slamprep (docs/export.md)\n"
+      "# ODOM x y theta tv rv accel timestamp hostname logger_timestamp\n"
+      "# ROBOTLASER1 laser_type start_angle field_of_view angular_resolution maximum_range "
+      "accuracy remission_mode num_readings [range_readings] num_remissions [remissions] "
+      "laser_pose_x laser_pose_y laser_pose_theta robot_pose_x robot_pose_y robot_pose_theta "
+      "laser_tv laser_rv forward_safety_dist side_safety_dist turn_axis timestamp hostname "
+      "logger_timestamp\n";
+  // Standard CARMEN parameter, then slamprep's own (other readers skip unknown PARAM names):
+  // what `slamprep import --format carmen` needs to rebuild the dataset exactly.
+  auto param = [&](const char* name, double value) {
+    out += std::string("PARAM ") + name + ' ';
+    slamprep::eval::appendDouble(out, value);
+    out += ' ' + p.carmen_hostname + " 0\n";
+  };
+  param("robot_frontlaser_offset", d.info.T_base_lidar.x);
+  param("slamprep_nominal_r_L", d.info.nominal_geometry.radius_left_m);
+  param("slamprep_nominal_r_R", d.info.nominal_geometry.radius_right_m);
+  param("slamprep_nominal_b", d.info.nominal_geometry.wheel_base_m);
+  if (!scans.empty()) {
+    param("slamprep_time_increment", std::abs(scans.front().scan.time_increment_s));
+    param("slamprep_scan_time", scans.front().scan.scan_time_s);
+  }
+  for (const Line& l : lines) out += l.text;
+  if (skipped_scans) *skipped_scans = skipped;
+  return out;
+}
+
+std::string formatCsm(const std::vector<ScanRecord>& scans) {
+  std::string out;
+  for (const auto& record : scans) {
+    const LaserScan& s = record.scan;
+    const std::size_t n = s.size();
+    const bool reverse = s.angle_increment_rad < 0;
+    nlohmann::json j;
+    j["nrays"] = n;
+    j["min_theta"] = n ? s.beamAngle(reverse ? n - 1 : 0) : s.angle_min_rad;
+    j["max_theta"] = n ? s.beamAngle(reverse ? 0 : n - 1) : s.angle_min_rad;
+    nlohmann::json readings = nlohmann::json::array(), valid = nlohmann::json::array(),
+                   theta = nlohmann::json::array();
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = reverse ? n - 1 - k : k;
+      readings.push_back(std::isfinite(s.ranges_m[i]) ? nlohmann::json(s.ranges_m[i]) : nullptr);
+      valid.push_back(s.valid(i) ? 1 : 0);
+      theta.push_back(s.beamAngle(i));
+    }
+    j["readings"] = readings;
+    j["valid"] = valid;
+    j["theta"] = theta;
+    const double sec = std::floor(s.stamp_s);
+    const double usec = std::round((s.stamp_s - sec) * 1e6);
+    j["timestamp"] = {static_cast<std::int64_t>(sec) + (usec >= 1e6 ? 1 : 0),
+                      static_cast<std::int64_t>(usec >= 1e6 ? 0 : usec)};
+    auto pose = [](const std::optional<SE2>& T) {
+      return T ? nlohmann::json::array({T->x, T->y, T->yaw}) : nlohmann::json(nullptr);
+    };
+    j["odometry"] = pose(record.T_odom_base_nominal);
+    j["true_pose"] = pose(record.T_world_base_true);
+    out += j.dump() + "\n";
+  }
+  return out;
+}
+
+std::string formatKittiPoses(const std::vector<SE2>& poses) {
+  std::string out;
+  for (const SE2& T : poses) out += appendSe2Line(T);
+  return out;
+}
+
+ExportResult exportDataset(const ExportInput& input, ExportFormat format, const fs::path& out,
+                           const ExportParams& params) {
+  ExportResult result;
+  result.notes = input.notes;
+  const Dataset& d = input.dataset;
+  auto write = [&](const fs::path& file, const std::string& text) {
+    writeFileAtomic(file, text);
+    result.files.push_back(file);
+  };
+  if (!input.calibration && input.notes.empty() &&
+      (format == ExportFormat::kMcap || format == ExportFormat::kTum ||
+       format == ExportFormat::kKitti))
+    result.notes.push_back("no calibration JSON: calibrated odometry not written");
+  switch (format) {
+    case ExportFormat::kMcap: {
+      if (d.scans.empty()) throw InputError(out.string(), "the dataset has no scans to export");
+      write(out, formatMcap(input, params, &result.counts));
+      if (!d.hasTruth()) result.notes.push_back("no ground truth: /tf not written");
+      break;
+    }
+    case ExportFormat::kCarmen: {
+      const auto& scans = chosenScans(input, params);
+      requireScans(scans, params.scans);
+      std::size_t skipped = 0;
+      write(out, formatCarmen(d, scans, params, &skipped));
+      result.counts["ODOM"] = d.odom_nominal.size();
+      result.counts["ROBOTLASER1"] = scans.size() - skipped;
+      if (skipped)
+        result.notes.push_back(std::to_string(skipped) +
+                               " scans outside the odometry (or empty) were left out");
+      break;
+    }
+    case ExportFormat::kCsm: {
+      const auto& scans = chosenScans(input, params);
+      requireScans(scans, params.scans);
+      write(out, formatCsm(scans));
+      result.counts["laser_data"] = scans.size();
+      break;
+    }
+    case ExportFormat::kTum: {
+      // Odometry is anchored at the true start pose (when there is truth) so that evo compares
+      // it with the ground truth without alignment: T_world_odom = T_world_base(t0)
+      // T_odom_base(t0)^-1.
+      std::optional<SE2> T_world_odom;
+      if (d.hasTruth() && !d.odom_nominal.empty()) {
+        if (const auto g = d.groundtruth.at(d.odom_nominal.frontStamp()))
+          T_world_odom = *g * d.odom_nominal[0].value.inverse();
+      }
+      auto anchored = [&](const PoseSeries& poses) {
+        if (!T_world_odom) return poses;
+        PoseSeries out_poses;
+        for (const auto& s : poses.samples())
+          out_poses.push_back(s.stamp_s, *T_world_odom * s.value);
+        return out_poses;
+      };
+      if (d.hasTruth()) {
+        write(out / "groundtruth.tum", slamprep::eval::formatTum(d.groundtruth, "groundtruth.tum"));
+        result.counts["groundtruth"] = d.groundtruth.size();
+      }
+      write(out / "odom_nominal.tum",
+            slamprep::eval::formatTum(anchored(d.odom_nominal), "odom_nominal.tum"));
+      result.counts["odom_nominal"] = d.odom_nominal.size();
+      if (input.calibration) {
+        const PoseSeries cal = calibratedOdometry(d, input.calibration->geometry);
+        write(out / "odom_calibrated.tum",
+              slamprep::eval::formatTum(anchored(cal), "odom_calibrated.tum"));
+        result.counts["odom_calibrated"] = cal.size();
+      }
+      break;
+    }
+    case ExportFormat::kKitti: {
+      // KITTI files have no stamps and pair poses by line: every trajectory is sampled at the
+      // scan stamps where all of them are defined, each relative to its own first pose.
+      std::vector<std::pair<std::string, PoseSeries>> trajectories;
+      if (d.hasTruth()) trajectories.emplace_back("groundtruth", d.groundtruth);
+      trajectories.emplace_back("odom_nominal", d.odom_nominal);
+      if (input.calibration)
+        trajectories.emplace_back("odom_calibrated",
+                                  calibratedOdometry(d, input.calibration->geometry));
+      std::vector<double> times;
+      for (const auto& r : d.scans) {
+        bool all = true;
+        for (const auto& [name, poses] : trajectories) all = all && poses.covers(r.scan.stamp_s);
+        if (all) times.push_back(r.scan.stamp_s);
+      }
+      if (times.empty())
+        throw InputError(out.string(), "no scan stamp is covered by every trajectory");
+      std::string times_text;
+      for (double t : times) {
+        slamprep::eval::appendDouble(times_text, t);
+        times_text += '\n';
+      }
+      for (const auto& [name, poses] : trajectories) {
+        const SE2 first_inv = poses.at(times.front())->inverse();
+        std::vector<SE2> rel;
+        for (double t : times) rel.push_back(first_inv * *poses.at(t));
+        write(out / (name + ".txt"), formatKittiPoses(rel));
+        result.counts[name] = rel.size();
+      }
+      write(out / "times.txt", times_text);
+      break;
+    }
+  }
+  result.ok = true;
+  return result;
+}
+
+}  // namespace slamprep::eval

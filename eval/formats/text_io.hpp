@@ -1,0 +1,63 @@
+#pragma once
+// Fast, exact text I/O helpers for the dataset files: shortest round-trip number formatting
+// (std::to_chars), strict field parsing (std::from_chars) with InputError messages that name the
+// file, line and field, and whole-file read/write.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace slamprep::eval {
+
+/// Appends the shortest text that parses back to exactly `value`; "-0.0" for negative zero
+/// (so JSON readers keep the sign), "nan"/"inf"/"-inf" never reach a file (callers check).
+void appendDouble(std::string& out, double value);
+void appendInt(std::string& out, std::int64_t value);
+
+/// Where a field sits in a text file, for error messages: "file:line".
+struct TextLocation {
+  std::string file;      ///< file name as shown to the user
+  std::size_t line = 0;  ///< 1-based; 0 when the line is not known
+
+  std::string str() const;
+};
+
+/// Parses a whole field as a finite double (no leading '+', no "nan"/"inf"); throws InputError
+/// naming `where` and `field` otherwise.
+double parseFiniteDouble(std::string_view text, const TextLocation& where, std::string_view field);
+/// Parses a whole field as a signed 64-bit integer; throws InputError otherwise.
+std::int64_t parseInt64(std::string_view text, const TextLocation& where, std::string_view field);
+
+/// Throws InputError unless `stamp_s` > `previous_s` (sorted, no duplicates).
+void requireIncreasing(double previous_s, double stamp_s, const TextLocation& where,
+                       std::string_view field);
+
+/// Trims spaces, tabs and a trailing '\r'.
+std::string_view trim(std::string_view text);
+/// Splits on `separator` (fields are trimmed). Writes into `fields` to reuse its storage.
+void splitFields(std::string_view line, char separator, std::vector<std::string_view>& fields);
+/// Splits on runs of spaces/tabs (TUM style).
+void splitWhitespace(std::string_view line, std::vector<std::string_view>& fields);
+
+/// Iterates the lines of an in-memory text, 1-based line numbers, '\n' or "\r\n" endings.
+class LineCursor {
+ public:
+  explicit LineCursor(std::string_view text) : text_(text) {}
+  /// Next line without its ending; false at the end of the text.
+  bool next(std::string_view& line);
+  std::size_t lineNumber() const { return line_; }
+
+ private:
+  std::string_view text_;
+  std::size_t pos_ = 0;
+  std::size_t line_ = 0;
+};
+
+/// The whole file; throws InputError("path", "cannot open ...") when it is missing or unreadable.
+std::string readTextFile(const std::filesystem::path& path);
+/// Creates/truncates `path`, writes `text` and fsyncs it; throws InputError on any failure.
+void writeTextFile(const std::filesystem::path& path, std::string_view text);
+
+}  // namespace slamprep::eval

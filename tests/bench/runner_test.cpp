@@ -1,0 +1,135 @@
+#include "eval/bench/runner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/atomic_file.hpp"
+#include "eval/bench/summary.hpp"
+
+namespace slamprep::eval {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A stand-in trial: numbers drawn from the seed alone, like a real trial's results.
+TrialOutput fakeTrial(const TrialSpec& spec) {
+  std::mt19937_64 rng(spec.seed * 1000 + spec.index);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  if (spec.scenario == "explode.yaml") throw std::runtime_error("boom");
+  return {{{"deskew",
+            {{"none", {{"mean_m", 0.19 + 0.01 * noise(rng)}}},
+             {"oracle", {{"mean_m", 1e-6 * std::abs(noise(rng))}}}}},
+           {"calibration",
+            {{"joint", {{"ok", true}, {"abs_error_rel", {{"b", 1e-4 * std::abs(noise(rng))}}}}}}}},
+          {{"seconds", 0.5}}};
+}
+
+Suite fakeSuite() {
+  Suite suite;
+  suite.name = "fake";
+  suite.worlds = {"room.yaml"};
+  suite.scenarios = {"arc.yaml", "spin.yaml"};
+  suite.sweep = {{"lidar.rate_hz", {"5", "10", "20"}}};
+  suite.seeds = 2;
+  return suite;
+}
+
+fs::path freshDir(const std::string& name) {
+  const auto dir = fs::temp_directory_path() / "slamprep_runner_test" / name;
+  fs::remove_all(dir);
+  return dir;
+}
+
+std::string runToSummary(const Suite& suite, const fs::path& dir, int jobs, Shard shard = {}) {
+  const auto trials = expandTrials(suite);
+  runTrials(trials, fakeTrial, {jobs, shard, dir / "trials", dir / "timing", false});
+  return summarize(suite, loadTrials(trials, dir / "trials")).dump(2);
+}
+
+TEST(Runner, SameBytesWhateverTheJobCount) {
+  const Suite suite = fakeSuite();
+  const std::string one = runToSummary(suite, freshDir("jobs1"), 1);
+  const std::string two = runToSummary(suite, freshDir("jobs2"), 2);
+  EXPECT_EQ(one, two);
+  const auto trials = expandTrials(suite);
+  for (const auto& t : trials)
+    EXPECT_EQ(readFile(freshDir("x").parent_path() / "jobs1" / "trials" / (t.id + ".json")),
+              readFile(freshDir("x").parent_path() / "jobs2" / "trials" / (t.id + ".json")));
+}
+
+TEST(Runner, ShardsMergeToTheSingleRun) {
+  const Suite suite = fakeSuite();
+  const auto trials = expandTrials(suite);
+  const std::string single = runToSummary(suite, freshDir("single"), 2);
+  const fs::path base = freshDir("sharded");
+  std::vector<fs::path> shard_dirs;
+  std::size_t selected = 0;
+  for (int k = 1; k <= 3; ++k) {
+    const fs::path dir = base / ("shard" + std::to_string(k));
+    const auto report =
+        runTrials(trials, fakeTrial, {1, {k, 3}, dir / "trials", dir / "timing", false});
+    selected += report.selected;
+    shard_dirs.push_back(dir / "trials");
+  }
+  EXPECT_EQ(selected, trials.size());  // disjoint and complete
+  EXPECT_EQ(mergeTrialFolders(shard_dirs, base / "merged"), trials.size());
+  EXPECT_EQ(summarize(suite, loadTrials(trials, base / "merged")).dump(2), single);
+}
+
+TEST(Runner, ResumesWithoutRecomputingFinishedTrials) {
+  const Suite suite = fakeSuite();
+  const auto trials = expandTrials(suite);
+  const fs::path dir = freshDir("resume");
+  RunOptions options{2, {}, dir / "trials", dir / "timing", false};
+  EXPECT_EQ(runTrials(trials, fakeTrial, options).computed, trials.size());
+  fs::remove(dir / "trials" / (trials[3].id + ".json"));
+  const auto again = runTrials(trials, fakeTrial, options);
+  EXPECT_EQ(again.computed, 1u);
+  EXPECT_EQ(again.reused, trials.size() - 1);
+}
+
+TEST(Runner, ReportsFailedTrialsAndWritesNoResultForThem) {
+  Suite suite = fakeSuite();
+  suite.scenarios = {"arc.yaml", "explode.yaml"};
+  suite.sweep.clear();
+  suite.seeds = 1;
+  const auto trials = expandTrials(suite);
+  const fs::path dir = freshDir("failing");
+  const auto report = runTrials(trials, fakeTrial, {2, {}, dir / "trials", dir / "timing", false});
+  ASSERT_EQ(report.failed.size(), 1u);
+  EXPECT_EQ(report.failed[0], trials[1].id);
+  EXPECT_FALSE(fs::exists(dir / "trials" / (trials[1].id + ".json")));
+  EXPECT_EQ(loadTrials(trials, dir / "trials").missing, std::vector<std::string>{trials[1].id});
+}
+
+TEST(Shard, ParsesAndRejects) {
+  const Shard s = Shard::parse("2/8");
+  EXPECT_EQ(s.index, 2);
+  EXPECT_EQ(s.count, 8);
+  EXPECT_TRUE(s.contains(9));
+  EXPECT_FALSE(s.contains(8));
+  for (const char* bad : {"0/3", "4/3", "2", "a/b", "1/0", "1/2x"})
+    EXPECT_THROW(Shard::parse(bad), std::exception) << bad;
+}
+
+TEST(Compare, FlagsOnlyMetricsWorseThanTheirTolerance) {
+  const nlohmann::json baseline = {{"metrics", {{"a", {{"mean", 1.0}}}, {"b", {{"mean", 0.001}}}}}};
+  const nlohmann::json current = {
+      {"metrics", {{"a", {{"mean", 1.05}}}, {"b", {{"mean", 0.0021}}}}}};
+  const std::vector<Tolerance> tol = {
+      {"a", 0.0, 0.1}, {"b", 0.001, 0.0}, {"c", 1.0, 0.0}, {"a", 0.0, 0.01, true}};
+  const auto regressions = compareToBaseline(current, baseline, tol);
+  ASSERT_EQ(regressions.size(), 2u);
+  EXPECT_EQ(regressions[0].metric, "b");
+  EXPECT_NEAR(regressions[0].allowed, 0.002, 1e-15);
+  EXPECT_EQ(regressions[1].metric, "c");  // missing counts as a regression
+  // Higher is better: a drop beyond the slack regresses, a rise never does.
+  const nlohmann::json lower = {{"metrics", {{"a", {{"mean", 0.98}}}}}};
+  const auto drop = compareToBaseline(lower, baseline, {{"a", 0.0, 0.01, true}});
+  ASSERT_EQ(drop.size(), 1u);
+  EXPECT_NEAR(drop[0].allowed, 0.99, 1e-15);
+}
+
+}  // namespace
+}  // namespace slamprep::eval

@@ -1,0 +1,99 @@
+#include "eval/bench/suite.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "core/error.hpp"
+
+namespace slamprep::eval {
+namespace {
+
+std::filesystem::path writeTemp(const std::string& name, const std::string& text) {
+  const auto dir = std::filesystem::temp_directory_path() / "slamprep_suite_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / name) << text;
+  return dir / name;
+}
+
+TEST(Suite, ExpandsWorldsScenariosSweepsAndSeeds) {
+  const auto file = writeTemp("sweep.yaml", R"(
+name: sweep
+worlds: [worlds/room.yaml]
+scenarios: [worlds/scenarios/arc.yaml, worlds/scenarios/spin.yaml]
+set: {lidar.beams_per_revolution: 360}
+sweep:
+  lidar.rate_hz: [5, 10, 20]
+seeds: 2
+base_seed: 7
+deskew_methods: [none, oracle]
+)");
+  const Suite suite = loadSuite(file);
+  const auto trials = expandTrials(suite);
+  ASSERT_EQ(trials.size(), 1u * 2 * 3 * 2);
+  EXPECT_EQ(trials[0].id, "0000-room-arc-lidar.rate_hz=5-s7");
+  EXPECT_EQ(trials[1].seed, 8u);
+  EXPECT_EQ(trials[2].sweep.at("lidar.rate_hz"), "10");
+  EXPECT_EQ(trials[11].overrides.at("lidar.beams_per_revolution"), "360");
+  EXPECT_EQ(trials[11].scenario, "worlds/scenarios/spin.yaml");
+  for (std::size_t i = 0; i < trials.size(); ++i) EXPECT_EQ(trials[i].index, i);
+}
+
+TEST(Suite, RejectsUnknownKeyWithFileAndLine) {
+  const auto file = writeTemp("bad.yaml", "worlds: [a.yaml]\nscenarios: [b.yaml]\nseedz: 3\n");
+  try {
+    loadSuite(file);
+    FAIL() << "accepted an unknown key";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("bad.yaml:3"), std::string::npos) << what;
+    EXPECT_NE(what.find("seedz"), std::string::npos) << what;
+  }
+}
+
+TEST(Suite, ReadsTolerancesWithTheirDirection) {
+  const auto file = writeTemp("tol.yaml", R"(
+worlds: [a.yaml]
+scenarios: [b.yaml]
+tolerances:
+  deskew/none/mean_m: {abs: 0.001, rel: 0.05}
+  calibration/joint/ok: {abs: 0.0, better: higher}
+)");
+  const Suite suite = loadSuite(file);
+  ASSERT_EQ(suite.tolerances.size(), 2u);
+  EXPECT_EQ(suite.tolerances[0].metric, "deskew/none/mean_m");
+  EXPECT_DOUBLE_EQ(suite.tolerances[0].rel, 0.05);
+  EXPECT_FALSE(suite.tolerances[0].higher_is_better);
+  EXPECT_TRUE(suite.tolerances[1].higher_is_better);
+  EXPECT_THROW(loadSuite(writeTemp("tol2.yaml",
+                                   "worlds: [a]\nscenarios: [b]\ntolerances: {m: {better: up}}\n")),
+               InputError);
+}
+
+TEST(Suite, RejectsBadValues) {
+  EXPECT_THROW(loadSuite(writeTemp("s0.yaml", "worlds: [a]\nscenarios: [b]\nseeds: 0\n")),
+               InputError);
+  EXPECT_THROW(loadSuite(writeTemp("s1.yaml", "worlds: [a]\nscenarios: [b]\nmode: warp\n")),
+               InputError);
+  EXPECT_THROW(loadSuite(writeTemp("s2.yaml", "worlds: [a]\n")), InputError);
+  EXPECT_THROW(loadSuite(writeTemp("s3.yaml", "worlds: [a\n")), InputError);
+  EXPECT_THROW(loadSuite("/nonexistent/suite.yaml"), InputError);
+  // A null key (found by fuzzing) is an input error, not a yaml-cpp exception.
+  EXPECT_THROW(loadSuite(writeTemp("s7.yaml", "worlds: [a]\nscenarios: [b]\n~: 3\n")), InputError);
+  // Unknown methods and simulator keys fail at load time, naming the key.
+  EXPECT_THROW(
+      loadSuite(writeTemp("s4.yaml", "worlds: [a]\nscenarios: [b]\ndeskew_methods: [warp]\n")),
+      InputError);
+  EXPECT_THROW(loadSuite(writeTemp("s5.yaml",
+                                   "worlds: [a]\nscenarios: [b]\ncalibration_methods: [magic]\n")),
+               InputError);
+  try {
+    loadSuite(writeTemp("s6.yaml", "worlds: [a]\nscenarios: [b]\nsweep: {lidar.rate_hzz: [5]}\n"));
+    FAIL() << "accepted an unknown simulator key";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("lidar.rate_hzz"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace slamprep::eval

@@ -1,0 +1,63 @@
+#pragma once
+// Runs tests/formats/mcap_reader/mcap_tool.mjs (the independent @mcap/core reader and writer).
+// When node or the npm packages are missing, nodeToolUnavailable() says why, and the test skips.
+
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
+
+namespace slamprep::test {
+
+inline std::filesystem::path nodeToolDir() {
+  return std::filesystem::path(SLAMPREP_SOURCE_DIR) / "tests" / "formats" / "mcap_reader";
+}
+
+inline int runShell(const std::string& command) {
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// Empty when the tool can run; otherwise the reason. Installs the locked npm packages with
+/// `npm ci` once (under a file lock, as ctest runs tests in parallel) when they are missing.
+inline std::string nodeToolUnavailable() {
+  const auto dir = nodeToolDir();
+  if (runShell("node --version > /dev/null 2>&1") != 0) return "node is not installed";
+  if (!std::filesystem::exists(dir / "node_modules" / "@mcap" / "core")) {
+    const std::string lock =
+        (std::filesystem::temp_directory_path() / "slamprep_npm_ci.lock").string();
+    const int fd = ::open(lock.c_str(), O_CREAT | O_RDWR, 0666);
+    if (fd >= 0) ::flock(fd, LOCK_EX);
+    if (!std::filesystem::exists(dir / "node_modules" / "@mcap" / "core"))
+      runShell("cd '" + dir.string() +
+               "' && npm ci --no-audit --no-fund --loglevel=error > /dev/null 2>&1");
+    if (fd >= 0) ::close(fd);
+  }
+  if (!std::filesystem::exists(dir / "node_modules" / "@mcap" / "core"))
+    return "npm packages missing and `npm ci` in " + dir.string() +
+           " failed (no npm or no registry): run scripts/install-deps.sh";
+  return {};
+}
+
+/// Runs `node mcap_tool.mjs args`; returns its exit code, stderr in `log`.
+inline int runNodeTool(const std::string& args, std::string* log = nullptr) {
+  const auto err =
+      std::filesystem::temp_directory_path() / ("mcap_tool_" + std::to_string(::getpid()) + ".err");
+  const int rc = runShell("node '" + (nodeToolDir() / "mcap_tool.mjs").string() + "' " + args +
+                          " 2> '" + err.string() + "'");
+  if (log) {
+    std::ifstream in(err);
+    std::stringstream s;
+    s << in.rdbuf();
+    *log = s.str();
+  }
+  std::filesystem::remove(err);
+  return rc;
+}
+
+}  // namespace slamprep::test
