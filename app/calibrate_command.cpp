@@ -1,4 +1,4 @@
-// `slamprep calibrate`: odometry calibration (issue 3) on a dataset or on Censi interval records.
+// `slamprep calibrate`: odometry calibration on a dataset or on Censi interval records.
 #include <cmath>
 #include <fstream>
 #include <iomanip>

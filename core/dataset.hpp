@@ -1,5 +1,5 @@
 #pragma once
-// A dataset directory on disk (README "Dataset format"): what the simulator writes and every
+// A dataset directory on disk (docs/dataset.md): what the simulator writes and every
 // algorithm reads. Real logs fill the same structure without the ground-truth fields.
 
 #include <filesystem>
@@ -23,7 +23,7 @@ struct ScanRecord {
   /// Nominal-odometry T_odom_base at the scan stamp.
   std::optional<SE2> T_odom_base_nominal;
   /// Ground-truth undistorted point of every beam in the lidar frame at the scan stamp
-  /// (DESIGN.md "What the simulator's truth means"); empty without truth, nullopt for no-hit.
+  /// (docs/design.md#what-the-simulators-truth-means); empty without truth, nullopt for no-hit.
   std::vector<std::optional<Eigen::Vector2d>> p_ref_true;
 };
 

@@ -1,5 +1,5 @@
 #pragma once
-// Differential-drive wheel geometry and kinematics (DESIGN.md, "Differential-drive kinematics").
+// Differential-drive wheel geometry and kinematics (docs/design.md#differential-drive-kinematics).
 
 #include <Eigen/Core>
 

@@ -1,5 +1,5 @@
 #pragma once
-// LaserScan in the ROS sensor_msgs/LaserScan convention (DESIGN.md, "Conventions").
+// LaserScan in the ROS sensor_msgs/LaserScan convention (docs/design.md#time-stamps).
 
 #include <Eigen/Core>
 #include <cmath>

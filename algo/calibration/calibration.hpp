@@ -1,5 +1,5 @@
 #pragma once
-// Odometry calibration (issue 3): every method, one include.
+// Odometry calibration: every method, one include.
 
 #include "algo/calibration/calibration_result.hpp"
 #include "algo/calibration/ceres_refine.hpp"

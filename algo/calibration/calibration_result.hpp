@@ -50,9 +50,10 @@ struct RotationFit {
   std::vector<double> residuals_rad;  ///< measured minus predicted rotation, per interval
 };
 
-/// Least-squares rotation fit (Eq. in DESIGN.md "model-based method", step 1). Refuses (with the
-/// reason naming the kind of driving) when the design is worse conditioned than max_condition,
-/// and detects swapped or sign-flipped encoder channels from the signs of J21 and J22.
+/// Least-squares rotation fit (docs/design.md, "Calibration: model-based method", step 1).
+/// Refuses (with the reason naming the kind of driving) when the design is worse conditioned
+/// than max_condition, and detects swapped or sign-flipped encoder channels from the signs of
+/// J21 and J22.
 RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, double max_condition);
 
 /// Heading and unit-b translation of an interval given J21, J22: the odometry displacement is

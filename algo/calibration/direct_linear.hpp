@@ -1,7 +1,7 @@
 #pragma once
-// Direct linear odometry calibration (the lecture; DESIGN.md "Calibration, direct linear method"):
-// u*_i = X u_i with u_i the odometry increment from the nominal geometry and u*_i the measured
-// one; X (3x3) by stacked least squares. General, simple, not very accurate.
+// Direct linear odometry calibration (the lecture; docs/design.md, "Calibration: direct linear
+// method"): u*_i = X u_i with u_i the odometry increment from the nominal geometry and u*_i the
+// measured one; X (3x3) by stacked least squares. General, simple, not very accurate.
 
 #include <Eigen/Core>
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// Model-based odometry calibration (the lecture; DESIGN.md "Calibration, model-based method"):
+// Model-based odometry calibration (the lecture; docs/design.md#calibration-model-based-method):
 // J21, J22 from the rotations, then b from the translations, r_L = -J21 b, r_R = J22 b. The lidar
 // is assumed at the robot centre.
 

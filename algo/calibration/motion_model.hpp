@@ -2,7 +2,7 @@
 // The exact differential-drive motion model used by every calibration method, templated on the
 // scalar so Ceres can differentiate it with Jets. Within one encoder step the wheel rates are
 // constant, so the base moves along the exact arc exp((ds, 0, dth)) with
-//   ds  = (r_L dphi_L + r_R dphi_R) / 2,    dth = (r_R dphi_R - r_L dphi_L) / b     (DESIGN.md J)
+//   ds  = (r_L dphi_L + r_R dphi_R) / 2,    dth = (r_R dphi_R - r_L dphi_L) / b   (docs/design.md)
 // and an interval's motion is the product of its steps' arcs: no constant-speed assumption.
 
 #include <cmath>

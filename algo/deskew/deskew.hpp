@@ -1,7 +1,6 @@
 #pragma once
 // Lidar motion-distortion removal (de-skew): every beam of a scan re-projected into the lidar frame
-// at one reference time, with one interface for all methods (DESIGN.md "Motion distortion",
-// "Odometry-assisted de-skew", "Odometry + ICP combined", "VICP").
+// at one reference time, with one interface for all methods (docs/design.md#de-skew-methods).
 //
 // Beam i is measured at t_i = t_first + i * time_increment from the lidar pose T_X_L(t_i); its
 // de-skewed point is p_ref_i = T_X_L(t_ref)^-1 * T_X_L(t_i) * p_L_i. A method is a way to know

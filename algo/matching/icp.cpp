@@ -126,8 +126,8 @@ std::vector<Pair> findPairs(const IcpReference& ref, const Points2& cur, std::si
   return pairs;
 }
 
-/// Closed-form point-to-point step from pairs (DESIGN.md "ICP": centroids, H = sum p' q'^T,
-/// H = U S V^T, R = V U^T with the reflection fixed, t = u_q - R u_p).
+/// Closed-form point-to-point step from pairs (docs/design.md#point-to-point-icp): centroids,
+/// H = sum p' q'^T = U S V^T, R = V U^T with the reflection fixed, t = u_q - R u_p.
 std::optional<SE2> solvePointToPoint(const std::vector<Pair>& pairs) {
   if (pairs.size() < 2) return std::nullopt;
   Eigen::Vector2d u_p = Eigen::Vector2d::Zero(), u_q = Eigen::Vector2d::Zero();

@@ -1,7 +1,8 @@
 #pragma once
-// 2D scan matching: point-to-point ICP with the closed-form SVD step (DESIGN.md "ICP") and
-// point-to-line ICP (Censi 2008, PL-ICP) with its exact closed-form step. Nearest neighbours come
-// from a kd-tree; correspondences are gated by distance and the worst fraction trimmed.
+// 2D scan matching: point-to-point ICP with the closed-form SVD step and point-to-line ICP
+// (Censi 2008, PL-ICP) with its exact closed-form step (docs/design.md#scan-matching). Nearest
+// neighbours come from a kd-tree; correspondences are gated by distance and the worst fraction
+// trimmed.
 //
 // Frames: `ref` points are in the reference lidar frame, `cur` points in the current lidar frame;
 // the result T_ref_cur maps current points into the reference frame (p_ref = T_ref_cur * p_cur).

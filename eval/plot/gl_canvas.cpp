@@ -1,6 +1,6 @@
 #include "eval/plot/gl_canvas.hpp"
 
-// OSMesa alone provides the GL entry points; never link libGL beside it (DESIGN.md).
+// OSMesa alone provides the GL entry points; never link libGL beside it (docs/design.md).
 #include <GL/osmesa.h>
 // clang-format off
 #include <GL/gl.h>

@@ -236,8 +236,8 @@ class LidarStream {
     current_.scan.ranges_m[beam_] = range_m;
     if (std::isfinite(range_m)) {
       const Eigen::Vector2d p_lidar = range_m * beam_dir_[beam_];
-      // p_ref = T_W_L(t_stamp)^-1 * T_W_L(t_i) * p_L_i (DESIGN.md "What the simulator's truth
-      // means")
+      // p_ref = T_W_L(t_stamp)^-1 * T_W_L(t_i) * p_L_i
+      // (docs/design.md#what-the-simulators-truth-means)
       current_.p_ref_true[beam_] = T_lidar0_world_ * (T_world_lidar * p_lidar);
     }
     if (++beam_ == current_.scan.size()) {

@@ -28,7 +28,7 @@ class EndToEnd : public ::testing::Test {
     delete intervals_;
   }
 
-  // Issue 3's bounds: r_L, r_R, b within 0.05 %, the mount within 1 mm and 0.05 deg. With exact
+  // Bounds: r_L, r_R, b within 0.05 %, the mount within 1 mm and 0.05 deg. With exact
   // kinematics the remaining error is encoder quantisation (2 pi / 4096 per tick) and the
   // constant-rate interpolation inside 10 ms encoder steps at interval ends; observed ~0.004 %.
   static void expectTruth(const CalibrationResult& r) {

@@ -1,7 +1,8 @@
 #pragma once
 // Test-only synthetic data: an analytic 2D world of line segments, robot trajectories sampled
-// like a physics engine (poses at a fixed step, geodesic in between, as DESIGN.md defines truth),
-// and a rotating lidar ray-cast beam by beam while the robot moves. No Bullet, exact geometry.
+// like a physics engine (poses at a fixed step, geodesic in between, as docs/design.md defines
+// truth), and a rotating lidar ray-cast beam by beam while the robot moves. No Bullet, exact
+// geometry.
 
 #include <Eigen/Core>
 #include <cmath>

@@ -1,5 +1,5 @@
-// Hardening of every reader against the malformed inputs of issue 6: truncated files, NaN/Inf,
-// wrong column counts, unsorted or duplicate stamps, empty scans, absurd values. Each case must
+// Hardening of every reader against malformed input: truncated files, NaN/Inf, wrong column
+// counts, unsorted or duplicate stamps, empty scans, absurd values. Each case must
 // raise InputError naming the file and the line or field (never crash, hang or accept).
 // The table in docs/export.md lists these cases per reader.
 #include <gtest/gtest.h>
@@ -86,7 +86,7 @@ TEST(ReaderHardening, WorldYaml) {
 }
 
 // Was accepted by the reader (simulate's start check happened to refuse it); sizes and
-// coordinates are now bounded by 10 km (issue 6).
+// coordinates are now bounded by 10 km.
 TEST(ReaderHardening, WorldYamlAbsurdSize) {
   const fs::path file = scratchDir() / "world.yaml";
   std::string w = kWorld;
@@ -278,7 +278,7 @@ TEST_F(DatasetHardening, AbsurdValues) {
   expectEditRejected("scans.jsonl", "\"nrays\":8", "\"nrays\":1000000000", {"scans.jsonl:1"});
 }
 
-// The three gaps below were accepted by readDataset until issue 6's hardening (core/io).
+// The three gaps below were accepted by readDataset before the reader hardening (docs/export.md).
 TEST_F(DatasetHardening, NegativeRangeMinIsRejected) {
   expectEditRejected("scans.jsonl", "\"range_min\":0.05", "\"range_min\":-1", {"scans.jsonl:1"});
 }

@@ -261,10 +261,9 @@ TEST_F(DatasetIo, MalformedFilesAreRejectedNamingFileLineAndField) {
   EXPECT_THROW(eval::readDataset(root_ / "does_not_exist"), InputError);
 }
 
-// "A lidar whose odometry does not cover its scans" (issue 6): every beam of every scan, first
-// to last, must lie inside the span of each odometry the dataset has (encoders.csv and
-// odom_nominal.tum; an imported log may have only one of them). Without any odometry the scans
-// are still readable (ICP-only use).
+// The odometry must cover the scans: every beam of every scan, first to last, must lie inside
+// the span of each odometry the dataset has (encoders.csv and odom_nominal.tum; an imported log
+// may have only one of them). Without any odometry the scans are still readable (ICP-only use).
 TEST_F(DatasetIo, ScansOutsideTheOdometryAreRejectedNamingTheScanLine) {
   SyntheticDatasetParams p;
   p.duration_s = 0.5;

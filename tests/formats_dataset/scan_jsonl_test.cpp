@@ -166,7 +166,7 @@ TEST(ScanJsonl, WriterRefusesUnreadableValues) {
 }
 
 // Scans no algorithm can use, refused on reading (a file from another tool) and on writing (so
-// writeDataset never publishes what readDataset refuses). Each check was missing before issue 6.
+// writeDataset never publishes what readDataset refuses). Each check was once missing.
 TEST(ScanJsonl, RefusesEmptyScansNegativeRangeMinAndBackwardTime) {
   const std::string head = R"({"stamp_s":1,"angle_min":0,"angle_increment":0.1,)";
   expectError(head + R"("nrays":0,"readings":[]})", "s.jsonl:7: nrays: an empty scan");

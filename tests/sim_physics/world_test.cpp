@@ -140,7 +140,7 @@ TEST(WorldErrors, MissingKeysFilesAndSyntax) {
 }
 
 // Sizes and coordinates beyond 10 km (kMaxSize_m, kMaxCoordinate_m) are typos: 1e300 used to be
-// accepted (issue 6). Each case names the key and the bound.
+// accepted. Each case names the key and the bound.
 TEST(WorldErrors, AbsurdSizesAndCoordinatesNameTheKeyAndTheBound) {
   struct Case {
     std::string yaml, key, bound;
