@@ -12,11 +12,9 @@
 #include <utility>
 #include <vector>
 
-namespace slamprep::eval {
+#include "eval/formats/crc32.hpp"
 
-/// CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), as zlib computes it; `crc` continues a
-/// previous value.
-std::uint32_t crc32(std::string_view bytes, std::uint32_t crc = 0);
+namespace slamprep::eval {
 
 struct McapSchema {
   std::uint16_t id = 0;
@@ -74,6 +72,9 @@ class McapWriter {
     std::uint64_t size = 0;
   };
   void flushChunk();
+  void writeMessageIndexes(ChunkIndexEntry& entry);  ///< of the open chunk, just written
+  std::string statisticsBody() const;
+  static std::string chunkIndexBody(const ChunkIndexEntry& entry);
 
   McapWriterParams params_;
   std::string out_;
@@ -101,9 +102,9 @@ struct McapFile {
 };
 
 /// Reads a whole MCAP file (`file` names it in errors). Linear read: every record is visited in
-/// order, chunks are unpacked (compression "", "zstd" or "lz4": eval/io/decompress.hpp), every
-/// non-zero CRC is verified. Throws InputError naming the file, the byte
-/// offset of the record and the field on any malformed or truncated input.
+/// order, chunks are unpacked (compression "", "zstd" or "lz4": eval/formats/decompress.hpp),
+/// every non-zero CRC is verified. Throws InputError naming the file, the byte offset of the
+/// record and the field on any malformed or truncated input.
 McapFile readMcap(std::string_view bytes, const std::string& file);
 
 }  // namespace slamprep::eval

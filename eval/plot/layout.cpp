@@ -169,6 +169,20 @@ void validateSeries(const Series& s, const std::string& where) {
 
 }  // namespace
 
+double PanelLayout::toPixelX(double x_data) const {
+  const double f =
+      log_x ? (std::log10(x_data) - std::log10(x.min)) / (std::log10(x.max) - std::log10(x.min))
+            : (x_data - x.min) / (x.max - x.min);
+  return left_px + f * (right_px - left_px);
+}
+
+double PanelLayout::toPixelY(double y_data) const {
+  const double f =
+      log_y ? (std::log10(y_data) - std::log10(y.min)) / (std::log10(y.max) - std::log10(y.min))
+            : (y_data - y.min) / (y.max - y.min);
+  return bottom_px - f * (bottom_px - top_px);
+}
+
 bool usable(double value, bool log_axis) {
   return std::isfinite(value) && std::abs(value) < kLargest &&
          (!log_axis || value > 1.0 / kLargest);

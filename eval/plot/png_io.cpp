@@ -1,10 +1,11 @@
-// PNG files through libpng. libpng reports errors by longjmp, so the setjmp frames below hold
-// only plain C data; everything with a destructor lives in the callers.
+// Image pixel access, and PNG files through libpng. libpng reports errors by longjmp, so the setjmp
+// frames below hold only plain C data; everything with a destructor lives in the callers.
 
 #include <png.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cassert>
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
@@ -55,6 +56,12 @@ std::filesystem::path temporaryPath(const std::filesystem::path& path) {
 }
 
 }  // namespace
+
+std::array<std::uint8_t, 4> Image::pixel(int x, int y) const {
+  assert(x >= 0 && y >= 0 && x < width && y < height);
+  const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 4;
+  return {rgba[i], rgba[i + 1], rgba[i + 2], rgba[i + 3]};
+}
 
 void writePng(const Image& image, const std::filesystem::path& path) {
   if (image.width <= 0 || image.height <= 0 ||

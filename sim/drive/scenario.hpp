@@ -3,69 +3,12 @@
 // (schema in docs/simulate.md). Every segment starts and ends at rest and respects the scenario's
 // acceleration limits, so segments concatenate without jumps.
 
-#include <Eigen/Core>
 #include <filesystem>
 #include <string>
-#include <vector>
+
+#include "sim/drive/command_profile.hpp"
 
 namespace slamprep::sim {
-
-/// What a command sets: the body twist (v, w) or the two wheel rates directly.
-enum class CommandKind { twist, wheel_rates };
-
-/// One commanded value. For `twist`: (v_mps, w_radps); for `wheel_rates`: (left, right) in rad/s.
-struct Command {
-  CommandKind kind = CommandKind::twist;
-  Eigen::Vector2d value = Eigen::Vector2d::Zero();
-};
-
-/// Acceleration limits every segment's ramps respect.
-struct AccelerationLimits {
-  double linear_mps2 = 1.0;     ///< |dv/dt| for twist segments
-  double angular_radps2 = 2.0;  ///< |dw/dt| for twist segments
-  double wheel_radps2 = 10.0;   ///< |d(wheel rate)/dt| for wheel-rate segments
-};
-
-/// A time-stamped command value; commands are linear between consecutive knots of one segment.
-struct CommandKnot {
-  double t_s = 0.0;
-  Eigen::Vector2d value = Eigen::Vector2d::Zero();
-};
-
-/// One rest-to-rest piece of the profile.
-struct ProfileSegment {
-  std::string type;   ///< segment type as written in the file ("straight", "arc", ...)
-  std::string where;  ///< "file:line: segments[k]" for error messages
-  CommandKind kind = CommandKind::twist;
-  std::vector<CommandKnot> knots;  ///< absolute times, first and last value zero, >= 2 knots
-
-  double start_s() const { return knots.front().t_s; }
-  double end_s() const { return knots.back().t_s; }
-};
-
-/// The commanded profile over time: consecutive rest-to-rest segments, zero outside them.
-class CommandProfile {
- public:
-  /// Appends a segment given in local time (first knot at t = 0); it starts where the last ended.
-  void append(ProfileSegment segment);
-  /// Appends all segments of `other`, shifted to start where this profile ends.
-  void append(const CommandProfile& other);
-
-  double duration_s() const { return segments_.empty() ? 0.0 : segments_.back().end_s(); }
-  const std::vector<ProfileSegment>& segments() const { return segments_; }
-  /// The command at time t (zero twist before the start and after the end).
-  Command at(double t_s) const;
-  /// The segment active at time t, or nullptr outside the profile.
-  const ProfileSegment* segmentAt(double t_s) const;
-
-  /// Calls fn(kind, c0, c1, dt) for every linear piece overlapping [t0, t1], with the command
-  /// values c0 at its start and c1 at its end: exact integration of the piecewise-linear profile.
-  template <typename Fn>
-  void forEachPiece(double t0_s, double t1_s, Fn&& fn) const;
-
- private:
-  std::vector<ProfileSegment> segments_;
-};
 
 /// A scenario file, parsed and expanded into its command profile.
 struct Scenario {
@@ -81,25 +24,5 @@ Scenario loadScenario(const std::filesystem::path& file);
 
 /// Parses scenario YAML text; `source` names it in errors and resolves relative includes.
 Scenario parseScenario(const std::string& yaml_text, const std::filesystem::path& source);
-
-// ---------------------------------------------------------------------------------------------
-
-namespace detail {
-Eigen::Vector2d valueAt(const ProfileSegment& segment, double t_s);
-}  // namespace detail
-
-template <typename Fn>
-void CommandProfile::forEachPiece(double t0_s, double t1_s, Fn&& fn) const {
-  for (const ProfileSegment& segment : segments_) {
-    if (segment.end_s() <= t0_s) continue;
-    if (segment.start_s() >= t1_s) break;
-    for (std::size_t k = 0; k + 1 < segment.knots.size(); ++k) {
-      const double a = std::max(t0_s, segment.knots[k].t_s);
-      const double b = std::min(t1_s, segment.knots[k + 1].t_s);
-      if (b <= a) continue;
-      fn(segment.kind, detail::valueAt(segment, a), detail::valueAt(segment, b), b - a);
-    }
-  }
-}
 
 }  // namespace slamprep::sim

@@ -1,34 +1,13 @@
-#include "eval/formats/mcap.hpp"
-
-#include <array>
 #include <cstring>
-#include <limits>
 
 #include "core/error.hpp"
 #include "eval/formats/decompress.hpp"
+#include "eval/formats/mcap.hpp"
+#include "eval/formats/mcap_records.hpp"
 
 namespace slamprep::eval {
+using namespace mcap;
 namespace {
-
-constexpr std::string_view kMagic("\x89MCAP0\r\n", 8);
-
-enum Op : std::uint8_t {
-  kHeader = 0x01,
-  kFooter = 0x02,
-  kSchema = 0x03,
-  kChannel = 0x04,
-  kMessage = 0x05,
-  kChunk = 0x06,
-  kMessageIndex = 0x07,
-  kChunkIndex = 0x08,
-  kAttachment = 0x09,
-  kAttachmentIndex = 0x0A,
-  kStatistics = 0x0B,
-  kMetadata = 0x0C,
-  kMetadataIndex = 0x0D,
-  kSummaryOffset = 0x0E,
-  kDataEnd = 0x0F,
-};
 
 const char* opName(std::uint8_t op) {
   static const char* names[] = {"Reserved",   "Header",        "Footer",          "Schema",
@@ -36,60 +15,6 @@ const char* opName(std::uint8_t op) {
                                 "ChunkIndex", "Attachment",    "AttachmentIndex", "Statistics",
                                 "Metadata",   "MetadataIndex", "SummaryOffset",   "DataEnd"};
   return op < 16 ? names[op] : "unknown";
-}
-
-const std::array<std::uint32_t, 256>& crcTable() {
-  static const std::array<std::uint32_t, 256> table = [] {
-    std::array<std::uint32_t, 256> t{};
-    for (std::uint32_t i = 0; i < 256; ++i) {
-      std::uint32_t c = i;
-      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-      t[i] = c;
-    }
-    return t;
-  }();
-  return table;
-}
-
-// ---- little-endian primitives (MCAP is little endian throughout) ----
-
-template <typename T>
-void putLe(std::string& out, T v) {
-  char b[sizeof(T)];
-  std::memcpy(b, &v, sizeof(T));  // host is little endian (static_assert in cdr.cpp)
-  out.append(b, sizeof(T));
-}
-void putString(std::string& out, std::string_view s) {
-  putLe<std::uint32_t>(out, static_cast<std::uint32_t>(s.size()));
-  out.append(s);
-}
-void putRecord(std::string& out, std::uint8_t op, std::string_view body) {
-  out.push_back(static_cast<char>(op));
-  putLe<std::uint64_t>(out, body.size());
-  out.append(body);
-}
-
-std::string schemaBody(const McapSchema& s) {
-  std::string b;
-  putLe<std::uint16_t>(b, s.id);
-  putString(b, s.name);
-  putString(b, s.encoding);
-  putString(b, s.data);  // bytes: uint32 length prefix, like a string
-  return b;
-}
-
-std::string channelBody(const McapChannel& c) {
-  std::string b, map;
-  putLe<std::uint16_t>(b, c.id);
-  putLe<std::uint16_t>(b, c.schema_id);
-  putString(b, c.topic);
-  putString(b, c.message_encoding);
-  for (const auto& [k, v] : c.metadata) {
-    putString(map, k);
-    putString(map, v);
-  }
-  putString(b, map);  // map: uint32 byte length, then the entries
-  return b;
 }
 
 // ---- bounds-checked reader over one record body ----
@@ -330,178 +255,6 @@ struct Reader {
 };
 
 }  // namespace
-
-std::uint32_t crc32(std::string_view bytes, std::uint32_t crc) {
-  const auto& table = crcTable();
-  crc = ~crc;
-  for (unsigned char b : bytes) crc = table[(crc ^ b) & 0xFF] ^ (crc >> 8);
-  return ~crc;
-}
-
-McapWriter::McapWriter(McapWriterParams params) : params_(std::move(params)) {
-  out_.append(kMagic);
-  std::string header;
-  putString(header, params_.profile);
-  putString(header, params_.library);
-  putRecord(out_, kHeader, header);
-}
-
-std::uint16_t McapWriter::addSchema(std::string name, std::string encoding, std::string data) {
-  flushChunk();
-  McapSchema s{static_cast<std::uint16_t>(schemas_.size() + 1), std::move(name),
-               std::move(encoding), std::move(data)};
-  putRecord(out_, kSchema, schemaBody(s));
-  schemas_.push_back(std::move(s));
-  return schemas_.back().id;
-}
-
-std::uint16_t McapWriter::addChannel(std::uint16_t schema_id, std::string topic,
-                                     std::string message_encoding,
-                                     std::vector<std::pair<std::string, std::string>> metadata) {
-  flushChunk();
-  McapChannel c{static_cast<std::uint16_t>(channels_.size()), schema_id, std::move(topic),
-                std::move(message_encoding), std::move(metadata)};
-  putRecord(out_, kChannel, channelBody(c));
-  channels_.push_back(std::move(c));
-  channel_counts_[channels_.back().id] = 0;
-  return channels_.back().id;
-}
-
-void McapWriter::addMessage(std::uint16_t channel_id, std::uint64_t log_time_ns,
-                            std::uint64_t publish_time_ns, std::string_view data) {
-  std::string body;
-  putLe<std::uint16_t>(body, channel_id);
-  putLe<std::uint32_t>(body, static_cast<std::uint32_t>(channel_counts_[channel_id]++));
-  putLe<std::uint64_t>(body, log_time_ns);
-  putLe<std::uint64_t>(body, publish_time_ns);
-  body.append(data);
-
-  start_ns_ = message_count_ == 0 ? log_time_ns : std::min(start_ns_, log_time_ns);
-  end_ns_ = message_count_ == 0 ? log_time_ns : std::max(end_ns_, log_time_ns);
-  ++message_count_;
-
-  if (params_.chunk_size_bytes == 0) {
-    putRecord(out_, kMessage, body);
-    return;
-  }
-  const bool empty = chunk_index_.empty();
-  chunk_start_ns_ = empty ? log_time_ns : std::min(chunk_start_ns_, log_time_ns);
-  chunk_end_ns_ = empty ? log_time_ns : std::max(chunk_end_ns_, log_time_ns);
-  chunk_index_[channel_id].emplace_back(log_time_ns, chunk_.size());
-  putRecord(chunk_, kMessage, body);
-  if (chunk_.size() >= params_.chunk_size_bytes) flushChunk();
-}
-
-void McapWriter::flushChunk() {
-  if (chunk_index_.empty()) return;
-  ChunkIndexEntry entry;
-  entry.start_ns = chunk_start_ns_;
-  entry.end_ns = chunk_end_ns_;
-  entry.offset = out_.size();
-  entry.size = chunk_.size();
-  std::string body;
-  putLe<std::uint64_t>(body, chunk_start_ns_);
-  putLe<std::uint64_t>(body, chunk_end_ns_);
-  putLe<std::uint64_t>(body, chunk_.size());  // uncompressed_size
-  putLe<std::uint32_t>(body, crc32(chunk_));  // uncompressed_crc
-  putString(body, "");                        // compression: none
-  putLe<std::uint64_t>(body, chunk_.size());  // records: uint64 length prefix
-  body.append(chunk_);
-  putRecord(out_, kChunk, body);
-  entry.length = out_.size() - entry.offset;
-
-  const std::size_t index_start = out_.size();
-  for (const auto& [channel, entries] : chunk_index_) {  // std::map: sorted by channel id
-    entry.index_offsets[channel] = out_.size();
-    std::string index;
-    putLe<std::uint16_t>(index, channel);
-    putLe<std::uint32_t>(index, static_cast<std::uint32_t>(entries.size() * 16));
-    for (const auto& [t, offset] : entries) {
-      putLe<std::uint64_t>(index, t);
-      putLe<std::uint64_t>(index, offset);
-    }
-    putRecord(out_, kMessageIndex, index);
-  }
-  entry.index_length = out_.size() - index_start;
-  chunk_indexes_.push_back(std::move(entry));
-  chunk_.clear();
-  chunk_index_.clear();
-}
-
-std::string McapWriter::finish() {
-  flushChunk();
-  std::string data_end;
-  putLe<std::uint32_t>(data_end, crc32(out_));
-  putRecord(out_, kDataEnd, data_end);
-
-  const std::uint64_t summary_start = out_.size();
-  std::vector<std::array<std::uint64_t, 3>> groups;  // opcode, start, length
-  auto group = [&](std::uint8_t op, auto&& write) {
-    const std::uint64_t start = out_.size();
-    write();
-    if (out_.size() > start) groups.push_back({op, start, out_.size() - start});
-  };
-  group(kSchema, [&] {
-    for (const auto& s : schemas_) putRecord(out_, kSchema, schemaBody(s));
-  });
-  group(kChannel, [&] {
-    for (const auto& c : channels_) putRecord(out_, kChannel, channelBody(c));
-  });
-  group(kStatistics, [&] {
-    std::string b, counts;
-    putLe<std::uint64_t>(b, message_count_);
-    putLe<std::uint16_t>(b, static_cast<std::uint16_t>(schemas_.size()));
-    putLe<std::uint32_t>(b, static_cast<std::uint32_t>(channels_.size()));
-    putLe<std::uint32_t>(b, 0);  // attachment_count
-    putLe<std::uint32_t>(b, 0);  // metadata_count
-    putLe<std::uint32_t>(b, static_cast<std::uint32_t>(chunk_indexes_.size()));
-    putLe<std::uint64_t>(b, start_ns_);
-    putLe<std::uint64_t>(b, end_ns_);
-    for (const auto& [channel, n] : channel_counts_) {
-      putLe<std::uint16_t>(counts, channel);
-      putLe<std::uint64_t>(counts, n);
-    }
-    putString(b, counts);
-    putRecord(out_, kStatistics, b);
-  });
-  group(kChunkIndex, [&] {
-    for (const auto& e : chunk_indexes_) {
-      std::string b, offsets;
-      putLe<std::uint64_t>(b, e.start_ns);
-      putLe<std::uint64_t>(b, e.end_ns);
-      putLe<std::uint64_t>(b, e.offset);
-      putLe<std::uint64_t>(b, e.length);
-      for (const auto& [channel, offset] : e.index_offsets) {
-        putLe<std::uint16_t>(offsets, channel);
-        putLe<std::uint64_t>(offsets, offset);
-      }
-      putString(b, offsets);
-      putLe<std::uint64_t>(b, e.index_length);
-      putString(b, "");                 // compression
-      putLe<std::uint64_t>(b, e.size);  // compressed_size
-      putLe<std::uint64_t>(b, e.size);  // uncompressed_size
-      putRecord(out_, kChunkIndex, b);
-    }
-  });
-  const std::uint64_t summary_offset_start = out_.size();
-  for (const auto& [op, start, length] : groups) {
-    std::string b;
-    b.push_back(static_cast<char>(op));
-    putLe<std::uint64_t>(b, start);
-    putLe<std::uint64_t>(b, length);
-    putRecord(out_, kSummaryOffset, b);
-  }
-  // Footer: the summary CRC covers the summary section through summary_offset_start.
-  out_.push_back(static_cast<char>(kFooter));
-  putLe<std::uint64_t>(out_, 20);
-  putLe<std::uint64_t>(out_, summary_start);
-  putLe<std::uint64_t>(out_, summary_offset_start);
-  putLe<std::uint32_t>(out_, crc32(std::string_view(out_).substr(summary_start)));
-  out_.append(kMagic);
-  std::string result = std::move(out_);
-  out_.clear();
-  return result;
-}
 
 McapFile readMcap(std::string_view bytes, const std::string& file) {
   Reader reader{bytes, file, {}};

@@ -1,0 +1,30 @@
+#pragma once
+// MCAP record framing shared by the reader (mcap_reader.cpp) and the writer (mcap_writer.cpp):
+// the magic that opens and closes a file and the record opcodes (https://mcap.dev/spec).
+
+#include <cstdint>
+#include <string_view>
+
+namespace slamprep::eval::mcap {
+
+inline constexpr std::string_view kMagic("\x89MCAP0\r\n", 8);
+
+enum Op : std::uint8_t {
+  kHeader = 0x01,
+  kFooter = 0x02,
+  kSchema = 0x03,
+  kChannel = 0x04,
+  kMessage = 0x05,
+  kChunk = 0x06,
+  kMessageIndex = 0x07,
+  kChunkIndex = 0x08,
+  kAttachment = 0x09,
+  kAttachmentIndex = 0x0A,
+  kStatistics = 0x0B,
+  kMetadata = 0x0C,
+  kMetadataIndex = 0x0D,
+  kSummaryOffset = 0x0E,
+  kDataEnd = 0x0F,
+};
+
+}  // namespace slamprep::eval::mcap
