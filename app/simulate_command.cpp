@@ -147,7 +147,7 @@ Command addSimulateCommand(CLI::App& app) {
   cli->add_option(
       "--world", flags->world,
       "World file (YAML, docs/worlds.md). Default: worlds/room.yaml; relative paths "
-      "are looked up in the working directory, then in the source tree slamprep was built from");
+      "are looked up in the working directory, then in the data folder (docs/install.md)");
   cli->add_option("--scenario", flags->scenario,
                   "Scenario file (YAML, docs/simulate.md). Default: "
                   "worlds/scenarios/default.yaml");

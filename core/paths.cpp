@@ -1,13 +1,43 @@
 #include "core/paths.hpp"
 
+#include <cstdlib>
+#include <system_error>
+
 namespace slamprep {
+namespace fs = std::filesystem;
 
-std::filesystem::path sourceDir() { return SLAMPREP_SOURCE_DIR; }
+namespace {
 
-std::filesystem::path resolveDataPath(const std::filesystem::path& path) {
-  if (path.is_absolute() || std::filesystem::exists(path)) return path;
-  const auto in_source = sourceDir() / path;
-  return std::filesystem::exists(in_source) ? in_source : path;
+// The running executable's folder; empty where /proc is not mounted.
+fs::path executableDir() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? fs::path() : exe.parent_path();
+}
+
+bool isDirectory(const fs::path& path) {
+  std::error_code ec;
+  return fs::is_directory(path, ec);
+}
+
+}  // namespace
+
+fs::path dataDir() {
+  if (const char* env = std::getenv("SLAMPREP_DATA_DIR"); env && *env) return env;
+  const fs::path exe_dir = executableDir();
+  if (exe_dir.empty()) return {};
+  for (const fs::path& candidate : {exe_dir / ".." / "share" / "slamprep",  // installed
+                                    exe_dir / "share" / "slamprep"})        // build tree
+    if (isDirectory(candidate)) return candidate.lexically_normal();
+  return {};
+}
+
+fs::path resolveDataPath(const fs::path& path) {
+  if (path.is_absolute() || fs::exists(path)) return path;
+  const fs::path data_dir = dataDir();
+  if (data_dir.empty()) return path;
+  const fs::path in_data = data_dir / path;
+  return fs::exists(in_data) ? in_data : path;
 }
 
 }  // namespace slamprep

@@ -1,16 +1,21 @@
 #pragma once
-// Locating the project's data files (worlds, scenarios, suites) from any working directory.
+// Locating the project's data files (worlds, scenarios, suites) from any working directory, for
+// the binary in its build tree and for an installed (and possibly moved) prefix alike.
 
 #include <filesystem>
-#include <string>
 
 namespace slamprep {
 
-/// The source tree slamprep was built from (world files, suites live there).
-std::filesystem::path sourceDir();
+/// The folder holding worlds/ and eval/suites/, first that applies:
+///   1. $SLAMPREP_DATA_DIR when set and not empty (taken as given);
+///   2. <exe_dir>/../share/slamprep, an installed prefix (wherever it was moved to);
+///   3. <exe_dir>/share/slamprep, the build tree (symlinks into the sources, made by CMake).
+/// <exe_dir> is the folder of /proc/self/exe. Empty when none of them exists.
+std::filesystem::path dataDir();
 
-/// A data path as given if it exists relative to the working directory, otherwise the same
-/// relative path under sourceDir() if that exists; otherwise unchanged (the reader reports it).
+/// A data path as given if it is absolute or exists relative to the working directory, otherwise
+/// the same relative path under dataDir() if that exists; otherwise unchanged (the reader then
+/// reports the path as the user wrote it).
 std::filesystem::path resolveDataPath(const std::filesystem::path& path);
 
 }  // namespace slamprep

@@ -4,5 +4,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-bash scripts/build.sh
+bash scripts/build.sh slamprep  # the binary and its libraries; no tests, no benchmarks
 ./build/slamprep bench "$@"

@@ -27,7 +27,7 @@ struct NominalErrors {
 };
 
 struct SimConfig {
-  std::string world = "worlds/room.yaml";  ///< world file (relative: cwd, then source tree)
+  std::string world = "worlds/room.yaml";  ///< world file (relative: cwd, then dataDir())
   std::string scenario = "worlds/scenarios/default.yaml";  ///< scenario file (same lookup)
   double duration_s = 0.0;          ///< simulated time; 0 = the scenario's own length
   std::uint64_t seed = 1;           ///< seeds every sensor's noise stream
