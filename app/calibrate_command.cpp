@@ -1,4 +1,6 @@
-// `slamprep calibrate`: odometry calibration (issue 3) on a dataset or on Censi interval records.
+// `slamprep calibrate`: odometry calibration (docs/calibration.md) on a dataset or on Censi
+// interval records.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -7,7 +9,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "algo/calibration/calibration.hpp"
+#include "algo/calibration/calibrate.hpp"
 #include "algo/calibration/dataset_motion.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
@@ -30,12 +32,6 @@ struct CalibrateFlags {
   double keyframe_deg = 10.0;
   double side_m = 2.5;  // the shipped umbmark_cw/ccw.yaml squares
   bool time_offset = false;
-};
-
-/// One method's outcome in the units the table and JSON use.
-struct Row {
-  std::string method;
-  algo::CalibrationResult result;
 };
 
 const char* kKeys[] = {"r_L", "r_R", "b", "lidar_x", "lidar_y", "lidar_yaw"};
@@ -62,9 +58,11 @@ double errorOf(const Eigen::VectorXd& est, const Eigen::VectorXd& truth, int i) 
   return i == 5 ? normalizeAngle(e) : e;
 }
 
-nlohmann::json toJson(const Row& row, const std::optional<Eigen::VectorXd>& truth) {
+nlohmann::json toJson(const algo::CalibrationRun& row,
+                      const std::optional<Eigen::VectorXd>& truth) {
   const auto& r = row.result;
-  nlohmann::json j = {{"method", row.method}, {"ok", r.ok}, {"reason", r.reason}};
+  nlohmann::json j = {
+      {"method", algo::calibrationMethodName(row.method)}, {"ok", r.ok}, {"reason", r.reason}};
   const Eigen::VectorXd v = values(r);
   const bool has_sigma = r.covariance.size() > 0;
   const Eigen::VectorXd s = r.sigma();
@@ -93,10 +91,11 @@ std::string human(double value, int i) {
   return s.str();
 }
 
-void printTable(const std::vector<Row>& rows, const std::optional<Eigen::VectorXd>& truth) {
-  for (const Row& row : rows) {
+void printTable(const std::vector<algo::CalibrationRun>& rows,
+                const std::optional<Eigen::VectorXd>& truth) {
+  for (const algo::CalibrationRun& row : rows) {
     const auto& r = row.result;
-    std::cout << "\n" << row.method << ": ";
+    std::cout << "\n" << algo::calibrationMethodName(row.method) << ": ";
     if (!r.ok) {
       std::cout << "REFUSED: " << r.reason << "\n";
       continue;
@@ -128,12 +127,12 @@ void printTable(const std::vector<Row>& rows, const std::optional<Eigen::VectorX
   }
 }
 
-std::vector<std::string> methodsOf(const std::string& method) {
-  if (method == "all") return {"direct", "model", "joint", "ceres", "umbmark"};
-  return {method};
+std::vector<algo::CalibrationMethod> methodsOf(const std::string& method) {
+  if (method == "all") return algo::allCalibrationMethods();
+  return {*algo::parseCalibrationMethod(method)};
 }
 
-algo::CalibrationResult runUmbmark(const CalibrateFlags& flags, const Dataset* dataset) {
+std::vector<algo::UmbmarkRun> umbmarkRuns(const CalibrateFlags& flags, const Dataset* dataset) {
   std::vector<algo::UmbmarkRun> runs;
   auto add = [&](const Dataset& d, const std::string& where) {
     if (d.info.scenario.find("umbmark") == std::string::npos) return false;
@@ -146,17 +145,7 @@ algo::CalibrationResult runUmbmark(const CalibrateFlags& flags, const Dataset* d
   for (const std::string& dir : flags.squares)
     if (!add(eval::readDataset(dir), dir))
       throw InputError(dir, "--square: not an UMBmark square-run dataset (scenario umbmark_*)");
-  algo::UmbmarkParams params;
-  params.side_m = flags.side_m;
-  if (dataset) params.nominal = dataset->info.nominal_geometry;
-  if (runs.empty()) {
-    algo::UmbmarkResult r;
-    r.reason =
-        "no UMBmark square runs: simulate worlds/scenarios/umbmark_cw.yaml and "
-        "umbmark_ccw.yaml and pass them (DATASET or --square DIR)";
-    return r;
-  }
-  return algo::calibrateUmbmark(runs, params);
+  return runs;
 }
 
 std::vector<algo::CalibrationInterval> intervalsFor(const CalibrateFlags& flags,
@@ -187,56 +176,33 @@ int runCalibrate(const CalibrateFlags& flags) {
   std::optional<Dataset> dataset;
   if (!flags.dataset.empty()) dataset = eval::readDataset(flags.dataset);
   const Dataset* d = dataset ? &*dataset : nullptr;
-  const std::vector<std::string> methods = methodsOf(flags.method);
-  const bool needs_intervals = flags.method != "umbmark";
-  std::vector<algo::CalibrationInterval> intervals;
-  if (needs_intervals) intervals = intervalsFor(flags, d);
-  if (!flags.intervals_out.empty()) algo::writeIntervalRecords(flags.intervals_out, intervals);
-
-  std::vector<Row> rows;
-  algo::JointResult joint;
-  bool joint_done = false;
-  for (const std::string& m : methods) {
-    if (m == "direct") {
-      algo::DirectLinearParams params;
-      if (!d) {
-        algo::DirectLinearResult r;
-        r.reason = "needs the nominal geometry of a dataset (give DATASET with --tuples)";
-        rows.push_back({m, r});
-        continue;
-      }
-      params.nominal = d->info.nominal_geometry;
-      rows.push_back({m, algo::calibrateDirectLinear(intervals, params)});
-    } else if (m == "model") {
-      rows.push_back({m, algo::calibrateModelBased(intervals)});
-    } else if (m == "joint" || m == "ceres") {
-      if (!joint_done) joint = algo::calibrateJoint(intervals);
-      joint_done = true;
-      if (m == "joint") {
-        rows.push_back({m, joint});
-      } else {
-        algo::CeresParams params;
-        params.estimate_time_offset = flags.time_offset;
-        const algo::CeresResult r = algo::calibrateCeres(intervals, joint, params);
-        if (flags.time_offset && r.ok)
-          std::cerr << "calibrate: ceres time offset " << r.time_offset_s * 1e3 << " ms +- "
-                    << r.time_offset_sigma_s * 1e3 << " ms\n";
-        rows.push_back({m, r});
-      }
-    } else if (m == "umbmark") {
-      rows.push_back({m, runUmbmark(flags, d)});
-    }
-  }
+  const std::vector<algo::CalibrationMethod> methods = methodsOf(flags.method);
+  algo::CalibrationInput input;
+  const bool needs_intervals = std::any_of(methods.begin(), methods.end(), algo::isIntervalMethod);
+  if (needs_intervals) input.intervals = intervalsFor(flags, d);
+  if (!flags.intervals_out.empty())
+    algo::writeIntervalRecords(flags.intervals_out, input.intervals);
+  if (d) input.nominal = d->info.nominal_geometry;
+  if (std::count(methods.begin(), methods.end(), algo::CalibrationMethod::kUmbmark))
+    input.umbmark_runs = umbmarkRuns(flags, d);
+  algo::CalibrationParams params;
+  params.umbmark.side_m = flags.side_m;
+  params.ceres.estimate_time_offset = flags.time_offset;
+  const std::vector<algo::CalibrationRun> rows = algo::calibrate(methods, input, params);
+  for (const algo::CalibrationRun& row : rows)
+    if (row.time_offset_s)
+      std::cerr << "calibrate: ceres time offset " << *row.time_offset_s * 1e3 << " ms +- "
+                << row.time_offset_sigma_s * 1e3 << " ms\n";
   const auto truth = truthValues(d);
   printTable(rows, truth);
   if (!flags.json_out.empty()) {
     nlohmann::json out = nlohmann::json::array();
-    for (const Row& row : rows) out.push_back(toJson(row, truth));
+    for (const algo::CalibrationRun& row : rows) out.push_back(toJson(row, truth));
     std::ofstream file(flags.json_out);
     if (!file) throw InputError(flags.json_out, "cannot write");
     file << out.dump(2) << "\n";
   }
-  for (const Row& row : rows)
+  for (const algo::CalibrationRun& row : rows)
     if (!row.result.ok) return 3;  // a refusal is an answer, but not a success
   return 0;
 }
@@ -249,8 +215,11 @@ Command addCalibrateCommand(CLI::App& app) {
       "calibrate",
       "Odometry calibration: r_L, r_R, b (and the lidar mount) from encoders plus lidar motion.");
   cli->add_option("DATASET", flags->dataset, "dataset directory");
-  cli->add_option("--method", flags->method, "direct|model|joint|ceres|umbmark|all")
-      ->check(CLI::IsMember({"direct", "model", "joint", "ceres", "umbmark", "all"}))
+  std::vector<std::string> methods = algo::calibrationMethodNames();
+  methods.emplace_back("all");
+  cli->add_option("--method", flags->method,
+                  algo::joinCalibrationMethodNames(algo::allCalibrationMethods(), "|") + "|all")
+      ->check(CLI::IsMember(methods))
       ->capture_default_str();
   cli->add_option("--motion", flags->motion,
                   "lidar motion from ICP scan matching or from ground truth (oracle)")

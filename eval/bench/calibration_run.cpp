@@ -6,22 +6,6 @@
 
 namespace slamprep::eval {
 
-const std::vector<std::string>& intervalCalibrationMethods() {
-  static const std::vector<std::string> methods = {"direct", "model", "joint", "ceres"};
-  return methods;
-}
-
-algo::CalibrationResult calibrateWith(const std::string& method,
-                                      const std::vector<algo::CalibrationInterval>& intervals,
-                                      const DiffDriveParams& nominal) {
-  if (method == "direct") return algo::calibrateDirectLinear(intervals, {nominal});
-  if (method == "model") return algo::calibrateModelBased(intervals);
-  if (method == "joint") return algo::calibrateJoint(intervals);
-  if (method == "ceres") return algo::calibrateCeres(intervals);
-  throw InputError("calibration method '" + method + "'",
-                   "unknown (direct, model, joint, ceres, umbmark)");
-}
-
 CalibrationMotion calibrationMotion(const Dataset& dataset,
                                     const CalibrationMotionOptions& options) {
   CalibrationMotion motion;

@@ -1,5 +1,5 @@
 #pragma once
-// Calibration methods by the names the CLI and JSON use, run on a dataset's intervals.
+// The calibration pipeline on a dataset: the lidar motion the interval methods consume.
 
 #include <string>
 #include <vector>
@@ -8,15 +8,6 @@
 #include "core/dataset.hpp"
 
 namespace slamprep::eval {
-
-/// "direct", "model", "joint", "ceres": the interval-based methods in the order they build on
-/// each other ("umbmark" needs square runs instead; see the calibrate command).
-const std::vector<std::string>& intervalCalibrationMethods();
-
-/// Runs one interval-based method; an unknown name is an InputError naming it.
-algo::CalibrationResult calibrateWith(const std::string& method,
-                                      const std::vector<algo::CalibrationInterval>& intervals,
-                                      const DiffDriveParams& nominal);
 
 /// Where the lidar motion for calibration comes from.
 struct CalibrationMotionOptions {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "algo/calibration/calibrate.hpp"
 #include "algo/calibration/dataset_motion.hpp"
 #include "core/error.hpp"
 #include "core/odometry.hpp"
@@ -134,12 +135,9 @@ json deskewJson(const DatasetDeskew& d) {
 
 // The geometry the odometry-based de-skew methods use in this trial.
 DiffDriveParams deskewGeometry(const Suite& suite, const Dataset& dataset,
-                               const std::map<std::string, algo::CalibrationResult>& calibrated) {
+                               const algo::CalibrationRun* best) {
   if (suite.deskew_geometry == "true") return *dataset.info.true_geometry;
-  if (suite.deskew_geometry == "calibrated")
-    for (const char* best : {"ceres", "joint", "model", "direct"})
-      if (auto it = calibrated.find(best); it != calibrated.end() && it->second.ok)
-        return it->second.geometry;
+  if (suite.deskew_geometry == "calibrated" && best) return best->result.geometry;
   return dataset.info.nominal_geometry;
 }
 
@@ -236,25 +234,29 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
     out.result["odometry"][name] =
         odometryJson(integrateEncoders(dataset.encoders, geometry, ticks), dataset.groundtruth);
 
-  std::map<std::string, algo::CalibrationResult> calibrated;
+  std::vector<algo::CalibrationRun> calibrated;
   if (!suite.calibration_methods.empty()) {
     start = Clock::now();
     CalibrationMotionOptions motion_options;
     motion_options.from_icp = suite.motion == "icp";
-    const CalibrationMotion motion = calibrationMotion(dataset, motion_options);
+    CalibrationMotion motion = calibrationMotion(dataset, motion_options);
     out.timing["motion_s"] = secondsSince(start);
     if (motion_options.from_icp) out.result["matching"] = matchingJson(dataset, motion);
-    for (const auto& method : suite.calibration_methods) {
+    algo::CalibrationInput input;
+    input.intervals = std::move(motion.intervals.intervals);
+    input.nominal = dataset.info.nominal_geometry;
+    for (const algo::CalibrationMethod method : suite.calibration_methods) {
+      const std::string name(algo::calibrationMethodName(method));
       start = Clock::now();
-      calibrated[method] =
-          calibrateWith(method, motion.intervals.intervals, dataset.info.nominal_geometry);
-      out.timing["calibration"][method] = secondsSince(start);
-      out.result["calibration"][method] = calibrationJson(dataset, calibrated[method]);
+      calibrated.push_back(algo::calibrate(method, input));
+      out.timing["calibration"][name] = secondsSince(start);
+      out.result["calibration"][name] = calibrationJson(dataset, calibrated.back().result);
     }
   }
+  const algo::CalibrationRun* best = algo::bestRun(calibrated);
 
   DatasetDeskewOptions deskew_options = nominalDeskewOptions(dataset);
-  deskew_options.geometry = deskewGeometry(suite, dataset, calibrated);
+  deskew_options.geometry = deskewGeometry(suite, dataset, best);
   deskew_options.odometry = integrateEncoders(  // once, not once per method
       dataset.encoders, deskew_options.geometry, dataset.info.ticks_per_revolution);
   std::optional<DatasetDeskew> shown;  // the scan plot shows the last method run
@@ -272,17 +274,11 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
   }
   // Artifacts for the plots: only the first trial, to keep results small. Arrays never enter
   // the summary (only numeric leaves of objects do).
-  if (spec.index == 0) {
-    const DiffDriveParams* best = nullptr;
-    std::string best_name;
-    for (const char* name : {"ceres", "joint", "model", "direct"})
-      if (auto it = calibrated.find(name); !best && it != calibrated.end() && it->second.ok) {
-        best = &it->second.geometry;
-        best_name = name;
-      }
+  if (spec.index == 0)
     out.result["artifacts"] =
-        artifactsJson(dataset, best, best_name, shown ? &*shown : nullptr, shown_method);
-  }
+        artifactsJson(dataset, best ? &best->result.geometry : nullptr,
+                      best ? std::string(algo::calibrationMethodName(best->method)) : std::string(),
+                      shown ? &*shown : nullptr, shown_method);
   return out;
 }
 
