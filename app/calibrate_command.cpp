@@ -2,14 +2,13 @@
 // interval records.
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
 
 #include "algo/calibration/calibrate.hpp"
+#include "algo/calibration/calibration_json.hpp"
 #include "algo/calibration/dataset_motion.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
@@ -34,50 +33,9 @@ struct CalibrateFlags {
   bool time_offset = false;
 };
 
-const char* kKeys[] = {"r_L", "r_R", "b", "lidar_x", "lidar_y", "lidar_yaw"};
-
-Eigen::VectorXd values(const algo::CalibrationResult& r) {
-  Eigen::VectorXd v(r.estimates_mount ? 6 : 3);
-  v.head<3>() << r.geometry.radius_left_m, r.geometry.radius_right_m, r.geometry.wheel_base_m;
-  if (r.estimates_mount) v.tail<3>() << r.T_base_lidar.x, r.T_base_lidar.y, r.T_base_lidar.yaw;
-  return v;
-}
-
-std::optional<Eigen::VectorXd> truthValues(const Dataset* dataset) {
+std::optional<algo::CalibrationTruth> truthOf(const Dataset* dataset) {
   if (!dataset || !dataset->info.true_geometry) return std::nullopt;
-  const auto& g = *dataset->info.true_geometry;
-  const SE2& l = dataset->info.T_base_lidar;
-  Eigen::VectorXd v(6);
-  v << g.radius_left_m, g.radius_right_m, g.wheel_base_m, l.x, l.y, l.yaw;
-  return v;
-}
-
-// Estimate minus truth, with yaw wrapped.
-double errorOf(const Eigen::VectorXd& est, const Eigen::VectorXd& truth, int i) {
-  const double e = est(i) - truth(i);
-  return i == 5 ? normalizeAngle(e) : e;
-}
-
-nlohmann::json toJson(const algo::CalibrationRun& row,
-                      const std::optional<Eigen::VectorXd>& truth) {
-  const auto& r = row.result;
-  nlohmann::json j = {
-      {"method", algo::calibrationMethodName(row.method)}, {"ok", r.ok}, {"reason", r.reason}};
-  const Eigen::VectorXd v = values(r);
-  const bool has_sigma = r.covariance.size() > 0;
-  const Eigen::VectorXd s = r.sigma();
-  nlohmann::json sigma = nlohmann::json::object(), error = nlohmann::json::object();
-  for (int i = 0; i < v.size(); ++i) {
-    j[kKeys[i]] = r.ok ? nlohmann::json(v(i)) : nlohmann::json(nullptr);
-    sigma[kKeys[i]] = r.ok && has_sigma ? nlohmann::json(s(i)) : nlohmann::json(nullptr);
-    if (truth) error[kKeys[i]] = r.ok ? nlohmann::json(errorOf(v, *truth, i)) : nullptr;
-  }
-  j["sigma"] = sigma;
-  if (truth) j["error"] = error;
-  j["condition_number"] = std::isfinite(r.condition_number) ? nlohmann::json(r.condition_number)
-                                                            : nlohmann::json(nullptr);
-  j["intervals"] = r.intervals_used;
-  return j;
+  return algo::CalibrationTruth{*dataset->info.true_geometry, dataset->info.T_base_lidar};
 }
 
 // Lengths in mm, the yaw in degrees: what a person reads.
@@ -92,7 +50,9 @@ std::string human(double value, int i) {
 }
 
 void printTable(const std::vector<algo::CalibrationRun>& rows,
-                const std::optional<Eigen::VectorXd>& truth) {
+                const std::optional<algo::CalibrationTruth>& truth_of) {
+  std::optional<Eigen::VectorXd> truth;
+  if (truth_of) truth = truth_of->values();
   for (const algo::CalibrationRun& row : rows) {
     const auto& r = row.result;
     std::cout << "\n" << algo::calibrationMethodName(row.method) << ": ";
@@ -108,12 +68,13 @@ void printTable(const std::vector<algo::CalibrationRun>& rows,
       std::cout << std::setw(16) << "truth" << std::setw(14) << "error"
                 << "error %";
     std::cout << "\n";
-    const Eigen::VectorXd v = values(r), s = r.sigma();
+    const Eigen::VectorXd v = algo::calibrationValues(r), s = r.sigma();
     for (int i = 0; i < v.size(); ++i) {
-      std::cout << "  " << std::setw(10) << kKeys[i] << std::setw(16) << human(v(i), i)
-                << std::setw(16) << (r.covariance.size() > 0 ? human(s(i), i) : "n/a");
+      std::cout << "  " << std::setw(10) << algo::kCalibrationKeys[i] << std::setw(16)
+                << human(v(i), i) << std::setw(16)
+                << (r.covariance.size() > 0 ? human(s(i), i) : "n/a");
       if (truth) {
-        const double e = errorOf(v, *truth, i);
+        const double e = algo::calibrationError(v, *truth, i);
         std::ostringstream pct;
         if (std::abs((*truth)(i)) > 1e-12)
           pct << std::fixed << std::setprecision(4) << 100.0 * e / std::abs((*truth)(i)) << " %";
@@ -193,15 +154,9 @@ int runCalibrate(const CalibrateFlags& flags) {
     if (row.time_offset_s)
       std::cerr << "calibrate: ceres time offset " << *row.time_offset_s * 1e3 << " ms +- "
                 << row.time_offset_sigma_s * 1e3 << " ms\n";
-  const auto truth = truthValues(d);
+  const auto truth = truthOf(d);
   printTable(rows, truth);
-  if (!flags.json_out.empty()) {
-    nlohmann::json out = nlohmann::json::array();
-    for (const algo::CalibrationRun& row : rows) out.push_back(toJson(row, truth));
-    std::ofstream file(flags.json_out);
-    if (!file) throw InputError(flags.json_out, "cannot write");
-    file << out.dump(2) << "\n";
-  }
+  if (!flags.json_out.empty()) algo::writeCalibrationJson(flags.json_out, rows, truth);
   for (const algo::CalibrationRun& row : rows)
     if (!row.result.ok) return 3;  // a refusal is an answer, but not a success
   return 0;
