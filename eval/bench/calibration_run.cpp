@@ -17,15 +17,13 @@ CalibrationMotion calibrationMotion(const Dataset& dataset,
                                                       : "imu";
     const auto method = algo::parseDeskewMethod(name);
     if (!method) throw InputError("--deskew " + options.deskew, "unknown de-skew method");
-    std::vector<Points2> points;
-    if (*method == algo::DeskewMethod::kNone) {
-      for (const auto& record : dataset.scans) points.push_back(record.scan.points());
-    } else {
+    std::vector<Points2> points;  // empty: the scans as measured
+    if (*method != algo::DeskewMethod::kNone)
       points = correctedPoints(deskewDataset(dataset, *method, nominalDeskewOptions(dataset)));
-    }
-    auto icp = algo::lidarPosesFromIcp(dataset, points);
-    motion.chains = std::move(icp.chains);
-    motion.failed_matches = icp.failed_matches;
+    motion.matches = algo::matchConsecutiveScans(dataset, {}, points);
+    algo::MatchChains chained = algo::chainMatches(motion.matches);
+    motion.chains = std::move(chained.chains);
+    motion.failed_matches = chained.failed_matches;
   }
   motion.intervals = algo::buildIntervals(dataset, motion.chains, options.intervals);
   return motion;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "algo/calibration/calibration.hpp"
+#include "algo/calibration/dataset_motion.hpp"
 #include "core/dataset.hpp"
 
 namespace slamprep::eval {
@@ -21,7 +22,8 @@ struct CalibrationMotionOptions {
 };
 
 struct CalibrationMotion {
-  std::vector<PoseSeries> chains;  ///< T_world_lidar chains (one for ground truth)
+  std::vector<algo::ScanMatch> matches;  ///< consecutive scans (none for ground truth)
+  std::vector<PoseSeries> chains;        ///< T_world_lidar chains (one for ground truth)
   int failed_matches = 0;
   algo::IntervalSet intervals;
 };

@@ -10,6 +10,7 @@
 #include "core/odometry.hpp"
 #include "eval/bench/calibration_run.hpp"
 #include "eval/bench/dataset_deskew.hpp"
+#include "eval/bench/match_run.hpp"
 #include "eval/metrics/calibration_error.hpp"
 #include "eval/metrics/odometry_drift.hpp"
 #include "eval/metrics/trajectory_error.hpp"
@@ -48,27 +49,17 @@ json simJson(const sim::SimSummary& s) {
           {"drift_true_m", s.drift_true.final_position_m}};
 }
 
-// Error of every scan-to-scan motion in the chains against the true lidar motion.
+// Error of every scan-to-scan match against the true lidar motion.
 json matchingJson(const Dataset& dataset, const CalibrationMotion& motion) {
-  const PoseSeries truth = algo::lidarPosesFromGroundTruth(dataset);
-  std::vector<double> trans_m, rot_deg;
-  for (const auto& chain : motion.chains)
-    for (std::size_t k = 1; k < chain.size(); ++k) {
-      const auto a = truth.at(chain[k - 1].stamp_s), b = truth.at(chain[k].stamp_s);
-      if (!a || !b) continue;
-      const SE2 err = between(between(*a, *b), between(chain[k - 1].value, chain[k].value));
-      trans_m.push_back(err.translation().norm());
-      rot_deg.push_back(std::abs(err.yaw) * 180.0 / std::numbers::pi);
-    }
-  const std::size_t pairs = trans_m.size() + motion.failed_matches;
-  if (trans_m.empty()) return {{"pairs", pairs}, {"converged_fraction", 0.0}};
-  const ErrorStats t = summarize(trans_m), r = summarize(rot_deg);
-  return {{"pairs", pairs},
-          {"converged_fraction", static_cast<double>(trans_m.size()) / pairs},
-          {"trans_error_m_mean", t.mean},
-          {"trans_error_m_rmse", t.rmse},
-          {"rot_error_deg_mean", r.mean},
-          {"rot_error_deg_rmse", r.rmse}};
+  const ScanMatchError e = scanMatchError(motion.matches, algo::lidarPosesFromGroundTruth(dataset));
+  const double converged_fraction = e.pairs > 0 ? static_cast<double>(e.converged) / e.pairs : 0.0;
+  if (!e.translation_m.ok) return {{"pairs", e.pairs}, {"converged_fraction", converged_fraction}};
+  return {{"pairs", e.pairs},
+          {"converged_fraction", converged_fraction},
+          {"trans_error_m_mean", e.translation_m.mean},
+          {"trans_error_m_rmse", e.translation_m.rmse},
+          {"rot_error_deg_mean", e.rotation_deg.mean},
+          {"rot_error_deg_rmse", e.rotation_deg.rmse}};
 }
 
 // Dead-reckoning error against the truth, as evo computes it: APE after putting the first poses
