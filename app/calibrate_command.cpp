@@ -1,19 +1,14 @@
 // `slamprep calibrate`: odometry calibration (docs/calibration.md) on a dataset or on Censi
 // interval records.
-#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
 #include <numbers>
 #include <sstream>
 
-#include "algo/calibration/calibrate.hpp"
 #include "algo/calibration/calibration_json.hpp"
-#include "algo/calibration/dataset_motion.hpp"
 #include "app/commands.hpp"
-#include "core/error.hpp"
 #include "eval/bench/calibration_run.hpp"
-#include "eval/formats/dataset_io.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -32,11 +27,6 @@ struct CalibrateFlags {
   double side_m = 2.5;  // the shipped umbmark_cw/ccw.yaml squares
   bool time_offset = false;
 };
-
-std::optional<algo::CalibrationTruth> truthOf(const Dataset* dataset) {
-  if (!dataset || !dataset->info.true_geometry) return std::nullopt;
-  return algo::CalibrationTruth{*dataset->info.true_geometry, dataset->info.T_base_lidar};
-}
 
 // Lengths in mm, the yaw in degrees: what a person reads.
 std::string human(double value, int i) {
@@ -88,77 +78,39 @@ void printTable(const std::vector<algo::CalibrationRun>& rows,
   }
 }
 
-std::vector<algo::CalibrationMethod> methodsOf(const std::string& method) {
-  if (method == "all") return algo::allCalibrationMethods();
-  return {*algo::parseCalibrationMethod(method)};
-}
-
-std::vector<algo::UmbmarkRun> umbmarkRuns(const CalibrateFlags& flags, const Dataset* dataset) {
-  std::vector<algo::UmbmarkRun> runs;
-  auto add = [&](const Dataset& d, const std::string& where) {
-    if (d.info.scenario.find("umbmark") == std::string::npos) return false;
-    const auto run = algo::umbmarkRunFromDataset(d);
-    if (!run) throw InputError(where, "UMBmark run needs ground truth and nominal odometry");
-    runs.push_back(*run);
-    return true;
-  };
-  if (dataset) add(*dataset, flags.dataset);
-  for (const std::string& dir : flags.squares)
-    if (!add(eval::readDataset(dir), dir))
-      throw InputError(dir, "--square: not an UMBmark square-run dataset (scenario umbmark_*)");
-  return runs;
-}
-
-std::vector<algo::CalibrationInterval> intervalsFor(const CalibrateFlags& flags,
-                                                    const Dataset* dataset) {
-  if (!flags.tuples_in.empty()) return algo::readIntervalRecords(flags.tuples_in);
-  algo::IntervalParams params;
-  params.keyframe_translation_m = flags.keyframe_cm / 100.0;
-  params.keyframe_rotation_rad = flags.keyframe_deg * std::numbers::pi / 180.0;
-  if (flags.motion == "groundtruth" && !dataset->hasTruth())
-    throw InputError(flags.dataset, "--motion groundtruth: the dataset has no ground truth");
-  // Scan matching on raw scans is biased by motion distortion: match de-skewed scans.
-  eval::CalibrationMotionOptions options;
-  options.from_icp = flags.motion == "icp";
-  options.deskew = flags.deskew;
-  options.intervals = params;
-  const eval::CalibrationMotion motion = eval::calibrationMotion(*dataset, options);
-  if (motion.failed_matches > 0)
-    std::cerr << "calibrate: " << motion.failed_matches << " scan matches failed (chains broken)\n";
-  const algo::IntervalSet& set = motion.intervals;
-  std::cerr << "calibrate: " << set.intervals.size() << " intervals (" << set.dropped_standstill
-            << " standing still, " << set.dropped_uncovered << " without encoder data dropped)\n";
-  return set.intervals;
+eval::DatasetCalibrationParams paramsOf(const CalibrateFlags& flags) {
+  eval::DatasetCalibrationParams p;
+  p.dataset = flags.dataset;
+  if (flags.method != "all") p.methods = {*algo::parseCalibrationMethod(flags.method)};
+  p.tuples = flags.tuples_in;
+  p.squares = flags.squares;
+  p.motion.from_icp = flags.motion == "icp";
+  p.motion.deskew = flags.deskew;
+  p.motion.intervals.keyframe_translation_m = flags.keyframe_cm / 100.0;
+  p.motion.intervals.keyframe_rotation_rad = flags.keyframe_deg * std::numbers::pi / 180.0;
+  p.params.umbmark.side_m = flags.side_m;
+  p.params.ceres.estimate_time_offset = flags.time_offset;
+  return p;
 }
 
 int runCalibrate(const CalibrateFlags& flags) {
-  if (flags.dataset.empty() && flags.tuples_in.empty())
-    throw InputError("DATASET", "give a dataset directory, --tuples FILE, or both");
-  std::optional<Dataset> dataset;
-  if (!flags.dataset.empty()) dataset = eval::readDataset(flags.dataset);
-  const Dataset* d = dataset ? &*dataset : nullptr;
-  const std::vector<algo::CalibrationMethod> methods = methodsOf(flags.method);
-  algo::CalibrationInput input;
-  const bool needs_intervals = std::any_of(methods.begin(), methods.end(), algo::isIntervalMethod);
-  if (needs_intervals) input.intervals = intervalsFor(flags, d);
+  const eval::DatasetCalibration c = eval::calibrateDataset(paramsOf(flags));
+  if (c.failed_matches > 0)
+    std::cerr << "calibrate: " << c.failed_matches << " scan matches failed (chains broken)\n";
+  if (c.from_motion)
+    std::cerr << "calibrate: " << c.intervals.intervals.size() << " intervals ("
+              << c.intervals.dropped_standstill << " standing still, "
+              << c.intervals.dropped_uncovered << " without encoder data dropped)\n";
   if (!flags.intervals_out.empty())
-    algo::writeIntervalRecords(flags.intervals_out, input.intervals);
-  if (d) input.nominal = d->info.nominal_geometry;
-  if (std::count(methods.begin(), methods.end(), algo::CalibrationMethod::kUmbmark))
-    input.umbmark_runs = umbmarkRuns(flags, d);
-  algo::CalibrationParams params;
-  params.umbmark.side_m = flags.side_m;
-  params.ceres.estimate_time_offset = flags.time_offset;
-  const std::vector<algo::CalibrationRun> rows = algo::calibrate(methods, input, params);
-  for (const algo::CalibrationRun& row : rows)
-    if (row.time_offset_s)
-      std::cerr << "calibrate: ceres time offset " << *row.time_offset_s * 1e3 << " ms +- "
-                << row.time_offset_sigma_s * 1e3 << " ms\n";
-  const auto truth = truthOf(d);
-  printTable(rows, truth);
-  if (!flags.json_out.empty()) algo::writeCalibrationJson(flags.json_out, rows, truth);
-  for (const algo::CalibrationRun& row : rows)
-    if (!row.result.ok) return 3;  // a refusal is an answer, but not a success
+    algo::writeIntervalRecords(flags.intervals_out, c.intervals.intervals);
+  for (const algo::CalibrationRun& run : c.runs)
+    if (run.time_offset_s)
+      std::cerr << "calibrate: ceres time offset " << *run.time_offset_s * 1e3 << " ms +- "
+                << run.time_offset_sigma_s * 1e3 << " ms\n";
+  printTable(c.runs, c.truth);
+  if (!flags.json_out.empty()) algo::writeCalibrationJson(flags.json_out, c.runs, c.truth);
+  for (const algo::CalibrationRun& run : c.runs)
+    if (!run.result.ok) return 3;  // a refusal is an answer, but not a success
   return 0;
 }
 
