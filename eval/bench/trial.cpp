@@ -45,8 +45,8 @@ json simJson(const sim::SimSummary& s) {
           {"turned_rad", s.rotation_rad},
           {"mean_abs_yaw_rate_radps", s.duration_s > 0 ? s.rotation_rad / s.duration_s : 0.0},
           {"mean_speed_mps", s.duration_s > 0 ? s.distance_m / s.duration_s : 0.0},
-          {"drift_nominal_m", s.drift_nominal.final_position_m},
-          {"drift_true_m", s.drift_true.final_position_m}};
+          {"drift_nominal_m", s.drift_nominal.final_position_error_m},
+          {"drift_true_m", s.drift_true.final_position_error_m}};
 }
 
 // Error of every scan-to-scan match against the true lidar motion.
