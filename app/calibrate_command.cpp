@@ -1,18 +1,14 @@
-// `slamprep calibrate`: odometry calibration on a dataset or on Censi interval records.
+// `slamprep calibrate`: odometry calibration (docs/calibration.md) on a dataset or on Censi
+// interval records.
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
 
-#include "algo/calibration/calibration.hpp"
-#include "algo/calibration/dataset_motion.hpp"
+#include "algo/calibration/calibration_json.hpp"
 #include "app/commands.hpp"
-#include "core/error.hpp"
 #include "eval/bench/calibration_run.hpp"
-#include "eval/formats/dataset_io.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -32,56 +28,6 @@ struct CalibrateFlags {
   bool time_offset = false;
 };
 
-/// One method's outcome in the units the table and JSON use.
-struct Row {
-  std::string method;
-  algo::CalibrationResult result;
-};
-
-const char* kKeys[] = {"r_L", "r_R", "b", "lidar_x", "lidar_y", "lidar_yaw"};
-
-Eigen::VectorXd values(const algo::CalibrationResult& r) {
-  Eigen::VectorXd v(r.estimates_mount ? 6 : 3);
-  v.head<3>() << r.geometry.radius_left_m, r.geometry.radius_right_m, r.geometry.wheel_base_m;
-  if (r.estimates_mount) v.tail<3>() << r.T_base_lidar.x, r.T_base_lidar.y, r.T_base_lidar.yaw;
-  return v;
-}
-
-std::optional<Eigen::VectorXd> truthValues(const Dataset* dataset) {
-  if (!dataset || !dataset->info.true_geometry) return std::nullopt;
-  const auto& g = *dataset->info.true_geometry;
-  const SE2& l = dataset->info.T_base_lidar;
-  Eigen::VectorXd v(6);
-  v << g.radius_left_m, g.radius_right_m, g.wheel_base_m, l.x, l.y, l.yaw;
-  return v;
-}
-
-// Estimate minus truth, with yaw wrapped.
-double errorOf(const Eigen::VectorXd& est, const Eigen::VectorXd& truth, int i) {
-  const double e = est(i) - truth(i);
-  return i == 5 ? normalizeAngle(e) : e;
-}
-
-nlohmann::json toJson(const Row& row, const std::optional<Eigen::VectorXd>& truth) {
-  const auto& r = row.result;
-  nlohmann::json j = {{"method", row.method}, {"ok", r.ok}, {"reason", r.reason}};
-  const Eigen::VectorXd v = values(r);
-  const bool has_sigma = r.covariance.size() > 0;
-  const Eigen::VectorXd s = r.sigma();
-  nlohmann::json sigma = nlohmann::json::object(), error = nlohmann::json::object();
-  for (int i = 0; i < v.size(); ++i) {
-    j[kKeys[i]] = r.ok ? nlohmann::json(v(i)) : nlohmann::json(nullptr);
-    sigma[kKeys[i]] = r.ok && has_sigma ? nlohmann::json(s(i)) : nlohmann::json(nullptr);
-    if (truth) error[kKeys[i]] = r.ok ? nlohmann::json(errorOf(v, *truth, i)) : nullptr;
-  }
-  j["sigma"] = sigma;
-  if (truth) j["error"] = error;
-  j["condition_number"] = std::isfinite(r.condition_number) ? nlohmann::json(r.condition_number)
-                                                            : nlohmann::json(nullptr);
-  j["intervals"] = r.intervals_used;
-  return j;
-}
-
 // Lengths in mm, the yaw in degrees: what a person reads.
 std::string human(double value, int i) {
   std::ostringstream s;
@@ -93,10 +39,13 @@ std::string human(double value, int i) {
   return s.str();
 }
 
-void printTable(const std::vector<Row>& rows, const std::optional<Eigen::VectorXd>& truth) {
-  for (const Row& row : rows) {
+void printTable(const std::vector<algo::CalibrationRun>& rows,
+                const std::optional<algo::CalibrationTruth>& truth_of) {
+  std::optional<Eigen::VectorXd> truth;
+  if (truth_of) truth = truth_of->values();
+  for (const algo::CalibrationRun& row : rows) {
     const auto& r = row.result;
-    std::cout << "\n" << row.method << ": ";
+    std::cout << "\n" << algo::calibrationMethodName(row.method) << ": ";
     if (!r.ok) {
       std::cout << "REFUSED: " << r.reason << "\n";
       continue;
@@ -109,12 +58,13 @@ void printTable(const std::vector<Row>& rows, const std::optional<Eigen::VectorX
       std::cout << std::setw(16) << "truth" << std::setw(14) << "error"
                 << "error %";
     std::cout << "\n";
-    const Eigen::VectorXd v = values(r), s = r.sigma();
+    const Eigen::VectorXd v = algo::calibrationValues(r), s = r.sigma();
     for (int i = 0; i < v.size(); ++i) {
-      std::cout << "  " << std::setw(10) << kKeys[i] << std::setw(16) << human(v(i), i)
-                << std::setw(16) << (r.covariance.size() > 0 ? human(s(i), i) : "n/a");
+      std::cout << "  " << std::setw(10) << algo::kCalibrationKeys[i] << std::setw(16)
+                << human(v(i), i) << std::setw(16)
+                << (r.covariance.size() > 0 ? human(s(i), i) : "n/a");
       if (truth) {
-        const double e = errorOf(v, *truth, i);
+        const double e = algo::calibrationError(v, *truth, i);
         std::ostringstream pct;
         if (std::abs((*truth)(i)) > 1e-12)
           pct << std::fixed << std::setprecision(4) << 100.0 * e / std::abs((*truth)(i)) << " %";
@@ -128,116 +78,39 @@ void printTable(const std::vector<Row>& rows, const std::optional<Eigen::VectorX
   }
 }
 
-std::vector<std::string> methodsOf(const std::string& method) {
-  if (method == "all") return {"direct", "model", "joint", "ceres", "umbmark"};
-  return {method};
-}
-
-algo::CalibrationResult runUmbmark(const CalibrateFlags& flags, const Dataset* dataset) {
-  std::vector<algo::UmbmarkRun> runs;
-  auto add = [&](const Dataset& d, const std::string& where) {
-    if (d.info.scenario.find("umbmark") == std::string::npos) return false;
-    const auto run = algo::umbmarkRunFromDataset(d);
-    if (!run) throw InputError(where, "UMBmark run needs ground truth and nominal odometry");
-    runs.push_back(*run);
-    return true;
-  };
-  if (dataset) add(*dataset, flags.dataset);
-  for (const std::string& dir : flags.squares)
-    if (!add(eval::readDataset(dir), dir))
-      throw InputError(dir, "--square: not an UMBmark square-run dataset (scenario umbmark_*)");
-  algo::UmbmarkParams params;
-  params.side_m = flags.side_m;
-  if (dataset) params.nominal = dataset->info.nominal_geometry;
-  if (runs.empty()) {
-    algo::UmbmarkResult r;
-    r.reason =
-        "no UMBmark square runs: simulate worlds/scenarios/umbmark_cw.yaml and "
-        "umbmark_ccw.yaml and pass them (DATASET or --square DIR)";
-    return r;
-  }
-  return algo::calibrateUmbmark(runs, params);
-}
-
-std::vector<algo::CalibrationInterval> intervalsFor(const CalibrateFlags& flags,
-                                                    const Dataset* dataset) {
-  if (!flags.tuples_in.empty()) return algo::readIntervalRecords(flags.tuples_in);
-  algo::IntervalParams params;
-  params.keyframe_translation_m = flags.keyframe_cm / 100.0;
-  params.keyframe_rotation_rad = flags.keyframe_deg * std::numbers::pi / 180.0;
-  if (flags.motion == "groundtruth" && !dataset->hasTruth())
-    throw InputError(flags.dataset, "--motion groundtruth: the dataset has no ground truth");
-  // Scan matching on raw scans is biased by motion distortion: match de-skewed scans.
-  eval::CalibrationMotionOptions options;
-  options.from_icp = flags.motion == "icp";
-  options.deskew = flags.deskew;
-  options.intervals = params;
-  const eval::CalibrationMotion motion = eval::calibrationMotion(*dataset, options);
-  if (motion.failed_matches > 0)
-    std::cerr << "calibrate: " << motion.failed_matches << " scan matches failed (chains broken)\n";
-  const algo::IntervalSet& set = motion.intervals;
-  std::cerr << "calibrate: " << set.intervals.size() << " intervals (" << set.dropped_standstill
-            << " standing still, " << set.dropped_uncovered << " without encoder data dropped)\n";
-  return set.intervals;
+eval::DatasetCalibrationParams paramsOf(const CalibrateFlags& flags) {
+  eval::DatasetCalibrationParams p;
+  p.dataset = flags.dataset;
+  if (flags.method != "all") p.methods = {*algo::parseCalibrationMethod(flags.method)};
+  p.tuples = flags.tuples_in;
+  p.squares = flags.squares;
+  p.motion.from_icp = flags.motion == "icp";
+  p.motion.deskew = flags.deskew;
+  p.motion.intervals.keyframe_translation_m = flags.keyframe_cm / 100.0;
+  p.motion.intervals.keyframe_rotation_rad = flags.keyframe_deg * std::numbers::pi / 180.0;
+  p.params.umbmark.side_m = flags.side_m;
+  p.params.ceres.estimate_time_offset = flags.time_offset;
+  return p;
 }
 
 int runCalibrate(const CalibrateFlags& flags) {
-  if (flags.dataset.empty() && flags.tuples_in.empty())
-    throw InputError("DATASET", "give a dataset directory, --tuples FILE, or both");
-  std::optional<Dataset> dataset;
-  if (!flags.dataset.empty()) dataset = eval::readDataset(flags.dataset);
-  const Dataset* d = dataset ? &*dataset : nullptr;
-  const std::vector<std::string> methods = methodsOf(flags.method);
-  const bool needs_intervals = flags.method != "umbmark";
-  std::vector<algo::CalibrationInterval> intervals;
-  if (needs_intervals) intervals = intervalsFor(flags, d);
-  if (!flags.intervals_out.empty()) algo::writeIntervalRecords(flags.intervals_out, intervals);
-
-  std::vector<Row> rows;
-  algo::JointResult joint;
-  bool joint_done = false;
-  for (const std::string& m : methods) {
-    if (m == "direct") {
-      algo::DirectLinearParams params;
-      if (!d) {
-        algo::DirectLinearResult r;
-        r.reason = "needs the nominal geometry of a dataset (give DATASET with --tuples)";
-        rows.push_back({m, r});
-        continue;
-      }
-      params.nominal = d->info.nominal_geometry;
-      rows.push_back({m, algo::calibrateDirectLinear(intervals, params)});
-    } else if (m == "model") {
-      rows.push_back({m, algo::calibrateModelBased(intervals)});
-    } else if (m == "joint" || m == "ceres") {
-      if (!joint_done) joint = algo::calibrateJoint(intervals);
-      joint_done = true;
-      if (m == "joint") {
-        rows.push_back({m, joint});
-      } else {
-        algo::CeresParams params;
-        params.estimate_time_offset = flags.time_offset;
-        const algo::CeresResult r = algo::calibrateCeres(intervals, joint, params);
-        if (flags.time_offset && r.ok)
-          std::cerr << "calibrate: ceres time offset " << r.time_offset_s * 1e3 << " ms +- "
-                    << r.time_offset_sigma_s * 1e3 << " ms\n";
-        rows.push_back({m, r});
-      }
-    } else if (m == "umbmark") {
-      rows.push_back({m, runUmbmark(flags, d)});
-    }
-  }
-  const auto truth = truthValues(d);
-  printTable(rows, truth);
-  if (!flags.json_out.empty()) {
-    nlohmann::json out = nlohmann::json::array();
-    for (const Row& row : rows) out.push_back(toJson(row, truth));
-    std::ofstream file(flags.json_out);
-    if (!file) throw InputError(flags.json_out, "cannot write");
-    file << out.dump(2) << "\n";
-  }
-  for (const Row& row : rows)
-    if (!row.result.ok) return 3;  // a refusal is an answer, but not a success
+  const eval::DatasetCalibration c = eval::calibrateDataset(paramsOf(flags));
+  if (c.failed_matches > 0)
+    std::cerr << "calibrate: " << c.failed_matches << " scan matches failed (chains broken)\n";
+  if (c.from_motion)
+    std::cerr << "calibrate: " << c.intervals.intervals.size() << " intervals ("
+              << c.intervals.dropped_standstill << " standing still, "
+              << c.intervals.dropped_uncovered << " without encoder data dropped)\n";
+  if (!flags.intervals_out.empty())
+    algo::writeIntervalRecords(flags.intervals_out, c.intervals.intervals);
+  for (const algo::CalibrationRun& run : c.runs)
+    if (run.time_offset_s)
+      std::cerr << "calibrate: ceres time offset " << *run.time_offset_s * 1e3 << " ms +- "
+                << run.time_offset_sigma_s * 1e3 << " ms\n";
+  printTable(c.runs, c.truth);
+  if (!flags.json_out.empty()) algo::writeCalibrationJson(flags.json_out, c.runs, c.truth);
+  for (const algo::CalibrationRun& run : c.runs)
+    if (!run.result.ok) return 3;  // a refusal is an answer, but not a success
   return 0;
 }
 
@@ -249,8 +122,11 @@ Command addCalibrateCommand(CLI::App& app) {
       "calibrate",
       "Odometry calibration: r_L, r_R, b (and the lidar mount) from encoders plus lidar motion.");
   cli->add_option("DATASET", flags->dataset, "dataset directory");
-  cli->add_option("--method", flags->method, "direct|model|joint|ceres|umbmark|all")
-      ->check(CLI::IsMember({"direct", "model", "joint", "ceres", "umbmark", "all"}))
+  std::vector<std::string> methods = algo::calibrationMethodNames();
+  methods.emplace_back("all");
+  cli->add_option("--method", flags->method,
+                  algo::joinCalibrationMethodNames(algo::allCalibrationMethods(), "|") + "|all")
+      ->check(CLI::IsMember(methods))
       ->capture_default_str();
   cli->add_option("--motion", flags->motion,
                   "lidar motion from ICP scan matching or from ground truth (oracle)")

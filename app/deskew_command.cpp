@@ -7,6 +7,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "algo/calibration/calibration_json.hpp"
 #include "app/commands.hpp"
 #include "core/atomic_file.hpp"
 #include "core/dataset.hpp"
@@ -39,49 +40,13 @@ struct Geometry {
   std::string source;  ///< what the user asked for, for the printout
 };
 
-/// The calibration JSON's best method: ok entries only; those estimating the lidar mount first;
-/// then the smallest sum of relative 1-sigmas of r_L, r_R, b (entries without sigma last).
+/// The calibration JSON's best method (docs/calibration.md); its mount when it estimates one.
 Geometry geometryFromCalibration(const std::string& file, const Dataset& dataset) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(readFile(file));
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(file, std::string("not JSON: ") + e.what());
-  }
-  if (!j.is_array())
-    throw InputError(file, "expected the array `slamprep calibrate --json` writes");
-  const nlohmann::json* best = nullptr;
-  auto rank = [](const nlohmann::json& e) {
-    const bool mount = e.contains("lidar_x") && e["lidar_x"].is_number();
-    double rel = 1e9;
-    if (e.contains("sigma") && e["sigma"].is_object()) {
-      const auto& s = e["sigma"];
-      if (s.value("r_L", nlohmann::json()).is_number() && s["r_R"].is_number() &&
-          s["b"].is_number())
-        rel = s["r_L"].get<double>() / e["r_L"].get<double>() +
-              s["r_R"].get<double>() / e["r_R"].get<double>() +
-              s["b"].get<double>() / e["b"].get<double>();
-    }
-    return std::pair{mount ? 0 : 1, rel};
-  };
-  for (std::size_t i = 0; i < j.size(); ++i) {
-    const auto& e = j[i];
-    if (!e.is_object() || !e.value("ok", false)) continue;
-    for (const char* key : {"r_L", "r_R", "b"})
-      if (!e.contains(key) || !e[key].is_number() || !(e[key].get<double>() > 0.0))
-        throw InputError(file + ": [" + std::to_string(i) + "]." + key, "must be a number > 0");
-    if (!best || rank(e) < rank(*best)) best = &e;
-  }
-  if (!best) throw InputError(file, "no method with \"ok\": true");
-  Geometry g;
-  g.wheels = {(*best)["r_L"].get<double>(), (*best)["r_R"].get<double>(),
-              (*best)["b"].get<double>()};
-  g.T_base_lidar = dataset.info.T_base_lidar;
-  if (best->contains("lidar_x") && (*best)["lidar_x"].is_number())
-    g.T_base_lidar = SE2((*best)["lidar_x"].get<double>(), (*best)["lidar_y"].get<double>(),
-                         (*best)["lidar_yaw"].get<double>());
-  g.source = file + " (method " + best->value("method", std::string("?")) + ")";
-  return g;
+  const algo::CalibrationRun best = algo::readCalibrationJson(file).requireBest();
+  const SE2 T_base_lidar =
+      best.result.estimates_mount ? best.result.T_base_lidar : dataset.info.T_base_lidar;
+  return {best.result.geometry, T_base_lidar,
+          file + " (method " + std::string(algo::calibrationMethodName(best.method)) + ")"};
 }
 
 Geometry chooseGeometry(const DeskewFlags& flags, const Dataset& dataset) {

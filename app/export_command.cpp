@@ -1,23 +1,46 @@
 // `slamprep export`: a dataset as a ROS 2 bag (MCAP), CARMEN log, TUM/KITTI trajectories or CSM
 // laser_data JSON (docs/export.md).
+#include <filesystem>
 #include <iostream>
 
+#include "algo/calibration/calibration_json.hpp"
 #include "app/commands.hpp"
 #include "eval/formats/export.hpp"
 
 namespace slamprep::app {
 namespace {
 
+namespace fs = std::filesystem;
+
 struct ExportFlags {
   std::string dataset;
   std::string format;
   std::string out;
+  std::string calibration;  // default DATASET/calibration.json, when present
   eval::ExportParams params;
 };
 
+// The best method of the calibration JSON (docs/calibration.md). A file given with --calibration
+// must hold an ok entry; the implicit DATASET/calibration.json only earns a note.
+void addCalibration(const ExportFlags& flags, eval::ExportInput& input) {
+  const bool given = !flags.calibration.empty();
+  const fs::path file =
+      given ? fs::path(flags.calibration) : fs::path(flags.dataset) / "calibration.json";
+  if (!given && !fs::exists(file)) return;
+  const algo::CalibrationFile calibration = algo::readCalibrationJson(file);
+  if (given) calibration.requireBest();  // an error when no entry is ok
+  if (const algo::CalibrationRun* best = calibration.best())
+    input.calibration = eval::CalibrationChoice{
+        best->result.geometry, std::string(algo::calibrationMethodName(best->method))};
+  else
+    input.notes.push_back(file.string() +
+                          " holds no ok calibration: calibrated odometry not written");
+}
+
 int runExport(const ExportFlags& flags) {
   const eval::ExportFormat format = eval::parseExportFormat(flags.format);
-  const eval::ExportInput input = eval::loadExportInput(flags.dataset, flags.params);
+  eval::ExportInput input = eval::loadExportInput(flags.dataset);
+  addCalibration(flags, input);
   const eval::ExportResult result = eval::exportDataset(input, format, flags.out, flags.params);
   if (input.calibration)
     std::cout << "calibrated odometry: method " << input.calibration->method << "\n";
@@ -41,7 +64,7 @@ Command addExportCommand(CLI::App& app) {
       ->check(CLI::IsMember({"mcap", "carmen", "tum", "kitti", "csm"}));
   cli->add_option("--out", flags->out, "output file (mcap, carmen, csm) or directory (tum, kitti)")
       ->required();
-  cli->add_option("--calibration", flags->params.calibration_file,
+  cli->add_option("--calibration", flags->calibration,
                   "calibrate --json output for the calibrated odometry (default: "
                   "DATASET/calibration.json if present)");
   cli->add_option("--scans", flags->params.scans,

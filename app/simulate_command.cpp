@@ -100,11 +100,11 @@ void printSummary(const sim::SimSummary& s, double wall_s, const std::string& ou
   std::printf("distance driven %.2f m, turned %.1f deg\n", s.distance_m, s.rotation_rad * deg);
   std::printf("odometry drift at the end (max along the run):\n");
   std::printf("  nominal geometry  %.4f m  %+.3f deg  (max %.4f m)\n",
-              s.drift_nominal.final_position_m, s.drift_nominal.final_heading_rad * deg,
-              s.drift_nominal.max_position_m);
+              s.drift_nominal.final_position_error_m, s.drift_nominal.final_error.yaw * deg,
+              s.drift_nominal.max_position_error_m);
   std::printf("  true geometry     %.4f m  %+.3f deg  (max %.4f m)  slip + quantisation\n",
-              s.drift_true.final_position_m, s.drift_true.final_heading_rad * deg,
-              s.drift_true.max_position_m);
+              s.drift_true.final_position_error_m, s.drift_true.final_error.yaw * deg,
+              s.drift_true.max_position_error_m);
   std::printf("wrote %s\n", out.c_str());
 }
 

@@ -1,14 +1,28 @@
 #include "algo/calibration/dataset_motion.hpp"
 
 #include <cassert>
+#include <string>
+
+#include "core/error.hpp"
 
 namespace slamprep::algo {
+namespace {
 
-PoseSeries lidarPosesFromGroundTruth(const Dataset& dataset) {
+// Nominal odometry between t0 and t1 seen by the lidar: T_base_lidar^-1 o T_base_lidar.
+SE2 odometryGuess(const Dataset& dataset, double t0_s, double t1_s) {
+  const auto odom0 = dataset.odom_nominal.at(t0_s), odom1 = dataset.odom_nominal.at(t1_s);
+  const SE2& l = dataset.info.T_base_lidar;
+  return odom0 && odom1 ? l.inverse() * between(*odom0, *odom1) * l : SE2();
+}
+
+}  // namespace
+
+PoseSeries lidarPosesFromGroundTruth(const Dataset& dataset, bool stamp_is_last_beam) {
   PoseSeries poses;
   for (const ScanRecord& record : dataset.scans) {
-    const double t = record.scan.stamp_s;
-    std::optional<SE2> T_world_base = record.T_world_base_true;
+    const double t = firstBeamTime(record.scan, stamp_is_last_beam);
+    std::optional<SE2> T_world_base;
+    if (t == record.scan.stamp_s) T_world_base = record.T_world_base_true;
     if (!T_world_base) T_world_base = dataset.groundtruth.at(t);
     if (!T_world_base) continue;
     if (!poses.empty() && t <= poses.backStamp()) continue;
@@ -17,43 +31,59 @@ PoseSeries lidarPosesFromGroundTruth(const Dataset& dataset) {
   return poses;
 }
 
-IcpChains lidarPosesFromIcp(const Dataset& dataset, const IcpParams& params) {
+std::vector<ScanMatch> matchConsecutiveScans(const Dataset& dataset, const ScanMotionParams& params,
+                                             const std::vector<Points2>& scan_points) {
+  const bool icp = params.matcher == ScanMatcher::kIcp;
+  assert(scan_points.empty() || scan_points.size() == dataset.scans.size());
   std::vector<Points2> raw;
-  raw.reserve(dataset.scans.size());
-  for (const ScanRecord& record : dataset.scans) raw.push_back(record.scan.points());
-  return lidarPosesFromIcp(dataset, raw, params);
+  if (icp && scan_points.empty())
+    for (const ScanRecord& record : dataset.scans) raw.push_back(record.scan.points());
+  const std::vector<Points2>& points = scan_points.empty() ? raw : scan_points;
+  const bool last_beam = params.stamp_is_last_beam;
+  std::vector<ScanMatch> out;
+  Eigen::Vector3d twist = Eigen::Vector3d::Zero();  // of the last converged match, per second
+  for (std::size_t k = 1; k < dataset.scans.size(); ++k) {
+    const LaserScan& prev = dataset.scans[k - 1].scan;
+    const LaserScan& cur = dataset.scans[k].scan;
+    ScanMatch m{k - 1, firstBeamTime(prev, last_beam), firstBeamTime(cur, last_beam), {}};
+    const double dt = m.stamp_cur_s - m.stamp_ref_s;
+    if (!(dt > 0.0))
+      throw InputError("scans.jsonl: scan " + std::to_string(k), "first-beam times not increasing");
+    const SE2 guess = params.guess == MotionGuess::kOdometry
+                          ? odometryGuess(dataset, m.stamp_ref_s, m.stamp_cur_s)
+                          : SE2::exp(twist * dt);
+    if (icp) {
+      m.match = matchPointToLine(points[k - 1], points[k], guess, params.deskew.icp);
+      if (m.match.converged) twist = m.match.T_ref_cur.log() / dt;
+    } else {
+      const PreviousScan previous{prev, last_beam, std::nullopt, std::nullopt};
+      const Eigen::Vector3d twist_guess =
+          params.guess == MotionGuess::kOdometry ? Eigen::Vector3d(guess.log() / dt) : twist;
+      const MotionEstimate e =
+          estimateScanMotion(previous, cur, last_beam, twist_guess, params.deskew);
+      m.match = e.match;
+      if (e.ok) twist = e.twist_lidar;
+      if (!e.ok) m.match.reason = e.reason.empty() ? "no match" : e.reason;
+    }
+    out.push_back(std::move(m));
+  }
+  return out;
 }
 
-IcpChains lidarPosesFromIcp(const Dataset& dataset, const std::vector<Points2>& scan_points,
-                            const IcpParams& params) {
-  assert(scan_points.size() == dataset.scans.size());
-  IcpChains out;
-  const SE2& l = dataset.info.T_base_lidar;
+MatchChains chainMatches(const std::vector<ScanMatch>& matches) {
+  MatchChains out;
   PoseSeries chain;
-  Points2 prev_points;
-  double prev_stamp = 0.0;
-  for (std::size_t k = 0; k < dataset.scans.size(); ++k) {
-    const double t = dataset.scans[k].scan.stamp_s;
-    Points2 points = scan_points[k];
-    const auto odom_prev = dataset.odom_nominal.at(prev_stamp);
-    const auto odom_cur = dataset.odom_nominal.at(t);
-    if (!chain.empty() && t > chain.backStamp()) {
-      const SE2 guess =
-          odom_prev && odom_cur ? l.inverse() * between(*odom_prev, *odom_cur) * l : SE2();
-      const IcpResult match = matchPointToLine(prev_points, points, guess, params);
-      if (match.converged) {
-        chain.push_back(t, chain[chain.size() - 1].value * match.T_ref_cur);
-      } else {
-        ++out.failed_matches;
-        if (chain.size() > 1) out.chains.push_back(chain);
-        chain = PoseSeries();
-      }
+  for (const ScanMatch& m : matches) {
+    if (chain.empty()) chain.push_back(m.stamp_ref_s, SE2());
+    if (m.match.converged) {
+      chain.push_back(m.stamp_cur_s, chain[chain.size() - 1].value * m.match.T_ref_cur);
+      continue;
     }
-    if (chain.empty()) chain.push_back(t, SE2());
-    prev_points = std::move(points);
-    prev_stamp = t;
+    ++out.failed_matches;
+    if (chain.size() > 1) out.chains.push_back(std::move(chain));
+    chain = PoseSeries();
   }
-  if (chain.size() > 1) out.chains.push_back(chain);
+  if (chain.size() > 1) out.chains.push_back(std::move(chain));
   return out;
 }
 

@@ -1,31 +1,67 @@
 #pragma once
-// Measured lidar motion from a dataset, as the calibration methods need it: from ground truth
-// (an oracle run) or from scan matching consecutive scans.
+// Measured lidar motion from a dataset: from ground truth (an oracle run) or from matching
+// consecutive scans, the one scan-to-scan loop that `slamprep match`, `slamprep calibrate` and
+// the bench share.
 
+#include <optional>
 #include <vector>
 
 #include "algo/calibration/interval.hpp"
 #include "algo/calibration/umbmark.hpp"
+#include "algo/deskew/deskew.hpp"
 #include "algo/matching/icp.hpp"
 #include "core/dataset.hpp"
 
 namespace slamprep::algo {
 
-/// T_world_lidar at every scan stamp from the true base poses and the dataset's mount.
+/// T_world_lidar at every scan's first beam from the true base poses and the dataset's mount
+/// (the scan's own true pose when its stamp is the first beam, else the interpolated truth).
 /// Empty when the dataset has no ground truth.
-PoseSeries lidarPosesFromGroundTruth(const Dataset& dataset);
+PoseSeries lidarPosesFromGroundTruth(const Dataset& dataset, bool stamp_is_last_beam = false);
 
-/// Chains of T_world_lidar from point-to-line ICP between consecutive scans (guess from the
-/// nominal odometry and the dataset's mount). A failed match ends one chain and starts the next.
-struct IcpChains {
+/// How consecutive scans are matched.
+enum class ScanMatcher {
+  kIcp,   ///< point-to-line ICP on the points given (as measured, or de-skewed beforehand)
+  kVicp,  ///< both scans de-skewed with one twist estimated jointly with the match
+};
+
+/// Where each match's initial guess comes from.
+enum class MotionGuess {
+  kOdometry,          ///< nominal odometry through the dataset's mount (identity where none)
+  kConstantVelocity,  ///< the last converged match's twist (all a lidar-only log has)
+};
+
+struct ScanMotionParams {
+  ScanMatcher matcher = ScanMatcher::kIcp;
+  MotionGuess guess = MotionGuess::kOdometry;
+  bool stamp_is_last_beam = false;  ///< the scans' stamps mark their last beam
+  DeskewParams deskew;              ///< `deskew.icp` is the matcher; the rest tunes VICP
+};
+
+/// The lidar motion between scan `ref` and scan `ref + 1`.
+struct ScanMatch {
+  std::size_t ref = 0;
+  double stamp_ref_s = 0.0;  ///< first beam of scan ref
+  double stamp_cur_s = 0.0;  ///< first beam of scan ref + 1
+  /// T_ref_cur between the two first-beam lidar frames; converged = false when it failed
+  /// (`reason` says why).
+  IcpResult match;
+};
+
+/// Matches every pair of consecutive scans. `scan_points` (kIcp): the points of each scan in its
+/// lidar frame, e.g. de-skewed first, which removes the bias motion distortion puts into the
+/// matches; empty: the scans as measured. Throws InputError when first-beam times do not increase.
+std::vector<ScanMatch> matchConsecutiveScans(const Dataset& dataset,
+                                             const ScanMotionParams& params = {},
+                                             const std::vector<Points2>& scan_points = {});
+
+/// Chains of T_world_lidar through the converged matches; a failed match ends one chain and the
+/// next starts at its current scan. Chains of one pose are dropped.
+struct MatchChains {
   std::vector<PoseSeries> chains;
   int failed_matches = 0;
 };
-IcpChains lidarPosesFromIcp(const Dataset& dataset, const IcpParams& params = {});
-/// The same on given points per scan (scan_points[i]: scan i in its lidar frame at its stamp),
-/// e.g. scans de-skewed first, which removes the bias motion distortion puts into the matches.
-IcpChains lidarPosesFromIcp(const Dataset& dataset, const std::vector<Points2>& scan_points,
-                            const IcpParams& params = {});
+MatchChains chainMatches(const std::vector<ScanMatch>& matches);
 
 /// Intervals from all chains (buildIntervals on each), concatenated.
 IntervalSet buildIntervals(const Dataset& dataset, const std::vector<PoseSeries>& chains,

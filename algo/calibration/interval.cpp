@@ -58,11 +58,6 @@ SE2 integrateInterval(const CalibrationInterval& interval, const DiffDriveParams
                               geometry.wheel_base_m));
 }
 
-SE2 predictLidarMotion(const CalibrationInterval& interval, const DiffDriveParams& geometry,
-                       const SE2& T_base_lidar) {
-  return toSE2(lidarMotion(toPose2(integrateInterval(interval, geometry)), toPose2(T_base_lidar)));
-}
-
 std::vector<EncoderStep> encoderStepsBetween(const EncoderLog& encoders, int ticks_per_revolution,
                                              double t0_s, double t1_s) {
   std::vector<EncoderStep> steps;

@@ -1,7 +1,7 @@
 // Slip against Bullet's solver settings: for every shipped scenario in room.yaml, the largest
 // position error of wheel odometry integrated with the TRUE geometry (slip + tick quantisation,
-// SimSummary::drift_true.max_position_m), for solver iterations x contact relaxation, plus the
-// CPU time of the figure eight with the full sensor set. Not a test: it prints a table for
+// SimSummary::drift_true.max_position_error_m), for solver iterations x contact relaxation, plus
+// the CPU time of the figure eight with the full sensor set. Not a test: it prints a table for
 // docs/simulate.md and results/benchmarks.md.
 // Run: sim_slip_table [iterations,...] [relaxation,...]   (defaults: 50,30,20,15,12,10 and 1,1.5)
 
@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
           sim_s = result.summary.duration_s;
         }
         char cell[32];
-        std::snprintf(cell, sizeof cell, " %.2f |", result.summary.drift_true.max_position_m * 1e3);
+        std::snprintf(cell, sizeof cell, " %.2f |",
+                      result.summary.drift_true.max_position_error_m * 1e3);
         row += cell;
       }
       std::printf(" %.3f | %.0f |%s\n", cpu_s, sim_s / cpu_s, row.c_str());

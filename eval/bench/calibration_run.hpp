@@ -1,22 +1,17 @@
 #pragma once
-// Calibration methods by the names the CLI and JSON use, run on a dataset's intervals.
+// The calibration pipeline on a dataset (`slamprep calibrate`, the bench): the lidar motion the
+// interval methods consume, and the whole run from directories to method results.
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "algo/calibration/calibration.hpp"
+#include "algo/calibration/calibration_json.hpp"
+#include "algo/calibration/dataset_motion.hpp"
 #include "core/dataset.hpp"
 
 namespace slamprep::eval {
-
-/// "direct", "model", "joint", "ceres": the interval-based methods in the order they build on
-/// each other ("umbmark" needs square runs instead; see the calibrate command).
-const std::vector<std::string>& intervalCalibrationMethods();
-
-/// Runs one interval-based method; an unknown name is an InputError naming it.
-algo::CalibrationResult calibrateWith(const std::string& method,
-                                      const std::vector<algo::CalibrationInterval>& intervals,
-                                      const DiffDriveParams& nominal);
 
 /// Where the lidar motion for calibration comes from.
 struct CalibrationMotionOptions {
@@ -30,7 +25,8 @@ struct CalibrationMotionOptions {
 };
 
 struct CalibrationMotion {
-  std::vector<PoseSeries> chains;  ///< T_world_lidar chains (one for ground truth)
+  std::vector<algo::ScanMatch> matches;  ///< consecutive scans (none for ground truth)
+  std::vector<PoseSeries> chains;        ///< T_world_lidar chains (one for ground truth)
   int failed_matches = 0;
   algo::IntervalSet intervals;
 };
@@ -39,5 +35,29 @@ struct CalibrationMotion {
 /// believes, then point-to-line ICP between consecutive scans; or ground truth).
 CalibrationMotion calibrationMotion(const Dataset& dataset,
                                     const CalibrationMotionOptions& options);
+
+/// What `slamprep calibrate` runs.
+struct DatasetCalibrationParams {
+  std::string dataset;  ///< dataset directory; may be empty when `tuples` is given
+  std::vector<algo::CalibrationMethod> methods = algo::allCalibrationMethods();
+  /// Censi interval records to calibrate from instead of the dataset's motion.
+  std::string tuples;
+  /// More UMBmark square-run datasets (the dataset itself counts when it is one).
+  std::vector<std::string> squares;
+  CalibrationMotionOptions motion;
+  algo::CalibrationParams params;
+};
+
+struct DatasetCalibration {
+  std::vector<algo::CalibrationRun> runs;  ///< one per method, in the order asked
+  algo::IntervalSet intervals;             ///< what the interval methods used, what was dropped
+  bool from_motion = false;  ///< the intervals were cut from the dataset's motion (no tuples)
+  int failed_matches = 0;    ///< scan matches that broke a chain
+  std::optional<algo::CalibrationTruth> truth;  ///< when the dataset knows its true geometry
+};
+
+/// Reads the dataset (and square runs), builds the methods' inputs and runs them. Throws
+/// InputError naming the directory or file for bad input (before any matching is done).
+DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params);
 
 }  // namespace slamprep::eval

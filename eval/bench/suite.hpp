@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "algo/calibration/calibration_method.hpp"
+
 namespace slamprep::eval {
 
 /// One swept simulator key and the values it takes (applied with `--set key=value`).
@@ -38,7 +40,7 @@ struct Suite {
   double duration_s = 0.0;                 ///< 0: the scenario's own length
   std::string mode = "physics";            ///< physics | kinematic
   std::string motion = "icp";              ///< calibration motion source: icp | groundtruth
-  std::vector<std::string> calibration_methods;
+  std::vector<algo::CalibrationMethod> calibration_methods;  ///< interval methods only
   std::vector<std::string> deskew_methods;
   /// Wheel geometry the odometry-based de-skew methods use: nominal | true | calibrated.
   std::string deskew_geometry = "nominal";

@@ -4,11 +4,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "algo/calibration/calibrate.hpp"
 #include "algo/calibration/dataset_motion.hpp"
 #include "core/error.hpp"
 #include "core/odometry.hpp"
 #include "eval/bench/calibration_run.hpp"
 #include "eval/bench/dataset_deskew.hpp"
+#include "eval/bench/match_run.hpp"
 #include "eval/metrics/calibration_error.hpp"
 #include "eval/metrics/odometry_drift.hpp"
 #include "eval/metrics/trajectory_error.hpp"
@@ -43,31 +45,21 @@ json simJson(const sim::SimSummary& s) {
           {"turned_rad", s.rotation_rad},
           {"mean_abs_yaw_rate_radps", s.duration_s > 0 ? s.rotation_rad / s.duration_s : 0.0},
           {"mean_speed_mps", s.duration_s > 0 ? s.distance_m / s.duration_s : 0.0},
-          {"drift_nominal_m", s.drift_nominal.final_position_m},
-          {"drift_true_m", s.drift_true.final_position_m}};
+          {"drift_nominal_m", s.drift_nominal.final_position_error_m},
+          {"drift_true_m", s.drift_true.final_position_error_m}};
 }
 
-// Error of every scan-to-scan motion in the chains against the true lidar motion.
+// Error of every scan-to-scan match against the true lidar motion.
 json matchingJson(const Dataset& dataset, const CalibrationMotion& motion) {
-  const PoseSeries truth = algo::lidarPosesFromGroundTruth(dataset);
-  std::vector<double> trans_m, rot_deg;
-  for (const auto& chain : motion.chains)
-    for (std::size_t k = 1; k < chain.size(); ++k) {
-      const auto a = truth.at(chain[k - 1].stamp_s), b = truth.at(chain[k].stamp_s);
-      if (!a || !b) continue;
-      const SE2 err = between(between(*a, *b), between(chain[k - 1].value, chain[k].value));
-      trans_m.push_back(err.translation().norm());
-      rot_deg.push_back(std::abs(err.yaw) * 180.0 / std::numbers::pi);
-    }
-  const std::size_t pairs = trans_m.size() + motion.failed_matches;
-  if (trans_m.empty()) return {{"pairs", pairs}, {"converged_fraction", 0.0}};
-  const ErrorStats t = summarize(trans_m), r = summarize(rot_deg);
-  return {{"pairs", pairs},
-          {"converged_fraction", static_cast<double>(trans_m.size()) / pairs},
-          {"trans_error_m_mean", t.mean},
-          {"trans_error_m_rmse", t.rmse},
-          {"rot_error_deg_mean", r.mean},
-          {"rot_error_deg_rmse", r.rmse}};
+  const ScanMatchError e = scanMatchError(motion.matches, algo::lidarPosesFromGroundTruth(dataset));
+  const double converged_fraction = e.pairs > 0 ? static_cast<double>(e.converged) / e.pairs : 0.0;
+  if (!e.translation_m.ok) return {{"pairs", e.pairs}, {"converged_fraction", converged_fraction}};
+  return {{"pairs", e.pairs},
+          {"converged_fraction", converged_fraction},
+          {"trans_error_m_mean", e.translation_m.mean},
+          {"trans_error_m_rmse", e.translation_m.rmse},
+          {"rot_error_deg_mean", e.rotation_deg.mean},
+          {"rot_error_deg_rmse", e.rotation_deg.rmse}};
 }
 
 // Dead-reckoning error against the truth, as evo computes it: APE after putting the first poses
@@ -134,12 +126,9 @@ json deskewJson(const DatasetDeskew& d) {
 
 // The geometry the odometry-based de-skew methods use in this trial.
 DiffDriveParams deskewGeometry(const Suite& suite, const Dataset& dataset,
-                               const std::map<std::string, algo::CalibrationResult>& calibrated) {
+                               const algo::CalibrationRun* best) {
   if (suite.deskew_geometry == "true") return *dataset.info.true_geometry;
-  if (suite.deskew_geometry == "calibrated")
-    for (const char* best : {"ceres", "joint", "model", "direct"})
-      if (auto it = calibrated.find(best); it != calibrated.end() && it->second.ok)
-        return it->second.geometry;
+  if (suite.deskew_geometry == "calibrated" && best) return best->result.geometry;
   return dataset.info.nominal_geometry;
 }
 
@@ -236,25 +225,29 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
     out.result["odometry"][name] =
         odometryJson(integrateEncoders(dataset.encoders, geometry, ticks), dataset.groundtruth);
 
-  std::map<std::string, algo::CalibrationResult> calibrated;
+  std::vector<algo::CalibrationRun> calibrated;
   if (!suite.calibration_methods.empty()) {
     start = Clock::now();
     CalibrationMotionOptions motion_options;
     motion_options.from_icp = suite.motion == "icp";
-    const CalibrationMotion motion = calibrationMotion(dataset, motion_options);
+    CalibrationMotion motion = calibrationMotion(dataset, motion_options);
     out.timing["motion_s"] = secondsSince(start);
     if (motion_options.from_icp) out.result["matching"] = matchingJson(dataset, motion);
-    for (const auto& method : suite.calibration_methods) {
+    algo::CalibrationInput input;
+    input.intervals = std::move(motion.intervals.intervals);
+    input.nominal = dataset.info.nominal_geometry;
+    for (const algo::CalibrationMethod method : suite.calibration_methods) {
+      const std::string name(algo::calibrationMethodName(method));
       start = Clock::now();
-      calibrated[method] =
-          calibrateWith(method, motion.intervals.intervals, dataset.info.nominal_geometry);
-      out.timing["calibration"][method] = secondsSince(start);
-      out.result["calibration"][method] = calibrationJson(dataset, calibrated[method]);
+      calibrated.push_back(algo::calibrate(method, input));
+      out.timing["calibration"][name] = secondsSince(start);
+      out.result["calibration"][name] = calibrationJson(dataset, calibrated.back().result);
     }
   }
+  const algo::CalibrationRun* best = algo::bestRun(calibrated);
 
   DatasetDeskewOptions deskew_options = nominalDeskewOptions(dataset);
-  deskew_options.geometry = deskewGeometry(suite, dataset, calibrated);
+  deskew_options.geometry = deskewGeometry(suite, dataset, best);
   deskew_options.odometry = integrateEncoders(  // once, not once per method
       dataset.encoders, deskew_options.geometry, dataset.info.ticks_per_revolution);
   std::optional<DatasetDeskew> shown;  // the scan plot shows the last method run
@@ -272,17 +265,11 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
   }
   // Artifacts for the plots: only the first trial, to keep results small. Arrays never enter
   // the summary (only numeric leaves of objects do).
-  if (spec.index == 0) {
-    const DiffDriveParams* best = nullptr;
-    std::string best_name;
-    for (const char* name : {"ceres", "joint", "model", "direct"})
-      if (auto it = calibrated.find(name); !best && it != calibrated.end() && it->second.ok) {
-        best = &it->second.geometry;
-        best_name = name;
-      }
+  if (spec.index == 0)
     out.result["artifacts"] =
-        artifactsJson(dataset, best, best_name, shown ? &*shown : nullptr, shown_method);
-  }
+        artifactsJson(dataset, best ? &best->result.geometry : nullptr,
+                      best ? std::string(algo::calibrationMethodName(best->method)) : std::string(),
+                      shown ? &*shown : nullptr, shown_method);
   return out;
 }
 

@@ -99,22 +99,6 @@ struct Pending {
   std::string data;
 };
 
-// Preference order when a calibration file holds several methods.
-int methodRank(const std::string& m) {
-  static const char* order[] = {"ceres", "joint", "model", "direct", "umbmark"};
-  for (int i = 0; i < 5; ++i)
-    if (m == order[i]) return i;
-  return 5;
-}
-
-double positiveNumber(const nlohmann::json& j, const char* key, const std::string& where) {
-  if (!j.contains(key) || !j[key].is_number())
-    throw InputError(where, std::string(key) + ": missing or not a number");
-  const double v = j[key].get<double>();
-  if (!std::isfinite(v) || v <= 0) throw InputError(where, std::string(key) + ": must be > 0");
-  return v;
-}
-
 void requireScans(const std::vector<ScanRecord>& scans, const std::string& what) {
   if (scans.empty()) throw InputError(what, "no scans to export");
 }
@@ -149,45 +133,7 @@ ExportFormat parseExportFormat(const std::string& name, const std::string& where
   throw InputError(where, "unknown format \"" + name + "\" (mcap, carmen, tum, kitti, csm)");
 }
 
-CalibrationChoice readCalibrationJson(const fs::path& file) {
-  const auto best = bestCalibration(file);
-  if (!best) throw InputError(file.string(), "no calibration result with ok = true");
-  return *best;
-}
-
-std::optional<CalibrationChoice> bestCalibration(const fs::path& file) {
-  const std::string text = slamprep::eval::readTextFile(file);
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(file.string(), std::string("bad JSON: ") + e.what());
-  }
-  if (j.is_object()) j = nlohmann::json::array({j});
-  if (!j.is_array()) throw InputError(file.string(), "expected an array of method results");
-  std::optional<CalibrationChoice> best;
-  int best_rank = 1 << 30;
-  for (std::size_t i = 0; i < j.size(); ++i) {
-    const auto& e = j[i];
-    const std::string where = file.string() + ": [" + std::to_string(i) + "]";
-    if (!e.is_object()) throw InputError(where, "not an object");
-    if (e.contains("ok") && !(e["ok"].is_boolean() && e["ok"].get<bool>())) continue;
-    const std::string method =
-        e.contains("method") && e["method"].is_string() ? e["method"].get<std::string>() : "";
-    CalibrationChoice c;
-    c.method = method;
-    c.geometry.radius_left_m = positiveNumber(e, "r_L", where);
-    c.geometry.radius_right_m = positiveNumber(e, "r_R", where);
-    c.geometry.wheel_base_m = positiveNumber(e, "b", where);
-    if (methodRank(method) < best_rank) {
-      best_rank = methodRank(method);
-      best = c;
-    }
-  }
-  return best;
-}
-
-ExportInput loadExportInput(const fs::path& dataset_dir, const ExportParams& params) {
+ExportInput loadExportInput(const fs::path& dataset_dir) {
   ExportInput input;
   input.dataset = readDataset(dataset_dir);
   std::error_code ec;
@@ -202,14 +148,6 @@ ExportInput loadExportInput(const fs::path& dataset_dir, const ExportParams& par
     const std::string method = name.substr(9, name.size() - 9 - 6);
     input.deskewed[method] =
         slamprep::eval::parseScans(slamprep::eval::readTextFile(file), file.string());
-  }
-  if (!params.calibration_file.empty()) {
-    input.calibration = readCalibrationJson(params.calibration_file);
-  } else if (const fs::path file = dataset_dir / "calibration.json"; fs::exists(file)) {
-    input.calibration = bestCalibration(file);
-    if (!input.calibration)
-      input.notes.push_back(file.string() +
-                            " holds no ok calibration: calibrated odometry not written");
   }
   return input;
 }

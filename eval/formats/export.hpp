@@ -17,32 +17,22 @@ enum class ExportFormat { kMcap, kCarmen, kTum, kKitti, kCsm };
 /// "mcap", "carmen", "tum", "kitti", "csm"; throws InputError naming `where` otherwise.
 ExportFormat parseExportFormat(const std::string& name, const std::string& where = "--format");
 
-/// The wheel geometry of a calibration result (the JSON `slamprep calibrate --json` writes).
+/// The calibrated wheel geometry for the calibrated odometry (the caller chooses it, e.g. the best
+/// method of `slamprep calibrate --json`, algo/calibration/calibration_json.hpp).
 struct CalibrationChoice {
   DiffDriveParams geometry;
-  std::string method;  ///< which entry of the file was taken
+  std::string method;  ///< where it came from, for messages
 };
-
-/// Reads `calibrate --json` output: an array of method objects (or one object) with `ok`,
-/// `r_L`, `r_R`, `b`. Takes the first ok entry in the order ceres, joint, model, direct, umbmark,
-/// then any other. Throws InputError naming the file and key on malformed input or when no
-/// entry is ok.
-CalibrationChoice readCalibrationJson(const std::filesystem::path& file);
-/// The same, but nullopt (instead of an error) when no entry is ok.
-std::optional<CalibrationChoice> bestCalibration(const std::filesystem::path& file);
 
 /// Everything an export may write: the dataset plus what later steps left beside it.
 struct ExportInput {
   Dataset dataset;
   std::map<std::string, std::vector<ScanRecord>> deskewed;  ///< method -> deskewed_<method>.jsonl
-  std::optional<CalibrationChoice> calibration;
+  std::optional<CalibrationChoice> calibration;             ///< none: no calibrated odometry
   std::vector<std::string> notes;  ///< what was found but not used, and why
 };
 
 struct ExportParams {
-  /// Calibration JSON for the calibrated odometry; empty: `<dataset>/calibration.json` if it
-  /// exists, otherwise no calibrated odometry.
-  std::filesystem::path calibration_file;
   /// MCAP: messages per chunk of about this many bytes; 0 writes an unchunked file.
   std::size_t mcap_chunk_size_bytes = 1 << 20;
   /// CARMEN and CSM: which scans to write: "scans" (raw) or a de-skew method name (reads
@@ -65,8 +55,9 @@ struct ExportResult {
   std::vector<std::string> notes;             ///< what was left out and why
 };
 
-/// Reads the dataset and what lies beside it (deskewed_*.jsonl, calibration JSON).
-ExportInput loadExportInput(const std::filesystem::path& dataset_dir, const ExportParams& params);
+/// Reads the dataset and the de-skewed scans beside it (deskewed_*.jsonl); the calibration is the
+/// caller's to fill in.
+ExportInput loadExportInput(const std::filesystem::path& dataset_dir);
 
 /// Writes `input` in `format` to `out` (a file for mcap, carmen and csm; a directory for tum and
 /// kitti). Every file is written under a temporary name and renamed when complete.

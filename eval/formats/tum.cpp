@@ -98,10 +98,6 @@ PoseSeries parseTum(std::string_view text, const std::string& file) {
   return poses;
 }
 
-void writeTum(const std::filesystem::path& path, const PoseSeries& poses) {
-  writeTextFile(path, formatTum(poses, path.string()));
-}
-
 PoseSeries readTum(const std::filesystem::path& path) {
   return parseTum(readTextFile(path), path.string());
 }

@@ -30,7 +30,6 @@ std::string formatTum(const PoseSeries& poses, const std::string& file);
 /// quaternions far from unit norm and timestamps that do not increase strictly.
 PoseSeries parseTum(std::string_view text, const std::string& file);
 
-void writeTum(const std::filesystem::path& path, const PoseSeries& poses);
 PoseSeries readTum(const std::filesystem::path& path);
 
 }  // namespace slamprep::eval

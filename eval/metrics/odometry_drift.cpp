@@ -37,6 +37,7 @@ DriftResult odometryDrift(const PoseSeries& T_odom_base, const PoseSeries& T_wor
       return r;
     }
     r.max_position_error_m = std::max(r.max_position_error_m, position_m);
+    r.final_error = E;
     r.final_position_error_m = position_m;
     r.final_heading_error_deg = std::abs(E.yaw) * kDegPerRad;
     if (i > 0)

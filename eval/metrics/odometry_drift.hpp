@@ -18,8 +18,11 @@ struct DriftResult {
   std::size_t matched = 0;    ///< odometry poses compared
   std::size_t unmatched = 0;  ///< odometry poses without ground truth close enough in time
   SE2 T_world_odom;           ///< start alignment Q_0 P_0^-1 (first compared pose)
-  double final_position_error_m = 0.0;   ///< |t(Q_N^-1 T_world_odom P_N)| at the last pose
-  double final_heading_error_deg = 0.0;  ///< |angle(...)| at the last pose
+  /// E_N = Q_N^-1 T_world_odom P_N at the last pose: the odometry in the true frame (its yaw is
+  /// the signed heading error, odometry minus truth).
+  SE2 final_error;
+  double final_position_error_m = 0.0;   ///< |t(E_N)|
+  double final_heading_error_deg = 0.0;  ///< |angle(E_N)|
   double max_position_error_m = 0.0;     ///< max over all compared poses
   double path_length_m = 0.0;            ///< ground-truth path length over the compared poses
   double duration_s = 0.0;               ///< last minus first compared stamp

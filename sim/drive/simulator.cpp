@@ -421,25 +421,6 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   return result;
 }
 
-DriftStats odometryDrift(const PoseSeries& groundtruth, const PoseSeries& odometry) {
-  DriftStats drift;
-  if (odometry.empty() || groundtruth.empty()) return drift;
-  const auto gt0 = groundtruth.at(odometry.frontStamp());
-  if (!gt0) return drift;
-  const SE2 T_odom0 = odometry[0].value;
-  for (const auto& sample : odometry.samples()) {
-    const auto gt = groundtruth.at(sample.stamp_s);
-    if (!gt) break;
-    const SE2 truth = between(*gt0, *gt);
-    const SE2 odom = between(T_odom0, sample.value);
-    const double error_m = (odom.translation() - truth.translation()).norm();
-    drift.max_position_m = std::max(drift.max_position_m, error_m);
-    drift.final_position_m = error_m;
-    drift.final_heading_rad = normalizeAngle(odom.yaw - truth.yaw);
-  }
-  return drift;
-}
-
 SimSummary summarize(const Dataset& dataset, SimMode mode) {
   SimSummary s;
   s.mode = mode;
@@ -458,11 +439,11 @@ SimSummary summarize(const Dataset& dataset, SimMode mode) {
     for (std::size_t i = 0; i < record.scan.size(); ++i) s.returns += record.scan.valid(i) ? 1 : 0;
   }
   const int ticks = dataset.info.ticks_per_revolution;
-  s.drift_nominal =
-      odometryDrift(gt, integrateEncoders(dataset.encoders, dataset.info.nominal_geometry, ticks));
+  s.drift_nominal = eval::odometryDrift(
+      integrateEncoders(dataset.encoders, dataset.info.nominal_geometry, ticks), gt);
   if (dataset.info.true_geometry) {
-    s.drift_true =
-        odometryDrift(gt, integrateEncoders(dataset.encoders, *dataset.info.true_geometry, ticks));
+    s.drift_true = eval::odometryDrift(
+        integrateEncoders(dataset.encoders, *dataset.info.true_geometry, ticks), gt);
   }
   return s;
 }

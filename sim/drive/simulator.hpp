@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "core/dataset.hpp"
+#include "eval/metrics/odometry_drift.hpp"
 #include "sim/drive/config.hpp"
 #include "sim/drive/scenario.hpp"
 #include "sim/physics/scene.hpp"
@@ -15,13 +16,6 @@ namespace slamprep::sim {
 /// Called now and then with the simulated time so far and the total.
 using ProgressCallback = std::function<void(double sim_time_s, double duration_s)>;
 
-/// Dead-reckoning error of an odometry trajectory against ground truth (both from their start).
-struct DriftStats {
-  double final_position_m = 0.0;   ///< |p_odom(end) - p_true(end)|
-  double final_heading_rad = 0.0;  ///< yaw_odom(end) - yaw_true(end), wrapped
-  double max_position_m = 0.0;     ///< largest position error along the run
-};
-
 struct SimSummary {
   SimMode mode = SimMode::physics;
   double duration_s = 0.0;        ///< simulated time
@@ -31,8 +25,9 @@ struct SimSummary {
   std::size_t returns = 0;        ///< beams with a valid range
   double distance_m = 0.0;        ///< length of the true path
   double rotation_rad = 0.0;      ///< total |yaw| turned
-  DriftStats drift_nominal;       ///< encoders integrated with the NOMINAL geometry
-  DriftStats drift_true;          ///< encoders integrated with the TRUE geometry (slip + ticks)
+  /// Dead reckoning against the truth, both from their first common pose (eval::odometryDrift):
+  eval::DriftResult drift_nominal;  ///< encoders integrated with the NOMINAL geometry
+  eval::DriftResult drift_true;     ///< ... with the TRUE geometry (slip + ticks); when known
 };
 
 struct SimResult {
@@ -57,9 +52,5 @@ void checkPathInWorld(const Scene& scene, const Scenario& scenario, const SimCon
 
 /// Statistics of a simulated dataset: counts, distance, and odometry drift with both geometries.
 SimSummary summarize(const Dataset& dataset, SimMode mode);
-
-/// Drift of `odometry` (starting anywhere) against `groundtruth`, both taken from their first
-/// common stamp.
-DriftStats odometryDrift(const PoseSeries& groundtruth, const PoseSeries& odometry);
 
 }  // namespace slamprep::sim

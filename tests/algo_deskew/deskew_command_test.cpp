@@ -108,10 +108,15 @@ TEST_F(DeskewCommand, BadInputNamesTheProblem) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("missing"), std::string::npos) << r.err;
   std::ofstream(dir() / "cal.json")
-      << R"([{"method": "x", "ok": true, "r_L": 0, "r_R": 0.1, "b": 0.5}])";
+      << R"([{"method": "model", "ok": true, "r_L": 0, "r_R": 0.1, "b": 0.5}])";
   r = cli("deskew " + data() + " --no-write --geometry " + (dir() / "cal.json").string());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("r_L"), std::string::npos) << r.err;
+  std::ofstream(dir() / "cal2.json")
+      << R"([{"method": "x", "ok": true, "r_L": 0.1, "r_R": 0.1, "b": 0.5}])";
+  r = cli("deskew " + data() + " --no-write --geometry " + (dir() / "cal2.json").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("[0].method"), std::string::npos) << r.err;
   r = cli("deskew " + data() + " --method linear");
   EXPECT_NE(r.exit_code, 0);
 }

@@ -163,22 +163,6 @@ TEST(ExportCsm, CsmKeysOnlyAndClockwiseScansReversed) {
   EXPECT_EQ(j["odometry"][0].get<double>(), d.scans[0].T_odom_base_nominal->x);
 }
 
-TEST(ExportCalibration, TakesTheBestOkMethodAndRefusesBadFiles) {
-  const fs::path f = scratch("calibration.json");
-  writeFileAtomic(f, R"([{"method":"model","ok":true,"r_L":0.1,"r_R":0.2,"b":0.5},
-                        {"method":"ceres","ok":true,"r_L":0.11,"r_R":0.21,"b":0.51},
-                        {"method":"joint","ok":false,"r_L":null,"r_R":null,"b":null}])");
-  const CalibrationChoice c = readCalibrationJson(f);
-  EXPECT_EQ(c.method, "ceres");
-  EXPECT_EQ(c.geometry.wheel_base_m, 0.51);
-  writeFileAtomic(f, R"([{"method":"model","ok":true,"r_L":-0.1,"r_R":0.2,"b":0.5}])");
-  EXPECT_THROW(readCalibrationJson(f), InputError);
-  writeFileAtomic(f, R"([{"method":"model","ok":false}])");
-  EXPECT_THROW(readCalibrationJson(f), InputError);
-  writeFileAtomic(f, R"([{"method":"model","ok":true,"r_L":0.1)");
-  EXPECT_THROW(readCalibrationJson(f), InputError);
-}
-
 TEST(ExportFormat, UnknownFormatsAreInputErrors) {
   EXPECT_EQ(parseExportFormat("kitti"), ExportFormat::kKitti);
   EXPECT_THROW(parseExportFormat("bag"), InputError);

@@ -36,6 +36,21 @@ TEST(OdometryDrift, ScaleErrorGrowsLinearly) {
   EXPECT_NEAR(r.duration_s, 10.0, 1e-12);
   EXPECT_NEAR(r.T_world_odom.x, 5.0, 1e-12);
   EXPECT_NEAR(r.T_world_odom.yaw, std::numbers::pi / 2, 1e-15);
+  // The error pose in the true frame: 0.5 m too far ahead along the robot's own x.
+  EXPECT_NEAR(r.final_error.x, 0.5, 1e-12);
+  EXPECT_NEAR(r.final_error.y, 0.0, 1e-12);
+}
+
+TEST(OdometryDrift, FinalErrorKeepsTheHeadingSign) {
+  const Line line;
+  // Odometry turning left at 0.01 rad/s while the truth drives straight: +0.1 rad after 10 s
+  // (odometry minus truth), which the absolute final_heading_error_deg cannot tell from -0.1.
+  const DriftResult r = odometryDrift(line.odometry(1.0, 0.01), line.gt);
+  ASSERT_TRUE(r.ok);
+  EXPECT_NEAR(r.final_error.yaw, 0.1, 1e-12);
+  EXPECT_NEAR(r.final_heading_error_deg, 0.1 * 180.0 / std::numbers::pi, 1e-9);
+  EXPECT_NEAR(r.final_error.translation().norm(), r.final_position_error_m, 1e-15);
+  EXPECT_LT(odometryDrift(line.odometry(1.0, -0.01), line.gt).final_error.yaw, -0.0999);
 }
 
 TEST(OdometryDrift, HeadingErrorAndMaxBeforeTheEnd) {

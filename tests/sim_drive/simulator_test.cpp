@@ -146,19 +146,24 @@ TEST(Simulator, KinematicTrueGeometryOdometryReproducesGroundTruthToQuantisation
   EXPECT_LT(worst_heading, heading_bound);
   EXPECT_LT(worst_ratio, 1.0);
   EXPECT_GT(s_m, 6.0);  // two circles of 2 pi 0.5 m
-  EXPECT_LT(r.summary.drift_true.max_position_m, heading_bound * s_m + 0.1 * delta);
+  EXPECT_LT(r.summary.drift_true.max_position_error_m, heading_bound * s_m + 0.1 * delta);
 }
 
 /// Drift of nominal odometry after one constant-curvature segment commanding (D, Theta): the
 /// odometry inverts the controller (both use the nominal geometry), so it reports exactly the
 /// commanded arc exp(D, 0, Theta); the truth is the arc J_true J_nominal^-1 (D, Theta). Both
 /// components of every trapezoid scale together, so each motion is a single arc.
-DriftStats predictedDrift(const SimConfig& c, double D, double theta) {
+struct PredictedDrift {
+  double final_position_m = 0.0;   ///< |p_odom(end) - p_true(end)|
+  double final_heading_rad = 0.0;  ///< yaw_odom(end) - yaw_true(end), wrapped
+};
+
+PredictedDrift predictedDrift(const SimConfig& c, double D, double theta) {
   const Eigen::Vector2d phi = c.nominalGeometry().wheelRates(D, theta);  // J_n^-1: wheel angles
   const Eigen::Vector2d truth = c.robot.geometry.twist(phi.x(), phi.y());
   const SE2 odom_end = SE2::exp({D, 0.0, theta});
   const SE2 true_end = SE2::exp({truth.x(), 0.0, truth.y()});
-  DriftStats drift;
+  PredictedDrift drift;
   drift.final_position_m = (odom_end.translation() - true_end.translation()).norm();
   drift.final_heading_rad = normalizeAngle(theta - truth.y());
   return drift;
@@ -174,10 +179,10 @@ TEST(Simulator, KinematicNominalDriftMatchesTheGeometryErrors) {
     // (k_i = r_i / r_i,nominal), i.e. 13.6 deg too far, and creeps 0.45 mm per rad.
     const SimResult r =
         simulate(c, squareRoom(3.0), scenario("  - {type: spin, angle_deg: 360}\n"));
-    const DriftStats p = predictedDrift(c, 0.0, 2.0 * std::numbers::pi);
+    const PredictedDrift p = predictedDrift(c, 0.0, 2.0 * std::numbers::pi);
     EXPECT_NEAR(p.final_heading_rad, -0.23702, 1e-5);
-    EXPECT_NEAR(r.summary.drift_nominal.final_heading_rad, p.final_heading_rad, heading_tol);
-    EXPECT_NEAR(r.summary.drift_nominal.final_position_m, p.final_position_m,
+    EXPECT_NEAR(r.summary.drift_nominal.final_error.yaw, p.final_heading_rad, heading_tol);
+    EXPECT_NEAR(r.summary.drift_nominal.final_position_error_m, p.final_position_m,
                 2 * 0.1 * tickAngle(c));
   }
   {
@@ -185,11 +190,11 @@ TEST(Simulator, KinematicNominalDriftMatchesTheGeometryErrors) {
     // D (k_R - k_L) / b = 0.139 rad (8 deg); it ends 0.139 m from the odometry's (2, 0).
     const SimResult r = simulate(
         c, squareRoom(3.0), scenario("  - {type: straight, distance_m: 2.0, speed_mps: 0.5}\n"));
-    const DriftStats p = predictedDrift(c, 2.0, 0.0);
+    const PredictedDrift p = predictedDrift(c, 2.0, 0.0);
     EXPECT_NEAR(p.final_heading_rad, -0.1393, 1e-4);
     EXPECT_NEAR(p.final_position_m, 0.1392, 1e-4);
-    EXPECT_NEAR(r.summary.drift_nominal.final_heading_rad, p.final_heading_rad, heading_tol);
-    EXPECT_NEAR(r.summary.drift_nominal.final_position_m, p.final_position_m,
+    EXPECT_NEAR(r.summary.drift_nominal.final_error.yaw, p.final_heading_rad, heading_tol);
+    EXPECT_NEAR(r.summary.drift_nominal.final_position_error_m, p.final_position_m,
                 heading_tol * 2.0 + 2 * 0.1 * tickAngle(c));
   }
 }
@@ -202,14 +207,16 @@ TEST(Simulator, PhysicsFigureEightTrueGeometryOdometryStaysCloseToTruth) {
   // plus quantisation (kinematic bound above: 3e-4 rad * 6.3 m = 2 mm). Measured on this run:
   // max position error 1.16 mm, final heading error -9e-6 rad with 50 solver iterations; 1.42 mm
   // and 5.5e-4 rad with the default 10 iterations and relaxation 1.5. Bounds: 5 mm and 1e-3 rad.
-  EXPECT_LT(r.summary.drift_true.max_position_m, 0.005);
-  EXPECT_LT(std::abs(r.summary.drift_true.final_heading_rad), 1e-3);
+  EXPECT_LT(r.summary.drift_true.max_position_error_m, 0.005);
+  EXPECT_LT(std::abs(r.summary.drift_true.final_error.yaw), 1e-3);
   // The wrong geometry dominates by far.
-  EXPECT_GT(r.summary.drift_nominal.max_position_m, 5 * r.summary.drift_true.max_position_m);
-  RecordProperty("drift_true_max_m", std::to_string(r.summary.drift_true.max_position_m));
+  EXPECT_GT(r.summary.drift_nominal.max_position_error_m,
+            5 * r.summary.drift_true.max_position_error_m);
+  RecordProperty("drift_true_max_m", std::to_string(r.summary.drift_true.max_position_error_m));
   RecordProperty("drift_true_final_heading_rad",
-                 std::to_string(r.summary.drift_true.final_heading_rad));
-  RecordProperty("drift_nominal_max_m", std::to_string(r.summary.drift_nominal.max_position_m));
+                 std::to_string(r.summary.drift_true.final_error.yaw));
+  RecordProperty("drift_nominal_max_m",
+                 std::to_string(r.summary.drift_nominal.max_position_error_m));
 }
 
 // ---- The dataset -------------------------------------------------------------------------------

@@ -1,0 +1,60 @@
+#pragma once
+// One entry point for every calibration method: the method by its enum, the inputs all methods
+// draw from, one result type, and the best available result (calibration_method.hpp's rule).
+
+#include <optional>
+#include <vector>
+
+#include "algo/calibration/calibration_method.hpp"
+#include "algo/calibration/calibration_result.hpp"
+#include "algo/calibration/ceres_refine.hpp"
+#include "algo/calibration/direct_linear.hpp"
+#include "algo/calibration/interval.hpp"
+#include "algo/calibration/joint_censi.hpp"
+#include "algo/calibration/model_based.hpp"
+#include "algo/calibration/umbmark.hpp"
+
+namespace slamprep::algo {
+
+/// What the methods consume; each takes its part.
+struct CalibrationInput {
+  std::vector<CalibrationInterval> intervals;  ///< direct, model, joint, ceres
+  /// Geometry the odometry was integrated with: direct's u_i, umbmark's corrected base.
+  std::optional<DiffDriveParams> nominal;
+  std::vector<UmbmarkRun> umbmark_runs;  ///< umbmark
+};
+
+/// Every method's parameters. ceres starts from `joint` (its `start` is ignored); direct and
+/// umbmark take their nominal geometry from the input.
+struct CalibrationParams {
+  DirectLinearParams direct;
+  ModelBasedParams model;
+  JointParams joint;
+  CeresParams ceres;
+  UmbmarkParams umbmark;
+};
+
+/// One method's outcome.
+struct CalibrationRun {
+  CalibrationMethod method = CalibrationMethod::kDirect;
+  CalibrationResult result;
+  /// ceres with estimate_time_offset, when ok: t_lidar - t_encoder and its 1-sigma.
+  std::optional<double> time_offset_s;
+  double time_offset_sigma_s = 0.0;
+};
+
+/// Runs one method. A method whose input is missing refuses (ok = false, reason says which).
+CalibrationRun calibrate(CalibrationMethod method, const CalibrationInput& input,
+                         const CalibrationParams& params = {});
+
+/// Runs `methods` in the given order; joint runs once when both joint and ceres are asked for
+/// (ceres starts from it, as it would on its own).
+std::vector<CalibrationRun> calibrate(const std::vector<CalibrationMethod>& methods,
+                                      const CalibrationInput& input,
+                                      const CalibrationParams& params = {});
+
+/// The best available result: the first ok run in calibrationPreference() order (the first
+/// such run when a method appears twice); nullptr when none is ok.
+const CalibrationRun* bestRun(const std::vector<CalibrationRun>& runs);
+
+}  // namespace slamprep::algo

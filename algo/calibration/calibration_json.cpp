@@ -1,0 +1,183 @@
+#include "algo/calibration/calibration_json.hpp"
+
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+
+namespace slamprep::algo {
+namespace {
+
+using nlohmann::json;
+
+json toJson(const CalibrationRun& run, const std::optional<Eigen::VectorXd>& truth) {
+  const CalibrationResult& r = run.result;
+  json j = {{"method", calibrationMethodName(run.method)}, {"ok", r.ok}, {"reason", r.reason}};
+  const Eigen::VectorXd v = calibrationValues(r);
+  const bool has_sigma = r.covariance.size() > 0;
+  const Eigen::VectorXd s = r.sigma();
+  json sigma = json::object(), error = json::object();
+  for (int i = 0; i < v.size(); ++i) {
+    j[kCalibrationKeys[i]] = r.ok ? json(v(i)) : json(nullptr);
+    sigma[kCalibrationKeys[i]] = r.ok && has_sigma ? json(s(i)) : json(nullptr);
+    if (truth) error[kCalibrationKeys[i]] = r.ok ? json(calibrationError(v, *truth, i)) : nullptr;
+  }
+  j["sigma"] = sigma;
+  if (truth) j["error"] = error;
+  j["condition_number"] =
+      std::isfinite(r.condition_number) ? json(r.condition_number) : json(nullptr);
+  j["intervals"] = r.intervals_used;
+  return j;
+}
+
+// Reads one entry; `where` is "FILE: [i]".
+class EntryReader {
+ public:
+  EntryReader(const json& entry, std::string where) : e_(entry), where_(std::move(where)) {}
+
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw InputError(where_ + "." + key, what);
+  }
+
+  CalibrationMethod method() const {
+    if (!e_.contains("method") || !e_["method"].is_string())
+      fail("method", "missing or not a string");
+    const auto m = parseCalibrationMethod(e_["method"].get<std::string>());
+    if (!m)
+      fail("method", "unknown method \"" + e_["method"].get<std::string>() + "\" (" +
+                         joinCalibrationMethodNames(allCalibrationMethods(), ", ") + ")");
+    return *m;
+  }
+
+  bool ok() const {
+    if (!e_.contains("ok") || !e_["ok"].is_boolean()) fail("ok", "must be true or false");
+    return e_["ok"].get<bool>();
+  }
+
+  double finite(const char* key) const {
+    if (!e_.contains(key) || !e_[key].is_number()) fail(key, "missing or not a number");
+    const double v = e_[key].get<double>();
+    if (!std::isfinite(v)) fail(key, "must be finite");
+    return v;
+  }
+
+  double positive(const char* key) const {
+    const double v = finite(key);
+    if (!(v > 0.0)) fail(key, "must be a number > 0");
+    return v;
+  }
+
+  std::string reason() const {
+    return e_.contains("reason") && e_["reason"].is_string() ? e_["reason"].get<std::string>()
+                                                             : std::string();
+  }
+
+  // The 1-sigmas as a diagonal covariance; empty unless every parameter has one.
+  Eigen::MatrixXd covariance(int n) const {
+    if (!e_.contains("sigma") || !e_["sigma"].is_object()) return {};
+    const json& s = e_["sigma"];
+    Eigen::VectorXd variance(n);
+    for (int i = 0; i < n; ++i) {
+      const char* key = kCalibrationKeys[i];
+      if (!s.contains(key) || !s[key].is_number()) return {};
+      const double sigma = s[key].get<double>();
+      if (!std::isfinite(sigma) || sigma < 0.0) fail(std::string("sigma.") + key, "must be >= 0");
+      variance(i) = sigma * sigma;
+    }
+    return variance.asDiagonal();
+  }
+
+  CalibrationRun run() const {
+    CalibrationRun run;
+    run.method = method();
+    CalibrationResult& r = run.result;
+    r.ok = ok();
+    r.reason = reason();
+    r.estimates_mount = estimatesMount(run.method);
+    if (!r.ok) return run;
+    r.geometry = {positive("r_L"), positive("r_R"), positive("b")};  // braces: left to right
+    if (r.estimates_mount)
+      r.T_base_lidar = SE2{finite("lidar_x"), finite("lidar_y"), finite("lidar_yaw")};
+    r.covariance = covariance(r.estimates_mount ? 6 : 3);
+    const bool has_condition =
+        e_.contains("condition_number") && e_["condition_number"].is_number();
+    r.condition_number = has_condition ? e_["condition_number"].get<double>()
+                                       : std::numeric_limits<double>::infinity();
+    if (e_.contains("intervals") && e_["intervals"].is_number_integer())
+      r.intervals_used = e_["intervals"].get<int>();
+    return run;
+  }
+
+ private:
+  const json& e_;
+  std::string where_;
+};
+
+}  // namespace
+
+Eigen::VectorXd calibrationValues(const CalibrationResult& r) {
+  Eigen::VectorXd v(r.estimates_mount ? 6 : 3);
+  v.head<3>() << r.geometry.radius_left_m, r.geometry.radius_right_m, r.geometry.wheel_base_m;
+  if (r.estimates_mount) v.tail<3>() << r.T_base_lidar.x, r.T_base_lidar.y, r.T_base_lidar.yaw;
+  return v;
+}
+
+Eigen::VectorXd CalibrationTruth::values() const {
+  Eigen::VectorXd v(6);
+  v << geometry.radius_left_m, geometry.radius_right_m, geometry.wheel_base_m, T_base_lidar.x,
+      T_base_lidar.y, T_base_lidar.yaw;
+  return v;
+}
+
+double calibrationError(const Eigen::VectorXd& estimate, const Eigen::VectorXd& truth, int i) {
+  const double e = estimate(i) - truth(i);
+  return i == 5 ? normalizeAngle(e) : e;
+}
+
+std::string formatCalibrationJson(const std::vector<CalibrationRun>& runs,
+                                  const std::optional<CalibrationTruth>& truth) {
+  std::optional<Eigen::VectorXd> truth_values;
+  if (truth) truth_values = truth->values();
+  json out = json::array();
+  for (const CalibrationRun& run : runs) out.push_back(toJson(run, truth_values));
+  return out.dump(2) + "\n";
+}
+
+void writeCalibrationJson(const std::filesystem::path& path,
+                          const std::vector<CalibrationRun>& runs,
+                          const std::optional<CalibrationTruth>& truth) {
+  writeFileAtomic(path, formatCalibrationJson(runs, truth));
+}
+
+CalibrationRun CalibrationFile::requireBest() const {
+  const CalibrationRun* run = best();
+  if (!run) throw InputError(source, "no calibration result with ok = true");
+  return *run;
+}
+
+CalibrationFile parseCalibrationJson(std::string_view text, const std::string& source) {
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for 1e999
+    throw InputError(source, std::string("not JSON: ") + e.what());
+  }
+  if (j.is_object()) j = json::array({j});
+  if (!j.is_array())
+    throw InputError(source, "expected the array `slamprep calibrate --json` writes");
+  CalibrationFile file{source, {}};
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::string where = source + ": [" + std::to_string(i) + "]";
+    if (!j[i].is_object()) throw InputError(where, "not an object");
+    file.runs.push_back(EntryReader(j[i], where).run());
+  }
+  return file;
+}
+
+CalibrationFile readCalibrationJson(const std::filesystem::path& path) {
+  return parseCalibrationJson(readFile(path), path.string());
+}
+
+}  // namespace slamprep::algo

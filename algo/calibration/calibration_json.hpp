@@ -1,0 +1,68 @@
+#pragma once
+// The calibration JSON (`slamprep calibrate --json`, docs/calibration.md): written and read here
+// only. An array, one object per method run: "method", "ok", "reason", "r_L", "r_R", "b", and
+// for joint and ceres "lidar_x", "lidar_y", "lidar_yaw" (metres, radians; null when not ok),
+// "sigma" (same keys), "error" (estimate minus truth, when there is truth), "condition_number",
+// "intervals".
+
+#include <Eigen/Core>
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "algo/calibration/calibrate.hpp"
+#include "core/diff_drive.hpp"
+#include "core/se2.hpp"
+
+namespace slamprep::algo {
+
+/// The parameter keys, in the order of the JSON, the `calibrate` table and the covariance.
+inline constexpr std::array<const char*, 6> kCalibrationKeys = {"r_L",     "r_R",     "b",
+                                                                "lidar_x", "lidar_y", "lidar_yaw"};
+
+/// r_L, r_R, b and, when the result estimates the mount, lidar_x, lidar_y, lidar_yaw.
+Eigen::VectorXd calibrationValues(const CalibrationResult& result);
+
+/// The true geometry and mount, for the JSON's "error" object.
+struct CalibrationTruth {
+  DiffDriveParams geometry;
+  SE2 T_base_lidar;
+  Eigen::VectorXd values() const;  ///< all six, in kCalibrationKeys order
+};
+
+/// estimate(i) - truth(i), the yaw (i = 5) wrapped to (-pi, pi].
+double calibrationError(const Eigen::VectorXd& estimate, const Eigen::VectorXd& truth, int i);
+
+/// The JSON text (two-space indent, keys sorted, newline at the end).
+std::string formatCalibrationJson(const std::vector<CalibrationRun>& runs,
+                                  const std::optional<CalibrationTruth>& truth);
+/// Writes formatCalibrationJson to `path` (atomically). InputError when it cannot.
+void writeCalibrationJson(const std::filesystem::path& path,
+                          const std::vector<CalibrationRun>& runs,
+                          const std::optional<CalibrationTruth>& truth);
+
+/// A calibration JSON as read back: every run in file order, and the best one.
+struct CalibrationFile {
+  std::string source;  ///< the file (or what the text came from), for messages
+  /// Each entry's method, ok, reason and, when ok, geometry (and mount for joint and ceres),
+  /// condition number, intervals; the covariance is diagonal (the file keeps 1-sigmas only).
+  std::vector<CalibrationRun> runs;
+
+  /// The best available result (calibration_method.hpp's rule); nullptr when none is ok.
+  const CalibrationRun* best() const& { return bestRun(runs); }
+  const CalibrationRun* best() && = delete;  // would point into a temporary
+  /// A copy of best(), or InputError(source, ...) when no entry is ok.
+  CalibrationRun requireBest() const;
+};
+
+/// Parses the JSON: an array of method objects (one object alone counts as an array of one).
+/// Every entry needs a known "method" and a boolean "ok"; an ok entry needs r_L, r_R, b finite
+/// and > 0, and joint and ceres entries the three finite lidar keys. Throws InputError naming
+/// `source` and the entry's field ("FILE: [2].r_L") otherwise.
+CalibrationFile parseCalibrationJson(std::string_view text, const std::string& source);
+CalibrationFile readCalibrationJson(const std::filesystem::path& path);
+
+}  // namespace slamprep::algo
