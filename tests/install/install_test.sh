@@ -5,16 +5,17 @@
 #   1. `slamprep simulate` (default world and scenario) and one shard of `slamprep bench`
 #      (suite by name) find their data beside the moved binary;
 #   2. examples/consumer configures with find_package(slamprep) against the moved prefix, builds
-#      with the same compiler, and calibrates the simulated dataset: r_L, r_R and b within 1 % of
-#      the truth (the odometry's nominal errors are 2, 1.5 and 4 %), the lidar mount within 2 mm
-#      and 0.25 deg (measured: 0.15 mm, 0.57 mm, 0.073 deg).
+#      with the same generator and compiler, and calibrates the simulated dataset: r_L, r_R and b
+#      within 1 % of the truth (the odometry's nominal errors are 2, 1.5 and 4 %), the lidar
+#      mount within 2 mm and 0.25 deg (measured: 0.15 mm, 0.57 mm, 0.073 deg).
 set -euo pipefail
-usage="usage: install_test.sh CMAKE BUILD_DIR SOURCE_DIR CXX_COMPILER [LAUNCHER]"
+usage="usage: install_test.sh CMAKE BUILD_DIR SOURCE_DIR GENERATOR CXX_COMPILER [LAUNCHER]"
 cmake=${1:?$usage}
 build_dir=${2:?$usage}
 source_dir=${3:?$usage}
-cxx=${4:?$usage}
-launcher=${5:-}
+generator=${4:?$usage}
+cxx=${5:?$usage}
+launcher=${6:-}
 unset SLAMPREP_DATA_DIR
 
 dir=$(mktemp -d /tmp/slamprep-install.XXXXXX)
@@ -46,7 +47,7 @@ mkdir "$dir/work" && cd "$dir/work"
 echo "ok: the moved binary finds worlds, scenarios and suites"
 
 # 2. The consumer project against the moved prefix.
-consumer=(-S "$source_dir/examples/consumer" -B "$dir/consumer" -G Ninja
+consumer=(-S "$source_dir/examples/consumer" -B "$dir/consumer" -G "$generator"
   -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_CXX_COMPILER="$cxx")
 [ -n "$launcher" ] && consumer+=(-DCMAKE_CXX_COMPILER_LAUNCHER="$launcher")
 "$cmake" "${consumer[@]}" >"$dir/consumer.log" 2>&1 || {
