@@ -162,18 +162,27 @@ CarmenLaser parseLaser(CarmenLaserType type, Tokens& tok, const TextLocation& wh
   return l;
 }
 
-/// The latest stamp of a stream so far; checks each new stamp against it.
+/// The latest stamp of a stream so far; checks each new line against it.
 struct StreamOrder {
   double max_stamp_s = -std::numeric_limits<double>::infinity();
   std::size_t max_line = 0;
+  std::string_view max_text;  ///< that line, to recognise a message logged twice
   bool out_of_order = false;
+  std::size_t repeats = 0;
 
-  void check(double stamp_s, const TextLocation& where, std::string_view stream,
-             const CarmenReadParams& p) {
+  /// False for a line identical to the latest one (dropped and counted); throws for a stamp
+  /// beyond the tolerance or (unless p.drop_late) equal to the latest.
+  bool check(double stamp_s, std::string_view text, const TextLocation& where,
+             std::string_view stream, const CarmenReadParams& p) {
     if (stamp_s > max_stamp_s) {
       max_stamp_s = stamp_s;
       max_line = where.line;
-      return;
+      max_text = text;
+      return true;
+    }
+    if (stamp_s == max_stamp_s && text == max_text) {
+      ++repeats;
+      return false;
     }
     std::string stamp, latest;
     appendDouble(stamp, stamp_s);
@@ -191,6 +200,7 @@ struct StreamOrder {
                            "): out of order by more than the reorder tolerance " +
                            std::to_string(p.reorder_tolerance_s) + " s (--reorder-tolerance)");
     out_of_order = true;
+    return true;
   }
 };
 
@@ -273,25 +283,26 @@ CarmenLog parseCarmen(std::string_view text, const std::string& file,
       o.stamp_s = tok.number("timestamp");
       tok.finish();
       o.line = where.line;
-      odom_order.check(o.stamp_s, where, "ODOM", params);
-      log.odometry.push_back(o);
+      if (odom_order.check(o.stamp_s, trim(line), where, "ODOM", params)) log.odometry.push_back(o);
     } else if (const auto type = parseCarmenLaserType(fields[0])) {
       CarmenLaser l = parseLaser(*type, tok, where);
-      laser_order[*type].check(l.scan.stamp_s, where, fields[0], params);
-      log.lasers[*type].push_back(std::move(l));
+      if (laser_order[*type].check(l.scan.stamp_s, trim(line), where, fields[0], params))
+        log.lasers[*type].push_back(std::move(l));
     } else if (fields[0] == "PARAM" && fields.size() >= 3) {
       log.params[std::string(fields[1])] = {std::string(fields[2]), where.line};
     } else {
       ++log.skipped[std::string(fields[0])];
     }
   }
-  const auto note = [&](const std::string& stream, std::size_t n) {
+  const auto note = [&](const std::string& stream, const StreamOrder& order, std::size_t n) {
     if (n) log.out_of_order[stream] = n;
+    if (order.repeats) log.repeated[stream] = order.repeats;
   };
-  note("ODOM", restoreOrder(log.odometry, odom_order, params.drop_late, file,
-                            [](const CarmenOdom& o) { return o.stamp_s; }));
+  note("ODOM", odom_order,
+       restoreOrder(log.odometry, odom_order, params.drop_late, file,
+                    [](const CarmenOdom& o) { return o.stamp_s; }));
   for (auto& [type, order] : laser_order)
-    note(std::string(carmenMessageName(type)),
+    note(std::string(carmenMessageName(type)), order,
          restoreOrder(log.lasers[type], order, params.drop_late, file,
                       [](const CarmenLaser& l) { return l.scan.stamp_s; }));
   return log;

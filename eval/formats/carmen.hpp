@@ -68,6 +68,9 @@ struct CarmenLog {
   std::map<CarmenLaserType, std::vector<CarmenLaser>> lasers;  ///< per type, sorted by stamp
   /// Per message name: lines sorted into place (or dropped, with drop_late).
   std::map<std::string, std::size_t> out_of_order;
+  /// Per message name: lines identical to the latest one of their stream (a message logged
+  /// twice, as ODOM on line 14032 of the ACES log), dropped.
+  std::map<std::string, std::size_t> repeated;
   std::map<std::string, std::size_t> skipped;  ///< other messages (SYNC, TRUEPOS, ...) by name
   std::size_t comment_lines = 0;
 };
@@ -77,7 +80,7 @@ struct CarmenLog {
 /// zero or larger than the tokens on the line, a field of view that disagrees with the
 /// resolution and beam count, a stamp more than params.reorder_tolerance_s before an earlier one
 /// of its stream (naming both lines and stamps), and (unless drop_late) duplicate stamps within
-/// a stream.
+/// a stream, except on a line identical to the latest of its stream (dropped, counted).
 CarmenLog parseCarmen(std::string_view text, const std::string& file,
                       const CarmenReadParams& params = {});
 

@@ -236,6 +236,8 @@ ImportResult importCarmen(std::string_view text, const std::string& file, const 
       s.dropped[std::string(carmenMessageName(other)) + ": another laser (--laser " +
                 std::string(carmenMessageName(other)) + " imports it)"] = lines.size();
   for (const auto& [message, lines] : log.skipped) s.dropped[message + ": not read"] = lines;
+  for (const auto& [stream, lines] : log.repeated)
+    s.dropped[stream + ": identical to the previous " + stream + " line"] = lines;
   d.odom_nominal = odometryOf(log, lasers, p, file, s);
   const std::optional<DiffDriveParams> nominal = nominalGeometry(log, p, file, s);
   double lateral = 0.0;

@@ -173,6 +173,13 @@ TEST(CarmenOrder, StampsSlightlyOutOfOrderAreSortedAndCounted) {
                        "line 2 (ODOM): out of order by more than the reorder "
                        "tolerance 0.010000 s"))
       << refusal(log, p);
+  // A message logged twice (the full ACES log has ODOM line 14032 = line 14030) is dropped.
+  const ImportResult twice = importCarmen(
+      "ODOM 0 0 0 0 0 0 1.0 h 0\nFLASER 2 1 1 0 0 0 0 0 0 1.01 h 0\nODOM 0 0 0 0 0 0 1.0 h 0\n"
+      "ODOM 1 0 0 0 0 0 1.1 h 0\n",
+      "x.clf");
+  EXPECT_EQ(twice.dataset.odom_nominal.size(), 2u);
+  EXPECT_EQ(twice.summary.dropped.at("ODOM: identical to the previous ODOM line"), 1u);
   // Equal stamps cannot be ordered, even when they arrive apart.
   EXPECT_TRUE(contains(refusal("ODOM 0 0 0 0 0 0 1.0 h 0\nODOM 0 0 0 0 0 0 1.02 h 0\n"
                                "ODOM 0 0 0 0 0 0 1.0 h 0\nFLASER 2 1 1 0 0 0 0 0 0 1.01 h 0\n"),
