@@ -17,8 +17,8 @@ struct RelationErrorParams {
   /// A relation stamp t takes the estimate interpolated (geodesically) between the samples
   /// t_a <= t <= t_b around it, used only when t equals a sample or max(t - t_a, t_b - t) <= this;
   /// else the relation is skipped as uncovered. An estimate at the scan stamps the relations name
-  /// matches exactly; 0.5 s bridges the ODOM spacing of the benchmark logs (median 0.12-0.18 s,
-  /// 99th percentile 0.15-0.99 s) but not their dropouts (up to 3 s).
+  /// matches exactly; 0.5 s bridges the usual ODOM spacing of the benchmark logs (99th percentile
+  /// 0.15-0.99 s) but not their dropouts (up to 3.1 s).
   double max_time_difference_s = 0.5;
   /// Relations with |t_j - t_i| below this form the short subset (reported separately).
   double short_relation_s = 5.0;

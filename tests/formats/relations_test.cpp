@@ -80,8 +80,8 @@ TEST(Relations, EachExcerptsOdometryScoresASaneFigureAgainstItsRelations) {
     const RelationErrorResult r = relationError(imported.dataset.odom_nominal, relations);
     ASSERT_TRUE(r.ok) << r.reason;
     EXPECT_EQ(r.scored.size(), e.relations_count);
-    // Raw odometry over relations of a few seconds: centimetres on average (FACTS: median
-    // 0.017-0.05 m on the whole logs' short relations), never metres.
+    // Raw odometry over relations of a few seconds: centimetres on average (0.02-0.06 m on the
+    // whole logs' short relations, docs/score.md), never metres.
     EXPECT_GT(r.all.translation_m.mean, 0.005);
     EXPECT_LT(r.all.translation_m.mean, 0.1);
     EXPECT_LT(r.all.translation_m.max, 0.5);
