@@ -21,6 +21,7 @@ Command addImportCommand(CLI::App& app);
 Command addMatchCommand(CLI::App& app);
 Command addMergeCommand(CLI::App& app);
 Command addPlotCommand(CLI::App& app);
+Command addScoreCommand(CLI::App& app);
 Command addSimulateCommand(CLI::App& app);
 
 }  // namespace slamprep::app

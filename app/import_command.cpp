@@ -1,6 +1,7 @@
 // `slamprep import`: a CARMEN log or an MCAP ROS 2 bag into a dataset directory (no ground
 // truth) that calibrate and deskew read (docs/export.md).
 #include <iostream>
+#include <numbers>
 #include <sstream>
 
 #include "app/commands.hpp"
@@ -21,18 +22,48 @@ struct ImportFlags {
   double time_increment_s = 0.0;
   bool geometry_given = false;
   bool time_increment_given = false;
-  std::string lidar_mount;  // "x,y,yaw"
+  std::string lidar_mount;  // "x,y,yaw_deg"
+  std::string nominal;      // "r_L,r_R,b"
   eval::ImportParams params;
 };
 
-SE2 parseMount(const std::string& text) {
+/// Comma-separated finite numbers, as many as `names`.
+std::vector<double> parseList(const std::string& text, const char* flag,
+                              const std::vector<const char*>& names) {
   std::vector<std::string_view> fields;
   slamprep::eval::splitFields(text, ',', fields);
-  if (fields.size() != 3) throw InputError("--lidar-mount", "expected x,y,yaw (m, m, rad)");
-  const slamprep::eval::TextLocation where{"--lidar-mount", 0};
-  return {slamprep::eval::parseFiniteDouble(fields[0], where, "x"),
-          slamprep::eval::parseFiniteDouble(fields[1], where, "y"),
-          slamprep::eval::parseFiniteDouble(fields[2], where, "yaw")};
+  std::string expected;
+  for (const char* n : names) expected += (expected.empty() ? "" : ",") + std::string(n);
+  if (fields.size() != names.size()) throw InputError(flag, "expected " + expected);
+  std::vector<double> values;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    values.push_back(slamprep::eval::parseFiniteDouble(fields[i], {flag, 0}, names[i]));
+  return values;
+}
+
+/// --lidar-mount x,y,yaw: metres and degrees on the command line.
+SE2 parseMount(const std::string& text) {
+  const auto v = parseList(text, "--lidar-mount", {"x", "y", "yaw_deg"});
+  return {v[0], v[1], v[2] * std::numbers::pi / 180};
+}
+
+void printSummary(const eval::ImportSummary& s) {
+  const auto row = [](const char* what, const std::string& text) {
+    if (!text.empty()) std::cout << "  " << what << text << "\n";
+  };
+  row("scans:            ", s.scans);
+  row("odometry:         ", s.odometry);
+  row("lidar mount:      ", s.lidar_mount);
+  row("nominal geometry: ", s.nominal_geometry);
+  row("time increment:   ", s.time_increment);
+  if (s.scans.empty()) return;
+  std::string reordered;
+  for (const auto& [what, n] : s.reordered)
+    reordered += (reordered.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+  row("reordered stamps: ",
+      reordered.empty() ? "none" : reordered + " lines not at their sorted position, sorted");
+  if (s.dropped.empty()) row("dropped lines:    ", "none");
+  for (const auto& [why, n] : s.dropped) row("dropped lines:    ", std::to_string(n) + " " + why);
 }
 
 int runImport(ImportFlags flags) {
@@ -41,6 +72,12 @@ int runImport(ImportFlags flags) {
   if (flags.geometry_given) flags.params.nominal_geometry = flags.geometry;
   if (flags.time_increment_given) flags.params.time_increment_s = flags.time_increment_s;
   if (!flags.lidar_mount.empty()) flags.params.T_base_lidar = parseMount(flags.lidar_mount);
+  if (!flags.nominal.empty()) {
+    if (flags.geometry_given)
+      throw InputError("--nominal", "give either --nominal or the --wheel-* flags, not both");
+    const auto v = parseList(flags.nominal, "--nominal", {"r_L", "r_R", "b"});
+    flags.params.nominal_geometry = DiffDriveParams{v[0], v[1], v[2]};
+  }
   const std::string bytes = slamprep::eval::readTextFile(flags.input);
   const eval::ImportResult result = flags.format == "carmen"
                                         ? eval::importCarmen(bytes, flags.input, flags.params)
@@ -50,6 +87,7 @@ int runImport(ImportFlags flags) {
   std::cout << "imported " << d.scans.size() << " scans, " << d.encoders.size()
             << " encoder samples, " << d.odom_nominal.size() << " odometry poses, " << d.imu.size()
             << " IMU samples into " << flags.out << "\n";
+  printSummary(result.summary);
   for (const auto& note : result.notes) std::cerr << "import: note: " << note << "\n";
   return 0;
 }
@@ -100,8 +138,29 @@ Command addImportCommand(CLI::App& app) {
                   "(de-skew refuses)")
       ->check(CLI::NonNegativeNumber)
       ->each([flags](const std::string&) { flags->time_increment_given = true; });
+  cli->add_option("--nominal", flags->nominal,
+                  "r_L,r_R,b: nominal wheel radii and base (m), instead of the --wheel-* flags");
   cli->add_option("--lidar-mount", flags->lidar_mount,
-                  "x,y,yaw of the lidar on the base (default: from the log, else 0,0,0)");
+                  "x,y,yaw_deg of the lidar on the base (m, m, degrees; default: from the log, "
+                  "else 0,0,0)");
+  cli->add_flag("--lidar-mount-from-poses", flags->params.lidar_mount_from_poses,
+                "carmen: without --lidar-mount or a mount PARAM, take robot_pose^-1 laser_pose");
+  cli->add_option("--reorder-tolerance", flags->params.reorder_tolerance_s,
+                  "carmen: stamps running backwards by up to this (s) are sorted into place")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cli->add_option_function<std::string>(
+         "--out-of-order",
+         [flags](const std::string& v) { flags->params.drop_late_stamps = v == "drop"; },
+         "carmen: sort (stamps out of order within the tolerance are sorted) or drop (lines "
+         "stamped after a later line are dropped, file order kept)")
+      ->check(CLI::IsMember({"sort", "drop"}));
+  cli->add_option("--laser", flags->params.laser,
+                  "carmen: ROBOTLASER1|FLASER|RLASER|RAWLASER1..4 (default: the first present)");
+  cli->add_option("--odometry", flags->params.odometry,
+                  "carmen: odom (ODOM lines) or laser (the laser lines' robot poses); default: "
+                  "ODOM when present")
+      ->check(CLI::IsMember({"odom", "laser"}));
   cli->add_flag("--trim", flags->params.trim, "drop scans the odometry does not cover");
   cli->add_option("--scan-topic", flags->params.scan_topic, "mcap: LaserScan topic");
   cli->add_option("--odom-topic", flags->params.odom_topic, "mcap: Odometry topic");

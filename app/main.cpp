@@ -15,9 +15,9 @@ int main(int argc, char** argv) {
   app.footer("Run `slamprep COMMAND --help` for a command's options.");
 
   const std::vector<Command> commands = {
-      addBenchCommand(app),  addCalibrateCommand(app), addDeskewCommand(app),
-      addExportCommand(app), addImportCommand(app),    addMatchCommand(app),
-      addMergeCommand(app),  addPlotCommand(app),      addSimulateCommand(app),
+      addBenchCommand(app),  addCalibrateCommand(app), addDeskewCommand(app), addExportCommand(app),
+      addImportCommand(app), addMatchCommand(app),     addMergeCommand(app),  addPlotCommand(app),
+      addScoreCommand(app),  addSimulateCommand(app),
   };
 
   CLI11_PARSE(app, argc, argv);

@@ -352,6 +352,8 @@ std::string formatCarmen(const Dataset& d, const std::vector<ScanRecord>& scans,
     out += ' ' + p.carmen_hostname + " 0\n";
   };
   param("robot_frontlaser_offset", d.info.T_base_lidar.x);
+  param("robot_frontlaser_side_offset", d.info.T_base_lidar.y);
+  param("robot_frontlaser_angular_offset", d.info.T_base_lidar.yaw);
   param("slamprep_nominal_r_L", d.info.nominal_geometry.radius_left_m);
   param("slamprep_nominal_r_R", d.info.nominal_geometry.radius_right_m);
   param("slamprep_nominal_b", d.info.nominal_geometry.wheel_base_m);

@@ -3,6 +3,7 @@
 // MCAP file (ROS 2, CDR) with sensor_msgs/LaserScan plus nav_msgs/Odometry or
 // sensor_msgs/JointState. The result has no ground truth; calibrate and deskew read it.
 
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -16,7 +17,9 @@ struct ImportParams {
   /// Wheel geometry written as the nominal one; encoders derived from odometry poses use it, so
   /// re-integrating them reproduces the logged odometry whatever the values, but calibration
   /// results are relative to it: give the geometry the robot's odometry was configured with.
-  /// nullopt: the log's (CARMEN `PARAM slamprep_nominal_*` lines), else DiffDriveParams{}.
+  /// nullopt: the log's (CARMEN `PARAM slamprep_nominal_*` lines); CARMEN without either: no
+  /// encoders are derived (a CARMEN log has odometry poses, not wheel ticks); MCAP:
+  /// DiffDriveParams{}.
   std::optional<DiffDriveParams> nominal_geometry;
   /// Resolution of derived encoder ticks (from poses or joint angles): 2^20 per revolution
   /// keeps the rounding below 6e-6 rad per sample.
@@ -25,9 +28,26 @@ struct ImportParams {
   /// `PARAM slamprep_time_increment`, else 0 = unknown (de-skew refuses such scans). LaserScan
   /// messages keep their own.
   std::optional<double> time_increment_s;
-  /// Lidar mount; nullopt: from the log (CARMEN laser_pose vs robot_pose, MCAP /tf_static),
+  /// Lidar mount; nullopt: from the log (CARMEN `PARAM robot_frontlaser_offset` and its
+  /// side/angular offsets, rear laser: `robot_rearlaser_offset` turned by pi; MCAP /tf_static),
   /// identity when the log has none.
   std::optional<SE2> T_base_lidar;
+  /// CARMEN: take the mount from the laser lines' robot_pose^-1 laser_pose (first line) when
+  /// neither T_base_lidar nor a PARAM gives it. Off by default: two pose estimates are not a
+  /// calibration.
+  bool lidar_mount_from_poses = false;
+  /// CARMEN: stamps running backwards within a stream by up to this much are sorted into
+  /// place (or, with drop_late_stamps, the late lines dropped); larger backward steps are refused.
+  double reorder_tolerance_s = 0.05;
+  /// CARMEN: drop the lines stamped at or after a later line of their stream instead of sorting
+  /// (for logs whose lines are in order but some stamps late, as the Intel log).
+  bool drop_late_stamps = false;
+  /// CARMEN laser message to import (ROBOTLASER1, FLASER, RLASER, RAWLASER1..4); empty = the
+  /// first of that list the log has.
+  std::string laser;
+  /// CARMEN odometry: "odom" (ODOM lines), "laser" (the imported laser lines' robot poses) or
+  /// "" = ODOM lines when the log has at least 2, else the laser lines.
+  std::string odometry;
   /// Drop the scans that the odometry does not cover instead of refusing the log.
   bool trim = false;
   /// MCAP topics; empty = the only channel of that message type (or /scan, /odom,
@@ -37,13 +57,26 @@ struct ImportParams {
   std::string left_joint, right_joint;
 };
 
+/// What an import read and decided, printed by `slamprep import` (CARMEN fills it).
+struct ImportSummary {
+  std::string scans;             ///< which lines, beams and angles
+  std::string odometry;          ///< ODOM lines or the laser lines' robot poses
+  std::string lidar_mount;       ///< value and where it came from
+  std::string nominal_geometry;  ///< value and where it came from, or why there is none
+  std::string time_increment;    ///< value and where it came from
+  std::map<std::string, std::size_t> reordered;  ///< message -> lines sorted into place
+  std::map<std::string, std::size_t> dropped;    ///< reason -> lines not imported
+};
+
 struct ImportResult {
   Dataset dataset;
   std::vector<std::string> notes;  ///< what was assumed or dropped, for the user
+  ImportSummary summary;
 };
 
-/// Throws InputError naming the file, line and field on malformed logs, logs without laser or
-/// odometry lines, and scans the odometry does not cover (unless params.trim).
+/// Throws InputError naming the file, line and field on malformed logs, stamps out of order
+/// beyond params.reorder_tolerance_s, logs without laser lines or odometry (ODOM or laser
+/// poses), and scans the odometry does not cover (unless params.trim).
 ImportResult importCarmen(std::string_view text, const std::string& file,
                           const ImportParams& params = {});
 

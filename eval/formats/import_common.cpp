@@ -18,6 +18,8 @@ void checkParams(const ImportParams& p) {
   if (p.ticks_per_revolution <= 0) throw InputError("--ticks-per-revolution", "must be > 0");
   if (p.time_increment_s && (!std::isfinite(*p.time_increment_s) || *p.time_increment_s < 0))
     throw InputError("--time-increment", "must be finite and >= 0");
+  if (!std::isfinite(p.reorder_tolerance_s) || p.reorder_tolerance_s < 0)
+    throw InputError("--reorder-tolerance", "must be finite and >= 0");
 }
 
 /// Attaches the odometry to the scans; refuses (or with trim drops) scans it does not cover.

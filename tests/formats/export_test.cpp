@@ -51,6 +51,8 @@ TEST(ExportCarmen, FieldsSitWhereTheCarmenFormatPutsThem) {
   ASSERT_EQ(odoms.size(), d.odom_nominal.size());
   ASSERT_EQ(lasers.size(), d.scans.size());
   EXPECT_EQ(params["robot_frontlaser_offset"], d.info.T_base_lidar.x);
+  EXPECT_EQ(params["robot_frontlaser_side_offset"], d.info.T_base_lidar.y);
+  EXPECT_EQ(params["robot_frontlaser_angular_offset"], d.info.T_base_lidar.yaw);
   EXPECT_EQ(params["slamprep_nominal_b"], d.info.nominal_geometry.wheel_base_m);
   EXPECT_EQ(params["slamprep_time_increment"], d.scans[0].scan.time_increment_s);
   // ODOM x y theta tv rv accel timestamp hostname logger_timestamp

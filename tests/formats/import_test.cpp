@@ -41,6 +41,8 @@ const char* kLog =
 TEST(ImportCarmen, HandWrittenLogBecomesADatasetThatReadsBack) {
   ImportParams p;
   p.time_increment_s = 1e-3;
+  p.nominal_geometry = DiffDriveParams{0.1, 0.1, 0.5};
+  p.lidar_mount_from_poses = true;  // the log has no mount PARAM
   const ImportResult r = importCarmen(kLog, "run.clf", p);
   const Dataset& d = r.dataset;
   ASSERT_EQ(d.scans.size(), 2u);
@@ -48,6 +50,7 @@ TEST(ImportCarmen, HandWrittenLogBecomesADatasetThatReadsBack) {
   EXPECT_FALSE(d.hasTruth());
   EXPECT_NEAR(d.info.T_base_lidar.x, 0.15, 1e-12);
   EXPECT_NEAR(d.info.T_base_lidar.y, 0.0, 1e-12);
+  EXPECT_NE(r.summary.lidar_mount.find("--lidar-mount-from-poses"), std::string::npos);
   EXPECT_EQ(d.scans[1].scan.stamp_s, 100.5);
   EXPECT_EQ(d.scans[1].scan.time_increment_s, 1e-3);
   EXPECT_NEAR(d.scans[1].scan.scan_time_s, 0.4, 1e-12);  // the median stamp spacing
@@ -66,6 +69,27 @@ TEST(ImportCarmen, HandWrittenLogBecomesADatasetThatReadsBack) {
   const Dataset back = readDataset(dir);
   EXPECT_EQ(back.scans.size(), 2u);
   EXPECT_EQ(back.encoders.size(), 4u);
+}
+
+TEST(ImportCarmen, TheMountIsNeverTakenFromThePosesUnlessAsked) {
+  const ImportResult r = importCarmen(kLog, "run.clf");
+  EXPECT_EQ(r.dataset.info.T_base_lidar.x, 0.0);
+  EXPECT_EQ(r.dataset.info.T_base_lidar.yaw, 0.0);
+  EXPECT_NE(r.summary.lidar_mount.find("identity used"), std::string::npos)
+      << r.summary.lidar_mount;
+  // The disagreement with the logged poses is reported, not silently adopted.
+  ASSERT_EQ(r.notes.size(), 1u);
+  EXPECT_NE(r.notes[0].find("differs from robot_pose * mount by up to 0.15 m"), std::string::npos)
+      << r.notes[0];
+  // Without a nominal geometry no encoder ticks are made up.
+  EXPECT_TRUE(r.dataset.encoders.empty());
+  EXPECT_EQ(r.dataset.info.config["nominal_geometry_from"], "absent");
+  EXPECT_EQ(r.summary.nominal_geometry.rfind("absent", 0), 0u);
+  // --lidar-mount wins over everything.
+  ImportParams p;
+  p.T_base_lidar = SE2(0.1, 0.02, 0.5);
+  p.lidar_mount_from_poses = true;
+  EXPECT_EQ(importCarmen(kLog, "run.clf", p).dataset.info.T_base_lidar.y, 0.02);
 }
 
 TEST(ImportCarmen, ScansOutsideTheOdometryAreRefusedOrTrimmed) {
@@ -93,6 +117,14 @@ TEST(ImportCarmen, ExportedLogCarriesGeometryAndTimingSoTheDatasetComesBack) {
   ASSERT_EQ(r.dataset.scans.size(), d.scans.size());
   EXPECT_EQ(r.dataset.scans[3].scan.time_increment_s, d.scans[3].scan.time_increment_s);
   EXPECT_NEAR(r.dataset.info.T_base_lidar.y, d.info.T_base_lidar.y, 1e-12);
+  // The whole mount comes back from the PARAM lines, exactly, and agrees with the laser poses.
+  EXPECT_EQ(r.dataset.info.T_base_lidar.x, d.info.T_base_lidar.x);
+  EXPECT_EQ(r.dataset.info.T_base_lidar.yaw, d.info.T_base_lidar.yaw);
+  EXPECT_NE(r.summary.lidar_mount.find("PARAM robot_frontlaser_offset, _side_offset, "
+                                       "_angular_offset"),
+            std::string::npos)
+      << r.summary.lidar_mount;
+  for (const auto& note : r.notes) EXPECT_EQ(note.find("laser_pose"), std::string::npos) << note;
   // The encoders derived from the nominal odometry with the nominal geometry are the original
   // ticks at 2^20 / 4096 = 256 times the resolution: inverting the arc model loses ~1e-12 rad,
   // far below half a tick (3e-6 rad), so they are exact.
