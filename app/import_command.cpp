@@ -1,9 +1,12 @@
 // `slamprep import`: a CARMEN log or an MCAP ROS 2 bag into a dataset directory (no ground
 // truth) that calibrate and deskew read (docs/export.md).
 #include <iostream>
+#include <numbers>
 #include <sstream>
 
+#include "app/choices.hpp"
 #include "app/commands.hpp"
+#include "app/outputs.hpp"
 #include "core/error.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "eval/formats/import.hpp"
@@ -21,21 +24,25 @@ struct ImportFlags {
   double time_increment_s = 0.0;
   bool geometry_given = false;
   bool time_increment_given = false;
-  std::string lidar_mount;  // "x,y,yaw"
+  std::string lidar_mount;  // "x,y,yaw_deg"
   eval::ImportParams params;
+  bool force = false;
 };
 
 SE2 parseMount(const std::string& text) {
   std::vector<std::string_view> fields;
   slamprep::eval::splitFields(text, ',', fields);
-  if (fields.size() != 3) throw InputError("--lidar-mount", "expected x,y,yaw (m, m, rad)");
+  if (fields.size() != 3) throw InputError("--lidar-mount", "expected x,y,yaw_deg (m, m, deg)");
   const slamprep::eval::TextLocation where{"--lidar-mount", 0};
+  const double yaw_deg = slamprep::eval::parseFiniteDouble(fields[2], where, "yaw_deg");
   return {slamprep::eval::parseFiniteDouble(fields[0], where, "x"),
           slamprep::eval::parseFiniteDouble(fields[1], where, "y"),
-          slamprep::eval::parseFiniteDouble(fields[2], where, "yaw")};
+          yaw_deg * std::numbers::pi / 180.0};
 }
 
 int runImport(ImportFlags flags) {
+  checkInputFile(flags.input, "PATH");
+  checkOutputDataset(flags.out, "--out", flags.force);
   if (flags.wheel_radius_m > 0)
     flags.geometry.radius_left_m = flags.geometry.radius_right_m = flags.wheel_radius_m;
   if (flags.geometry_given) flags.params.nominal_geometry = flags.geometry;
@@ -59,14 +66,19 @@ int runImport(ImportFlags flags) {
 Command addImportCommand(CLI::App& app) {
   auto flags = std::make_shared<ImportFlags>();
   auto* cli = app.add_subcommand(
-      "import",
-      "Read a CARMEN log or an MCAP ROS 2 bag (LaserScan + Odometry or JointState) into "
-      "a dataset directory.");
+      "import", "Read a CARMEN log or an MCAP ROS 2 bag into a dataset directory.");
+  cli->footer(
+      "An MCAP bag needs a LaserScan topic plus Odometry or JointState (docs/export.md). The\n"
+      "dataset has no ground truth; calibrate, deskew, match and export read it.");
   cli->add_option("--format", flags->format, "carmen|mcap")
       ->required()
-      ->check(CLI::IsMember({"carmen", "mcap"}));
+      ->check(oneOf("format", {"carmen", "mcap"}));
   cli->add_option("PATH", flags->input, "log file")->required();
-  cli->add_option("--out", flags->out, "dataset directory to write")->required();
+  cli->add_option("--out", flags->out,
+                  "dataset directory to write; an existing one is refused unless --force")
+      ->required();
+  cli->add_flag("--force", flags->force,
+                "replace an existing --out dataset; the old one stays until the new is complete");
   // The nominal geometry: any of these flags replaces the log's (CARMEN PARAM lines) or the
   // default; the ones not given keep the default.
   auto& g = flags->geometry;
@@ -101,7 +113,8 @@ Command addImportCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber)
       ->each([flags](const std::string&) { flags->time_increment_given = true; });
   cli->add_option("--lidar-mount", flags->lidar_mount,
-                  "x,y,yaw of the lidar on the base (default: from the log, else 0,0,0)");
+                  "x,y,yaw_deg of the lidar on the base: metres, metres, degrees (default: from "
+                  "the log, else 0,0,0)");
   cli->add_flag("--trim", flags->params.trim, "drop scans the odometry does not cover");
   cli->add_option("--scan-topic", flags->params.scan_topic, "mcap: LaserScan topic");
   cli->add_option("--odom-topic", flags->params.odom_topic, "mcap: Odometry topic");
