@@ -2,6 +2,8 @@
 #include <iostream>
 
 #include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/outputs.hpp"
 #include "core/error.hpp"
 #include "core/paths.hpp"
 #include "eval/bench/bench.hpp"
@@ -34,7 +36,7 @@ void printRegressions(const std::vector<eval::Regression>& regressions) {
 
 // `--slurm`: submit the shards as a job array plus a dependent merge job instead of running here.
 int runOnSlurm(BenchFlags& flags) {
-  if (!flags.shard.empty() || flags.options.fresh || flags.options.compare ||
+  if (!flags.shard.empty() || flags.options.fresh || !flags.compare.empty() ||
       flags.options.update_baseline)
     throw InputError("--slurm",
                      "cannot be combined with --shard, --fresh, --compare or "
@@ -67,7 +69,7 @@ int runOnSlurm(BenchFlags& flags) {
   if (!result.ok) {
     std::cerr << "slurm run failed: " << result.reason
               << "\nre-run the same command to resubmit only the shards without a result\n";
-    return 1;
+    return kExitNotDone;
   }
   std::cout << "all shards and the merge completed: "
             << (result.scripts.log_dir.parent_path() / "README.md").string() << "\n";
@@ -77,6 +79,7 @@ int runOnSlurm(BenchFlags& flags) {
 int runBenchCommand(BenchFlags& flags) {
   if (flags.slurm) return runOnSlurm(flags);
   if (!flags.shard.empty()) flags.options.shard = eval::Shard::parse(flags.shard);
+  if (!flags.compare.empty()) checkInputFile(flags.compare, "--compare");  // before any trial
   if (!flags.compare.empty()) flags.options.compare = flags.compare;
   const eval::Suite suite =
       eval::loadSuite(eval::findSuite(flags.options.suite, resolveDataPath("eval/suites")));
@@ -90,7 +93,7 @@ int runBenchCommand(BenchFlags& flags) {
     std::cout << "shard " << flags.options.shard->name() << " written to "
               << (outcome.out_dir / "shards" / flags.options.shard->name()).string()
               << "; combine all shards with `slamprep merge " << outcome.out_dir.string() << "`\n";
-    return run.failed.empty() ? 0 : 1;
+    return run.failed.empty() ? kExitDone : kExitNotDone;
   }
   std::cout << eval::renderConsoleSummary(outcome.summary)
             << "\nresults: " << (outcome.out_dir / "README.md").string() << "\n";
@@ -99,17 +102,21 @@ int runBenchCommand(BenchFlags& flags) {
   if (!outcome.regressions.empty()) printRegressions(outcome.regressions);
   if (flags.options.compare && outcome.regressions.empty())
     std::cout << "no regression against " << flags.options.compare->string() << "\n";
-  return run.failed.empty() && outcome.complete && outcome.regressions.empty() ? 0 : 1;
+  return run.failed.empty() && outcome.complete && outcome.regressions.empty() ? kExitDone
+                                                                               : kExitNotDone;
 }
 
 }  // namespace
 
 Command addBenchCommand(CLI::App& app) {
   auto flags = std::make_shared<BenchFlags>();
-  auto* cli = app.add_subcommand(
-      "bench",
-      "Run an experiment suite (simulate, match, calibrate, de-skew, measure against truth) and "
-      "write results/<suite>/: README.md report, summary.json, trials.csv, plots/.");
+  auto* cli = app.add_subcommand("bench", "Run an experiment suite; write results/<suite>/.");
+  cli->footer(
+      "Every trial simulates, matches, calibrates, de-skews and measures against the truth;\n"
+      "results/<suite>/ gets README.md, summary.json, trials.csv and plots/ (docs/results.md).\n"
+      "The results folder is bench's own: an interrupted run resumes in it, --fresh recomputes.\n"
+      "Exit 3 when a trial failed, a shard or the merge is incomplete, a metric regressed\n"
+      "beyond its tolerance (--compare) or a Slurm job failed (--wait).");
   cli->add_option("--suite", flags->options.suite,
                   "Suite name under eval/suites/ (default, regression, sweep-speed, "
                   "sweep-calibration) or a suite YAML file")
@@ -124,15 +131,17 @@ Command addBenchCommand(CLI::App& app) {
   cli->add_option("--results", flags->options.results_root, "Folder that holds results/<suite>/")
       ->capture_default_str();
   cli->add_option("--compare", flags->compare,
-                  "Baseline summary JSON; exit 1 naming every metric worse than its tolerance "
+                  "Baseline summary JSON; exit 3 naming every metric worse than its tolerance "
                   "(tolerances are in the suite file)");
   cli->add_flag("--update-baseline", flags->options.update_baseline,
                 "Write this run's summary as results/<suite>/baseline.json");
-  cli->add_flag("!--no-plots", flags->options.plots, "Skip rendering the PNG plots");
+  cli->add_flag_callback(
+      "--no-plots", [flags] { flags->options.plots = false; }, "Skip rendering the PNG plots");
   cli->add_flag("--fresh", flags->options.fresh,
                 "Recompute every trial (by default an interrupted run resumes, reusing trials "
                 "this same build already finished)");
-  cli->add_flag("!--quiet,!-q", flags->options.progress, "No progress output");
+  cli->add_flag_callback(
+      "-q,--quiet", [flags] { flags->options.progress = false; }, "No progress output");
   cli->add_flag("--slurm", flags->slurm,
                 "Submit the suite to Slurm: a job array (one shard per task) and a merge job "
                 "that depends on it; shards already complete are not resubmitted");
@@ -145,21 +154,22 @@ Command addBenchCommand(CLI::App& app) {
          "Extra sbatch argument with --slurm, repeatable (e.g. --sbatch-arg=--time=1:00:00)")
       ->allow_extra_args(false);
   cli->add_flag("--wait", flags->slurm_params.wait,
-                "With --slurm: follow the jobs (scontrol show job) and exit non-zero naming "
-                "failed shards");
+                "With --slurm: follow the jobs (scontrol show job) and exit 3 naming failed "
+                "shards");
   return {cli, [flags] { return runBenchCommand(*flags); }};
 }
 
 Command addMergeCommand(CLI::App& app) {
   auto dir = std::make_shared<std::string>();
   auto plots = std::make_shared<bool>(true);
-  auto* cli = app.add_subcommand(
-      "merge",
-      "Combine the shards of a suite run (results/<suite>/shards/*/) into the results folder, "
-      "byte-identical to a single-machine run.");
+  auto* cli = app.add_subcommand("merge", "Combine the --shard runs of a suite into its results.");
+  cli->footer(
+      "Reads results/<suite>/shards/*/ and writes the results folder, byte-identical to a\n"
+      "single-machine run. Exit 3 while trials are missing.");
   cli->add_option("RESULTS_DIR", *dir, "The suite's results folder, e.g. results/default")
       ->required();
-  cli->add_flag("!--no-plots", *plots, "Skip rendering the PNG plots");
+  cli->add_flag_callback(
+      "--no-plots", [plots] { *plots = false; }, "Skip rendering the PNG plots");
   return {cli, [dir, plots] {
             const auto outcome = eval::mergeShards(*dir, *plots);
             std::cout << eval::renderConsoleSummary(outcome.summary)
@@ -168,16 +178,16 @@ Command addMergeCommand(CLI::App& app) {
               std::cerr << "incomplete: " << outcome.summary["missing"].size()
                         << " trial(s) have no result yet; run the missing shards and merge "
                            "again\n";
-            return outcome.complete ? 0 : 1;
+            return outcome.complete ? kExitDone : kExitNotDone;
           }};
 }
 
 Command addPlotCommand(CLI::App& app) {
   auto dir = std::make_shared<std::string>();
-  auto* cli = app.add_subcommand(
-      "plot",
-      "Render the plots of a results folder off-screen (OSMesa) into RESULTS_DIR/plots/ and "
-      "rewrite its README.md around them; `bench` and `merge` call this themselves.");
+  auto* cli = app.add_subcommand("plot", "Re-render a results folder's plots and README.");
+  cli->footer(
+      "Renders off-screen (OSMesa) into RESULTS_DIR/plots/ and rewrites its README.md around\n"
+      "them; `bench` and `merge` call this themselves.");
   cli->add_option("RESULTS_DIR", *dir,
                   "A finished results folder with suite.yaml and summary.json, e.g. "
                   "results/default")

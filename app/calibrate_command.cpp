@@ -1,5 +1,6 @@
 // `slamprep calibrate`: odometry calibration (docs/calibration.md) on a dataset or on Censi
 // interval records.
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -7,7 +8,11 @@
 #include <sstream>
 
 #include "algo/calibration/calibration_json.hpp"
+#include "algo/deskew/deskew.hpp"
+#include "app/choices.hpp"
 #include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/outputs.hpp"
 #include "eval/bench/calibration_run.hpp"
 
 namespace slamprep::app {
@@ -26,6 +31,9 @@ struct CalibrateFlags {
   double keyframe_deg = 10.0;
   double side_m = 2.5;  // the shipped umbmark_cw/ccw.yaml squares
   bool time_offset = false;
+  bool stamp_is_last_beam = false;
+  bool strict = false;
+  bool force = false;
 };
 
 // Lengths in mm, the yaw in degrees: what a person reads.
@@ -82,10 +90,12 @@ eval::DatasetCalibrationParams paramsOf(const CalibrateFlags& flags) {
   eval::DatasetCalibrationParams p;
   p.dataset = flags.dataset;
   if (flags.method != "all") p.methods = {*algo::parseCalibrationMethod(flags.method)};
+  p.only_applicable = flags.method == "all";
   p.tuples = flags.tuples_in;
   p.squares = flags.squares;
   p.motion.from_icp = flags.motion == "icp";
   p.motion.deskew = flags.deskew;
+  p.motion.stamp_is_last_beam = flags.stamp_is_last_beam;
   p.motion.intervals.keyframe_translation_m = flags.keyframe_cm / 100.0;
   p.motion.intervals.keyframe_rotation_rad = flags.keyframe_deg * std::numbers::pi / 180.0;
   p.params.umbmark.side_m = flags.side_m;
@@ -93,7 +103,19 @@ eval::DatasetCalibrationParams paramsOf(const CalibrateFlags& flags) {
   return p;
 }
 
+void checkPaths(const CalibrateFlags& flags) {
+  if (!flags.dataset.empty()) checkInputDataset(flags.dataset, "DATASET");
+  if (!flags.tuples_in.empty()) checkInputFile(flags.tuples_in, "--tuples");
+  for (const std::string& dir : flags.squares) checkInputDataset(dir, "--square");
+  if (!flags.json_out.empty()) checkOutputFile(flags.json_out, "--json", flags.force);
+  if (!flags.intervals_out.empty())
+    checkOutputFile(flags.intervals_out, "--intervals", flags.force);
+  for (const std::string& out : {flags.json_out, flags.intervals_out})
+    if (!out.empty() && !flags.dataset.empty()) checkNotInside(out, flags.dataset, "output");
+}
+
 int runCalibrate(const CalibrateFlags& flags) {
+  checkPaths(flags);
   const eval::DatasetCalibration c = eval::calibrateDataset(paramsOf(flags));
   if (c.failed_matches > 0)
     std::cerr << "calibrate: " << c.failed_matches << " scan matches failed (chains broken)\n";
@@ -108,40 +130,58 @@ int runCalibrate(const CalibrateFlags& flags) {
       std::cerr << "calibrate: ceres time offset " << *run.time_offset_s * 1e3 << " ms +- "
                 << run.time_offset_sigma_s * 1e3 << " ms\n";
   printTable(c.runs, c.truth);
+  for (const eval::NotApplicable& n : c.not_applicable)
+    std::cout << "\n"
+              << algo::calibrationMethodName(n.method) << ": not applicable: " << n.reason << "\n";
   if (!flags.json_out.empty()) algo::writeCalibrationJson(flags.json_out, c.runs, c.truth);
-  for (const algo::CalibrationRun& run : c.runs)
-    if (!run.result.ok) return 3;  // a refusal is an answer, but not a success
-  return 0;
+  const auto refused = std::count_if(c.runs.begin(), c.runs.end(),
+                                     [](const algo::CalibrationRun& r) { return !r.result.ok; });
+  return refusalExitCode(refused == static_cast<long>(c.runs.size()), refused > 0, flags.strict);
 }
 
 }  // namespace
 
 Command addCalibrateCommand(CLI::App& app) {
   auto flags = std::make_shared<CalibrateFlags>();
-  auto* cli = app.add_subcommand(
-      "calibrate",
-      "Odometry calibration: r_L, r_R, b (and the lidar mount) from encoders plus lidar motion.");
+  auto* cli = app.add_subcommand("calibrate",
+                                 "Odometry calibration: wheel radii, wheel base and lidar mount.");
+  cli->footer(
+      "r_L, r_R, b (and the lidar mount) from wheel encoders plus the lidar's motion\n"
+      "(docs/calibration.md). --method all runs the methods that apply to the data; one that\n"
+      "does not (umbmark without square runs) is reported as not applicable. Exit 3 when every\n"
+      "method run refused, or with --strict when any did.");
   cli->add_option("DATASET", flags->dataset, "dataset directory");
   std::vector<std::string> methods = algo::calibrationMethodNames();
   methods.emplace_back("all");
   cli->add_option("--method", flags->method,
-                  algo::joinCalibrationMethodNames(algo::allCalibrationMethods(), "|") + "|all")
-      ->check(CLI::IsMember(methods))
+                  "calibration method, or all: the ones that apply to the data")
+      ->check(oneOf("method", methods))
       ->capture_default_str();
   cli->add_option("--motion", flags->motion,
                   "lidar motion from ICP scan matching or from ground truth (oracle)")
-      ->check(CLI::IsMember({"icp", "groundtruth"}))
+      ->check(oneOf("motion", {"icp", "groundtruth"}))
       ->capture_default_str();
+  std::vector<std::string> deskews = {"auto"};
+  for (auto m : algo::allDeskewMethods()) deskews.emplace_back(algo::deskewMethodName(m));
   cli->add_option("--deskew", flags->deskew,
                   "with --motion icp: de-skew scans with this method before matching them. auto: "
                   "imu when the log has one (independent of the wheel geometry being "
                   "calibrated), else odom-linear with the nominal geometry; none: raw scans, "
                   "which motion distortion biases")
+      ->check(oneOf("de-skew method", deskews))
       ->capture_default_str();
+  cli->add_flag("--stamp-is-last-beam", flags->stamp_is_last_beam,
+                "the scans' stamps mark their last beam, not their first");
   cli->add_option("--intervals", flags->intervals_out,
-                  "write the intervals used as Censi records (JSON lines)");
+                  "write the intervals used as Censi records (JSON lines) to FILE");
   cli->add_option("--tuples", flags->tuples_in, "run on Censi interval records instead");
-  cli->add_option("--json", flags->json_out, "write one object per method to FILE");
+  cli->add_option("--json", flags->json_out,
+                  "write one object per method to FILE (what deskew and export read with "
+                  "--calibration)");
+  cli->add_flag("--force", flags->force,
+                "replace existing --json/--intervals files; the old ones stay until the new are "
+                "complete");
+  cli->add_flag("--strict", flags->strict, "exit 3 when any method refused, not only all");
   cli->add_option("--keyframe-cm", flags->keyframe_cm, "new interval every N cm of lidar motion")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();

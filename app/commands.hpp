@@ -1,12 +1,16 @@
 #pragma once
 // The slamprep CLI: each command maps its flags onto params structs and calls into eval/sim/algo.
+// The contract they share (README, "Commands"): one-line description plus a footer, paths and
+// options checked first (app/outputs.hpp), named choices with app/choices.hpp, exit codes from
+// app/exit_codes.hpp.
 
 #include <CLI/CLI.hpp>
 #include <functional>
 
 namespace slamprep::app {
 
-/// A registered subcommand and what runs when it is the one parsed; run() returns the exit code.
+/// A registered subcommand and what runs when it is the one parsed; run() returns the exit code
+/// (InputError -> 2 and any other exception -> 1 are main.cpp's).
 struct Command {
   CLI::App* cli = nullptr;
   std::function<int()> run;

@@ -8,7 +8,10 @@
 #include <nlohmann/json.hpp>
 
 #include "algo/calibration/calibration_json.hpp"
+#include "app/choices.hpp"
 #include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/outputs.hpp"
 #include "core/atomic_file.hpp"
 #include "core/dataset.hpp"
 #include "core/error.hpp"
@@ -20,16 +23,21 @@
 namespace slamprep::app {
 namespace {
 
+namespace fs = std::filesystem;
+
 struct DeskewFlags {
   std::string dataset;
   std::string method = "all";
   std::string reference = "first";
-  std::string geometry = "nominal";
-  std::string out;
+  std::string geometry;     // nominal (default) or true; a file here is the deprecated alias
+  std::string calibration;  // calibrate --json output
+  std::string out;          // nothing is written without it
   std::string json_out;
   std::vector<double> window;  // --window T0 T1: scans whose stamp is inside count in the metrics
   bool stamp_is_last_beam = false;
-  bool no_write = false;
+  bool no_write = false;  // deprecated: nothing is written without --out anyway
+  bool strict = false;
+  bool force = false;
   int quadratic_pieces = 4;
 };
 
@@ -50,14 +58,57 @@ Geometry geometryFromCalibration(const std::string& file, const Dataset& dataset
 }
 
 Geometry chooseGeometry(const DeskewFlags& flags, const Dataset& dataset) {
-  if (flags.geometry == "nominal")
-    return {dataset.info.nominal_geometry, dataset.info.T_base_lidar, "nominal"};
+  if (!flags.calibration.empty()) return geometryFromCalibration(flags.calibration, dataset);
   if (flags.geometry == "true") {
     if (!dataset.info.true_geometry)
       throw InputError("--geometry true", flags.dataset + " has no true geometry (a real log?)");
     return {*dataset.info.true_geometry, dataset.info.T_base_lidar, "true"};
   }
-  return geometryFromCalibration(flags.geometry, dataset);
+  return {dataset.info.nominal_geometry, dataset.info.T_base_lidar, "nominal"};
+}
+
+/// Why `method` cannot run on this dataset at all; nullopt when its inputs are there.
+std::optional<std::string> notApplicable(algo::DeskewMethod method, const Dataset& d,
+                                         bool has_odometry) {
+  using M = algo::DeskewMethod;
+  if (method == M::kOracle && d.groundtruth.empty()) return "no ground truth (a real log?)";
+  if (method == M::kImu && d.imu.empty()) return "no IMU samples (imu.csv is empty)";
+  const bool odometry_based = method == M::kOdomLinear || method == M::kOdomQuadratic ||
+                              method == M::kOdomIcp || method == M::kImu;
+  if (odometry_based && !has_odometry) return "no odometry (neither encoders nor odom_nominal)";
+  return std::nullopt;
+}
+
+/// Flags and paths, before any data is read: --geometry's deprecated FILE form becomes
+/// --calibration; outputs are refused unless --force, and never inside the input.
+DeskewFlags checkFlags(DeskewFlags flags) {
+  checkInputDataset(flags.dataset, "DATASET");
+  if (!flags.geometry.empty() && flags.geometry != "nominal" && flags.geometry != "true") {
+    if (!flags.calibration.empty())
+      throw InputError("--geometry " + flags.geometry, "give --calibration FILE only");
+    std::cerr << "deskew: note: --geometry FILE is deprecated; use --calibration FILE\n";
+    flags.calibration = flags.geometry;
+    flags.geometry.clear();
+  }
+  if (!flags.calibration.empty() && !flags.geometry.empty())
+    throw InputError("--geometry " + flags.geometry,
+                     "--calibration already gives the geometry; drop one of them");
+  if (!flags.calibration.empty()) checkInputFile(flags.calibration, "--calibration");
+  if (!flags.window.empty() && !(flags.window[0] <= flags.window[1]))
+    throw InputError("--window", "T0 must not exceed T1");
+  if (flags.no_write) {
+    std::cerr << "deskew: note: --no-write is deprecated: nothing is written without --out\n";
+    flags.out.clear();
+  }
+  if (!flags.out.empty()) {
+    checkNotInside(flags.out, flags.dataset, "--out");
+    checkOutputDataset(flags.out, "--out", flags.force);
+  }
+  if (!flags.json_out.empty()) {
+    checkNotInside(flags.json_out, flags.dataset, "--json");
+    checkOutputFile(flags.json_out, "--json", flags.force);
+  }
+  return flags;
 }
 
 using eval::ErrorStats;
@@ -129,51 +180,89 @@ void printRow(const MethodRun& run) {
     std::cout << "    first note: " << run.result.first_note << "\n";
 }
 
-int runDeskew(const DeskewFlags& flags) {
-  const Dataset d = eval::readDataset(flags.dataset);
-  const Geometry geometry = chooseGeometry(flags, d);
-  std::vector<algo::DeskewMethod> methods;
-  if (flags.method == "all") {
-    for (auto m : algo::allDeskewMethods())
-      if (m != algo::DeskewMethod::kOracle || !d.groundtruth.empty()) methods.push_back(m);
-  } else {
-    const auto m = algo::parseDeskewMethod(flags.method);
-    if (!m) throw InputError("--method", "unknown method \"" + flags.method + "\"");
-    if (*m == algo::DeskewMethod::kOracle && d.groundtruth.empty())
-      throw InputError("--method oracle", flags.dataset + " has no ground truth");
-    methods.push_back(*m);
+/// The methods to run: the one asked for, or for `all` every one that applies to the data.
+struct MethodChoice {
+  std::vector<algo::DeskewMethod> run;
+  std::vector<std::pair<algo::DeskewMethod, std::string>> not_applicable;
+};
+
+MethodChoice chooseMethods(const DeskewFlags& flags, const Dataset& d, bool has_odometry) {
+  MethodChoice choice;
+  const std::vector<algo::DeskewMethod> asked =
+      flags.method == "all"
+          ? algo::allDeskewMethods()
+          : std::vector<algo::DeskewMethod>{*algo::parseDeskewMethod(flags.method)};
+  for (const auto m : asked) {
+    if (auto reason = notApplicable(m, d, has_odometry))
+      choice.not_applicable.emplace_back(m, std::move(*reason));
+    else
+      choice.run.push_back(m);
   }
-  // Odometry for the chosen geometry: the dataset's own for nominal, else re-integrated.
-  const PoseSeries odometry =
-      geometry.source == "nominal" && !d.odom_nominal.empty()
-          ? d.odom_nominal
-          : integrateEncoders(d.encoders, geometry.wheels, d.info.ticks_per_revolution);
-  if (odometry.empty())
-    std::cerr << "deskew: " << flags.dataset << " has no odometry: odometry methods will refuse\n";
-  std::filesystem::path out_dir = flags.out.empty() ? flags.dataset : flags.out;
-  if (!flags.no_write && !flags.out.empty()) eval::writeDataset(out_dir, d);
-  if (!flags.window.empty() && !(flags.window[0] <= flags.window[1]))
-    throw InputError("--window", "T0 must not exceed T1");
+  return choice;
+}
+
+void printHeader(const DeskewFlags& flags, const Dataset& d, const Geometry& geometry) {
   std::cout << "de-skew of " << d.scans.size() << " scans, reference " << flags.reference
             << ", geometry " << geometry.source << "\n"
             << std::left << std::setw(16) << "method" << std::right << std::setw(10) << "mean mm"
             << std::setw(10) << "rms mm" << std::setw(10) << "p95 mm" << std::setw(10) << "max mm"
             << std::setw(10) << "beams" << std::setw(10) << "seconds" << std::setw(9) << "refused"
             << "\n";
+}
+
+int runDeskew(const DeskewFlags& given) {
+  const DeskewFlags flags = checkFlags(given);
+  const Dataset d = eval::readDataset(flags.dataset);
+  if (d.scans.empty()) throw InputError(flags.dataset, "has no scans to de-skew");
+  const Geometry geometry = chooseGeometry(flags, d);
+  // Odometry for the chosen geometry: the dataset's own for nominal, else re-integrated.
+  const PoseSeries odometry =
+      geometry.source == "nominal" && !d.odom_nominal.empty()
+          ? d.odom_nominal
+          : integrateEncoders(d.encoders, geometry.wheels, d.info.ticks_per_revolution);
+  const MethodChoice methods = chooseMethods(flags, d, !odometry.empty());
+  printHeader(flags, d, geometry);
   nlohmann::ordered_json json = nlohmann::ordered_json::array();
-  for (auto m : methods) {
-    const MethodRun run = runMethod(m, d, odometry, geometry, flags);
-    printRow(run);
-    json.push_back(toJson(run));
-    if (!flags.no_write) {
+  std::size_t fully_refused = 0, with_refusals = 0;
+  std::vector<std::string> written;
+  // Every method in turn; with --out its scans go into the folder being published.
+  auto runAll = [&](const fs::path* partial) {
+    for (const auto m : methods.run) {
+      const MethodRun run = runMethod(m, d, odometry, geometry, flags);
+      printRow(run);
+      json.push_back(toJson(run));
+      fully_refused += run.result.refused == static_cast<int>(d.scans.size());
+      with_refusals += run.result.refused > 0;
+      if (!partial) continue;
       const std::string name = "deskewed_" + std::string(algo::deskewMethodName(m)) + ".jsonl";
-      writeFileAtomic(out_dir / name, eval::formatScans(run.output, (out_dir / name).string()));
+      writeFileAtomic(*partial / name,
+                      eval::formatScans(run.output, (fs::path(flags.out) / name).string()));
+      written.push_back(name);
     }
+  };
+  if (flags.out.empty()) {
+    runAll(nullptr);
+  } else {
+    eval::publishDirectoryAtomically(flags.out, [&](const fs::path& partial) {
+      eval::writeDatasetFiles(partial, d, flags.out);
+      runAll(&partial);
+    });
   }
-  if (!flags.no_write)
-    std::cout << "wrote deskewed_<method>.jsonl into " << out_dir.string() << "\n";
+  for (const auto& [m, reason] : methods.not_applicable)
+    std::cout << std::left << std::setw(16) << algo::deskewMethodName(m)
+              << "not applicable: " << reason << "\n";
+  if (flags.out.empty())
+    std::cout << "no --out: no de-skewed scans written\n";
+  else
+    std::cout << "wrote " << flags.out << ": a copy of the dataset plus " << joined(written, ", ")
+              << "\n";
   if (!flags.json_out.empty()) writeFileAtomic(flags.json_out, json.dump(2) + "\n");
-  return 0;
+  // An explicitly asked method that does not apply is a refusal; under `all` it is not asked.
+  const std::size_t asked_refused =
+      fully_refused + (flags.method == "all" ? 0 : methods.not_applicable.size());
+  const std::size_t asked =
+      methods.run.size() + (flags.method == "all" ? 0 : methods.not_applicable.size());
+  return refusalExitCode(asked_refused == asked, with_refusals + asked_refused > 0, flags.strict);
 }
 
 }  // namespace
@@ -181,22 +270,36 @@ int runDeskew(const DeskewFlags& flags) {
 Command addDeskewCommand(CLI::App& app) {
   auto flags = std::make_shared<DeskewFlags>();
   auto* cli = app.add_subcommand(
-      "deskew", "Remove lidar motion distortion from a dataset's scans; error vs ground truth.");
-  cli->add_option("DATASET", flags->dataset, "dataset directory")->required();
-  std::vector<std::string> names = {"all"};
+      "deskew", "Remove lidar motion distortion; error against ground truth when there is one.");
+  cli->footer(
+      "Every method through one interface (algo/deskew, docs/deskew.md). --method all runs the\n"
+      "methods that apply to the data (oracle needs ground truth, imu an IMU, odom-* odometry);\n"
+      "the others are listed as not applicable. Never writes into DATASET: --out DIR gets a copy\n"
+      "of the dataset plus deskewed_<method>.jsonl. Exit 3 when every method refused every\n"
+      "scan, or with --strict when any scan was refused.");
+  cli->add_option("DATASET", flags->dataset, "dataset directory (read only)")->required();
+  std::vector<std::string> names;
   for (auto m : algo::allDeskewMethods()) names.emplace_back(algo::deskewMethodName(m));
-  cli->add_option("--method", flags->method, "de-skew method, or all")
-      ->check(CLI::IsMember(names))
+  names.emplace_back("all");
+  cli->add_option("--method", flags->method, "de-skew method, or all: the ones that apply")
+      ->check(oneOf("method", names))
       ->capture_default_str();
   cli->add_option("--reference", flags->reference, "time the corrected points describe")
-      ->check(CLI::IsMember({"first", "middle", "last"}))
+      ->check(oneOf("reference", {"first", "middle", "last"}))
       ->capture_default_str();
   cli->add_option("--geometry", flags->geometry,
-                  "wheel geometry and lidar mount for odometry methods: nominal, true, or the "
-                  "JSON `slamprep calibrate --json` wrote (its best method)")
-      ->capture_default_str();
-  cli->add_option("--out", flags->out, "write a copy of the dataset plus de-skewed scans here");
+                  "wheel geometry and lidar mount for odometry methods: nominal (default) or "
+                  "true (a FILE here is the deprecated form of --calibration)");
+  cli->add_option("--calibration", flags->calibration,
+                  "use the geometry (and mount) of the best method in this `slamprep calibrate "
+                  "--json` FILE");
+  cli->add_option("--out", flags->out,
+                  "write a copy of the dataset plus deskewed_<method>.jsonl into this new "
+                  "directory (without it nothing is written)");
   cli->add_option("--json", flags->json_out, "write one object per method to FILE");
+  cli->add_flag("--force", flags->force,
+                "replace an existing --out or --json; the old one stays until the new is "
+                "complete");
   cli->add_option("--pieces", flags->quadratic_pieces, "odom-quadratic: linear pieces k")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
@@ -205,7 +308,9 @@ Command addDeskewCommand(CLI::App& app) {
       ->expected(2);
   cli->add_flag("--stamp-is-last-beam", flags->stamp_is_last_beam,
                 "the scans' stamps mark their last beam, not their first");
-  cli->add_flag("--no-write", flags->no_write, "only measure; write no de-skewed scans");
+  cli->add_flag("--strict", flags->strict, "exit 3 when any scan was refused, not only all");
+  cli->add_flag("--no-write", flags->no_write,
+                "deprecated: nothing is written without --out; this drops --out");
   return {cli, [flags] { return runDeskew(*flags); }};
 }
 

@@ -4,7 +4,11 @@
 #include <iostream>
 
 #include "algo/calibration/calibration_json.hpp"
+#include "algo/deskew/deskew.hpp"
+#include "app/choices.hpp"
 #include "app/commands.hpp"
+#include "app/outputs.hpp"
+#include "eval/formats/dataset_io.hpp"
 #include "eval/formats/export.hpp"
 
 namespace slamprep::app {
@@ -18,7 +22,48 @@ struct ExportFlags {
   std::string out;
   std::string calibration;  // default DATASET/calibration.json, when present
   eval::ExportParams params;
+  bool force = false;
 };
+
+bool isDirectoryFormat(eval::ExportFormat format) {
+  return format == eval::ExportFormat::kTum || format == eval::ExportFormat::kKitti;
+}
+
+// What --force may replace for tum and kitti: a folder an earlier export wrote (or an empty one).
+bool isTrajectoryFolder(const fs::path& dir) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const fs::path& file = entry.path();
+    if (!entry.is_regular_file(ec) || (file.extension() != ".tum" && file.extension() != ".txt"))
+      return false;
+  }
+  return !ec;
+}
+
+void checkPaths(const ExportFlags& flags, eval::ExportFormat format) {
+  checkInputDataset(flags.dataset, "DATASET");
+  if (!flags.calibration.empty()) checkInputFile(flags.calibration, "--calibration");
+  checkNotInside(flags.out, flags.dataset, "--out");
+  if (isDirectoryFormat(format))
+    checkOutputDirectory(flags.out, "--out", flags.force, isTrajectoryFolder,
+                         "a trajectories folder (only *.tum and *.txt files)");
+  else
+    checkOutputFile(flags.out, "--out", flags.force);
+}
+
+// tum and kitti write several files: into a partial folder, published whole.
+eval::ExportResult exportToFolder(const eval::ExportInput& input, eval::ExportFormat format,
+                                  const ExportFlags& flags) {
+  eval::ExportResult result;
+  eval::publishDirectoryAtomically(
+      flags.out,
+      [&](const fs::path& partial) {
+        result = eval::exportDataset(input, format, partial, flags.params);
+      },
+      isTrajectoryFolder);
+  for (fs::path& file : result.files) file = fs::path(flags.out) / file.filename();
+  return result;
+}
 
 // The best method of the calibration JSON (docs/calibration.md). A file given with --calibration
 // must hold an ok entry; the implicit DATASET/calibration.json only earns a note.
@@ -39,9 +84,12 @@ void addCalibration(const ExportFlags& flags, eval::ExportInput& input) {
 
 int runExport(const ExportFlags& flags) {
   const eval::ExportFormat format = eval::parseExportFormat(flags.format);
+  checkPaths(flags, format);
   eval::ExportInput input = eval::loadExportInput(flags.dataset);
   addCalibration(flags, input);
-  const eval::ExportResult result = eval::exportDataset(input, format, flags.out, flags.params);
+  const eval::ExportResult result =
+      isDirectoryFormat(format) ? exportToFolder(input, format, flags)
+                                : eval::exportDataset(input, format, flags.out, flags.params);
   if (input.calibration)
     std::cout << "calibrated odometry: method " << input.calibration->method << "\n";
   for (const auto& [what, n] : result.counts) std::cout << "  " << what << ": " << n << "\n";
@@ -55,20 +103,26 @@ int runExport(const ExportFlags& flags) {
 Command addExportCommand(CLI::App& app) {
   auto flags = std::make_shared<ExportFlags>();
   auto* cli = app.add_subcommand(
-      "export",
-      "Write a dataset as an MCAP ROS 2 bag, a CARMEN log, TUM or KITTI trajectories, "
-      "or CSM laser_data JSON.");
+      "export", "Write a dataset as MCAP, CARMEN, TUM or KITTI trajectories, or CSM JSON.");
   cli->add_option("DATASET", flags->dataset, "dataset directory")->required();
   cli->add_option("--format", flags->format, "mcap|carmen|tum|kitti|csm")
       ->required()
-      ->check(CLI::IsMember({"mcap", "carmen", "tum", "kitti", "csm"}));
-  cli->add_option("--out", flags->out, "output file (mcap, carmen, csm) or directory (tum, kitti)")
+      ->check(oneOf("format", {"mcap", "carmen", "tum", "kitti", "csm"}));
+  cli->add_option("--out", flags->out,
+                  "output file (mcap, carmen, csm) or directory (tum, kitti); an existing one "
+                  "is refused unless --force")
       ->required();
+  cli->add_flag("--force", flags->force,
+                "replace an existing --out; the old one stays until the new is complete");
   cli->add_option("--calibration", flags->calibration,
                   "calibrate --json output for the calibrated odometry (default: "
                   "DATASET/calibration.json if present)");
+  std::vector<std::string> scans = {"scans"};
+  for (auto m : algo::allDeskewMethods()) scans.emplace_back(algo::deskewMethodName(m));
   cli->add_option("--scans", flags->params.scans,
-                  "carmen/csm: 'scans' or a de-skew method (reads deskewed_<method>.jsonl)")
+                  "carmen/csm: 'scans' or a de-skew method (reads deskewed_<method>.jsonl, "
+                  "which `slamprep deskew --out` writes)")
+      ->check(oneOf("scans", scans))
       ->capture_default_str();
   cli->add_option("--chunk-size", flags->params.mcap_chunk_size_bytes,
                   "mcap: bytes per chunk; 0 writes an unchunked file")

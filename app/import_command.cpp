@@ -4,7 +4,9 @@
 #include <numbers>
 #include <sstream>
 
+#include "app/choices.hpp"
 #include "app/commands.hpp"
+#include "app/outputs.hpp"
 #include "core/error.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "eval/formats/import.hpp"
@@ -25,6 +27,7 @@ struct ImportFlags {
   std::string lidar_mount;  // "x,y,yaw_deg"
   std::string nominal;      // "r_L,r_R,b"
   eval::ImportParams params;
+  bool force = false;
 };
 
 /// Comma-separated finite numbers, as many as `names`.
@@ -67,6 +70,8 @@ void printSummary(const eval::ImportSummary& s) {
 }
 
 int runImport(ImportFlags flags) {
+  checkInputFile(flags.input, "PATH");
+  checkOutputDataset(flags.out, "--out", flags.force);
   if (flags.wheel_radius_m > 0)
     flags.geometry.radius_left_m = flags.geometry.radius_right_m = flags.wheel_radius_m;
   if (flags.geometry_given) flags.params.nominal_geometry = flags.geometry;
@@ -97,14 +102,19 @@ int runImport(ImportFlags flags) {
 Command addImportCommand(CLI::App& app) {
   auto flags = std::make_shared<ImportFlags>();
   auto* cli = app.add_subcommand(
-      "import",
-      "Read a CARMEN log or an MCAP ROS 2 bag (LaserScan + Odometry or JointState) into "
-      "a dataset directory.");
+      "import", "Read a CARMEN log or an MCAP ROS 2 bag into a dataset directory.");
+  cli->footer(
+      "An MCAP bag needs a LaserScan topic plus Odometry or JointState (docs/export.md). The\n"
+      "dataset has no ground truth; calibrate, deskew, match and export read it.");
   cli->add_option("--format", flags->format, "carmen|mcap")
       ->required()
-      ->check(CLI::IsMember({"carmen", "mcap"}));
+      ->check(oneOf("format", {"carmen", "mcap"}));
   cli->add_option("PATH", flags->input, "log file")->required();
-  cli->add_option("--out", flags->out, "dataset directory to write")->required();
+  cli->add_option("--out", flags->out,
+                  "dataset directory to write; an existing one is refused unless --force")
+      ->required();
+  cli->add_flag("--force", flags->force,
+                "replace an existing --out dataset; the old one stays until the new is complete");
   // The nominal geometry: any of these flags replaces the log's (CARMEN PARAM lines) or the
   // default; the ones not given keep the default.
   auto& g = flags->geometry;
@@ -154,13 +164,13 @@ Command addImportCommand(CLI::App& app) {
          [flags](const std::string& v) { flags->params.drop_late_stamps = v == "drop"; },
          "carmen: sort (stamps out of order within the tolerance are sorted) or drop (lines "
          "stamped after a later line are dropped, file order kept)")
-      ->check(CLI::IsMember({"sort", "drop"}));
+      ->check(oneOf("out-of-order mode", {"sort", "drop"}));
   cli->add_option("--laser", flags->params.laser,
                   "carmen: ROBOTLASER1|FLASER|RLASER|RAWLASER1..4 (default: the first present)");
   cli->add_option("--odometry", flags->params.odometry,
                   "carmen: odom (ODOM lines) or laser (the laser lines' robot poses); default: "
                   "ODOM when present")
-      ->check(CLI::IsMember({"odom", "laser"}));
+      ->check(oneOf("odometry source", {"odom", "laser"}));
   cli->add_flag("--trim", flags->params.trim, "drop scans the odometry does not cover");
   cli->add_option("--scan-topic", flags->params.scan_topic, "mcap: LaserScan topic");
   cli->add_option("--odom-topic", flags->params.odom_topic, "mcap: Odometry topic");

@@ -5,7 +5,9 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "app/choices.hpp"
 #include "app/commands.hpp"
+#include "app/outputs.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "eval/formats/relations.hpp"
@@ -19,6 +21,7 @@ namespace {
 struct ScoreFlags {
   std::string first, second;  // relations or ground truth; trajectory or estimate
   std::string json_out;
+  bool force = false;
   eval::RelationErrorParams relations;
   std::string align = "rigid";
   eval::ApeParams ape;
@@ -165,7 +168,7 @@ Command addScoreCommand(CLI::App& app) {
     sub->add_option("ESTIMATE", flags->second, "TUM estimate")->required();
   }
   ape->add_option("--align", flags->align, "rigid (evo -a), origin (evo --align_origin) or none")
-      ->check(CLI::IsMember({"rigid", "origin", "none"}))
+      ->check(oneOf("alignment", {"rigid", "origin", "none"}))
       ->capture_default_str();
   ape->add_option("--max-time-difference", flags->ape.max_time_difference_s,
                   "association tolerance (s)")
@@ -175,16 +178,21 @@ Command addScoreCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   rpe->add_option("--unit", flags->unit, "frames or m")
-      ->check(CLI::IsMember({"frames", "m"}))
+      ->check(oneOf("delta unit", {"frames", "m"}))
       ->capture_default_str();
   rpe->add_flag("--all-pairs", flags->rpe.all_pairs, "every start pose, not consecutive segments");
   rpe->add_option("--max-time-difference", flags->rpe.max_time_difference_s,
                   "association tolerance (s)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  for (auto* sub : {rel, ape, rpe})
-    sub->add_option("--json", flags->json_out, "also write the figures as JSON to FILE");
+  for (auto* sub : {rel, ape, rpe}) {
+    sub->add_option("--json", flags->json_out,
+                    "also write the figures as JSON to FILE; an existing one is refused unless "
+                    "--force");
+    sub->add_flag("--force", flags->force, "replace an existing --json file");
+  }
   return {cli, [flags, rel, ape] {
+            if (!flags->json_out.empty()) checkOutputFile(flags->json_out, "--json", flags->force);
             if (rel->parsed()) return runRelations(*flags);
             if (ape->parsed()) return runApe(*flags);
             return runRpe(*flags);

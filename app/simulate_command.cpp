@@ -10,7 +10,9 @@
 #include <numbers>
 #include <sstream>
 
+#include "app/choices.hpp"
 #include "app/commands.hpp"
+#include "app/outputs.hpp"
 #include "core/error.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "sim/drive/simulator.hpp"
@@ -28,6 +30,7 @@ struct SimulateFlags {
   std::uint64_t seed = 0;
   std::vector<std::string> overrides;
   bool quiet = false;
+  bool force = false;
 };
 
 /// Every configuration key with its default, for --help.
@@ -109,6 +112,7 @@ void printSummary(const sim::SimSummary& s, double wall_s, const std::string& ou
 }
 
 int run(const SimulateFlags& flags, const CLI::App& cli) {
+  checkOutputDataset(flags.out, "--out", flags.force);  // before minutes of simulation
   sim::SimConfig config;
   if (!flags.config_file.empty()) config = readConfigFile(flags.config_file);
   if (cli.count("--world")) config.world = flags.world;
@@ -135,15 +139,7 @@ int run(const SimulateFlags& flags, const CLI::App& cli) {
 Command addSimulateCommand(CLI::App& app) {
   auto flags = std::make_shared<SimulateFlags>();
   auto* cli = app.add_subcommand(
-      "simulate",
-      "Simulate a differential-drive robot driving a scenario in a world and write a dataset "
-      "directory (docs/dataset.md) with wheel encoders, IMU, a rotating lidar whose scans are "
-      "distorted by the motion, and exact ground truth: the true pose at every physics step and "
-      "the undistorted point of every beam. Bullet simulates the TRUE wheel geometry; the "
-      "odometry (and the controller) believe a NOMINAL geometry that is wrong by the "
-      "nominal.* fractions. Before simulating, the commanded path is checked against the world: "
-      "a scenario that would leave the free space is an error. Every option has a default, so "
-      "`slamprep simulate --out DIR` runs the default world and scenario.");
+      "simulate", "Simulate a robot in Bullet; write a dataset with exact ground truth.");
   cli->add_option(
       "--world", flags->world,
       "World file (YAML, docs/worlds.md). Default: worlds/room.yaml; relative paths "
@@ -161,7 +157,7 @@ Command addSimulateCommand(CLI::App& app) {
   cli->add_option("--mode", flags->mode,
                   "physics (default): Bullet rigid bodies, motors, contacts, slip. kinematic: "
                   "exact integration of the commanded wheel rates with the true geometry")
-      ->check(CLI::IsMember({"physics", "kinematic"}));
+      ->check(oneOf("mode", {"physics", "kinematic"}));
   cli->add_option("--config", flags->config_file,
                   "JSON configuration applied before the other flags: a configuration object or "
                   "a dataset.json (reruns the configuration a dataset was made with)");
@@ -171,10 +167,21 @@ Command addSimulateCommand(CLI::App& app) {
       ->type_name("KEY=VALUE")
       ->allow_extra_args(false);
   cli->add_option("--out", flags->out,
-                  "Output dataset directory (written atomically; an existing one is replaced)")
+                  "Output dataset directory (written atomically); an existing one is refused "
+                  "unless --force")
       ->required();
+  cli->add_flag("--force", flags->force,
+                "Replace an existing --out dataset; the old one stays until the new is complete");
   cli->add_flag("-q,--quiet", flags->quiet, "No progress output");
-  cli->footer(keysHelp());
+  cli->footer(
+      "Writes a dataset directory (docs/dataset.md) with wheel encoders, IMU, a rotating lidar\n"
+      "whose scans are distorted by the motion, and exact ground truth: the true pose at every\n"
+      "physics step and the undistorted point of every beam. Bullet simulates the TRUE wheel\n"
+      "geometry; the odometry (and the controller) believe a NOMINAL geometry that is wrong by\n"
+      "the nominal.* fractions. Before simulating, the commanded path is checked against the\n"
+      "world: a scenario that would leave the free space is an error. Every option has a\n"
+      "default, so `slamprep simulate --out DIR` runs the default world and scenario.\n\n" +
+      keysHelp());
   return {cli, [flags, cli] { return run(*flags, *cli); }};
 }
 

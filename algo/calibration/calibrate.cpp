@@ -26,10 +26,6 @@ CeresParams ceresParams(const CalibrationParams& params) {
 }
 
 CalibrationRun calibrateUmbmarkRuns(const CalibrationInput& input, const CalibrationParams& p) {
-  if (input.umbmark_runs.empty())
-    return refused(CalibrationMethod::kUmbmark,
-                   "no UMBmark square runs: simulate worlds/scenarios/umbmark_cw.yaml and "
-                   "umbmark_ccw.yaml and pass them (DATASET or --square DIR)");
   UmbmarkParams params = p.umbmark;
   if (input.nominal) params.nominal = *input.nominal;
   return {CalibrationMethod::kUmbmark, calibrateUmbmark(input.umbmark_runs, params), std::nullopt,
@@ -38,14 +34,21 @@ CalibrationRun calibrateUmbmarkRuns(const CalibrationInput& input, const Calibra
 
 }  // namespace
 
+std::optional<std::string> missingInput(CalibrationMethod method, const CalibrationInput& input) {
+  if (method == CalibrationMethod::kDirect && !input.nominal)
+    return "needs the nominal geometry of a dataset (give DATASET with --tuples)";
+  if (method == CalibrationMethod::kUmbmark && input.umbmark_runs.empty())
+    return "no UMBmark square runs: simulate worlds/scenarios/umbmark_cw.yaml and "
+           "umbmark_ccw.yaml and pass them (DATASET or --square DIR)";
+  return std::nullopt;
+}
+
 CalibrationRun calibrate(CalibrationMethod method, const CalibrationInput& input,
                          const CalibrationParams& params) {
+  if (auto reason = missingInput(method, input)) return refused(method, std::move(*reason));
   const auto& intervals = input.intervals;
   switch (method) {
     case CalibrationMethod::kDirect: {
-      if (!input.nominal)
-        return refused(method,
-                       "needs the nominal geometry of a dataset (give DATASET with --tuples)");
       DirectLinearParams direct = params.direct;
       direct.nominal = *input.nominal;
       return {method, calibrateDirectLinear(intervals, direct), std::nullopt, 0.0};

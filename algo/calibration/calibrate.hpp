@@ -3,6 +3,7 @@
 // draw from, one result type, and the best available result (calibration_method.hpp's rule).
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "algo/calibration/calibration_method.hpp"
@@ -42,6 +43,10 @@ struct CalibrationRun {
   std::optional<double> time_offset_s;
   double time_offset_sigma_s = 0.0;
 };
+
+/// Why `method` does not apply to `input` (umbmark without square runs, direct without the
+/// nominal geometry); nullopt when its input is there. calibrate() refuses with this reason.
+std::optional<std::string> missingInput(CalibrationMethod method, const CalibrationInput& input);
 
 /// Runs one method. A method whose input is missing refuses (ok = false, reason says which).
 CalibrationRun calibrate(CalibrationMethod method, const CalibrationInput& input,

@@ -37,7 +37,7 @@ CalibrationMotion calibrationMotion(const Dataset& dataset,
                                     const CalibrationMotionOptions& options) {
   CalibrationMotion motion;
   if (!options.from_icp) {
-    motion.chains.push_back(algo::lidarPosesFromGroundTruth(dataset));
+    motion.chains.push_back(algo::lidarPosesFromGroundTruth(dataset, options.stamp_is_last_beam));
   } else {
     const std::string name = options.deskew != "auto" ? options.deskew
                              : dataset.imu.empty()    ? "odom-linear"
@@ -45,9 +45,13 @@ CalibrationMotion calibrationMotion(const Dataset& dataset,
     const auto method = algo::parseDeskewMethod(name);
     if (!method) throw InputError("--deskew " + options.deskew, "unknown de-skew method");
     std::vector<Points2> points;  // empty: the scans as measured
+    DatasetDeskewOptions deskew = nominalDeskewOptions(dataset);
+    deskew.stamp_is_last_beam = options.stamp_is_last_beam;
     if (*method != algo::DeskewMethod::kNone)
-      points = correctedPoints(deskewDataset(dataset, *method, nominalDeskewOptions(dataset)));
-    motion.matches = algo::matchConsecutiveScans(dataset, {}, points);
+      points = correctedPoints(deskewDataset(dataset, *method, deskew));
+    algo::ScanMotionParams matching;
+    matching.stamp_is_last_beam = options.stamp_is_last_beam;
+    motion.matches = algo::matchConsecutiveScans(dataset, matching, points);
     algo::MatchChains chained = algo::chainMatches(motion.matches);
     motion.chains = std::move(chained.chains);
     motion.failed_matches = chained.failed_matches;
@@ -83,7 +87,15 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params) {
     }
   }
   input.intervals = out.intervals.intervals;
-  out.runs = algo::calibrate(methods, input, params.params);
+  std::vector<algo::CalibrationMethod> applicable;
+  for (const algo::CalibrationMethod m : methods) {
+    const auto missing = params.only_applicable ? algo::missingInput(m, input) : std::nullopt;
+    if (missing)
+      out.not_applicable.push_back({m, *missing});
+    else
+      applicable.push_back(m);
+  }
+  out.runs = algo::calibrate(applicable, input, params.params);
   return out;
 }
 

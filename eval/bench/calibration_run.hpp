@@ -21,6 +21,7 @@ struct CalibrationMotionOptions {
   /// geometry biased the mount yaw by 0.12 deg on 3 minutes of driving; imu: 0.02 deg), else
   /// odom-linear. "none": raw scans, biased by the distortion itself.
   std::string deskew = "auto";
+  bool stamp_is_last_beam = false;  ///< the scans' stamps mark their last beam
   algo::IntervalParams intervals;
 };
 
@@ -46,11 +47,21 @@ struct DatasetCalibrationParams {
   std::vector<std::string> squares;
   CalibrationMotionOptions motion;
   algo::CalibrationParams params;
+  /// Run only the methods whose input is there (`--method all`); the others are listed in
+  /// DatasetCalibration::not_applicable instead of refusing.
+  bool only_applicable = false;
+};
+
+/// A method left out because the data lacks its input (algo::missingInput).
+struct NotApplicable {
+  algo::CalibrationMethod method;
+  std::string reason;
 };
 
 struct DatasetCalibration {
-  std::vector<algo::CalibrationRun> runs;  ///< one per method, in the order asked
-  algo::IntervalSet intervals;             ///< what the interval methods used, what was dropped
+  std::vector<algo::CalibrationRun> runs;     ///< one per method run, in the order asked
+  std::vector<NotApplicable> not_applicable;  ///< with only_applicable: the methods left out
+  algo::IntervalSet intervals;                ///< what the interval methods used, what was dropped
   bool from_motion = false;  ///< the intervals were cut from the dataset's motion (no tuples)
   int failed_matches = 0;    ///< scan matches that broke a chain
   std::optional<algo::CalibrationTruth> truth;  ///< when the dataset knows its true geometry

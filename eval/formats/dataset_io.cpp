@@ -40,20 +40,16 @@ void syncDirectory(const fs::path& dir) {
   ::close(fd);
 }
 
-bool replaceable(const fs::path& dir) {
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) return false;
-  return fs::is_empty(dir, ec) || fs::exists(dir / kDatasetJson, ec);
-}
-
 // Moves the complete `partial` onto `dir`; the old dataset (if any) is deleted afterwards.
-void publish(const fs::path& partial, const fs::path& dir) {
+void publish(const fs::path& partial, const fs::path& dir,
+             const ReplaceableDirectory& replaceable) {
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(dir, ec))) {
     if (::rename(partial.c_str(), dir.c_str()) != 0) systemError(dir, "cannot rename into place");
     return;
   }
-  if (!replaceable(dir))
+  std::error_code dir_ec;
+  if (!fs::is_directory(dir, dir_ec) || !replaceable(dir))
     throw InputError(dir.string(),
                      "exists and is not a dataset directory (no dataset.json); refusing to "
                      "replace it");
@@ -77,13 +73,20 @@ void publish(const fs::path& partial, const fs::path& dir) {
 
 }  // namespace
 
+bool isReplaceableDataset(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return false;
+  return fs::is_empty(dir, ec) || fs::exists(dir / kDatasetJson, ec);
+}
+
 fs::path partialDirectory(const fs::path& dir) {
   const fs::path target = withoutTrailingSlash(dir);
   return target.string() + ".partial-" + std::to_string(::getpid());
 }
 
 void publishDirectoryAtomically(const fs::path& dir,
-                                const std::function<void(const fs::path&)>& fill) {
+                                const std::function<void(const fs::path&)>& fill,
+                                const ReplaceableDirectory& replaceable) {
   const fs::path target = withoutTrailingSlash(dir);
   const fs::path partial = partialDirectory(target);
   std::error_code ec;
@@ -97,7 +100,7 @@ void publishDirectoryAtomically(const fs::path& dir,
   try {
     fill(partial);
     syncDirectory(partial);
-    publish(partial, target);
+    publish(partial, target, replaceable);
     syncDirectory(target.parent_path());
   } catch (...) {
     fs::remove_all(partial, ec);
@@ -148,25 +151,32 @@ void checkScansCovered(const Dataset& d, const std::vector<std::size_t>& scan_li
   }
 }
 
-}  // namespace
-
-void writeDataset(const std::filesystem::path& dir, const Dataset& dataset) {
-  // What readDataset would refuse is not published: scan k goes to line k + 1 of scans.jsonl.
+// What readDataset would refuse is not written: scan k goes to line k + 1 of scans.jsonl.
+void checkWritable(const Dataset& dataset, const std::filesystem::path& named_as) {
   std::vector<std::size_t> scan_lines(dataset.scans.size());
   for (std::size_t k = 0; k < scan_lines.size(); ++k) scan_lines[k] = k + 1;
-  checkScansCovered(dataset, scan_lines, (dir / kScansJsonl).string());
-  publishDirectoryAtomically(dir, [&](const std::filesystem::path& partial) {
-    // Errors name the final path: that is the file the user asked for.
-    const std::filesystem::path target = dir;
-    auto name = [&](const char* file) { return (target / file).string(); };
-    writeTextFile(partial / kDatasetJson, formatDatasetInfo(dataset.info, name(kDatasetJson)));
-    writeTextFile(partial / kGroundTruthTum, formatTum(dataset.groundtruth, name(kGroundTruthTum)));
-    writeTextFile(partial / kOdomNominalTum,
-                  formatTum(dataset.odom_nominal, name(kOdomNominalTum)));
-    writeTextFile(partial / kEncodersCsv, formatEncoders(dataset.encoders, name(kEncodersCsv)));
-    writeTextFile(partial / kImuCsv, formatImu(dataset.imu, name(kImuCsv)));
-    writeTextFile(partial / kScansJsonl, formatScans(dataset.scans, name(kScansJsonl)));
-  });
+  checkScansCovered(dataset, scan_lines, (named_as / kScansJsonl).string());
+}
+
+}  // namespace
+
+void writeDatasetFiles(const std::filesystem::path& dir, const Dataset& dataset,
+                       const std::filesystem::path& named_as) {
+  checkWritable(dataset, named_as);
+  // Errors name the final path: that is the file the user asked for.
+  auto name = [&](const char* file) { return (named_as / file).string(); };
+  writeTextFile(dir / kDatasetJson, formatDatasetInfo(dataset.info, name(kDatasetJson)));
+  writeTextFile(dir / kGroundTruthTum, formatTum(dataset.groundtruth, name(kGroundTruthTum)));
+  writeTextFile(dir / kOdomNominalTum, formatTum(dataset.odom_nominal, name(kOdomNominalTum)));
+  writeTextFile(dir / kEncodersCsv, formatEncoders(dataset.encoders, name(kEncodersCsv)));
+  writeTextFile(dir / kImuCsv, formatImu(dataset.imu, name(kImuCsv)));
+  writeTextFile(dir / kScansJsonl, formatScans(dataset.scans, name(kScansJsonl)));
+}
+
+void writeDataset(const std::filesystem::path& dir, const Dataset& dataset) {
+  checkWritable(dataset, dir);  // before the partial directory exists
+  publishDirectoryAtomically(
+      dir, [&](const std::filesystem::path& partial) { writeDatasetFiles(partial, dataset, dir); });
 }
 
 Dataset readDataset(const std::filesystem::path& dir) {

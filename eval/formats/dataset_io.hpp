@@ -12,6 +12,11 @@ namespace slamprep::eval {
 /// Writes `dataset` to `dir` atomically: into a temporary sibling first, renamed when complete.
 void writeDataset(const std::filesystem::path& dir, const Dataset& dataset);
 
+/// Writes the dataset's files into the existing directory `dir` (e.g. the partial directory of
+/// publishDirectoryAtomically, with more files beside them); messages name `named_as`.
+void writeDatasetFiles(const std::filesystem::path& dir, const Dataset& dataset,
+                       const std::filesystem::path& named_as);
+
 /// Reads a dataset directory. Throws InputError naming file, line and field on malformed input.
 Dataset readDataset(const std::filesystem::path& dir);
 
@@ -25,11 +30,18 @@ inline constexpr const char* kScansJsonl = "scans.jsonl";
 /// `<dir>.partial-<pid>`: the sibling a directory is written into before it is published.
 std::filesystem::path partialDirectory(const std::filesystem::path& dir);
 
+/// Whether an existing directory may be replaced by a new one.
+using ReplaceableDirectory = std::function<bool(const std::filesystem::path&)>;
+
+/// The default rule: an empty directory or one that holds a dataset.json.
+bool isReplaceableDataset(const std::filesystem::path& dir);
+
 /// Creates the partial sibling of `dir`, lets `fill(partial_dir)` write into it, then renames it
-/// onto `dir`. An existing `dir` is replaced only when it is empty or holds a dataset.json (it is
-/// swapped atomically with renameat2(RENAME_EXCHANGE) where the filesystem supports it). On any
-/// exception the partial directory is removed and the exception propagates; `dir` is untouched.
+/// onto `dir`. An existing `dir` is replaced only when `replaceable(dir)` (it is swapped
+/// atomically with renameat2(RENAME_EXCHANGE) where the filesystem supports it). On any exception
+/// the partial directory is removed and the exception propagates; `dir` is untouched.
 void publishDirectoryAtomically(const std::filesystem::path& dir,
-                                const std::function<void(const std::filesystem::path&)>& fill);
+                                const std::function<void(const std::filesystem::path&)>& fill,
+                                const ReplaceableDirectory& replaceable = isReplaceableDataset);
 
 }  // namespace slamprep::eval

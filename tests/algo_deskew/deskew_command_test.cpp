@@ -58,14 +58,17 @@ class DeskewCommand : public ::testing::Test {
 
 TEST_F(DeskewCommand, AllMethodsWriteScansAndJson) {
   const fs::path json = dir() / "deskew.json";
-  const CliRun r = cli("deskew " + data() + " --method all --json " + json.string());
+  const fs::path out = dir() / "deskewed";
+  const CliRun r = cli("deskew " + data() + " --method all --force --json " + json.string() +
+                       " --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(slurp(json));
   ASSERT_EQ(j.size(), 8u);  // every method: the dataset has truth, so the oracle too
   for (const auto& m : j) {
     for (const char* key : {"method", "mean_m", "rms_m", "p95_m", "max_m", "beams", "seconds"})
       EXPECT_TRUE(m.contains(key)) << key;
-    EXPECT_TRUE(
+    EXPECT_TRUE(fs::exists(out / ("deskewed_" + m["method"].get<std::string>() + ".jsonl")));
+    EXPECT_FALSE(
         fs::exists(dir() / "data" / ("deskewed_" + m["method"].get<std::string>() + ".jsonl")));
     EXPECT_EQ(m["refused"], 0);
   }
@@ -82,15 +85,15 @@ TEST_F(DeskewCommand, AllMethodsWriteScansAndJson) {
     return out;
   };
   const auto scans = lines(dir() / "data" / "scans.jsonl");
-  const auto deskewed = lines(dir() / "data" / "deskewed_odom-linear.jsonl");
+  const auto deskewed = lines(out / "deskewed_odom-linear.jsonl");
   ASSERT_EQ(scans.size(), deskewed.size());
   EXPECT_EQ(nlohmann::json::parse(deskewed[3])["time_increment"], 0.0);
 }
 
 TEST_F(DeskewCommand, MatchWritesOneLinePerPair) {
-  const CliRun r = cli("match " + data());
+  const CliRun r = cli("match " + data() + " --force --out " + (dir() / "matches.jsonl").string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::ifstream in(dir() / "data" / "matches.jsonl");
+  std::ifstream in(dir() / "matches.jsonl");
   std::string line;
   int n = 0;
   while (std::getline(in, line)) {
@@ -109,16 +112,17 @@ TEST_F(DeskewCommand, BadInputNamesTheProblem) {
   EXPECT_NE(r.err.find("missing"), std::string::npos) << r.err;
   std::ofstream(dir() / "cal.json")
       << R"([{"method": "model", "ok": true, "r_L": 0, "r_R": 0.1, "b": 0.5}])";
-  r = cli("deskew " + data() + " --no-write --geometry " + (dir() / "cal.json").string());
+  r = cli("deskew " + data() + " --calibration " + (dir() / "cal.json").string());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("r_L"), std::string::npos) << r.err;
   std::ofstream(dir() / "cal2.json")
       << R"([{"method": "x", "ok": true, "r_L": 0.1, "r_R": 0.1, "b": 0.5}])";
-  r = cli("deskew " + data() + " --no-write --geometry " + (dir() / "cal2.json").string());
+  r = cli("deskew " + data() + " --calibration " + (dir() / "cal2.json").string());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("[0].method"), std::string::npos) << r.err;
   r = cli("deskew " + data() + " --method linear");
-  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("did you mean 'odom-linear'?"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -1,0 +1,31 @@
+#pragma once
+// Named choices on the command line (--method, --format, commands): an unknown name is answered
+// with the valid ones and the closest of them, so a typo costs one more try, not a docs search.
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace slamprep::app {
+
+/// Edit distance with adjacent transpositions (optimal string alignment): "cerse" -> "ceres" is 1.
+std::size_t editDistance(const std::string& a, const std::string& b);
+
+/// The valid name a typo most likely meant: the nearest by editDistance() when it is within a
+/// third of the longer name (at least 2), else the one valid name that contains the typed text
+/// ("calib" -> "calibrate", "linear" -> "odom-linear").
+std::optional<std::string> closestName(const std::string& typed,
+                                       const std::vector<std::string>& valid);
+
+/// "unknown method 'cerse' (valid: direct, model, ...); did you mean 'ceres'?"
+std::string unknownChoice(const std::string& what, const std::string& typed,
+                          const std::vector<std::string>& valid);
+
+/// A CLI11 check that accepts exactly `valid` and otherwise fails with unknownChoice().
+CLI::Validator oneOf(const std::string& what, std::vector<std::string> valid);
+
+/// "a|b|c", for option help.
+std::string joined(const std::vector<std::string>& names, const std::string& separator = "|");
+
+}  // namespace slamprep::app

@@ -1,0 +1,112 @@
+#!/bin/bash
+# The exit-code table of the README, command by command: 0 done, 2 bad input or usage (CLI11's
+# parse errors included), 3 the requested work could not be done, 1 internal error.
+source "$(dirname "$0")/cli_lib.sh"
+internal() { SLAMPREP_TEST_INTERNAL_ERROR=1 expect 1 "$@"; err_has "internal error"; }
+
+# The top level.
+expect 2
+err_has "commands:"
+expect 2 calib
+expect 0 --version
+expect 0 --help
+expect 2 --no-such-flag
+
+# simulate: 0, 2 (a CLI11 check, a missing option, an unknown option, a bad --set), 1.
+sim=$dir/sim
+simulate_arc "$sim"
+expect 2 simulate --mode kinematc --out "$dir/x"
+expect 2 simulate --quiet
+err_has "--out is required"
+expect 2 simulate --durat 3 --out "$dir/x"
+expect 2 simulate --set lidar.rat_hz=5 --out "$dir/x"
+internal simulate --out "$dir/x"
+[ ! -e "$dir/x" ] || fail "a refused simulate wrote $dir/x"
+
+# export: 0, 2, 1.
+expect 0 export "$sim" --format carmen --out "$dir/sim.carmen"
+expect 2 export "$sim" --format carmn --out "$dir/y.carmen"
+expect 2 export "$sim" --format carmen
+expect 2 export "$dir/nowhere" --format carmen --out "$dir/y.carmen"
+internal export "$sim" --format carmen --out "$dir/y.carmen"
+
+# import: 0 (a log without ground truth, like a real one), 2, 1.
+real=$dir/real
+expect 0 import --format carmen "$dir/sim.carmen" --out "$real"
+expect 2 import --format mcp "$dir/sim.carmen" --out "$dir/z"
+expect 2 import --format carmen "$dir/nowhere.log" --out "$dir/z"
+expect 2 import --format carmen "$dir/sim.carmen" --out "$dir/z" --lidar-mount 1,2
+internal import --format carmen "$dir/sim.carmen" --out "$dir/z"
+
+# deskew: 0, 3 (the only method asked for does not apply), 2, 1.
+expect 0 deskew "$sim" --method odom-linear
+expect 0 deskew "$real" --method all
+out_has "not applicable: no ground truth"
+expect 3 deskew "$real" --method oracle
+expect 2 deskew "$sim" --method linear
+expect 2 deskew "$sim" --metod all
+expect 2 deskew "$real" --geometry true
+internal deskew "$sim"
+
+# match: 0, 3 (no pair converges when every beam misses), 2, 1.
+expect 0 match "$sim"
+"$slamprep" simulate --scenario worlds/scenarios/arc.yaml --duration 1 --mode kinematic --quiet \
+  --set lidar.range_max_m=0.1 --out "$dir/blind" >/dev/null || fail "simulate blind"
+expect 3 match "$dir/blind"
+expect 2 match "$dir/nowhere"
+expect 2 match "$sim" --deskew vic
+internal match "$sim"
+
+# calibrate: 0 on the figure eight with every interval method ok (umbmark does not apply: not
+# asked), 3 when the one method asked for refuses or with --strict, 2, 1.
+fig8=$dir/fig8
+"$slamprep" simulate --scenario worlds/scenarios/figure_eight.yaml --mode kinematic --quiet \
+  --out "$fig8" >/dev/null || fail "simulate figure eight"
+expect 0 calibrate "$fig8" --motion groundtruth
+out_has "umbmark: not applicable"
+expect 3 calibrate "$fig8" --motion groundtruth --method umbmark
+expect 3 calibrate "$sim" --motion groundtruth --method joint
+expect 3 calibrate "$sim" --motion groundtruth --strict
+expect 2 calibrate "$fig8" --method cerse
+expect 2 calibrate "$fig8" --methd joint
+expect 2 calibrate "$fig8" --deskew foo
+expect 2 calibrate "$dir/nowhere"
+internal calibrate "$fig8"
+
+# bench, merge, plot on a two-trial suite: 0, 3 (a shard missing, a regression), 2, 1.
+cat >"$dir/tiny.yaml" <<YAML
+name: tiny
+description: Two short kinematic arcs.
+worlds: [worlds/room.yaml]
+scenarios: [worlds/scenarios/arc.yaml]
+mode: kinematic
+duration_s: 1
+seeds: 2
+calibration_methods: []
+deskew_methods: [none, odom-linear]
+tolerances:
+  deskew/odom-linear/mean_m: {abs: 0.001}
+YAML
+echo '{}' >"$dir/empty-baseline.json"
+expect 0 bench --suite "$dir/tiny.yaml" --results "$dir/half" --quiet --no-plots --shard 1/2
+expect 3 merge "$dir/half/tiny" --no-plots
+expect 0 bench --suite "$dir/tiny.yaml" --results "$dir/res" --quiet --no-plots
+expect 3 bench --suite "$dir/tiny.yaml" --results "$dir/res" --quiet --no-plots \
+  --compare "$dir/empty-baseline.json"
+expect 2 bench --suite no-such-suite --results "$dir/res"
+expect 2 bench --suite "$dir/tiny.yaml" --results "$dir/res" --compare "$dir/nowhere.json"
+err_has "--compare $dir/nowhere.json"
+expect 2 bench --suite "$dir/tiny.yaml" --slurm --compare "$dir/empty-baseline.json"
+err_has "cannot be combined with --shard, --fresh, --compare"
+expect 2 bench --suite "$dir/tiny.yaml" --jobs many
+internal bench --suite "$dir/tiny.yaml" --results "$dir/res"
+expect 0 bench --suite "$dir/tiny.yaml" --results "$dir/half" --quiet --no-plots --shard 2/2
+expect 0 merge "$dir/half/tiny" --no-plots
+expect 2 merge "$dir/nowhere"
+expect 2 merge
+internal merge "$dir/half/tiny"
+expect 0 plot "$dir/res/tiny"
+expect 2 plot "$dir/nowhere"
+expect 2 plot "$dir/res/tiny" --bogus
+internal plot "$dir/res/tiny"
+echo "exit codes ok"
