@@ -151,8 +151,8 @@ Command addImportCommand(CLI::App& app) {
   cli->add_option("--nominal", flags->nominal,
                   "r_L,r_R,b: nominal wheel radii and base (m), instead of the --wheel-* flags");
   cli->add_option("--lidar-mount", flags->lidar_mount,
-                  "x,y,yaw_deg of the lidar on the base (m, m, degrees; default: from the log, "
-                  "else 0,0,0)");
+                  "x,y,yaw_deg of the lidar on the base: metres, metres, degrees (default: from "
+                  "the log, else 0,0,0)");
   cli->add_flag("--lidar-mount-from-poses", flags->params.lidar_mount_from_poses,
                 "carmen: without --lidar-mount or a mount PARAM, take robot_pose^-1 laser_pose");
   cli->add_option("--reorder-tolerance", flags->params.reorder_tolerance_s,

@@ -112,10 +112,13 @@ TEST_F(ScoreCommand, ApeAndRpeOfAShiftedCopy) {
   auto j = nlohmann::json::parse(slurp(json));
   EXPECT_EQ(j["matched"], 11);
   EXPECT_NEAR(j["translation_m"]["mean"].get<double>(), 0.25, 1e-12);
-  r = cli("score ape " + gt + " " + est + " --json " + json);  // rigid alignment removes it
+  r = cli("score ape " + gt + " " + est + " --json " + json);  // an existing --json: refused
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;
+  r = cli("score ape " + gt + " " + est + " --force --json " + json);  // rigid alignment removes it
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_LT(nlohmann::json::parse(slurp(json))["translation_m"]["max"].get<double>(), 1e-9);
-  r = cli("score rpe " + gt + " " + est + " --delta 2 --json " + json);
+  r = cli("score rpe " + gt + " " + est + " --delta 2 --force --json " + json);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   j = nlohmann::json::parse(slurp(json));
   EXPECT_EQ(j["pairs"], 5);  // (0,2) (2,4) ... (8,10)
