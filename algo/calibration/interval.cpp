@@ -54,13 +54,8 @@ double CalibrationInterval::sumRight_rad() const {
 }
 
 SE2 integrateInterval(const CalibrationInterval& interval, const DiffDriveParams& geometry) {
-  return toSE2(integrateSteps(interval.steps, geometry.radius_left_m, geometry.radius_right_m,
-                              geometry.wheel_base_m));
-}
-
-SE2 predictLidarMotion(const CalibrationInterval& interval, const DiffDriveParams& geometry,
-                       const SE2& T_base_lidar) {
-  return toSE2(lidarMotion(toPose2(integrateInterval(interval, geometry)), toPose2(T_base_lidar)));
+  return integrateSteps(interval.steps, geometry.radius_left_m, geometry.radius_right_m,
+                        geometry.wheel_base_m);
 }
 
 std::vector<EncoderStep> encoderStepsBetween(const EncoderLog& encoders, int ticks_per_revolution,

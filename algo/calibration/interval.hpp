@@ -36,10 +36,6 @@ struct CalibrationInterval {
 /// Base motion T_baseStart_baseEnd over an interval with a given geometry (exact arcs).
 SE2 integrateInterval(const CalibrationInterval& interval, const DiffDriveParams& geometry);
 
-/// Lidar motion predicted by geometry and mount: T_base_lidar^-1 * o * T_base_lidar.
-SE2 predictLidarMotion(const CalibrationInterval& interval, const DiffDriveParams& geometry,
-                       const SE2& T_base_lidar);
-
 /// How intervals are cut from a log.
 struct IntervalParams {
   /// Start a new interval once the lidar moved this far from the keyframe (0: every pose).

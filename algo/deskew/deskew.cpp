@@ -69,7 +69,6 @@ Trajectory lidarKnots(const PoseSeries& poses, const SE2& T_base_lidar, const Sc
     throw Refusal{*warning};
   const auto b0 = poses.bracket(t.first_s), b1 = poses.bracket(t.last_s);
   const std::size_t end = poses.size() == 1 ? 0 : std::min(b1->index + 1, poses.size() - 1);
-  const Rigid2 T_bl = Rigid2::from(T_base_lidar);
   Trajectory knots;
   knots.reserve(end - b0->index + 1);
   for (std::size_t k = b0->index; k <= end; ++k) {
@@ -79,16 +78,16 @@ Trajectory lidarKnots(const PoseSeries& poses, const SE2& T_base_lidar, const Sc
                     " s at t = " + fmt(poses[k - 1].stamp_s) +
                     " inside the scan (max_sample_gap_s = " + fmt(max_gap_s) +
                     "); refused, not interpolated across"};
-    knots.push_back({poses[k].stamp_s, Rigid2::from(poses[k].value) * T_bl});
+    knots.push_back({poses[k].stamp_s, poses[k].value * T_base_lidar});
   }
   return knots;
 }
 
 /// Constant twist over the scan: T_Lref_L(t) = exp(twist (t - t_ref)), as two knots.
 Trajectory constantTwistKnots(const Eigen::Vector3d& twist_per_s, const ScanTimes& t) {
-  Trajectory knots{{t.first_s, Rigid2::exp(twist_per_s * (t.first_s - t.ref_s))}};
+  Trajectory knots{{t.first_s, SE2::exp(twist_per_s * (t.first_s - t.ref_s))}};
   if (t.last_s > t.first_s)
-    knots.push_back({t.last_s, Rigid2::exp(twist_per_s * (t.last_s - t.ref_s))});
+    knots.push_back({t.last_s, SE2::exp(twist_per_s * (t.last_s - t.ref_s))});
   return knots;
 }
 
@@ -100,7 +99,7 @@ Trajectory quadraticKnots(const PoseSeries& odometry, const SE2& T_base_lidar, c
                           int pieces) {
   const double tau_e = t.last_s - t.first_s, t_m = 0.5 * (t.first_s + t.last_s);
   const SE2 p_s = *odometry.at(t.first_s);
-  if (tau_e <= 0.0) return {{t.first_s, Rigid2::from(p_s * T_base_lidar)}};  // a single beam
+  if (tau_e <= 0.0) return {{t.first_s, p_s * T_base_lidar}};  // a single beam
   const Eigen::Vector3d q_m = between(p_s, *odometry.at(t_m)).vector();
   const Eigen::Vector3d q_e = between(p_s, *odometry.at(t.last_s)).vector();
   const Eigen::Vector3d A = 2.0 * (q_e - 2.0 * q_m) / (tau_e * tau_e);
@@ -110,7 +109,7 @@ Trajectory quadraticKnots(const PoseSeries& odometry, const SE2& T_base_lidar, c
   for (int j = 0; j <= k; ++j) {
     const double tau = tau_e * j / k;
     const Eigen::Vector3d q = A * tau * tau + B * tau;
-    knots.push_back({t.first_s + tau, Rigid2::from(p_s * SE2(q.x(), q.y(), q.z()) * T_base_lidar)});
+    knots.push_back({t.first_s + tau, p_s * SE2(q.x(), q.y(), q.z()) * T_base_lidar});
   }
   return knots;
 }
@@ -140,20 +139,19 @@ Trajectory imuKnots(const ImuLog& imu, const Trajectory& odometry, const SE2& T_
   for (auto it = after_first; it != after_last; ++it)
     if (it->stamp_s > t.first_s) samples.emplace_back(it->stamp_s, it->gyro_z_radps);
   if (t.last_s > samples.back().first) samples.emplace_back(t.last_s, gyroAt(after_last, t.last_s));
-  const Rigid2 T_bl = Rigid2::from(T_base_lidar);
   Trajectory knots;
   knots.reserve(samples.size());
-  Rigid2 T_base;
-  Rigid2 odom_prev = poseAt(odometry, samples[0].first);
-  knots.push_back({samples[0].first, T_base * T_bl});
+  SE2 T_base0_base;
+  SE2 T_odom_prev = poseAt(odometry, samples[0].first);
+  knots.push_back({samples[0].first, T_base0_base * T_base_lidar});
   for (std::size_t k = 1; k < samples.size(); ++k) {
-    const Rigid2 odom = poseAt(odometry, samples[k].first);
-    const Eigen::Vector3d rho = (odom_prev.inverse() * odom).log();
+    const SE2 T_odom_base = poseAt(odometry, samples[k].first);
+    const Eigen::Vector3d rho = between(T_odom_prev, T_odom_base).log();
     const double dtheta = 0.5 * (samples[k - 1].second + samples[k].second) *
                           (samples[k].first - samples[k - 1].first);
-    T_base = T_base * Rigid2::exp({rho.x(), rho.y(), dtheta});
-    knots.push_back({samples[k].first, T_base * T_bl});
-    odom_prev = odom;
+    T_base0_base = T_base0_base * SE2::exp({rho.x(), rho.y(), dtheta});
+    knots.push_back({samples[k].first, T_base0_base * T_base_lidar});
+    T_odom_prev = T_odom_base;
   }
   return knots;
 }
@@ -185,7 +183,7 @@ struct CorrectedScan {
 Trajectory correctedKnots(const CorrectedScan& s, const Eigen::Vector3d& eps) {
   if (s.base.size() == 1) return constantTwistKnots(eps, s.t);
   Trajectory knots = s.base;
-  for (Knot& k : knots) k.T = k.T * Rigid2::exp(eps * (k.stamp_s - s.t.first_s));
+  for (Knot& k : knots) k.T = k.T * SE2::exp(eps * (k.stamp_s - s.t.first_s));
   return knots;
 }
 
@@ -249,7 +247,7 @@ ScanTimes previousTimes(const PreviousScan& prev) {
 }
 
 Trajectory identityKnot(double t) {
-  return {{t, Rigid2{}}};
+  return {{t, SE2()}};
 }
 
 /// VICP: a constant twist over both scans, estimated jointly with the match.
@@ -485,7 +483,7 @@ DeskewResult deskew(DeskewMethod method, const DeskewInput& in, const DeskewPara
     result.T_ref_lidar = methodKnots(method, in, t, params, result);
     transformBeams(scan, t.first_s, result.T_ref_lidar, result.p_ref);
     // The first-beam frame seen from the reference frame is the knots' value at t_first.
-    result.T_first_ref = poseAt(result.T_ref_lidar, t.first_s).inverse().toSE2();
+    result.T_first_ref = poseAt(result.T_ref_lidar, t.first_s).inverse();
   } catch (const Refusal& refusal) {
     result.p_ref.clear();
     result.T_ref_lidar.clear();

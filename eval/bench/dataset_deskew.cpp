@@ -38,7 +38,7 @@ std::vector<SE2> beamPoseErrors(const Dataset& dataset, const ScanRecord& record
     const auto T_w_beam = dataset.groundtruth.at(t_i);
     if (!T_w_beam) return {};
     const SE2 T_ref_beam_true = T_lidarref_w * (*T_w_beam * l);
-    out[i] = beamPoseError(algo::poseAt(result.T_ref_lidar, t_i).toSE2(), T_ref_beam_true);
+    out[i] = beamPoseError(algo::poseAt(result.T_ref_lidar, t_i), T_ref_beam_true);
   }
   return out;
 }
