@@ -127,7 +127,7 @@ MethodRun runMethod(algo::DeskewMethod method, const Dataset& d, const PoseSerie
   options.T_base_lidar = geometry.T_base_lidar;
   options.reference = *algo::parseReferenceTime(flags.reference);
   options.stamp_is_last_beam = flags.stamp_is_last_beam;
-  options.params.deskew.quadratic_pieces = flags.quadratic_pieces;
+  options.params.quadratic_pieces = flags.quadratic_pieces;
   if (!flags.window.empty()) {
     options.measure_from_s = flags.window[0];
     options.measure_to_s = flags.window[1];

@@ -103,7 +103,7 @@ UnitOdometry unitOdometry(const CalibrationInterval& interval, double J21, doubl
     const double dth = J21 * step.dphi_left_rad + J22 * step.dphi_right_rad;
     const double ds_per_b = 0.5 * (-J21 * step.dphi_left_rad + J22 * step.dphi_right_rad);
     const double c = std::cos(out.o_th), s = std::sin(out.o_th);
-    const Eigen::Vector2d local(ds_per_b * sincOf(dth), ds_per_b * coscOf(dth));
+    const Eigen::Vector2d local(ds_per_b * sinc(dth), ds_per_b * cosc(dth));
     out.c += Eigen::Vector2d(c * local.x() - s * local.y(), s * local.x() + c * local.y());
     out.o_th += dth;
   }

@@ -21,12 +21,11 @@ struct IntervalResidual {
 
   template <typename T>
   bool operator()(const T* p, const T* offset, T* residual) const {
-    const Pose2<T> o = integrateStepsShifted(interval->steps, p[0], p[1], p[2], offset[0]);
-    const Pose2<T> pred = lidarMotion(o, Pose2<T>{p[3], p[4], p[5]});
-    const SE2& s = interval->T_lidarStart_lidarEnd;
-    const Pose2<T> err = compose(inverse(pred), Pose2<T>{T(s.x), T(s.y), T(s.yaw)});
-    logOf(err, residual);
-    for (int i = 0; i < 3; ++i) residual[i] *= inv_sigma(i);
+    const SE2T<T> o = integrateStepsShifted(interval->steps, p[0], p[1], p[2], offset[0]);
+    const SE2T<T> pred = lidarMotion(o, SE2T<T>(p[3], p[4], p[5]));
+    const SE2T<T> err = between(pred, interval->T_lidarStart_lidarEnd.template cast<T>());
+    const Eigen::Matrix<T, 3, 1> xi = err.log();
+    for (int i = 0; i < 3; ++i) residual[i] = xi(i) * inv_sigma(i);
     return true;
   }
 };

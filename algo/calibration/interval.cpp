@@ -54,8 +54,8 @@ double CalibrationInterval::sumRight_rad() const {
 }
 
 SE2 integrateInterval(const CalibrationInterval& interval, const DiffDriveParams& geometry) {
-  return toSE2(integrateSteps(interval.steps, geometry.radius_left_m, geometry.radius_right_m,
-                              geometry.wheel_base_m));
+  return integrateSteps(interval.steps, geometry.radius_left_m, geometry.radius_right_m,
+                        geometry.wheel_base_m);
 }
 
 std::vector<EncoderStep> encoderStepsBetween(const EncoderLog& encoders, int ticks_per_revolution,

@@ -7,29 +7,21 @@
 namespace slamprep::algo {
 namespace {
 
-// sin(t)/t and (1 - cos t)/t with series near 0, as core/se2.cpp does.
-double sinc(double t) {
-  return std::abs(t) < 1e-4 ? 1.0 - t * t / 6.0 : std::sin(t) / t;
-}
-double cosc(double t) {
-  return std::abs(t) < 1e-4 ? t / 2.0 - t * t * t / 24.0 : (1.0 - std::cos(t)) / t;
-}
-
 constexpr std::size_t kReanchorEvery = 64;
 
 /// Knot k to knot k+1: start pose and twist per second.
 struct Segment {
-  Rigid2 T_start;
+  SE2 T_x_start;
   double t_start = 0.0;
   Eigen::Vector3d twist_per_s = Eigen::Vector3d::Zero();
 
-  Rigid2 at(double t) const { return T_start * Rigid2::exp(twist_per_s * (t - t_start)); }
+  SE2 at(double t) const { return T_x_start * SE2::exp(twist_per_s * (t - t_start)); }
 };
 
 Segment segment(const Trajectory& knots, std::size_t k) {
   const Knot& a = knots[k];
   const Knot& b = knots[k + 1];
-  return {a.T, a.stamp_s, (a.T.inverse() * b.T).log() / (b.stamp_s - a.stamp_s)};
+  return {a.T, a.stamp_s, between(a.T, b.T).log() / (b.stamp_s - a.stamp_s)};
 }
 
 /// Segment index for t: the last k with stamp_k <= t, clamped to [0, size - 2].
@@ -40,46 +32,38 @@ std::size_t segmentIndex(const Trajectory& knots, double t) {
   return std::min(i, knots.size() - 2);
 }
 
+/// The kernel's working form of a pose: the cosine and sine of its yaw kept, so that advancing
+/// by one beam is a product of 2x2 rotations with no trigonometry and no angle wrapping.
+struct CosSinPose {
+  double c = 1.0, s = 0.0, x = 0.0, y = 0.0;
+
+  static CosSinPose from(const SE2& T) { return {std::cos(T.yaw), std::sin(T.yaw), T.x, T.y}; }
+  CosSinPose operator*(const CosSinPose& b) const {
+    return {c * b.c - s * b.s, s * b.c + c * b.s, c * b.x - s * b.y + x, s * b.x + c * b.y + y};
+  }
+  Eigen::Vector2d apply(double px, double py) const {
+    return {c * px - s * py + x, s * px + c * py + y};
+  }
+};
+
 }  // namespace
-
-Rigid2 Rigid2::from(const SE2& T) {
-  return {std::cos(T.yaw), std::sin(T.yaw), T.x, T.y};
-}
-
-Rigid2 Rigid2::exp(const Eigen::Vector3d& xi) {
-  const double th = xi.z(), a = sinc(th), b = cosc(th);
-  return {std::cos(th), std::sin(th), a * xi.x() - b * xi.y(), b * xi.x() + a * xi.y()};
-}
-
-SE2 Rigid2::toSE2() const {
-  return {x, y, std::atan2(s, c)};
-}
-
-Eigen::Vector3d Rigid2::log() const {
-  // sinc and cosc from the stored sine and cosine: no second trigonometric evaluation.
-  const double th = std::atan2(s, c);
-  const bool tiny = std::abs(th) < 1e-4;
-  const double a = tiny ? sinc(th) : s / th, b = tiny ? cosc(th) : (1.0 - c) / th;
-  const double det = a * a + b * b;  // V^-1 = [[a, b], [-b, a]] / det
-  return {(a * x + b * y) / det, (-b * x + a * y) / det, th};
-}
 
 Trajectory toTrajectory(const PoseSeries& poses) {
   Trajectory out;
   out.reserve(poses.size());
-  for (const auto& p : poses.samples()) out.push_back({p.stamp_s, Rigid2::from(p.value)});
+  for (const auto& p : poses.samples()) out.push_back({p.stamp_s, p.value});
   return out;
 }
 
-Rigid2 poseAt(const Trajectory& trajectory, double t) {
+SE2 poseAt(const Trajectory& trajectory, double t) {
   if (trajectory.size() == 1) return trajectory.front().T;
   return segment(trajectory, segmentIndex(trajectory, t)).at(t);
 }
 
 Trajectory relativeTo(const Trajectory& trajectory, double t) {
-  const Rigid2 T_inv = poseAt(trajectory, t).inverse();
+  const SE2 T_t_x = poseAt(trajectory, t).inverse();
   Trajectory out = trajectory;
-  for (Knot& k : out) k.T = T_inv * k.T;
+  for (Knot& k : out) k.T = T_t_x * k.T;
   return out;
 }
 
@@ -93,7 +77,8 @@ void transformBeams(const LaserScan& scan, double first_beam_s, const Trajectory
   const std::size_t knots = trajectory.size();
   std::size_t k = knots >= 2 ? segmentIndex(trajectory, first_beam_s) : 0;
   Segment seg;
-  Rigid2 T = trajectory.front().T, step;  // pose at beam i, and the increment over one beam
+  CosSinPose T_x_start, T_x_beam = CosSinPose::from(trajectory.front().T);
+  CosSinPose T_beam_next;  // the increment over one beam
   double ca = 0.0, sa = 0.0;
   bool anchor = true;
   for (std::size_t i = 0; i < n; ++i) {
@@ -103,18 +88,20 @@ void transformBeams(const LaserScan& scan, double first_beam_s, const Trajectory
       while (k + 2 < knots && trajectory[k + 1].stamp_s < t) ++k;
       if (k != k_old || i == 0) {
         seg = segment(trajectory, k);
-        step = Rigid2::exp(seg.twist_per_s * dt);
+        T_x_start = CosSinPose::from(seg.T_x_start);
+        T_beam_next = CosSinPose::from(SE2::exp(seg.twist_per_s * dt));
         anchor = true;
       }
     }
     if (anchor || i % kReanchorEvery == 0) {  // exact pose and direction: no drift
-      if (knots >= 2) T = seg.at(t);
+      if (knots >= 2)
+        T_x_beam = T_x_start * CosSinPose::from(SE2::exp(seg.twist_per_s * (t - seg.t_start)));
       ca = std::cos(scan.beamAngle(i));
       sa = std::sin(scan.beamAngle(i));
       anchor = false;
     }
-    if (scan.valid(i)) out[i] = T.apply(scan.ranges_m[i] * ca, scan.ranges_m[i] * sa);
-    if (knots >= 2) T = T * step;
+    if (scan.valid(i)) out[i] = T_x_beam.apply(scan.ranges_m[i] * ca, scan.ranges_m[i] * sa);
+    if (knots >= 2) T_x_beam = T_x_beam * T_beam_next;
     const double c_next = ca * cd - sa * sd;
     sa = sa * cd + ca * sd;
     ca = c_next;

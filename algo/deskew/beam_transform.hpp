@@ -12,30 +12,10 @@
 
 namespace slamprep::algo {
 
-/// A rigid motion as (cos, sin) of its rotation and its translation: composing and inverting
-/// need no trigonometry and no angle wrapping (the hot path of de-skew).
-struct Rigid2 {
-  double c = 1.0, s = 0.0, x = 0.0, y = 0.0;
-
-  static Rigid2 from(const SE2& T);
-  /// exp of the twist (rho_x, rho_y, theta), the same map as SE2::exp.
-  static Rigid2 exp(const Eigen::Vector3d& xi);
-  SE2 toSE2() const;
-  /// The twist with exp(log()) = *this, the same map as SE2::log.
-  Eigen::Vector3d log() const;
-  Rigid2 inverse() const { return {c, -s, -(c * x + s * y), s * x - c * y}; }
-  Rigid2 operator*(const Rigid2& b) const {
-    return {c * b.c - s * b.s, s * b.c + c * b.s, c * b.x - s * b.y + x, s * b.x + c * b.y + y};
-  }
-  Eigen::Vector2d apply(double px, double py) const {
-    return {c * px - s * py + x, s * px + c * py + y};
-  }
-};
-
 /// One knot of a trajectory.
 struct Knot {
   double stamp_s = 0.0;
-  Rigid2 T;
+  SE2 T;
 };
 /// Knots in increasing time; constant twist (geodesic) between consecutive knots.
 using Trajectory = std::vector<Knot>;
@@ -43,7 +23,7 @@ using Trajectory = std::vector<Knot>;
 Trajectory toTrajectory(const PoseSeries& poses);
 /// The pose at t: geodesic between the bracketing knots, the nearest segment's twist continued
 /// outside; a single knot everywhere.
-Rigid2 poseAt(const Trajectory& trajectory, double t);
+SE2 poseAt(const Trajectory& trajectory, double t);
 /// Every knot left-multiplied by poseAt(t)^-1: the trajectory seen from its pose at t.
 Trajectory relativeTo(const Trajectory& trajectory, double t);
 

@@ -1,13 +1,14 @@
 #pragma once
 // Lidar motion-distortion removal (de-skew): every beam of a scan re-projected into the lidar frame
-// at one reference time, with one interface for all methods (docs/design.md#de-skew-methods).
+// at one reference time, with one interface for all methods (docs/design.md#de-skew-methods). One
+// file per method family: deskew_reference.cpp (none, oracle), deskew_odometry.cpp (odom-linear,
+// odom-quadratic), deskew_imu.cpp, deskew_const_velocity.cpp, deskew_vicp.cpp, deskew_odom_icp.cpp.
 //
 // Beam i is measured at t_i = t_first + i * time_increment from the lidar pose T_X_L(t_i); its
 // de-skewed point is p_ref_i = T_X_L(t_ref)^-1 * T_X_L(t_i) * p_L_i. A method is a way to know
 // T_Lref_L(t) = T_X_L(t_ref)^-1 T_X_L(t) over the scan.
 
 #include <Eigen/Core>
-#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -59,21 +60,22 @@ struct PreviousScan {
   std::optional<Eigen::Vector3d> odometry_error_per_s;
 };
 
-struct DeskewInput {
-  const LaserScan* scan = nullptr;
-  /// The scan's stamp marks its last beam instead of its first (some drivers do this).
+/// Everything a method may use besides the scan itself; an empty series means "not available".
+/// Built once per log: DeskewSequence keeps `previous` up to date.
+struct DeskewInputs {
+  /// Odometry T_odom_base (odom-linear, odom-quadratic, imu, odom-icp; the guess for vicp).
+  PoseSeries odometry;
+  /// Gyro (imu).
+  ImuLog imu;
+  /// True T_world_base (oracle).
+  PoseSeries groundtruth;
+  /// The previous scan (const-velocity, vicp, odom-icp).
+  std::optional<PreviousScan> previous;
+  /// Lidar mount used with odometry and ground truth.
+  SE2 T_base_lidar;
+  /// The scans' stamps mark their last beam instead of their first (some drivers do this).
   bool stamp_is_last_beam = false;
   ReferenceTime reference = ReferenceTime::kFirst;
-  /// Odometry T_odom_base (odom-linear, odom-quadratic, imu, odom-icp; the guess for vicp).
-  const PoseSeries* odometry = nullptr;
-  /// Lidar mount used with odometry and oracle poses.
-  SE2 T_base_lidar;
-  /// Gyro (imu).
-  const ImuLog* imu = nullptr;
-  /// True T_world_base (oracle).
-  const PoseSeries* oracle = nullptr;
-  /// The previous scan (const-velocity, vicp, odom-icp).
-  const PreviousScan* previous = nullptr;
 };
 
 struct DeskewParams {
@@ -120,7 +122,8 @@ struct DeskewResult {
 
 /// De-skews one scan. Refuses (ok = false, reason set, p_ref empty) when the method lacks its
 /// input, the scan has time_increment <= 0, or odometry/IMU do not bracket the scan or have a gap.
-DeskewResult deskew(DeskewMethod method, const DeskewInput& input, const DeskewParams& params);
+DeskewResult deskew(DeskewMethod method, const LaserScan& scan, const DeskewInputs& inputs,
+                    const DeskewParams& params);
 
 /// Warns when `poses` do not bracket [first beam, last beam] of `scan`, and suggests the other
 /// stamp convention when that one would be bracketed; nullopt when all is well.

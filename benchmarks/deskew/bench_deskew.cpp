@@ -38,21 +38,21 @@ const Data& data() {
 
 void BM_Deskew(benchmark::State& state, algo::DeskewMethod method) {
   const Data& d = data();
-  algo::PreviousScan prev{d.scans[0].scan, false, Eigen::Vector3d(1.0, 0.0, 1.0), std::nullopt};
-  algo::DeskewInput in;
-  in.scan = &d.scans[1].scan;
-  in.odometry = &d.odometry;
-  in.oracle = &d.truth;
-  in.imu = &d.imu;
+  algo::DeskewInputs in;
+  in.odometry = d.odometry;
+  in.groundtruth = d.truth;
+  in.imu = d.imu;
   in.T_base_lidar = SE2(0.1, 0.0, 0.0);
-  in.previous = &prev;
+  in.previous =
+      algo::PreviousScan{d.scans[0].scan, false, Eigen::Vector3d(1.0, 0.0, 1.0), std::nullopt};
+  const LaserScan& scan = d.scans[1].scan;
   std::size_t refused = 0;
   for (auto _ : state) {
-    const algo::DeskewResult r = algo::deskew(method, in, {});
+    const algo::DeskewResult r = algo::deskew(method, scan, in, {});
     refused += !r.ok;
     benchmark::DoNotOptimize(r.p_ref.data());
   }
-  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(in.scan->size()));
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(scan.size()));
   state.counters["refused"] = static_cast<double>(refused);
 }
 

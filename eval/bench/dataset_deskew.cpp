@@ -38,7 +38,7 @@ std::vector<SE2> beamPoseErrors(const Dataset& dataset, const ScanRecord& record
     const auto T_w_beam = dataset.groundtruth.at(t_i);
     if (!T_w_beam) return {};
     const SE2 T_ref_beam_true = T_lidarref_w * (*T_w_beam * l);
-    out[i] = beamPoseError(algo::poseAt(result.T_ref_lidar, t_i).toSE2(), T_ref_beam_true);
+    out[i] = beamPoseError(algo::poseAt(result.T_ref_lidar, t_i), T_ref_beam_true);
   }
   return out;
 }
@@ -80,28 +80,24 @@ DatasetDeskewOptions nominalDeskewOptions(const Dataset& dataset) {
 
 DatasetDeskew deskewDataset(const Dataset& dataset, algo::DeskewMethod method,
                             const DatasetDeskewOptions& options) {
-  const PoseSeries integrated = options.odometry
-                                    ? PoseSeries()
-                                    : integrateEncoders(dataset.encoders, options.geometry,
-                                                        dataset.info.ticks_per_revolution);
-  const PoseSeries& odometry = options.odometry ? *options.odometry : integrated;
-  algo::DeskewSequence sequence(method, options.params);
+  algo::DeskewInputs inputs;
+  inputs.odometry = options.odometry ? *options.odometry
+                                     : integrateEncoders(dataset.encoders, options.geometry,
+                                                         dataset.info.ticks_per_revolution);
+  inputs.imu = dataset.imu;
+  inputs.groundtruth = dataset.groundtruth;
+  // The oracle is the truth, mount included.
+  inputs.T_base_lidar =
+      method == algo::DeskewMethod::kOracle ? dataset.info.T_base_lidar : options.T_base_lidar;
+  inputs.stamp_is_last_beam = options.stamp_is_last_beam;
+  inputs.reference = options.reference;
+  algo::DeskewSequence sequence(method, std::move(inputs), options.params);
   DatasetDeskew out;
   PooledErrors pooled;
   for (std::size_t k = 0; k < dataset.scans.size(); ++k) {
     const ScanRecord& record = dataset.scans[k];
-    algo::DeskewInput input;
-    input.scan = &record.scan;
-    input.stamp_is_last_beam = options.stamp_is_last_beam;
-    input.reference = options.reference;
-    input.odometry = &odometry;
-    // The oracle is the truth, mount included.
-    input.T_base_lidar =
-        method == algo::DeskewMethod::kOracle ? dataset.info.T_base_lidar : options.T_base_lidar;
-    input.imu = &dataset.imu;
-    input.oracle = dataset.groundtruth.empty() ? nullptr : &dataset.groundtruth;
     const auto start = std::chrono::steady_clock::now();
-    algo::DeskewResult result = sequence.next(input);
+    algo::DeskewResult result = sequence.next(record.scan);
     out.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const std::string note = !result.ok                ? result.reason
                              : result.warnings.empty() ? std::string()

@@ -29,7 +29,7 @@ struct DatasetDeskewOptions {
   /// Which instant the corrected points describe.
   algo::ReferenceTime reference = algo::ReferenceTime::kFirst;
   /// Method parameters (point-to-line ICP inside vicp and odom-icp, quadratic pieces, ...).
-  algo::DeskewSequenceParams params;
+  algo::DeskewParams params;
 };
 
 /// Options that use what the robot believes: nominal geometry, the dataset's mount.

@@ -32,11 +32,10 @@ Motion constantAcceleration() {
   return {SE2(-0.5, -0.3, 0.2), 0.2, -0.5, 2.0, 4.0};
 }
 
-DeskewInput inputFor(const Scenario& s, const PoseSeries* odometry) {
-  DeskewInput in;
-  in.scan = &s.synth.scan;
+DeskewInputs inputFor(const Scenario& s, const PoseSeries& odometry = {}) {
+  DeskewInputs in;
   in.odometry = odometry;
-  in.oracle = &s.truth;
+  in.groundtruth = s.truth;
   in.T_base_lidar = kTbaseLidar;
   return in;
 }
@@ -78,8 +77,8 @@ TEST(DeskewNames, RoundTripAndCliSpelling) {
 TEST(DeskewOracle, RestoresConstantVelocityAndAccelerationTo1e9) {
   for (const Motion& m : {constantVelocity(), constantAcceleration()}) {
     const Scenario s = makeScenario(m);
-    const DeskewResult none = deskew(DeskewMethod::kNone, inputFor(s, nullptr), {});
-    const DeskewResult oracle = deskew(DeskewMethod::kOracle, inputFor(s, nullptr), {});
+    const DeskewResult none = deskew(DeskewMethod::kNone, s.synth.scan, inputFor(s), {});
+    const DeskewResult oracle = deskew(DeskewMethod::kOracle, s.synth.scan, inputFor(s), {});
     ASSERT_TRUE(oracle.ok) << oracle.reason;
     EXPECT_LT(maxError(oracle, s.synth), 1e-9);
     EXPECT_GT(eval::deskewError(none.p_ref, s.synth.p_ref_true).error_m.mean,
@@ -97,7 +96,7 @@ TEST(DeskewOdometry, LinearWithinInterpolationBound) {
   {
     const Scenario s = makeScenario(constantVelocity());
     const PoseSeries odom = resample(s.truth, 0.0037, 2.0, 100.0, SE2(3.0, -1.0, 0.7));
-    const DeskewResult r = deskew(DeskewMethod::kOdomLinear, inputFor(s, &odom), {});
+    const DeskewResult r = deskew(DeskewMethod::kOdomLinear, s.synth.scan, inputFor(s, odom), {});
     ASSERT_TRUE(r.ok) << r.reason;
     EXPECT_LT(maxError(r, s.synth), 1e-9);
   }
@@ -105,7 +104,7 @@ TEST(DeskewOdometry, LinearWithinInterpolationBound) {
   const Scenario s = makeScenario(m);
   const PoseSeries odom = resample(s.truth, 0.0037, 2.0, 100.0, SE2(3.0, -1.0, 0.7));
   const double h = 0.01;
-  const DeskewResult r = deskew(DeskewMethod::kOdomLinear, inputFor(s, &odom), {});
+  const DeskewResult r = deskew(DeskewMethod::kOdomLinear, s.synth.scan, inputFor(s, odom), {});
   ASSERT_TRUE(r.ok) << r.reason;
   const double ratio =
       worstBoundRatio(r, s.synth, m.a_mps2 * h * h / 8, m.alpha_radps2 * h * h / 8);
@@ -122,8 +121,9 @@ TEST(DeskewOdometry, QuadraticBeatsLinearUnderConstantAcceleration) {
   const Motion m = constantAcceleration();
   const Scenario s = makeScenario(m);
   const PoseSeries odom = resample(s.truth, 0.0, 2.0, 20.0);
-  const DeskewResult lin = deskew(DeskewMethod::kOdomLinear, inputFor(s, &odom), {});
-  const DeskewResult quad = deskew(DeskewMethod::kOdomQuadratic, inputFor(s, &odom), {});
+  const DeskewResult lin = deskew(DeskewMethod::kOdomLinear, s.synth.scan, inputFor(s, odom), {});
+  const DeskewResult quad =
+      deskew(DeskewMethod::kOdomQuadratic, s.synth.scan, inputFor(s, odom), {});
   ASSERT_TRUE(lin.ok && quad.ok) << lin.reason << quad.reason;
   const double T = 0.1, k = 4, h = 0.05;
   const double cubic = 16.0 * T * T * T * std::sqrt(3.0) / 216.0;
@@ -147,11 +147,11 @@ TEST(DeskewImu, GyroRotationBeatsSlowOdometry) {
     const double t = k * 0.005;
     imu.push_back({t, m.w0_radps + m.alpha_radps2 * t, 0.0, 0.0});
   }
-  DeskewInput in = inputFor(s, &odom);
-  in.imu = &imu;
-  const DeskewResult r = deskew(DeskewMethod::kImu, in, {});
+  DeskewInputs in = inputFor(s, odom);
+  in.imu = imu;
+  const DeskewResult r = deskew(DeskewMethod::kImu, s.synth.scan, in, {});
   ASSERT_TRUE(r.ok) << r.reason;
-  const DeskewResult lin = deskew(DeskewMethod::kOdomLinear, in, {});
+  const DeskewResult lin = deskew(DeskewMethod::kOdomLinear, s.synth.scan, in, {});
   const double h = 0.05;
   // Rotation: exact up to the 1 kHz truth's own piecewise-constant twist, alpha (1 ms)^2 / 8.
   EXPECT_LT(worstBoundRatio(r, s.synth, m.a_mps2 * h * h / 8, m.alpha_radps2 * 1e-6 / 8), 2.0);
@@ -181,10 +181,11 @@ TEST(DeskewConventions, ClockwiseEqualsMirroredCounterclockwise) {
   const PoseSeries odom = resample(truth, 0.0, 2.0, 50.0),
                    odom_m = resample(truth_m, 0.0, 2.0, 50.0);
   for (DeskewMethod method : {DeskewMethod::kOdomLinear, DeskewMethod::kOdomQuadratic}) {
-    DeskewInput a, b;
-    a.scan = &scan.scan, a.odometry = &odom, a.T_base_lidar = kTbaseLidar;
-    b.scan = &scan_m.scan, b.odometry = &odom_m, b.T_base_lidar = mount_m;
-    const DeskewResult ra = deskew(method, a, {}), rb = deskew(method, b, {});
+    DeskewInputs a, b;
+    a.odometry = odom, a.T_base_lidar = kTbaseLidar;
+    b.odometry = odom_m, b.T_base_lidar = mount_m;
+    const DeskewResult ra = deskew(method, scan.scan, a, {}),
+                       rb = deskew(method, scan_m.scan, b, {});
     ASSERT_TRUE(ra.ok && rb.ok);
     std::size_t compared = 0;
     for (std::size_t i = 0; i < ra.p_ref.size(); ++i) {
@@ -210,13 +211,12 @@ TEST(DeskewConventions, LastBeamStampEqualsFirstBeamStamp) {
   const PoseSeries odom = resample(s.truth, 0.0, 1.1, 100.0);  // ends 1 ms after the scan
   LaserScan last = s.synth.scan;
   last.stamp_s = s.synth.scan.endTime();
-  DeskewInput first_in = inputFor(s, &odom), last_in = first_in;
-  last_in.scan = &last;
+  DeskewInputs first_in = inputFor(s, odom), last_in = first_in;
   last_in.stamp_is_last_beam = true;
   for (ReferenceTime ref : {ReferenceTime::kFirst, ReferenceTime::kMiddle, ReferenceTime::kLast}) {
     first_in.reference = last_in.reference = ref;
-    const DeskewResult a = deskew(DeskewMethod::kOdomLinear, first_in, {});
-    const DeskewResult b = deskew(DeskewMethod::kOdomLinear, last_in, {});
+    const DeskewResult a = deskew(DeskewMethod::kOdomLinear, s.synth.scan, first_in, {});
+    const DeskewResult b = deskew(DeskewMethod::kOdomLinear, last, last_in, {});
     ASSERT_TRUE(a.ok && b.ok) << a.reason << b.reason;
     EXPECT_NEAR(a.reference_s, b.reference_s, 1e-12);
     for (std::size_t i = 0; i < a.p_ref.size(); ++i)
@@ -225,9 +225,9 @@ TEST(DeskewConventions, LastBeamStampEqualsFirstBeamStamp) {
       }
   }
   // Forgetting the flag: the scan seems to end 0.1 s after the odometry does.
-  DeskewInput wrong = last_in;
+  DeskewInputs wrong = last_in;
   wrong.stamp_is_last_beam = false;
-  const DeskewResult r = deskew(DeskewMethod::kOdomLinear, wrong, {});
+  const DeskewResult r = deskew(DeskewMethod::kOdomLinear, last, wrong, {});
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.reason.find("does not bracket"), std::string::npos) << r.reason;
   EXPECT_NE(r.reason.find("set stamp_is_last_beam"), std::string::npos) << r.reason;
@@ -237,10 +237,10 @@ TEST(DeskewConventions, LastBeamStampEqualsFirstBeamStamp) {
 // T_R_first; checked against the oracle's own first-beam result.
 TEST(DeskewConventions, ReferenceTimesAreConsistent) {
   const Scenario s = makeScenario(constantAcceleration());
-  DeskewInput in = inputFor(s, nullptr);
-  const DeskewResult first = deskew(DeskewMethod::kOracle, in, {});
+  DeskewInputs in = inputFor(s);
+  const DeskewResult first = deskew(DeskewMethod::kOracle, s.synth.scan, in, {});
   in.reference = ReferenceTime::kLast;
-  const DeskewResult last = deskew(DeskewMethod::kOracle, in, {});
+  const DeskewResult last = deskew(DeskewMethod::kOracle, s.synth.scan, in, {});
   ASSERT_TRUE(first.ok && last.ok);
   EXPECT_NEAR(last.reference_s, s.synth.scan.endTime(), 1e-12);
   EXPECT_EQ(last.repacked.stamp_s, last.reference_s);
@@ -259,23 +259,22 @@ TEST(DeskewRefusals, SaysWhy) {
   // time_increment = 0: beam times unknown.
   LaserScan flat = s.synth.scan;
   flat.time_increment_s = 0.0;
-  DeskewInput in = inputFor(s, nullptr);
-  in.scan = &flat;
-  DeskewResult r = deskew(DeskewMethod::kNone, in, {});
+  const DeskewInputs in = inputFor(s);
+  DeskewResult r = deskew(DeskewMethod::kNone, flat, in, {});
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.reason.find("time_increment"), std::string::npos);
   // Missing inputs.
-  r = deskew(DeskewMethod::kOdomLinear, inputFor(s, nullptr), {});
+  r = deskew(DeskewMethod::kOdomLinear, s.synth.scan, inputFor(s), {});
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.reason.find("needs odometry"), std::string::npos) << r.reason;
-  r = deskew(DeskewMethod::kVicp, inputFor(s, nullptr), {});
+  r = deskew(DeskewMethod::kVicp, s.synth.scan, inputFor(s), {});
   EXPECT_FALSE(r.ok);
   // An odometry gap of 0.3 s across the scan: refused, not interpolated across.
   PoseSeries gappy;
   const PoseSeries dense = resample(s.truth, 0.0, 2.0, 100.0);
   for (const auto& x : dense.samples())
     if (x.stamp_s < 0.95 || x.stamp_s > 1.25) gappy.push_back(x.stamp_s, x.value);
-  r = deskew(DeskewMethod::kOdomQuadratic, inputFor(s, &gappy), {});
+  r = deskew(DeskewMethod::kOdomQuadratic, s.synth.scan, inputFor(s, gappy), {});
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.reason.find("gap"), std::string::npos) << r.reason;
   EXPECT_TRUE(r.p_ref.empty());
@@ -283,8 +282,7 @@ TEST(DeskewRefusals, SaysWhy) {
   LaserScan empty_returns = s.synth.scan;
   std::fill(empty_returns.ranges_m.begin(), empty_returns.ranges_m.end(),
             std::numeric_limits<double>::infinity());
-  in.scan = &empty_returns;
-  r = deskew(DeskewMethod::kOracle, in, {});
+  r = deskew(DeskewMethod::kOracle, empty_returns, in, {});
   ASSERT_TRUE(r.ok);
   for (const auto& p : r.p_ref) EXPECT_FALSE(p);
 }

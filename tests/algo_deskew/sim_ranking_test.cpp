@@ -29,16 +29,15 @@ const Dataset& arcDataset() {
 /// Mean error over the scans taken at full speed (the arc's ramps excluded: 2 s to 6 s).
 eval::ErrorStats meanError(DeskewMethod method, const PoseSeries& odometry) {
   const Dataset& d = arcDataset();
-  DeskewSequence sequence(method, {});
+  DeskewInputs in;
+  in.odometry = odometry;
+  in.imu = d.imu;
+  in.groundtruth = d.groundtruth;
+  in.T_base_lidar = d.info.T_base_lidar;
+  DeskewSequence sequence(method, in, {});
   std::vector<double> errors_m;  // every beam of every counted scan
   for (const ScanRecord& rec : d.scans) {
-    DeskewInput in;
-    in.scan = &rec.scan;
-    in.odometry = &odometry;
-    in.imu = &d.imu;
-    in.oracle = &d.groundtruth;
-    in.T_base_lidar = d.info.T_base_lidar;
-    const DeskewResult r = sequence.next(in);
+    const DeskewResult r = sequence.next(rec.scan);
     EXPECT_TRUE(r.ok) << deskewMethodName(method) << " at " << rec.scan.stamp_s << ": " << r.reason;
     if (r.ok && rec.scan.stamp_s >= 2.0 && rec.scan.stamp_s <= 6.0)
       append(errors_m, eval::deskewError(r.p_ref, rec.p_ref_true));

@@ -1,0 +1,19 @@
+// The two references every other method is judged between:
+//   none:   T_Lref_L(t) = I, the points as measured (the floor);
+//   oracle: T_Lref_L(t) = (T_world_base(t_ref) T_base_lidar)^-1 T_world_base(t) T_base_lidar with
+//           the true poses, interpolated between their samples (the ceiling).
+#include "algo/deskew/method.hpp"
+
+namespace slamprep::algo {
+
+Trajectory noneKnots(const MethodCall& call) {
+  return identityKnot(call.t.ref_s);
+}
+
+Trajectory oracleKnots(const MethodCall& call) {
+  call.need(!call.in.groundtruth.empty(), "ground-truth poses (the dataset has no truth)");
+  return relativeTo(lidarKnots(call, call.in.groundtruth, call.in.T_base_lidar, "ground truth"),
+                    call.t.ref_s);
+}
+
+}  // namespace slamprep::algo
