@@ -22,6 +22,7 @@ struct ImportFlags {
   bool geometry_given = false;
   bool time_increment_given = false;
   std::string lidar_mount;  // "x,y,yaw"
+  std::string nominal;      // "r_L,r_R,b"
   eval::ImportParams params;
 };
 
@@ -35,16 +36,28 @@ SE2 parseMount(const std::string& text) {
           slamprep::eval::parseFiniteDouble(fields[2], where, "yaw")};
 }
 
+DiffDriveParams parseNominal(const std::string& text) {
+  std::vector<std::string_view> fields;
+  slamprep::eval::splitFields(text, ',', fields);
+  if (fields.size() != 3) throw InputError("--nominal", "expected r_L,r_R,b (m, m, m)");
+  const slamprep::eval::TextLocation where{"--nominal", 0};
+  return {slamprep::eval::parseFiniteDouble(fields[0], where, "r_L"),
+          slamprep::eval::parseFiniteDouble(fields[1], where, "r_R"),
+          slamprep::eval::parseFiniteDouble(fields[2], where, "b")};
+}
+
 int runImport(ImportFlags flags) {
   if (flags.wheel_radius_m > 0)
     flags.geometry.radius_left_m = flags.geometry.radius_right_m = flags.wheel_radius_m;
   if (flags.geometry_given) flags.params.nominal_geometry = flags.geometry;
+  if (!flags.nominal.empty()) flags.params.nominal_geometry = parseNominal(flags.nominal);
   if (flags.time_increment_given) flags.params.time_increment_s = flags.time_increment_s;
   if (!flags.lidar_mount.empty()) flags.params.T_base_lidar = parseMount(flags.lidar_mount);
-  const std::string bytes = slamprep::eval::readTextFile(flags.input);
-  const eval::ImportResult result = flags.format == "carmen"
-                                        ? eval::importCarmen(bytes, flags.input, flags.params)
-                                        : eval::importMcap(bytes, flags.input, flags.params);
+  // A bag is read chunk by chunk from its files; a CARMEN log is text read whole.
+  const eval::ImportResult result =
+      flags.format == "carmen"
+          ? eval::importCarmen(slamprep::eval::readTextFile(flags.input), flags.input, flags.params)
+          : eval::importMcap(std::filesystem::path(flags.input), flags.params);
   eval::writeDataset(flags.out, result.dataset);
   const Dataset& d = result.dataset;
   std::cout << "imported " << d.scans.size() << " scans, " << d.encoders.size()
@@ -60,12 +73,13 @@ Command addImportCommand(CLI::App& app) {
   auto flags = std::make_shared<ImportFlags>();
   auto* cli = app.add_subcommand(
       "import",
-      "Read a CARMEN log or an MCAP ROS 2 bag (LaserScan + Odometry or JointState) into "
-      "a dataset directory.");
+      "Read a CARMEN log or a ROS 2 bag (MCAP: a bag folder or one .mcap file; LaserScan + "
+      "Odometry or JointState) into a dataset directory.");
   cli->add_option("--format", flags->format, "carmen|mcap")
       ->required()
       ->check(CLI::IsMember({"carmen", "mcap"}));
-  cli->add_option("PATH", flags->input, "log file")->required();
+  cli->add_option("PATH", flags->input, "log file, bag folder (metadata.yaml) or .mcap file")
+      ->required();
   cli->add_option("--out", flags->out, "dataset directory to write")->required();
   // The nominal geometry: any of these flags replaces the log's (CARMEN PARAM lines) or the
   // default; the ones not given keep the default.
@@ -91,17 +105,23 @@ Command addImportCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->each(given)
       ->capture_default_str();
+  cli->add_option("--nominal", flags->nominal,
+                  "nominal wheel geometry r_L,r_R,b (m); mcap: required unless the bag carries "
+                  "it (slamprep exports do)");
   cli->add_option("--ticks-per-revolution", flags->params.ticks_per_revolution,
                   "resolution of the derived encoder ticks")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cli->add_option("--time-increment", flags->time_increment_s,
-                  "carmen: time between beams (s); default: the log's PARAM, else 0 = unknown "
-                  "(de-skew refuses)")
+                  "time between beams (s); carmen default: the log's PARAM, else 0 = unknown "
+                  "(de-skew refuses); mcap: replaces every LaserScan's")
       ->check(CLI::NonNegativeNumber)
       ->each([flags](const std::string&) { flags->time_increment_given = true; });
   cli->add_option("--lidar-mount", flags->lidar_mount,
-                  "x,y,yaw of the lidar on the base (default: from the log, else 0,0,0)");
+                  "x,y,yaw of the lidar on the base (default: from the log (mcap: the tf tree), "
+                  "else 0,0,0)");
+  cli->add_option("--base-frame", flags->params.base_frame, "mcap: the robot's base frame in tf")
+      ->capture_default_str();
   cli->add_flag("--trim", flags->params.trim, "drop scans the odometry does not cover");
   cli->add_option("--scan-topic", flags->params.scan_topic, "mcap: LaserScan topic");
   cli->add_option("--odom-topic", flags->params.odom_topic, "mcap: Odometry topic");

@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libnanoflann-dev
   libfreetype-dev fonts-dejavu-core libpng-dev
+  libzstd-dev liblz4-dev  # MCAP chunk compression (eval/formats/compression.cpp)
 )
 
 missing=()

@@ -1,17 +1,21 @@
 #pragma once
 // MCAP container (https://mcap.dev/spec, format version 0 "MCAP0"), written and read from the
-// specification: magic, Header, data section (Schema, Channel, Message records, optionally
-// grouped in uncompressed Chunks followed by their MessageIndex records), DataEnd with the data
-// section CRC-32, a summary section (Schema, Channel, Statistics and ChunkIndex records), Summary
-// Offset records, Footer with the summary CRC-32, magic.
+// specification: magic, Header, data section (Schema, Channel, Metadata, Message records, the
+// messages optionally grouped in Chunks, compressed or not, followed by their MessageIndex
+// records), DataEnd with the data section CRC-32, a summary section (Schema, Channel, Statistics,
+// MetadataIndex and ChunkIndex records), Summary Offset records, Footer with the summary CRC-32,
+// magic.
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
+#include "eval/formats/byte_source.hpp"
+#include "eval/formats/compression.hpp"
 #include "eval/formats/crc32.hpp"
 
 namespace slamprep::eval {
@@ -89,22 +93,88 @@ class McapWriter {
   std::vector<ChunkIndexEntry> chunk_indexes_;
 };
 
+/// A Metadata record: a name and string pairs (slamprep writes its nominal geometry in one).
+struct McapMetadata {
+  std::string name;
+  std::vector<std::pair<std::string, std::string>> entries;
+};
+
+/// The Schema and Channel records of a file's summary section.
+struct McapSummary {
+  std::map<std::uint16_t, McapSchema> schemas;
+  std::map<std::uint16_t, McapChannel> channels;
+};
+
+/// Reads an MCAP file record by record from `source`: at most one chunk (compressed and
+/// unpacked) and one record are held at a time, never the whole file. The constructor checks the
+/// magic at both ends, the footer and the summary CRC; next() walks the data section in file
+/// order. Chunks may be uncompressed, "zstd" or "lz4" (eval/formats/compression.hpp); every
+/// non-zero CRC is verified, the data section's when DataEnd is reached. Errors are InputError
+/// naming the file, the byte offset of the record and the field.
+class McapReader {
+ public:
+  explicit McapReader(ByteSource& source);
+
+  /// The next message in file order; false after the data section. `m` is overwritten (its
+  /// string's capacity reused).
+  bool next(McapMessage& m);
+  /// The schemas and channels of the summary section (read when called; nullopt without one):
+  /// the topics of a file before any message is read.
+  std::optional<McapSummary> summary();
+
+  /// Records of the data section seen so far.
+  const std::map<std::uint16_t, McapSchema>& schemas() const { return schemas_; }
+  const std::map<std::uint16_t, McapChannel>& channels() const { return channels_; }
+  const std::vector<McapMetadata>& metadata() const { return metadata_; }
+  const std::string& profile() const { return profile_; }
+  const std::string& library() const { return library_; }
+  std::size_t chunkCount() const { return chunk_count_; }
+  bool hasSummary() const { return summary_start_ != 0; }
+  /// DataEnd held a non-zero CRC and it matched (known once next() returned false).
+  bool dataCrcChecked() const { return data_crc_checked_; }
+
+ private:
+  void checkEnds();
+  bool dataRecord(McapMessage& m);
+  bool chunkRecord(McapMessage& m);
+  void readChunk(std::uint64_t offset);
+  void skipBody(std::uint64_t offset, std::uint64_t length);
+  void addSchema(McapSchema s, std::uint64_t offset);
+  void addChannel(McapChannel ch, std::uint64_t offset);
+  std::string where(std::uint64_t offset) const;
+
+  ByteSource& source_;
+  const std::string& file_;
+  std::uint64_t size_ = 0, pos_ = 0, footer_at_ = 0;
+  std::uint64_t summary_start_ = 0, summary_offset_start_ = 0;
+  bool header_seen_ = false, done_ = false, data_crc_checked_ = false;
+  std::uint32_t data_crc_ = 0;  ///< running CRC of the data section read so far
+  std::string record_, unpacked_, block_;
+  std::string_view chunk_;  ///< records of the open chunk (in record_ or unpacked_)
+  std::size_t chunk_pos_ = 0;
+  std::uint64_t chunk_offset_ = 0;
+  std::size_t chunk_count_ = 0;
+  std::string profile_, library_;
+  std::map<std::uint16_t, McapSchema> schemas_;
+  std::map<std::uint16_t, McapChannel> channels_;
+  std::vector<McapMetadata> metadata_;
+};
+
 /// What readMcap found: every message in file order, and the records that describe them.
 struct McapFile {
   std::string profile;
   std::string library;
   std::map<std::uint16_t, McapSchema> schemas;
   std::map<std::uint16_t, McapChannel> channels;
+  std::vector<McapMetadata> metadata;
   std::vector<McapMessage> messages;
   std::size_t chunk_count = 0;
   bool has_summary = false;       ///< a summary section was present (its CRC was checked)
   bool data_crc_checked = false;  ///< DataEnd held a non-zero CRC and it matched
 };
 
-/// Reads a whole MCAP file (`file` names it in errors). Linear read: every record is visited in
-/// order, chunks are unpacked (compression "", "zstd" or "lz4": eval/formats/decompress.hpp),
-/// every non-zero CRC is verified. Throws InputError naming the file, the byte offset of the
-/// record and the field on any malformed or truncated input.
+/// Reads a whole MCAP file held in memory (`file` names it in errors) with McapReader, keeping
+/// every message: for small files, tests and fuzzing.
 McapFile readMcap(std::string_view bytes, const std::string& file);
 
 }  // namespace slamprep::eval
