@@ -10,13 +10,15 @@ namespace {
 
 struct ExportFlags {
   std::string dataset;
+  std::string compression = "zstd";
   std::string format;
   std::string out;
   eval::ExportParams params;
 };
 
-int runExport(const ExportFlags& flags) {
+int runExport(ExportFlags flags) {
   const eval::ExportFormat format = eval::parseExportFormat(flags.format);
+  flags.params.mcap_compression = eval::parseCompression(flags.compression);
   const eval::ExportInput input = eval::loadExportInput(flags.dataset, flags.params);
   const eval::ExportResult result = eval::exportDataset(input, format, flags.out, flags.params);
   if (input.calibration)
@@ -49,6 +51,12 @@ Command addExportCommand(CLI::App& app) {
       ->capture_default_str();
   cli->add_option("--chunk-size", flags->params.mcap_chunk_size_bytes,
                   "mcap: bytes per chunk; 0 writes an unchunked file")
+      ->capture_default_str();
+  cli->add_option("--compression", flags->compression, "mcap: chunk compression")
+      ->check(CLI::IsMember({"none", "zstd", "lz4"}))
+      ->capture_default_str();
+  cli->add_option("--ground-truth-frame", flags->params.world_frame,
+                  "mcap: frame of /ground_truth (e.g. map or world)")
       ->capture_default_str();
   return {cli, [flags] { return runExport(*flags); }};
 }

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -48,42 +49,58 @@ struct McapMessage {
 struct McapWriterParams {
   std::string profile = "ros2";      ///< Header.profile
   std::string library = "slamprep";  ///< Header.library
-  /// Messages are grouped in chunks of about this many bytes; 0 writes no chunks (every
-  /// message directly in the data section, no message or chunk indexes).
+  /// Messages are grouped in chunks of about this many bytes (before compression); 0 writes no
+  /// chunks (every message directly in the data section, no message or chunk indexes).
   std::size_t chunk_size_bytes = 1 << 20;
+  Compression compression = Compression::kNone;  ///< of the chunks
 };
 
-/// Builds an MCAP file in memory. Schemas and channels first (each written to the data section
-/// when added, and repeated in the summary), then messages in the order they are added.
+/// Builds an MCAP file. Schemas, channels and metadata first (each written to the data section
+/// when added, and repeated or indexed in the summary), then messages in the order they are
+/// added. With an output stream the file goes out chunk by chunk (memory: one chunk and the
+/// summary); without, finish() returns its bytes.
 class McapWriter {
  public:
-  explicit McapWriter(McapWriterParams params = {});
+  explicit McapWriter(McapWriterParams params = {}, std::ostream* out = nullptr);
 
   std::uint16_t addSchema(std::string name, std::string encoding, std::string data);
   std::uint16_t addChannel(std::uint16_t schema_id, std::string topic, std::string message_encoding,
                            std::vector<std::pair<std::string, std::string>> metadata = {});
+  /// A Metadata record (name, string pairs), indexed in the summary.
+  void addMetadata(std::string name, std::vector<std::pair<std::string, std::string>> entries);
   /// The sequence number counts the channel's messages from 0.
   void addMessage(std::uint16_t channel_id, std::uint64_t log_time_ns,
                   std::uint64_t publish_time_ns, std::string_view data);
 
-  /// Closes the file and returns its bytes. The writer is empty afterwards.
+  /// Closes the file. Returns its bytes when written in memory (empty with an output stream);
+  /// the writer is empty afterwards.
   std::string finish();
 
  private:
   struct ChunkIndexEntry {
     std::uint64_t start_ns = 0, end_ns = 0, offset = 0, length = 0, index_length = 0;
     std::map<std::uint16_t, std::uint64_t> index_offsets;
-    std::uint64_t size = 0;
+    std::uint64_t compressed_size = 0, uncompressed_size = 0;
   };
+  struct MetadataIndexEntry {
+    std::uint64_t offset = 0, length = 0;
+    std::string name;
+  };
+  std::uint64_t position() const { return written_ + out_.size(); }
+  void flushOut();  ///< hands out_ to the stream (when there is one)
   void flushChunk();
   void writeMessageIndexes(ChunkIndexEntry& entry);  ///< of the open chunk, just written
   std::string statisticsBody() const;
-  static std::string chunkIndexBody(const ChunkIndexEntry& entry);
+  std::string chunkIndexBody(const ChunkIndexEntry& entry) const;
 
   McapWriterParams params_;
-  std::string out_;
+  std::ostream* stream_;
+  std::string out_;                ///< bytes not yet handed to the stream
+  std::uint64_t written_ = 0;      ///< bytes handed to the stream
+  std::uint32_t written_crc_ = 0;  ///< CRC-32 of those bytes
   std::vector<McapSchema> schemas_;
   std::vector<McapChannel> channels_;
+  std::vector<MetadataIndexEntry> metadata_indexes_;
   std::map<std::uint16_t, std::uint64_t> channel_counts_;
   std::uint64_t message_count_ = 0, start_ns_ = 0, end_ns_ = 0;
   // The open chunk.
