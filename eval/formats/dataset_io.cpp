@@ -165,7 +165,7 @@ void writeDataset(const std::filesystem::path& dir, const Dataset& dataset) {
                   formatTum(dataset.odom_nominal, name(kOdomNominalTum)));
     writeTextFile(partial / kEncodersCsv, formatEncoders(dataset.encoders, name(kEncodersCsv)));
     writeTextFile(partial / kImuCsv, formatImu(dataset.imu, name(kImuCsv)));
-    writeTextFile(partial / kScansJsonl, formatScans(dataset.scans, name(kScansJsonl)));
+    writeScans(partial / kScansJsonl, dataset.scans, name(kScansJsonl));
   });
 }
 

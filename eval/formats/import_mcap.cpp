@@ -312,14 +312,14 @@ ImportResult importBag(const std::vector<ByteSource*>& files, const ImportParams
                        const std::string& bag) {
   checkParams(p);
   if (p.base_frame.empty()) throw InputError("--base-frame", "must not be empty");
-  const BagData d = readBag(files, p, bag);
+  BagData d = readBag(files, p, bag);
   ImportResult r;
   attachEncoders(d, p, bag, r);
   Dataset& ds = r.dataset;
   std::vector<std::string> scan_where;
-  for (const auto& s : d.scans) {
+  for (auto& s : d.scans) {  // moved: a long bag's scans are most of the memory
     ScanRecord record;
-    record.scan = s.value;
+    record.scan = std::move(s.value);
     ds.scans.push_back(std::move(record));
     scan_where.push_back(d.where(s.place));
   }

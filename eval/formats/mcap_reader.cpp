@@ -11,7 +11,7 @@ namespace {
 
 // Footer record: opcode + length + summary_start, summary_offset_start, summary_crc.
 constexpr std::uint64_t kFooterSize = 1 + 8 + 8 + 8 + 4;
-constexpr std::size_t kBlock = std::size_t{1} << 20;  // bytes read at a time for CRCs
+constexpr std::size_t kBlock = std::size_t{1} << 16;  // bytes read at a time for CRCs
 
 const char* opName(std::uint8_t op) {
   static const char* names[] = {"Reserved",   "Header",        "Footer",          "Schema",
