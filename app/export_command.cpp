@@ -18,6 +18,7 @@ namespace fs = std::filesystem;
 
 struct ExportFlags {
   std::string dataset;
+  std::string compression = "zstd";
   std::string format;
   std::string out;
   std::string calibration;  // default DATASET/calibration.json, when present
@@ -82,8 +83,9 @@ void addCalibration(const ExportFlags& flags, eval::ExportInput& input) {
                           " holds no ok calibration: calibrated odometry not written");
 }
 
-int runExport(const ExportFlags& flags) {
+int runExport(ExportFlags flags) {
   const eval::ExportFormat format = eval::parseExportFormat(flags.format);
+  flags.params.mcap_compression = eval::parseCompression(flags.compression);
   checkPaths(flags, format);
   eval::ExportInput input = eval::loadExportInput(flags.dataset);
   addCalibration(flags, input);
@@ -126,6 +128,12 @@ Command addExportCommand(CLI::App& app) {
       ->capture_default_str();
   cli->add_option("--chunk-size", flags->params.mcap_chunk_size_bytes,
                   "mcap: bytes per chunk; 0 writes an unchunked file")
+      ->capture_default_str();
+  cli->add_option("--compression", flags->compression, "mcap: chunk compression")
+      ->check(CLI::IsMember({"none", "zstd", "lz4"}))
+      ->capture_default_str();
+  cli->add_option("--ground-truth-frame", flags->params.world_frame,
+                  "mcap: frame of /ground_truth (e.g. map or world)")
       ->capture_default_str();
   return {cli, [flags] { return runExport(*flags); }};
 }

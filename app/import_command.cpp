@@ -70,7 +70,9 @@ void printSummary(const eval::ImportSummary& s) {
 }
 
 int runImport(ImportFlags flags) {
-  checkInputFile(flags.input, "PATH");
+  // A ROS 2 bag may be a folder (metadata.yaml + .mcap files); everything else is one file.
+  if (!(flags.format == "mcap" && std::filesystem::is_directory(flags.input)))
+    checkInputFile(flags.input, "PATH");
   checkOutputDataset(flags.out, "--out", flags.force);
   if (flags.wheel_radius_m > 0)
     flags.geometry.radius_left_m = flags.geometry.radius_right_m = flags.wheel_radius_m;
@@ -83,10 +85,11 @@ int runImport(ImportFlags flags) {
     const auto v = parseList(flags.nominal, "--nominal", {"r_L", "r_R", "b"});
     flags.params.nominal_geometry = DiffDriveParams{v[0], v[1], v[2]};
   }
-  const std::string bytes = slamprep::eval::readTextFile(flags.input);
-  const eval::ImportResult result = flags.format == "carmen"
-                                        ? eval::importCarmen(bytes, flags.input, flags.params)
-                                        : eval::importMcap(bytes, flags.input, flags.params);
+  // A bag is read chunk by chunk from its files; a CARMEN log is text read whole.
+  const eval::ImportResult result =
+      flags.format == "carmen"
+          ? eval::importCarmen(slamprep::eval::readTextFile(flags.input), flags.input, flags.params)
+          : eval::importMcap(std::filesystem::path(flags.input), flags.params);
   eval::writeDataset(flags.out, result.dataset);
   const Dataset& d = result.dataset;
   std::cout << "imported " << d.scans.size() << " scans, " << d.encoders.size()
@@ -102,14 +105,17 @@ int runImport(ImportFlags flags) {
 Command addImportCommand(CLI::App& app) {
   auto flags = std::make_shared<ImportFlags>();
   auto* cli = app.add_subcommand(
-      "import", "Read a CARMEN log or an MCAP ROS 2 bag into a dataset directory.");
+      "import",
+      "Read a CARMEN log or a ROS 2 bag (MCAP: a bag folder or one .mcap file; LaserScan + "
+      "Odometry or JointState) into a dataset directory.");
   cli->footer(
       "An MCAP bag needs a LaserScan topic plus Odometry or JointState (docs/export.md). The\n"
       "dataset has no ground truth; calibrate, deskew, match and export read it.");
   cli->add_option("--format", flags->format, "carmen|mcap")
       ->required()
       ->check(oneOf("format", {"carmen", "mcap"}));
-  cli->add_option("PATH", flags->input, "log file")->required();
+  cli->add_option("PATH", flags->input, "log file, bag folder (metadata.yaml) or .mcap file")
+      ->required();
   cli->add_option("--out", flags->out,
                   "dataset directory to write; an existing one is refused unless --force")
       ->required();
@@ -139,20 +145,21 @@ Command addImportCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->each(given)
       ->capture_default_str();
+  cli->add_option("--nominal", flags->nominal,
+                  "nominal wheel geometry r_L,r_R,b (m); mcap: required unless the bag carries "
+                  "it (slamprep exports do)");
   cli->add_option("--ticks-per-revolution", flags->params.ticks_per_revolution,
                   "resolution of the derived encoder ticks")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cli->add_option("--time-increment", flags->time_increment_s,
-                  "carmen: time between beams (s); default: the log's PARAM, else 0 = unknown "
-                  "(de-skew refuses)")
+                  "time between beams (s); carmen default: the log's PARAM, else 0 = unknown "
+                  "(de-skew refuses); mcap: replaces every LaserScan's")
       ->check(CLI::NonNegativeNumber)
       ->each([flags](const std::string&) { flags->time_increment_given = true; });
-  cli->add_option("--nominal", flags->nominal,
-                  "r_L,r_R,b: nominal wheel radii and base (m), instead of the --wheel-* flags");
   cli->add_option("--lidar-mount", flags->lidar_mount,
                   "x,y,yaw_deg of the lidar on the base: metres, metres, degrees (default: from "
-                  "the log, else 0,0,0)");
+                  "the log (mcap: the tf tree), else 0,0,0)");
   cli->add_flag("--lidar-mount-from-poses", flags->params.lidar_mount_from_poses,
                 "carmen: without --lidar-mount or a mount PARAM, take robot_pose^-1 laser_pose");
   cli->add_option("--reorder-tolerance", flags->params.reorder_tolerance_s,
@@ -171,6 +178,8 @@ Command addImportCommand(CLI::App& app) {
                   "carmen: odom (ODOM lines) or laser (the laser lines' robot poses); default: "
                   "ODOM when present")
       ->check(oneOf("odometry source", {"odom", "laser"}));
+  cli->add_option("--base-frame", flags->params.base_frame, "mcap: the robot's base frame in tf")
+      ->capture_default_str();
   cli->add_flag("--trim", flags->params.trim, "drop scans the odometry does not cover");
   cli->add_option("--scan-topic", flags->params.scan_topic, "mcap: LaserScan topic");
   cli->add_option("--odom-topic", flags->params.odom_topic, "mcap: Odometry topic");

@@ -51,7 +51,9 @@ inline void writeScratch(const std::filesystem::path& file, std::string_view tex
 inline void readAs(const std::string& name, std::string_view bytes) {
   if (name == "mcap") {
     eval::readMcap(bytes, "fuzz.mcap");
-    eval::importMcap(bytes, "fuzz.mcap");
+    eval::ImportParams params;  // a geometry, so the import goes on past that check
+    params.nominal_geometry = DiffDriveParams{};
+    eval::importMcap(bytes, "fuzz.mcap", params);
   } else if (name == "carmen") {
     eval::importCarmen(bytes, "fuzz.clf");
   } else if (name == "dataset") {

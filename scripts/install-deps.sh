@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libnanoflann-dev
   libfreetype-dev fonts-dejavu-core libpng-dev
+  libzstd-dev liblz4-dev  # MCAP chunk compression (eval/formats/compression.cpp)
 )
 
 missing=()
@@ -35,7 +36,10 @@ if ! command -v npm >/dev/null 2>&1; then
     echo "install-deps: could not install nodejs/npm; the MCAP reader tests will skip"
 fi
 mcap_reader="$(dirname "$0")/../tests/formats/mcap_reader"
-if command -v npm >/dev/null 2>&1 && [ ! -d "$mcap_reader/node_modules/@mcap/core" ]; then
+# Re-run npm ci whenever the lock file is newer than what was installed (a package was added).
+if command -v npm >/dev/null 2>&1 &&
+  { [ ! -f "$mcap_reader/node_modules/.package-lock.json" ] ||
+    [ "$mcap_reader/package-lock.json" -nt "$mcap_reader/node_modules/.package-lock.json" ]; }; then
   (cd "$mcap_reader" && npm ci --no-audit --no-fund --loglevel=error) ||
     echo "install-deps: npm ci failed; the MCAP reader tests will skip"
 fi

@@ -170,7 +170,7 @@ void writeDatasetFiles(const std::filesystem::path& dir, const Dataset& dataset,
   writeTextFile(dir / kOdomNominalTum, formatTum(dataset.odom_nominal, name(kOdomNominalTum)));
   writeTextFile(dir / kEncodersCsv, formatEncoders(dataset.encoders, name(kEncodersCsv)));
   writeTextFile(dir / kImuCsv, formatImu(dataset.imu, name(kImuCsv)));
-  writeTextFile(dir / kScansJsonl, formatScans(dataset.scans, name(kScansJsonl)));
+  writeScans(dir / kScansJsonl, dataset.scans, name(kScansJsonl));
 }
 
 void writeDataset(const std::filesystem::path& dir, const Dataset& dataset) {

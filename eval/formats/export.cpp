@@ -9,8 +9,6 @@
 #include "core/error.hpp"
 #include "core/odometry.hpp"
 #include "eval/formats/dataset_io.hpp"
-#include "eval/formats/mcap.hpp"
-#include "eval/formats/ros2_messages.hpp"
 #include "eval/formats/scan_jsonl.hpp"
 #include "eval/formats/text_io.hpp"
 #include "eval/formats/tum.hpp"
@@ -19,85 +17,12 @@ namespace slamprep::eval {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr double kStandardGravity_mps2 = 9.80665;
-
-// rosbag2's offered_qos_profiles (Humble YAML, enum values: history 1 keep_last, reliability 1
-// reliable, durability 1 transient_local / 2 volatile, liveliness 1 automatic).
-std::string qosYaml(bool latched) {
-  const std::string infinite = "\n    sec: 2147483647\n    nsec: 4294967295";
-  return std::string("- history: 1\n  depth: ") + (latched ? "1" : "100") +
-         "\n  reliability: 1\n  durability: " + (latched ? "1" : "2") + "\n  deadline:" + infinite +
-         "\n  lifespan:" + infinite + "\n  liveliness: 1\n  liveliness_lease_duration:" + infinite +
-         "\n  avoid_ros_namespace_conventions: false\n";
-}
-
-std::uint64_t logTimeNs(double stamp_s, const std::string& where) {
-  const RosTime t = rosTimeFromSeconds(stamp_s, where);
-  if (t.nanoseconds() < 0)
-    throw InputError(where, "negative stamp " + std::to_string(stamp_s) +
-                                " s: MCAP log times are unsigned nanoseconds");
-  return static_cast<std::uint64_t>(t.nanoseconds());
-}
-
-/// Body twist (v_x, v_y, w) over the step that ends at sample k: log(T_{k-1}^-1 T_k) / dt.
-Eigen::Vector3d twistAt(const PoseSeries& poses, std::size_t k) {
-  if (k == 0 || poses.size() < 2) return Eigen::Vector3d::Zero();
-  const double dt = poses[k].stamp_s - poses[k - 1].stamp_s;
-  return between(poses[k - 1].value, poses[k].value).log() / dt;
-}
-
 /// The twist at time t from the step that contains it (zero outside the series).
 Eigen::Vector3d twistAtTime(const PoseSeries& poses, double t) {
   const auto b = poses.bracket(t);
   if (!b || poses.size() < 2) return Eigen::Vector3d::Zero();
   return twistAt(poses, b->index + 1);
 }
-
-LaserScanMsg laserScanMsg(const LaserScan& s, const std::string& frame, const std::string& where) {
-  LaserScanMsg m;
-  m.header = {rosTimeFromSeconds(s.stamp_s, where), frame};
-  m.angle_min = static_cast<float>(s.angle_min_rad);
-  m.angle_max = static_cast<float>(s.size() == 0 ? s.angle_min_rad : s.beamAngle(s.size() - 1));
-  m.angle_increment = static_cast<float>(s.angle_increment_rad);
-  m.time_increment = static_cast<float>(s.time_increment_s);
-  m.scan_time = static_cast<float>(s.scan_time_s);
-  m.range_min = static_cast<float>(s.range_min_m);
-  m.range_max = static_cast<float>(s.range_max_m);
-  m.ranges.reserve(s.size());
-  for (double r : s.ranges_m) m.ranges.push_back(static_cast<float>(r));
-  return m;
-}
-
-OdometryMsg odometryMsg(const PoseSeries& poses, std::size_t k, const ExportParams& p,
-                        const std::string& where) {
-  OdometryMsg m;
-  m.header = {rosTimeFromSeconds(poses[k].stamp_s, where), p.odom_frame};
-  m.child_frame_id = p.base_frame;
-  const SE2& T = poses[k].value;
-  m.position = {T.x, T.y, 0.0};
-  m.orientation = quaternionFromYaw(T.yaw);
-  const Eigen::Vector3d xi = twistAt(poses, k);
-  m.linear = {xi.x(), xi.y(), 0.0};
-  m.angular = {0.0, 0.0, xi.z()};
-  return m;
-}
-
-TransformStampedMsg transformMsg(double stamp_s, const std::string& parent,
-                                 const std::string& child, const SE2& T, const std::string& where) {
-  TransformStampedMsg t;
-  t.header = {rosTimeFromSeconds(stamp_s, where), parent};
-  t.child_frame_id = child;
-  t.translation = {T.x, T.y, 0.0};
-  t.rotation = quaternionFromYaw(T.yaw);
-  return t;
-}
-
-/// Messages of every topic, merged into log-time order before they go to the writer.
-struct Pending {
-  std::uint64_t log_ns;
-  std::uint16_t channel;
-  std::string data;
-};
 
 void requireScans(const std::vector<ScanRecord>& scans, const std::string& what) {
   if (scans.empty()) throw InputError(what, "no scans to export");
@@ -155,117 +80,6 @@ ExportInput loadExportInput(const fs::path& dataset_dir) {
 PoseSeries calibratedOdometry(const Dataset& d, const DiffDriveParams& geometry) {
   const SE2 start = d.odom_nominal.empty() ? SE2() : d.odom_nominal[0].value;
   return integrateEncoders(d.encoders, geometry, d.info.ticks_per_revolution, start);
-}
-
-std::string formatMcap(const ExportInput& input, const ExportParams& p,
-                       std::map<std::string, std::size_t>* counts) {
-  const Dataset& d = input.dataset;
-  McapWriterParams wp;
-  wp.chunk_size_bytes = p.mcap_chunk_size_bytes;
-  McapWriter writer(wp);
-  std::map<std::string, std::uint16_t> schema_ids;
-  auto schema = [&](std::string_view type) {
-    auto it = schema_ids.find(std::string(type));
-    if (it != schema_ids.end()) return it->second;
-    const auto id = writer.addSchema(std::string(type), "ros2msg", ros2MsgSchema(type));
-    schema_ids.emplace(std::string(type), id);
-    return id;
-  };
-  std::vector<std::string> topics;
-  auto channel = [&](std::string_view type, const std::string& topic, bool latched = false) {
-    topics.push_back(topic);
-    return writer.addChannel(schema(type), topic, "cdr",
-                             {{"offered_qos_profiles", qosYaml(latched)}});
-  };
-  std::vector<Pending> pending;
-  const std::string scans_where = "scans.jsonl";
-
-  auto addScans = [&](const std::vector<ScanRecord>& scans, std::uint16_t ch,
-                      const std::string& file) {
-    for (std::size_t i = 0; i < scans.size(); ++i) {
-      const LaserScan& s = scans[i].scan;
-      const std::string where = file + ":" + std::to_string(i + 1);
-      // Logged when the last beam is in: a consumer has the odometry that covers the scan
-      // before the scan itself (docs/export.md).
-      pending.push_back(
-          {logTimeNs(s.endTime(), where), ch, encodeCdr(laserScanMsg(s, p.laser_frame, where))});
-    }
-  };
-  addScans(d.scans, channel(kLaserScanType, "/scan"), scans_where);
-  for (const auto& [method, scans] : input.deskewed)
-    addScans(scans, channel(kLaserScanType, "/scan_deskewed/" + method),
-             "deskewed_" + method + ".jsonl");
-
-  auto addOdometry = [&](const PoseSeries& poses, std::uint16_t ch, const std::string& file) {
-    for (std::size_t k = 0; k < poses.size(); ++k) {
-      const std::string where = file + ":" + std::to_string(k + 2);
-      pending.push_back(
-          {logTimeNs(poses[k].stamp_s, where), ch, encodeCdr(odometryMsg(poses, k, p, where))});
-    }
-  };
-  if (!d.odom_nominal.empty())
-    addOdometry(d.odom_nominal, channel(kOdometryType, "/odom"), "odom_nominal.tum");
-  if (input.calibration)
-    addOdometry(calibratedOdometry(d, input.calibration->geometry),
-                channel(kOdometryType, "/odom_calibrated"), "encoders.csv");
-
-  if (!d.imu.empty()) {
-    const auto ch = channel(kImuType, "/imu");
-    for (std::size_t k = 0; k < d.imu.size(); ++k) {
-      const ImuSample& s = d.imu[k];
-      const std::string where = "imu.csv:" + std::to_string(k + 2);
-      ImuMsg m;
-      m.header = {rosTimeFromSeconds(s.stamp_s, where), p.base_frame};
-      m.orientation_covariance[0] = -1.0;  // REP 145: no orientation estimate
-      m.angular_velocity = {0.0, 0.0, s.gyro_z_radps};
-      // Planar robot on level ground: the z specific force is +g.
-      m.linear_acceleration = {s.accel_x_mps2, s.accel_y_mps2, kStandardGravity_mps2};
-      pending.push_back({logTimeNs(s.stamp_s, where), ch, encodeCdr(m)});
-    }
-  }
-
-  if (!d.encoders.empty()) {
-    const auto ch = channel(kJointStateType, "/joint_states");
-    const double rad_per_tick = radiansPerTick(d.info.ticks_per_revolution);
-    for (std::size_t k = 0; k < d.encoders.size(); ++k) {
-      const EncoderSample& s = d.encoders[k];
-      const std::string where = "encoders.csv:" + std::to_string(k + 2);
-      JointStateMsg m;
-      m.header = {rosTimeFromSeconds(s.stamp_s, where), p.base_frame};
-      m.name = {"wheel_left_joint", "wheel_right_joint"};
-      m.position = {double(s.ticks_left) * rad_per_tick, double(s.ticks_right) * rad_per_tick};
-      pending.push_back({logTimeNs(s.stamp_s, where), ch, encodeCdr(m)});
-    }
-  }
-
-  if (d.hasTruth()) {
-    const auto ch = channel(kTfType, "/tf");
-    for (std::size_t k = 0; k < d.groundtruth.size(); ++k) {
-      const auto& g = d.groundtruth[k];
-      const std::string where = "groundtruth.tum:" + std::to_string(k + 2);
-      TfMsg m{{transformMsg(g.stamp_s, p.world_frame, p.base_frame, g.value, where)}};
-      pending.push_back({logTimeNs(g.stamp_s, where), ch, encodeCdr(m)});
-    }
-  }
-
-  std::stable_sort(pending.begin(), pending.end(),
-                   [](const Pending& a, const Pending& b) { return a.log_ns < b.log_ns; });
-  {
-    // The static mount, first of all, at the earliest time in the bag.
-    const auto ch = channel(kTfType, "/tf_static", true);
-    const std::uint64_t t0 = pending.empty() ? 0 : pending.front().log_ns;
-    TfMsg m{{transformMsg(0.0, p.base_frame, p.laser_frame, d.info.T_base_lidar, "dataset.json")}};
-    m.transforms[0].header.stamp = rosTimeFromNanoseconds(static_cast<std::int64_t>(t0));
-    writer.addMessage(ch, t0, t0, encodeCdr(m));
-  }
-  for (const Pending& m : pending) writer.addMessage(m.channel, m.log_ns, m.log_ns, m.data);
-  if (counts) {
-    counts->clear();
-    for (const auto& t : topics) (*counts)[t] = 0;
-    (*counts)["/tf_static"] = 1;
-    for (const Pending& m : pending) ++(*counts)[topics[m.channel]];
-  }
-  return writer.finish();
 }
 
 std::string formatCarmen(const Dataset& d, const std::vector<ScanRecord>& scans,
@@ -423,8 +237,9 @@ ExportResult exportDataset(const ExportInput& input, ExportFormat format, const 
   switch (format) {
     case ExportFormat::kMcap: {
       if (d.scans.empty()) throw InputError(out.string(), "the dataset has no scans to export");
-      write(out, formatMcap(input, params, &result.counts));
-      if (!d.hasTruth()) result.notes.push_back("no ground truth: /tf not written");
+      writeMcapFile(out, input, params, &result.counts);
+      result.files.push_back(out);
+      if (!d.hasTruth()) result.notes.push_back("no ground truth: /ground_truth not written");
       break;
     }
     case ExportFormat::kCarmen: {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/dataset.hpp"
+#include "eval/formats/compression.hpp"
 
 namespace slamprep::eval {
 
@@ -35,10 +36,13 @@ struct ExportInput {
 struct ExportParams {
   /// MCAP: messages per chunk of about this many bytes; 0 writes an unchunked file.
   std::size_t mcap_chunk_size_bytes = 1 << 20;
+  /// MCAP: chunk compression (zstd, what rosbag2 writes by default).
+  Compression mcap_compression = Compression::kZstd;
   /// CARMEN and CSM: which scans to write: "scans" (raw) or a de-skew method name (reads
   /// deskewed_<method>.jsonl).
   std::string scans = "scans";
-  /// Frame names used in the MCAP messages.
+  /// Frame names used in the MCAP messages (REP 105): world_frame is the ground truth's
+  /// (/ground_truth header.frame_id; "map" or "world").
   std::string world_frame = "world";
   std::string odom_frame = "odom";
   std::string base_frame = "base_link";
@@ -69,6 +73,10 @@ ExportResult exportDataset(const ExportInput& input, ExportFormat format,
 /// The MCAP file bytes (ros2 profile, CDR messages). Fills `counts` with messages per topic.
 std::string formatMcap(const ExportInput& input, const ExportParams& params,
                        std::map<std::string, std::size_t>* counts = nullptr);
+/// The same bag written to `file` chunk by chunk as it is made (a temporary sibling, renamed
+/// when complete): memory holds the dataset and one chunk, not the bag.
+void writeMcapFile(const std::filesystem::path& file, const ExportInput& input,
+                   const ExportParams& params, std::map<std::string, std::size_t>* counts);
 /// CARMEN log text of `scans` with ODOM lines from the nominal odometry (docs/export.md).
 std::string formatCarmen(const Dataset& dataset, const std::vector<ScanRecord>& scans,
                          const ExportParams& params, std::size_t* skipped_scans = nullptr);
@@ -76,6 +84,10 @@ std::string formatCarmen(const Dataset& dataset, const std::vector<ScanRecord>& 
 std::string formatCsm(const std::vector<ScanRecord>& scans);
 /// KITTI poses: one row-major 3x4 [R | t] per line.
 std::string formatKittiPoses(const std::vector<SE2>& poses);
+
+/// Body twist (v_x, v_y, w) over the step that ends at sample k: log(T_{k-1}^-1 T_k) / dt
+/// (zero at k = 0).
+Eigen::Vector3d twistAt(const PoseSeries& poses, std::size_t k);
 
 /// Dead-reckoned odometry with the calibrated geometry, starting where the nominal one starts.
 PoseSeries calibratedOdometry(const Dataset& dataset, const DiffDriveParams& geometry);

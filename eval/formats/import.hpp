@@ -1,8 +1,10 @@
 #pragma once
-// Importing real logs into a dataset directory (docs/export.md, "Import"): a CARMEN log, or an
-// MCAP file (ROS 2, CDR) with sensor_msgs/LaserScan plus nav_msgs/Odometry or
-// sensor_msgs/JointState. The result has no ground truth; calibrate and deskew read it.
+// Importing real logs into a dataset directory (docs/export.md, "Import"): a CARMEN log, or a
+// ROS 2 bag (a folder with metadata.yaml and split .mcap files, or one .mcap file; CDR) with
+// sensor_msgs/LaserScan plus nav_msgs/Odometry or sensor_msgs/JointState. The result has no
+// ground truth; calibrate and deskew read it.
 
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
@@ -17,20 +19,20 @@ struct ImportParams {
   /// Wheel geometry written as the nominal one; encoders derived from odometry poses use it, so
   /// re-integrating them reproduces the logged odometry whatever the values, but calibration
   /// results are relative to it: give the geometry the robot's odometry was configured with.
-  /// nullopt: the log's (CARMEN `PARAM slamprep_nominal_*` lines); CARMEN without either: no
-  /// encoders are derived (a CARMEN log has odometry poses, not wheel ticks); MCAP:
-  /// DiffDriveParams{}.
+  /// nullopt: the log's (CARMEN `PARAM slamprep_nominal_*` lines; CARMEN without either: no
+  /// encoders are derived, a CARMEN log has odometry poses, not wheel ticks; MCAP: slamprep's
+  /// Metadata record, else the import is refused: it is never guessed).
   std::optional<DiffDriveParams> nominal_geometry;
   /// Resolution of derived encoder ticks (from poses or joint angles): 2^20 per revolution
   /// keeps the rounding below 6e-6 rad per sample.
   int ticks_per_revolution = 1 << 20;
   /// Time between beams for logs that do not carry it (CARMEN); nullopt: the log's
-  /// `PARAM slamprep_time_increment`, else 0 = unknown (de-skew refuses such scans). LaserScan
-  /// messages keep their own.
+  /// `PARAM slamprep_time_increment`, else 0 = unknown (de-skew refuses such scans). MCAP: given,
+  /// it replaces every LaserScan's; otherwise the messages keep their own (0 kept, with a note).
   std::optional<double> time_increment_s;
   /// Lidar mount; nullopt: from the log (CARMEN `PARAM robot_frontlaser_offset` and its
-  /// side/angular offsets, rear laser: `robot_rearlaser_offset` turned by pi; MCAP /tf_static),
-  /// identity when the log has none.
+  /// side/angular offsets, rear laser: `robot_rearlaser_offset` turned by pi; MCAP: the tf tree of
+  /// /tf_static and /tf from base_frame to the scans' frame), identity when the log has none.
   std::optional<SE2> T_base_lidar;
   /// CARMEN: take the mount from the laser lines' robot_pose^-1 laser_pose (first line) when
   /// neither T_base_lidar nor a PARAM gives it. Off by default: two pose estimates are not a
@@ -48,6 +50,8 @@ struct ImportParams {
   /// CARMEN odometry: "odom" (ODOM lines), "laser" (the imported laser lines' robot poses) or
   /// "" = ODOM lines when the log has at least 2, else the laser lines.
   std::string odometry;
+  /// MCAP: the robot's base frame in the tf tree.
+  std::string base_frame = "base_link";
   /// Drop the scans that the odometry does not cover instead of refusing the log.
   bool trim = false;
   /// MCAP topics; empty = the only channel of that message type (or /scan, /odom,
@@ -80,8 +84,12 @@ struct ImportResult {
 ImportResult importCarmen(std::string_view text, const std::string& file,
                           const ImportParams& params = {});
 
-/// Throws InputError naming the file, byte offset, topic and field on malformed MCAP or CDR,
-/// missing topics, non-finite values, empty scans, unsorted or duplicate stamps.
+/// A ROS 2 bag: a folder (metadata.yaml, its .mcap files in order) or one .mcap file, read
+/// chunk by chunk (never whole). Throws InputError naming the file, byte offset, topic and field
+/// on malformed MCAP or CDR, missing topics, non-finite values, empty scans, unsorted or
+/// duplicate stamps, a tilted lidar, or no nominal geometry.
+ImportResult importMcap(const std::filesystem::path& bag, const ImportParams& params = {});
+/// The same for one MCAP file held in memory (`file` names it in errors).
 ImportResult importMcap(std::string_view bytes, const std::string& file,
                         const ImportParams& params = {});
 

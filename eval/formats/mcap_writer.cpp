@@ -51,7 +51,8 @@ std::string channelBody(const McapChannel& c) {
 
 }  // namespace
 
-McapWriter::McapWriter(McapWriterParams params) : params_(std::move(params)) {
+McapWriter::McapWriter(McapWriterParams params, std::ostream* out)
+    : params_(std::move(params)), stream_(out) {
   out_.append(kMagic);
   std::string header;
   putString(header, params_.profile);
@@ -80,6 +81,20 @@ std::uint16_t McapWriter::addChannel(std::uint16_t schema_id, std::string topic,
   return channels_.back().id;
 }
 
+void McapWriter::addMetadata(std::string name,
+                             std::vector<std::pair<std::string, std::string>> entries) {
+  flushChunk();
+  std::string body, map;
+  putString(body, name);
+  for (const auto& [k, v] : entries) {
+    putString(map, k);
+    putString(map, v);
+  }
+  putString(body, map);
+  metadata_indexes_.push_back({position(), 9 + body.size(), std::move(name)});
+  putRecord(out_, kMetadata, body);
+}
+
 void McapWriter::addMessage(std::uint16_t channel_id, std::uint64_t log_time_ns,
                             std::uint64_t publish_time_ns, std::string_view data) {
   std::string body;
@@ -105,33 +120,44 @@ void McapWriter::addMessage(std::uint16_t channel_id, std::uint64_t log_time_ns,
   if (chunk_.size() >= params_.chunk_size_bytes) flushChunk();
 }
 
+void McapWriter::flushOut() {
+  if (!stream_ || out_.empty()) return;
+  stream_->write(out_.data(), static_cast<std::streamsize>(out_.size()));
+  written_crc_ = crc32(out_, written_crc_);
+  written_ += out_.size();
+  out_.clear();
+}
+
 void McapWriter::flushChunk() {
   if (chunk_index_.empty()) return;
   ChunkIndexEntry entry;
   entry.start_ns = chunk_start_ns_;
   entry.end_ns = chunk_end_ns_;
-  entry.offset = out_.size();
-  entry.size = chunk_.size();
+  entry.offset = position();
+  const std::string packed = compressChunk(params_.compression, chunk_);
+  entry.compressed_size = packed.size();
+  entry.uncompressed_size = chunk_.size();
   std::string body;
   putLe<std::uint64_t>(body, chunk_start_ns_);
   putLe<std::uint64_t>(body, chunk_end_ns_);
   putLe<std::uint64_t>(body, chunk_.size());  // uncompressed_size
   putLe<std::uint32_t>(body, crc32(chunk_));  // uncompressed_crc
-  putString(body, "");                        // compression: none
-  putLe<std::uint64_t>(body, chunk_.size());  // records: uint64 length prefix
-  body.append(chunk_);
+  putString(body, mcapCompressionName(params_.compression));
+  putLe<std::uint64_t>(body, packed.size());  // records: uint64 length prefix
+  body.append(packed);
   putRecord(out_, kChunk, body);
-  entry.length = out_.size() - entry.offset;
+  entry.length = position() - entry.offset;
   writeMessageIndexes(entry);
   chunk_indexes_.push_back(std::move(entry));
   chunk_.clear();
   chunk_index_.clear();
+  flushOut();
 }
 
 void McapWriter::writeMessageIndexes(ChunkIndexEntry& entry) {
-  const std::size_t index_start = out_.size();
+  const std::uint64_t index_start = position();
   for (const auto& [channel, entries] : chunk_index_) {  // std::map: sorted by channel id
-    entry.index_offsets[channel] = out_.size();
+    entry.index_offsets[channel] = position();
     std::string index;
     putLe<std::uint16_t>(index, channel);
     putLe<std::uint32_t>(index, static_cast<std::uint32_t>(entries.size() * 16));
@@ -141,7 +167,7 @@ void McapWriter::writeMessageIndexes(ChunkIndexEntry& entry) {
     }
     putRecord(out_, kMessageIndex, index);
   }
-  entry.index_length = out_.size() - index_start;
+  entry.index_length = position() - index_start;
 }
 
 std::string McapWriter::statisticsBody() const {
@@ -150,7 +176,7 @@ std::string McapWriter::statisticsBody() const {
   putLe<std::uint16_t>(b, static_cast<std::uint16_t>(schemas_.size()));
   putLe<std::uint32_t>(b, static_cast<std::uint32_t>(channels_.size()));
   putLe<std::uint32_t>(b, 0);  // attachment_count
-  putLe<std::uint32_t>(b, 0);  // metadata_count
+  putLe<std::uint32_t>(b, static_cast<std::uint32_t>(metadata_indexes_.size()));
   putLe<std::uint32_t>(b, static_cast<std::uint32_t>(chunk_indexes_.size()));
   putLe<std::uint64_t>(b, start_ns_);
   putLe<std::uint64_t>(b, end_ns_);
@@ -162,7 +188,7 @@ std::string McapWriter::statisticsBody() const {
   return b;
 }
 
-std::string McapWriter::chunkIndexBody(const ChunkIndexEntry& e) {
+std::string McapWriter::chunkIndexBody(const ChunkIndexEntry& e) const {
   std::string b, offsets;
   putLe<std::uint64_t>(b, e.start_ns);
   putLe<std::uint64_t>(b, e.end_ns);
@@ -174,24 +200,26 @@ std::string McapWriter::chunkIndexBody(const ChunkIndexEntry& e) {
   }
   putString(b, offsets);
   putLe<std::uint64_t>(b, e.index_length);
-  putString(b, "");                 // compression
-  putLe<std::uint64_t>(b, e.size);  // compressed_size
-  putLe<std::uint64_t>(b, e.size);  // uncompressed_size
+  putString(b, mcapCompressionName(params_.compression));
+  putLe<std::uint64_t>(b, e.compressed_size);
+  putLe<std::uint64_t>(b, e.uncompressed_size);
   return b;
 }
 
 std::string McapWriter::finish() {
   flushChunk();
   std::string data_end;
-  putLe<std::uint32_t>(data_end, crc32(out_));
+  putLe<std::uint32_t>(data_end, crc32(out_, written_crc_));  // the whole data section
   putRecord(out_, kDataEnd, data_end);
+  flushOut();
 
-  const std::uint64_t summary_start = out_.size();
+  const std::uint64_t summary_start = position();
+  const std::size_t summary_at = out_.size();        // where the summary starts in out_
   std::vector<std::array<std::uint64_t, 3>> groups;  // opcode, start, length
   auto group = [&](std::uint8_t op, auto&& write) {
-    const std::uint64_t start = out_.size();
+    const std::uint64_t start = position();
     write();
-    if (out_.size() > start) groups.push_back({op, start, out_.size() - start});
+    if (position() > start) groups.push_back({op, start, position() - start});
   };
   group(kSchema, [&] {
     for (const auto& s : schemas_) putRecord(out_, kSchema, schemaBody(s));
@@ -200,10 +228,19 @@ std::string McapWriter::finish() {
     for (const auto& c : channels_) putRecord(out_, kChannel, channelBody(c));
   });
   group(kStatistics, [&] { putRecord(out_, kStatistics, statisticsBody()); });
+  group(kMetadataIndex, [&] {
+    for (const auto& m : metadata_indexes_) {
+      std::string b;
+      putLe<std::uint64_t>(b, m.offset);
+      putLe<std::uint64_t>(b, m.length);
+      putString(b, m.name);
+      putRecord(out_, kMetadataIndex, b);
+    }
+  });
   group(kChunkIndex, [&] {
     for (const auto& e : chunk_indexes_) putRecord(out_, kChunkIndex, chunkIndexBody(e));
   });
-  const std::uint64_t summary_offset_start = out_.size();
+  const std::uint64_t summary_offset_start = position();
   for (const auto& [op, start, length] : groups) {
     std::string b;
     b.push_back(static_cast<char>(op));
@@ -216,8 +253,9 @@ std::string McapWriter::finish() {
   putLe<std::uint64_t>(out_, 20);
   putLe<std::uint64_t>(out_, summary_start);
   putLe<std::uint64_t>(out_, summary_offset_start);
-  putLe<std::uint32_t>(out_, crc32(std::string_view(out_).substr(summary_start)));
+  putLe<std::uint32_t>(out_, crc32(std::string_view(out_).substr(summary_at)));
   out_.append(kMagic);
+  flushOut();
   std::string result = std::move(out_);
   out_.clear();
   return result;

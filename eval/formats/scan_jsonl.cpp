@@ -1,5 +1,6 @@
 #include "eval/formats/scan_jsonl.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -340,6 +341,21 @@ std::string formatScans(const std::vector<ScanRecord>& scans, const std::string&
     appendScanLine(out, scans[k], where);
   }
   return out;
+}
+
+void writeScans(const std::filesystem::path& path, const std::vector<ScanRecord>& scans,
+                const std::string& file) {
+  std::size_t k = 0;
+  writeTextFile(path, [&](std::string& out) {
+    // About 1 MB per piece: a 720-beam scan is ~60 KB of text.
+    for (std::size_t end = std::min(scans.size(), k + 16); k < end; ++k) {
+      const TextLocation where{file, k + 1};
+      if (k > 0)
+        requireIncreasing(scans[k - 1].scan.stamp_s, scans[k].scan.stamp_s, where, "stamp_s");
+      appendScanLine(out, scans[k], where);
+    }
+    return !out.empty();
+  });
 }
 
 std::vector<ScanRecord> parseScans(std::string_view text, const std::string& file,

@@ -2,6 +2,7 @@
 // scans.jsonl: one scan per line as a JSON object in the laser_data format of CSM (the Canonical
 // Scan Matcher) plus slamprep's exact fields (docs/dataset.md, "scans.jsonl").
 
+#include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,6 +26,10 @@ void appendScanLine(std::string& out, const ScanRecord& record, const TextLocati
 ScanRecord parseScanLine(std::string_view line, const TextLocation& where);
 
 std::string formatScans(const std::vector<ScanRecord>& scans, const std::string& file);
+/// The same text written to `path` a few scans at a time (scans.jsonl of a long run is about
+/// 1 GB per 30 min), with writeTextFile's durability; `file` names it in errors.
+void writeScans(const std::filesystem::path& path, const std::vector<ScanRecord>& scans,
+                const std::string& file);
 /// Every non-blank line is a scan; stamps must increase strictly. `line_numbers`, when given,
 /// receives the 1-based line of every scan (for messages about a scan found later).
 std::vector<ScanRecord> parseScans(std::string_view text, const std::string& file,

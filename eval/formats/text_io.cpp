@@ -144,19 +144,34 @@ std::string readTextFile(const std::filesystem::path& path) {
 }
 
 void writeTextFile(const std::filesystem::path& path, std::string_view text) {
+  bool done = false;
+  writeTextFile(path, [&](std::string& out) {
+    if (done) return false;
+    out.assign(text);
+    return done = true;
+  });
+}
+
+void writeTextFile(const std::filesystem::path& path,
+                   const std::function<bool(std::string&)>& next_piece) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0)
     throw InputError(path.string(), std::string("cannot create: ") + std::strerror(errno));
-  std::size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const std::string reason = std::strerror(errno);
-      ::close(fd);
-      throw InputError(path.string(), "write failed: " + reason);
+  std::string piece;
+  try {
+    while ((piece.clear(), next_piece(piece))) {
+      std::size_t done = 0;
+      while (done < piece.size()) {
+        const ssize_t n = ::write(fd, piece.data() + done, piece.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0)
+          throw InputError(path.string(), std::string("write failed: ") + std::strerror(errno));
+        done += static_cast<std::size_t>(n);
+      }
     }
-    done += static_cast<std::size_t>(n);
+  } catch (...) {
+    ::close(fd);
+    throw;
   }
   // Durable before the directory rename publishes it (writeDataset's atomicity).
   const bool synced = ::fsync(fd) == 0;

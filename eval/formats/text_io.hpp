@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -59,5 +60,9 @@ class LineCursor {
 std::string readTextFile(const std::filesystem::path& path);
 /// Creates/truncates `path`, writes `text` and fsyncs it; throws InputError on any failure.
 void writeTextFile(const std::filesystem::path& path, std::string_view text);
+/// The same for a text made piece by piece (a large file never whole in memory): `next_piece`
+/// fills its (cleared) argument with the next piece and returns false when there is none.
+void writeTextFile(const std::filesystem::path& path,
+                   const std::function<bool(std::string&)>& next_piece);
 
 }  // namespace slamprep::eval

@@ -54,11 +54,15 @@ double number(const nlohmann::json& j) {
   return j.get<double>();
 }
 
-void checkBag(const ExportInput& in, const fs::path& bag, bool chunked) {
+// `compression`: of the chunks ("" = uncompressed); empty `chunked` files have none.
+void checkBag(const ExportInput& in, const fs::path& bag, bool chunked,
+              const std::string& compression) {
   const Dataset& d = in.dataset;
   const Decoded dec = decodeWithNode(bag);
-  const std::size_t total = 2 * d.scans.size() + d.odom_nominal.size() + d.encoders.size() +
-                            d.imu.size() + d.encoders.size() + d.groundtruth.size() + 1;
+  // Scans and de-skewed scans, /odom and /tf from the nominal odometry, /odom_calibrated and
+  // /joint_states from the encoders, /imu, /ground_truth, one /tf_static.
+  const std::size_t total = 2 * d.scans.size() + 2 * d.odom_nominal.size() + 2 * d.encoders.size() +
+                            d.imu.size() + d.groundtruth.size() + 1;
   const auto& s = dec.summary;
   EXPECT_EQ(s["profile"], "ros2");
   EXPECT_EQ(s["stream_messages"].get<std::size_t>(), total);
@@ -73,8 +77,17 @@ void checkBag(const ExportInput& in, const fs::path& bag, bool chunked) {
   }
   EXPECT_EQ(s["trailing_bytes_messages"], 0) << "a message's CDR length disagrees with its schema";
   EXPECT_EQ(s["unordered_log_times"], 0);
-  EXPECT_EQ(s["summary_offsets"].get<int>(), chunked ? 4 : 3);  // schema, channel, stats, chunks
-  EXPECT_EQ(s["channels"].size(), 8u);
+  // Schema, channel, statistics, metadata index and (chunked) chunk index groups.
+  EXPECT_EQ(s["summary_offsets"].get<int>(), chunked ? 5 : 4);
+  EXPECT_EQ(s["chunk_compressions"],
+            chunked ? nlohmann::json::array({compression}) : nlohmann::json::array());
+  EXPECT_EQ(s["channels"].size(), 9u);
+  // The nominal geometry travels in slamprep's Metadata record, indexed in the summary.
+  ASSERT_EQ(s["metadata"].size(), 1u);
+  EXPECT_EQ(s["metadata"][0]["name"], "slamprep");
+  EXPECT_EQ(std::stod(s["metadata"][0]["entries"]["nominal_wheel_base_m"].get<std::string>()),
+            d.info.nominal_geometry.wheel_base_m);
+  EXPECT_EQ(s["metadata_indexes"], nlohmann::json::array({"slamprep"}));
   for (const auto& c : s["channels"])
     EXPECT_NE(c["metadata"]["offered_qos_profiles"].get<std::string>().find(
                   c["topic"] == "/tf_static" ? "durability: 1" : "durability: 2"),
@@ -86,7 +99,8 @@ void checkBag(const ExportInput& in, const fs::path& bag, bool chunked) {
   EXPECT_EQ(dec.topics.at("/odom_calibrated").size(), d.encoders.size());
   EXPECT_EQ(dec.topics.at("/imu").size(), d.imu.size());
   ASSERT_EQ(dec.topics.at("/joint_states").size(), d.encoders.size());
-  EXPECT_EQ(dec.topics.at("/tf").size(), d.groundtruth.size());
+  ASSERT_EQ(dec.topics.at("/tf").size(), d.odom_nominal.size());
+  ASSERT_EQ(dec.topics.at("/ground_truth").size(), d.groundtruth.size());
   ASSERT_EQ(dec.topics.at("/tf_static").size(), 1u);
 
   for (std::size_t k = 0; k < d.scans.size(); ++k) {
@@ -149,10 +163,24 @@ void checkBag(const ExportInput& in, const fs::path& bag, bool chunked) {
     EXPECT_EQ(m["position"][0].get<double>(), double(d.encoders[k].ticks_left) * rad_per_tick);
     EXPECT_EQ(m["position"][1].get<double>(), double(d.encoders[k].ticks_right) * rad_per_tick);
   }
-  const auto& tf = dec.topics.at("/tf")[7]["msg"]["transforms"][0];
-  EXPECT_EQ(tf["header"]["frame_id"], "world");
-  EXPECT_EQ(tf["child_frame_id"], "base_link");
-  EXPECT_EQ(tf["transform"]["translation"]["x"].get<double>(), d.groundtruth[7].value.x);
+  // REP 105: /tf holds odom -> base_link (the wheel odometry), and only that; the ground truth
+  // has its own topic, never world -> base_link in the tree.
+  for (std::size_t k = 0; k < d.odom_nominal.size(); ++k) {
+    const auto& tf = dec.topics.at("/tf")[k]["msg"]["transforms"];
+    ASSERT_EQ(tf.size(), 1u);
+    ASSERT_EQ(tf[0]["header"]["frame_id"], "odom");
+    ASSERT_EQ(tf[0]["child_frame_id"], "base_link");
+    ASSERT_EQ(tf[0]["transform"]["translation"]["x"].get<double>(), d.odom_nominal[k].value.x);
+    ASSERT_EQ(tf[0]["transform"]["rotation"]["z"].get<double>(),
+              std::sin(d.odom_nominal[k].value.yaw / 2));
+  }
+  for (std::size_t k = 0; k < d.groundtruth.size(); ++k) {
+    const auto& m = dec.topics.at("/ground_truth")[k]["msg"];
+    ASSERT_EQ(m["header"]["frame_id"], "world");
+    ASSERT_EQ(m["child_frame_id"], "base_link");
+    ASSERT_EQ(m["pose"]["pose"]["position"]["x"].get<double>(), d.groundtruth[k].value.x);
+    ASSERT_EQ(m["pose"]["pose"]["position"]["y"].get<double>(), d.groundtruth[k].value.y);
+  }
   const auto& st = dec.topics.at("/tf_static")[0];
   EXPECT_EQ(st["log_time"], "0");
   const auto& mount = st["msg"]["transforms"][0];
@@ -166,15 +194,28 @@ void checkBag(const ExportInput& in, const fs::path& bag, bool chunked) {
   EXPECT_EQ(imu["orientation_covariance"][0].get<double>(), -1.0);
 }
 
-TEST(ExportMcap, IndependentReaderDecodesEveryMessageChunked) {
+TEST(ExportMcap, IndependentReaderDecodesEveryMessageChunkedWithZstd) {
   if (const std::string why = test::nodeToolUnavailable(); !why.empty()) GTEST_SKIP() << why;
   const ExportInput in = syntheticInput();
-  ExportParams p;
+  ExportParams p;                       // zstd by default
   p.mcap_chunk_size_bytes = 64 * 1024;  // several chunks
   const fs::path bag = scratch("chunked.mcap");
   const ExportResult r = exportDataset(in, ExportFormat::kMcap, bag, p);
   EXPECT_EQ(r.counts.at("/scan"), in.dataset.scans.size());
-  checkBag(in, bag, true);
+  checkBag(in, bag, true, "zstd");
+}
+
+TEST(ExportMcap, IndependentReaderDecodesLz4AndUncompressedChunks) {
+  if (const std::string why = test::nodeToolUnavailable(); !why.empty()) GTEST_SKIP() << why;
+  const ExportInput in = syntheticInput();
+  for (const Compression c : {Compression::kLz4, Compression::kNone}) {
+    ExportParams p;
+    p.mcap_chunk_size_bytes = 64 * 1024;
+    p.mcap_compression = c;
+    const fs::path bag = scratch("chunked_" + std::string(mcapCompressionName(c)) + ".mcap");
+    exportDataset(in, ExportFormat::kMcap, bag, p);
+    checkBag(in, bag, true, std::string(mcapCompressionName(c)));
+  }
 }
 
 TEST(ExportMcap, IndependentReaderDecodesEveryMessageUnchunked) {
@@ -184,7 +225,7 @@ TEST(ExportMcap, IndependentReaderDecodesEveryMessageUnchunked) {
   p.mcap_chunk_size_bytes = 0;
   const fs::path bag = scratch("plain.mcap");
   exportDataset(in, ExportFormat::kMcap, bag, p);
-  checkBag(in, bag, false);
+  checkBag(in, bag, false, "");
 }
 
 TEST(ExportMcap, IsDeterministicAndLeavesNoPartialFile) {

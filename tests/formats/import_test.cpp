@@ -207,7 +207,8 @@ TEST(ImportMcap, BagWrittenByTheIndependentWriterBecomesADataset) {
 
   ImportParams p;
   p.ticks_per_revolution = 1 << 16;
-  const ImportResult r = importMcap(readFile(bag), bag.string(), p);
+  p.nominal_geometry = DiffDriveParams{0.1, 0.1, 0.5};  // a bag from elsewhere does not carry it
+  const ImportResult r = importMcap(bag, p);
   const Dataset& d = r.dataset;
   ASSERT_EQ(d.scans.size(), 3u);
   EXPECT_EQ(d.info.config["scan_topic"], "/front/scan");

@@ -50,8 +50,10 @@ TEST(SimExport, IndependentReaderDecodesEveryMessageOfASimulatedRun) {
   const nlohmann::json summary = nlohmann::json::parse(line);
   std::size_t total = 0;
   for (const auto& [topic, n] : r.counts) total += n;
-  EXPECT_EQ(total, d.scans.size() + d.odom_nominal.size() + d.imu.size() + d.encoders.size() +
+  // /odom and /tf (odom -> base_link) from the nominal odometry, /ground_truth, one /tf_static.
+  EXPECT_EQ(total, d.scans.size() + 2 * d.odom_nominal.size() + d.imu.size() + d.encoders.size() +
                        d.groundtruth.size() + 1);
+  EXPECT_EQ(summary["chunk_compressions"], nlohmann::json::array({"zstd"}));
   EXPECT_EQ(summary["stream_messages"].get<std::size_t>(), total);
   EXPECT_EQ(summary["indexed_messages"].get<std::size_t>(), total);
   EXPECT_EQ(summary["trailing_bytes_messages"], 0);

@@ -1,5 +1,6 @@
 // Independent MCAP + ROS 2 CDR reader/writer for slamprep's export/import tests, built only on
-// @mcap/core (the reference TypeScript MCAP library) and @foxglove/rosmsg(2-serialization).
+// @mcap/core (the reference TypeScript MCAP library), @foxglove/rosmsg(2-serialization), and the
+// pure JavaScript decompressors fzstd (zstd) and lz4js (LZ4 frames) for compressed chunks.
 //
 //   node mcap_tool.mjs read FILE OUT.jsonl   decode every message (indexed and streaming readers)
 //   node mcap_tool.mjs write SPEC.json FILE   write a bag from a JSON description
@@ -7,6 +8,19 @@ import { readFile, writeFile, open } from "node:fs/promises";
 import { McapIndexedReader, McapStreamReader, McapWriter } from "@mcap/core";
 import { parse as parseMessageDefinition } from "@foxglove/rosmsg";
 import { MessageReader, MessageWriter } from "@foxglove/rosmsg2-serialization";
+import { decompress as unzstd } from "fzstd";
+import lz4 from "lz4js";
+
+// @mcap/core leaves decompression to the caller: one handler per chunk compression.
+const decompressHandlers = {
+  zstd: (data, size) => checkedSize(unzstd(data, new Uint8Array(Number(size))), size, "zstd"),
+  lz4: (data, size) => checkedSize(lz4.decompress(data, Number(size)), size, "lz4"),
+};
+function checkedSize(bytes, size, what) {
+  if (BigInt(bytes.byteLength) !== size)
+    throw new Error(`${what} chunk: ${bytes.byteLength} bytes unpacked, ${size} announced`);
+  return bytes;
+}
 
 // JSON has no BigInt, typed arrays, Infinity or NaN: encode them explicitly.
 function jsonable(value) {
@@ -39,24 +53,27 @@ function fileReadable(handle, size) {
 async function read(file, outFile) {
   const bytes = await readFile(file);
   // 1. Streaming reader over the whole file, CRCs validated.
-  const stream = new McapStreamReader({ validateCrcs: true });
+  const stream = new McapStreamReader({ validateCrcs: true, decompressHandlers });
   stream.append(bytes);
   const streamMessages = [];
   const streamChannels = new Map();
   const streamSchemas = new Map();
+  const metadata = [];
   let footer;
   for (let r; (r = stream.nextRecord()); ) {
     if (r.type === "Message") streamMessages.push(r);
     if (r.type === "Channel") streamChannels.set(r.id, r);
     if (r.type === "Schema") streamSchemas.set(r.id, r);
     if (r.type === "Footer") footer = r;
+    if (r.type === "Metadata") metadata.push({ name: r.name, entries: r.metadata });
   }
   if (!stream.done()) throw new Error("stream reader did not reach the end of the file");
 
   // 2. Indexed reader (summary, chunk indexes, message indexes), CRCs validated. Files without
   // chunks have no message index: their messages are decoded from the stream reader.
   const handle = await open(file, "r");
-  const reader = await McapIndexedReader.Initialize({ readable: fileReadable(handle, bytes.length) });
+  const reader = await McapIndexedReader.Initialize({ readable: fileReadable(handle, bytes.length),
+    decompressHandlers });
   const indexed = [];
   if (reader.chunkIndexes.length > 0)
     for await (const m of reader.readMessages({ validateCrcs: true })) indexed.push(m);
@@ -92,6 +109,8 @@ async function read(file, outFile) {
   const summary = {
     profile: reader.header.profile, library: reader.header.library,
     statistics: reader.statistics, chunk_indexes: reader.chunkIndexes.length,
+    chunk_compressions: [...new Set(reader.chunkIndexes.map((c) => c.compression))],
+    metadata, metadata_indexes: reader.metadataIndexes.map((m) => m.name),
     summary_offsets: reader.summaryOffsetsByOpcode.size, channels,
     stream_messages: streamMessages.length, indexed_messages: indexed.length,
     trailing_bytes_messages: trailing, unordered_log_times: unordered,

@@ -1,0 +1,32 @@
+#pragma once
+// Chunk compression of MCAP files: "zstd" and "lz4" (the LZ4 frame format), the two compressions
+// the MCAP specification names, through the system libraries libzstd and liblz4 (linked).
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace slamprep::eval {
+
+enum class Compression { kNone, kZstd, kLz4 };
+
+/// "none", "zstd" or "lz4"; throws InputError naming `where` otherwise.
+Compression parseCompression(const std::string& name, const std::string& where = "--compression");
+/// The name MCAP records carry: "" (none), "zstd" or "lz4".
+std::string_view mcapCompressionName(Compression c);
+
+/// Largest chunk this reader unpacks: 1 GiB, and at most 4096 times the compressed size plus
+/// 1 MiB (so a corrupt size field cannot make it allocate gigabytes).
+bool plausibleUncompressedSize(std::uint64_t compressed_size, std::uint64_t uncompressed_size);
+
+/// Unpacks `data` (zstd frames, or one LZ4 frame) into exactly `uncompressed_size` bytes.
+/// Throws InputError(where, ...) for an unknown compression, corrupt data or a size that does
+/// not match.
+std::string decompressChunk(std::string_view compression, std::string_view data,
+                            std::uint64_t uncompressed_size, const std::string& where);
+
+/// `data` as one zstd frame (level 3, zstd's default) or one LZ4 frame (default preferences);
+/// kNone returns it unchanged.
+std::string compressChunk(Compression c, std::string_view data);
+
+}  // namespace slamprep::eval
