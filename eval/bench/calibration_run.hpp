@@ -21,6 +21,8 @@ struct CalibrationMotionOptions {
   /// geometry biased the mount yaw by 0.12 deg on 3 minutes of driving; imu: 0.02 deg), else
   /// odom-linear. "none": raw scans, biased by the distortion itself.
   std::string deskew = "auto";
+  /// How intervals are cut; `slamprep calibrate` and the bench both keep the defaults (one
+  /// interval per scan match), so the same log gives them the same intervals.
   algo::IntervalParams intervals;
 };
 
