@@ -27,8 +27,9 @@ struct CalibrateFlags {
   std::string tuples_in;        // --tuples: run on Censi records instead of the dataset's motion
   std::string json_out;
   std::vector<std::string> squares;  // extra UMBmark square-run datasets
-  double keyframe_cm = 10.0;
-  double keyframe_deg = 10.0;
+  // The shared interval policy (algo::IntervalParams: every scan match) unless overridden.
+  double keyframe_cm = algo::IntervalParams{}.keyframe_translation_m * 100.0;
+  double keyframe_deg = algo::IntervalParams{}.keyframe_rotation_rad * 180.0 / std::numbers::pi;
   double side_m = 2.5;  // the shipped umbmark_cw/ccw.yaml squares
   bool time_offset = false;
   bool stamp_is_last_beam = false;
@@ -182,7 +183,8 @@ Command addCalibrateCommand(CLI::App& app) {
                 "replace existing --json/--intervals files; the old ones stay until the new are "
                 "complete");
   cli->add_flag("--strict", flags->strict, "exit 3 when any method refused, not only all");
-  cli->add_option("--keyframe-cm", flags->keyframe_cm, "new interval every N cm of lidar motion")
+  cli->add_option("--keyframe-cm", flags->keyframe_cm,
+                  "new interval every N cm of lidar motion (0: every scan match, as the bench)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cli->add_option("--keyframe-deg", flags->keyframe_deg, "... or every N degrees")

@@ -115,7 +115,13 @@ std::optional<UmbmarkRun> umbmarkRunFromDataset(const Dataset& dataset) {
   double turned = 0.0;  // unwrapped heading change of the true path
   for (std::size_t i = 1; i < truth.size(); ++i)
     turned += normalizeAngle(truth[i].value.yaw - truth[i - 1].value.yaw);
-  return UmbmarkRun{turned < 0.0, *odom0, *odom1, *true0, *true1};
+  return UmbmarkRun{
+      turned < 0.0,
+      *odom0,
+      *odom1,
+      *true0,
+      *true1,
+      encoderStepsBetween(dataset.encoders, dataset.info.ticks_per_revolution, t0, t1)};
 }
 
 }  // namespace slamprep::algo

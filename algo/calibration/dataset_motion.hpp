@@ -68,7 +68,8 @@ IntervalSet buildIntervals(const Dataset& dataset, const std::vector<PoseSeries>
                            const IntervalParams& params);
 
 /// One UMBmark run from a square-run dataset: start and end of the nominal odometry and of the
-/// ground truth; clockwise when the true heading turned negative overall. nullopt without truth.
+/// ground truth, and the encoder steps in between; clockwise when the true heading turned negative
+/// overall. nullopt without truth.
 std::optional<UmbmarkRun> umbmarkRunFromDataset(const Dataset& dataset);
 
 }  // namespace slamprep::algo

@@ -22,6 +22,8 @@ struct CalibrationMotionOptions {
   /// odom-linear. "none": raw scans, biased by the distortion itself.
   std::string deskew = "auto";
   bool stamp_is_last_beam = false;  ///< the scans' stamps mark their last beam
+  /// How intervals are cut; `slamprep calibrate` and the bench both keep the defaults (one
+  /// interval per scan match), so the same log gives them the same intervals.
   algo::IntervalParams intervals;
 };
 

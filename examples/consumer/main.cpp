@@ -1,11 +1,11 @@
 // Calibrates a dataset directory with the installed slamprep libraries: reads it, measures the
-// lidar motion by scan matching (scans de-skewed first), cuts intervals every 10 cm or 10 deg,
-// and estimates r_L, r_R, b and the lidar mount with Censi's joint closed form.
+// lidar motion by scan matching (scans de-skewed first), cuts one interval per scan match (the
+// library's default policy), and estimates r_L, r_R, b and the lidar mount with Censi's joint
+// closed form.
 //   calibrate_dataset DATASET_DIR
 // Prints one `name estimate truth` line per parameter (truth: "-" when the dataset has none).
 #include <cstdio>
 #include <exception>
-#include <numbers>
 
 #include "algo/calibration/joint_censi.hpp"
 #include "eval/bench/calibration_run.hpp"
@@ -18,9 +18,7 @@ using namespace slamprep;
 int run(const char* dataset_dir) {
   const Dataset dataset = eval::readDataset(dataset_dir);
 
-  eval::CalibrationMotionOptions options;  // scan matching on de-skewed scans (imu when logged)
-  options.intervals.keyframe_translation_m = 0.10;
-  options.intervals.keyframe_rotation_rad = 10.0 * std::numbers::pi / 180.0;
+  const eval::CalibrationMotionOptions options;  // scan matching on de-skewed scans (imu if logged)
   const eval::CalibrationMotion motion = eval::calibrationMotion(dataset, options);
 
   const algo::JointResult result = algo::calibrateJoint(motion.intervals.intervals);

@@ -1,7 +1,10 @@
-// Chaining scan-to-scan matches into lidar trajectories: a failed match ends a chain.
+// Chaining scan-to-scan matches into lidar trajectories: a failed match ends a chain. UMBmark
+// runs from a dataset carry the encoder steps their odometry was integrated from.
 #include "algo/calibration/dataset_motion.hpp"
 
 #include <gtest/gtest.h>
+
+#include "core/odometry.hpp"
 
 namespace slamprep::algo {
 namespace {
@@ -34,6 +37,31 @@ TEST(ChainMatches, FailedMatchesBreakChains) {
   EXPECT_EQ(c.chains[1][0].value.yaw, 0.0);
   EXPECT_TRUE(chainMatches({}).chains.empty());
   EXPECT_TRUE(chainMatches({step(0, false)}).chains.empty());
+}
+
+TEST(UmbmarkRunFromDataset, KeepsTheEncoderStepsOfItsOdometry) {
+  // 3 s at 100 Hz, the wheels at different, changing rates; truth with the true geometry.
+  Dataset d;
+  d.info.nominal_geometry = {0.102, 0.0985, 0.52};
+  d.info.true_geometry = DiffDriveParams{0.1, 0.1, 0.5};
+  for (int k = 0; k <= 300; ++k) {
+    const double t = 0.01 * k;
+    d.encoders.push_back({t, static_cast<std::int64_t>(std::llround(2000.0 * t)),
+                          static_cast<std::int64_t>(std::llround(1500.0 * t + 300.0 * t * t))});
+  }
+  const int tpr = d.info.ticks_per_revolution;
+  d.odom_nominal = integrateEncoders(d.encoders, d.info.nominal_geometry, tpr);
+  d.groundtruth = integrateEncoders(d.encoders, *d.info.true_geometry, tpr);
+  const std::optional<UmbmarkRun> run = umbmarkRunFromDataset(d);
+  ASSERT_TRUE(run);
+  ASSERT_EQ(run->steps.size(), 300u);
+  const DiffDriveParams& n = d.info.nominal_geometry;
+  const SE2 again = integrateSteps(run->steps, n.radius_left_m, n.radius_right_m, n.wheel_base_m);
+  const SE2 recorded = between(run->T_world_start_odom, run->T_world_end_odom);
+  EXPECT_NEAR(again.x, recorded.x, 1e-12);
+  EXPECT_NEAR(again.y, recorded.y, 1e-12);
+  EXPECT_NEAR(again.yaw, recorded.yaw, 1e-12);
+  EXPECT_FALSE(run->clockwise);  // the right wheel turns faster: counter-clockwise
 }
 
 }  // namespace
