@@ -296,43 +296,7 @@ class ImuStream {
   ImuLog& out_;
 };
 
-std::string formatPoint(const Eigen::Vector2d& p) {
-  std::ostringstream out;
-  out.precision(3);
-  out << std::fixed << "(" << p.x() << ", " << p.y() << ")";
-  return out.str();
-}
-
 }  // namespace
-
-void checkPathInWorld(const Scene& scene, const Scenario& scenario, const SimConfig& config,
-                      const SE2& T_world_start, double duration_s) {
-  const double radius_m = footprintRadius(config.robot) + config.path_margin_m;
-  const std::string world = scene.world().source.string();
-  if (scene.collides(T_world_start.translation(), radius_m)) {
-    throw InputError(world + ": start",
-                     "the robot's footprint (radius " + std::to_string(radius_m) +
-                         " m with margin) overlaps static geometry at the start pose " +
-                         formatPoint(T_world_start.translation()));
-  }
-  const Controller controller(scenario.profile, config.nominalGeometry());
-  constexpr double kCheckStep_s = 0.01;
-  SE2 T_world_base = T_world_start;
-  const auto steps = static_cast<std::int64_t>(std::ceil(duration_s / kCheckStep_s));
-  for (std::int64_t k = 1; k <= steps; ++k) {
-    const double t0 = (k - 1) * kCheckStep_s, t1 = std::min(duration_s, k * kCheckStep_s);
-    const Eigen::Vector2d dphi = controller.wheelAngleIncrement(t0, t1);
-    T_world_base = T_world_base * wheelIncrement(config.robot.geometry, dphi.x(), dphi.y());
-    if (!scene.collides(T_world_base.translation(), radius_m)) continue;
-    const ProfileSegment* segment = scenario.profile.segmentAt(t1);
-    std::ostringstream what;
-    what.precision(2);
-    what << std::fixed << "the robot would leave the free space of " << world << " at t = " << t1
-         << " s at " << formatPoint(T_world_base.translation()) << " (footprint radius + margin "
-         << radius_m << " m): shorten the scenario or pick another world";
-    throw InputError(segment != nullptr ? segment->where : scenario.source.string(), what.str());
-  }
-}
 
 SimResult simulate(const SimConfig& config, const ProgressCallback& progress) {
   validate(config, "config");
@@ -419,33 +383,6 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   SimResult result{std::move(data), {}};
   result.summary = summarize(result.dataset, config.mode);
   return result;
-}
-
-SimSummary summarize(const Dataset& dataset, SimMode mode) {
-  SimSummary s;
-  s.mode = mode;
-  const PoseSeries& gt = dataset.groundtruth;
-  if (!gt.empty()) {
-    s.duration_s = gt.backStamp() - gt.frontStamp();
-    s.physics_steps = gt.size() - 1;
-  }
-  for (std::size_t k = 1; k < gt.size(); ++k) {
-    s.distance_m += (gt[k].value.translation() - gt[k - 1].value.translation()).norm();
-    s.rotation_rad += std::abs(normalizeAngle(gt[k].value.yaw - gt[k - 1].value.yaw));
-  }
-  s.scans = dataset.scans.size();
-  for (const ScanRecord& record : dataset.scans) {
-    s.beams += record.scan.size();
-    for (std::size_t i = 0; i < record.scan.size(); ++i) s.returns += record.scan.valid(i) ? 1 : 0;
-  }
-  const int ticks = dataset.info.ticks_per_revolution;
-  s.drift_nominal = eval::odometryDrift(
-      integrateEncoders(dataset.encoders, dataset.info.nominal_geometry, ticks), gt);
-  if (dataset.info.true_geometry) {
-    s.drift_true = eval::odometryDrift(
-        integrateEncoders(dataset.encoders, *dataset.info.true_geometry, ticks), gt);
-  }
-  return s;
 }
 
 }  // namespace slamprep::sim
