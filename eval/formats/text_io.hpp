@@ -3,12 +3,15 @@
 // (std::to_chars), strict field parsing (std::from_chars) with InputError messages that name the
 // file, line and field, and whole-file read/write.
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "core/error.hpp"
 
 namespace slamprep::eval {
 
@@ -55,6 +58,34 @@ class LineCursor {
   std::size_t pos_ = 0;
   std::size_t line_ = 0;
 };
+
+/// Calls row(values, where, fields) for every line of `text` that is neither blank nor a `#`
+/// comment; each must hold exactly N whitespace-separated finite numbers, named by `columns` in
+/// the errors (InputError naming file, line and column). The shape of TUM and relations files.
+template <std::size_t N, typename RowFn>
+void forEachNumberRow(std::string_view text, const std::string& file,
+                      const std::array<const char*, N>& columns, RowFn&& row) {
+  std::string layout;
+  for (const char* c : columns) {
+    if (!layout.empty()) layout += ' ';
+    layout += c;
+  }
+  LineCursor cursor(text);
+  std::string_view line;
+  std::vector<std::string_view> fields;
+  std::array<double, N> values{};
+  while (cursor.next(line)) {
+    line = trim(line);
+    if (line.empty() || line.front() == '#') continue;
+    const TextLocation where{file, cursor.lineNumber()};
+    splitWhitespace(line, fields);
+    if (fields.size() != N)
+      throw InputError(where.str(), "expected " + std::to_string(N) + " columns \"" + layout +
+                                        "\", got " + std::to_string(fields.size()));
+    for (std::size_t c = 0; c < N; ++c) values[c] = parseFiniteDouble(fields[c], where, columns[c]);
+    row(values, where, fields);
+  }
+}
 
 /// The whole file; throws InputError("path", "cannot open ...") when it is missing or unreadable.
 std::string readTextFile(const std::filesystem::path& path);

@@ -26,7 +26,7 @@ bool walkToExact(double half_yaw, double& qz, double& qw, bool move_qz) {
   return false;
 }
 
-const char* const kTumColumns[8] = {"t", "x", "y", "z", "qx", "qy", "qz", "qw"};
+const std::array<const char*, 8> kTumColumns = {"t", "x", "y", "z", "qx", "qy", "qz", "qw"};
 
 }  // namespace
 
@@ -73,28 +73,18 @@ std::string formatTum(const PoseSeries& poses, const std::string& file) {
 
 PoseSeries parseTum(std::string_view text, const std::string& file) {
   PoseSeries poses;
-  LineCursor cursor(text);
-  std::string_view line;
-  std::vector<std::string_view> fields;
-  double values[8];
-  while (cursor.next(line)) {
-    line = trim(line);
-    if (line.empty() || line.front() == '#') continue;
-    const TextLocation where{file, cursor.lineNumber()};
-    splitWhitespace(line, fields);
-    if (fields.size() != 8)
-      throw InputError(where.str(), "expected 8 columns \"t x y z qx qy qz qw\", got " +
-                                        std::to_string(fields.size()));
-    for (int c = 0; c < 8; ++c) values[c] = parseFiniteDouble(fields[c], where, kTumColumns[c]);
-    const double norm = std::sqrt(values[4] * values[4] + values[5] * values[5] +
-                                  values[6] * values[6] + values[7] * values[7]);
-    if (std::abs(norm - 1.0) > 1e-3)
-      throw InputError(where.str(), "qx qy qz qw: quaternion norm " + std::to_string(norm) +
-                                        " is not 1 (column order must be t x y z qx qy qz qw)");
-    if (!poses.empty()) requireIncreasing(poses.backStamp(), values[0], where, "t");
-    poses.push_back(values[0], SE2(values[1], values[2],
-                                   yawFromQuaternion(values[4], values[5], values[6], values[7])));
-  }
+  forEachNumberRow(
+      text, file, kTumColumns, [&](const auto& values, const TextLocation& where, auto&) {
+        const double norm = std::sqrt(values[4] * values[4] + values[5] * values[5] +
+                                      values[6] * values[6] + values[7] * values[7]);
+        if (std::abs(norm - 1.0) > 1e-3)
+          throw InputError(where.str(), "qx qy qz qw: quaternion norm " + std::to_string(norm) +
+                                            " is not 1 (column order must be t x y z qx qy qz qw)");
+        if (!poses.empty()) requireIncreasing(poses.backStamp(), values[0], where, "t");
+        poses.push_back(values[0],
+                        SE2(values[1], values[2],
+                            yawFromQuaternion(values[4], values[5], values[6], values[7])));
+      });
   return poses;
 }
 
