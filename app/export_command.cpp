@@ -130,7 +130,7 @@ Command addExportCommand(CLI::App& app) {
                   "mcap: bytes per chunk; 0 writes an unchunked file")
       ->capture_default_str();
   cli->add_option("--compression", flags->compression, "mcap: chunk compression")
-      ->check(CLI::IsMember({"none", "zstd", "lz4"}))
+      ->check(oneOf("compression", {"none", "zstd", "lz4"}))
       ->capture_default_str();
   cli->add_option("--ground-truth-frame", flags->params.world_frame,
                   "mcap: frame of /ground_truth (e.g. map or world)")
