@@ -31,8 +31,8 @@ class EndToEnd : public ::testing::Test {
   // kinematics and ground-truth motion the remaining error is encoder quantisation (2 pi / 4096
   // per tick) and the constant-rate interpolation inside 10 ms encoder steps at interval ends.
   // Reached (the run is deterministic; no sensor noise enters): joint 4.6e-5, 8.0e-5, 5.7e-5
-  // relative (r_L, r_R, b), mount 2.1 um, 4.2 um, 1.4e-4 deg; ceres 3.2e-6, 4.0e-6, 1.9e-5,
-  // 0.9 um, 1.1 um, 1.0e-4 deg.
+  // relative (r_L, r_R, b), mount 2.1 um, 4.2 um, 1.4e-4 deg; ceres 2.9e-6, 3.6e-6, 1.6e-5,
+  // 0.9 um, 0.8 um, 1.0e-4 deg.
   struct Bounds {
     double geometry_rel;
     double mount_m;
