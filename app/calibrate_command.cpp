@@ -30,7 +30,7 @@ struct CalibrateFlags {
   // The shared interval policy (algo::IntervalParams: every scan match) unless overridden.
   double keyframe_cm = algo::IntervalParams{}.keyframe_translation_m * 100.0;
   double keyframe_deg = algo::IntervalParams{}.keyframe_rotation_rad * 180.0 / std::numbers::pi;
-  double side_m = 2.5;  // the shipped umbmark_cw/ccw.yaml squares
+  double side_m = algo::UmbmarkParams{}.side_m;  // the shipped umbmark_cw/ccw.yaml squares
   bool time_offset = false;
   bool stamp_is_last_beam = false;
   bool strict = false;

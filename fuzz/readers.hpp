@@ -12,12 +12,15 @@
 #include <string_view>
 #include <vector>
 
+#include "algo/calibration/calibration_json.hpp"
 #include "algo/calibration/interval.hpp"
 #include "eval/bench/suite.hpp"
 #include "eval/formats/csv_logs.hpp"
 #include "eval/formats/dataset_json.hpp"
 #include "eval/formats/import.hpp"
 #include "eval/formats/mcap.hpp"
+#include "eval/formats/relations.hpp"
+#include "eval/formats/rosbag2.hpp"
 #include "eval/formats/scan_jsonl.hpp"
 #include "eval/formats/tum.hpp"
 #include "sim/drive/scenario.hpp"
@@ -26,8 +29,9 @@
 namespace slamprep::fuzz {
 
 inline const std::vector<std::string>& readerNames() {
-  static const std::vector<std::string> names = {"mcap",     "carmen", "dataset", "world",
-                                                 "scenario", "suite",  "censi"};
+  static const std::vector<std::string> names = {"mcap",        "carmen", "dataset", "world",
+                                                 "scenario",    "suite",  "censi",   "relations",
+                                                 "calibration", "bag"};
   return names;
 }
 
@@ -92,6 +96,20 @@ inline void readAs(const std::string& name, std::string_view bytes) {
   } else if (name == "censi") {
     std::istringstream in{std::string(bytes)};
     algo::readIntervalRecords(in, "tuples.json");
+  } else if (name == "relations") {
+    eval::parseRelations(bytes, "fuzz.relations");
+  } else if (name == "calibration") {
+    algo::parseCalibrationJson(bytes, "calibration.json");
+  } else if (name == "bag") {
+    // A bag folder whose metadata.yaml is the input, beside one (empty) storage file, bag_0.mcap.
+    static const auto folder = [] {
+      const auto dir = scratchFile("bag");
+      std::filesystem::create_directories(dir);
+      writeScratch(dir / "bag_0.mcap", "");
+      return dir;
+    }();
+    writeScratch(folder / "metadata.yaml", bytes);
+    eval::bagFiles(folder);
   }
 }
 

@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 shift || true
 readers=("$@")
-((${#readers[@]})) || readers=(mcap carmen dataset world scenario suite censi)
+((${#readers[@]})) || readers=(mcap carmen dataset world scenario suite censi relations calibration bag)
 jobs="${FUZZ_BUILD_JOBS:-2}"
 
 mkdir -p build-fuzz

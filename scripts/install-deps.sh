@@ -3,6 +3,16 @@
 # Idempotent: packages already present are skipped by apt-get.
 set -euo pipefail
 
+# Optional parts (node for the MCAP reader tests, Slurm) may fail to install on a developer's
+# machine, and their tests then skip. Under CI=true every step must succeed.
+optional_failed() {
+  echo "install-deps: $1"
+  if [ "${CI:-}" = true ]; then
+    echo "install-deps: CI=true, so this is an error (no test may skip in CI)" >&2
+    exit 1
+  fi
+}
+
 packages=(
   build-essential cmake ninja-build pkg-config git clang-format
   clang  # the sanitizer subset in scripts/test.sh (builds ~2.4x faster than GCC) and libFuzzer
@@ -29,11 +39,11 @@ fi
 
 # Node packages for the MCAP export tests (tests/formats/mcap_reader): the independent @mcap/core
 # reader and ROS 2 CDR deserialiser, pinned by package-lock.json. Without node or npm those tests
-# skip (GTEST_SKIP with the reason); nothing else needs them.
+# skip (GTEST_SKIP with the reason; under CI=true they fail); nothing else needs them.
 if ! command -v npm >/dev/null 2>&1; then
   export DEBIAN_FRONTEND=noninteractive
   { apt-get update -qq && apt-get install -y -qq --no-install-recommends nodejs npm; } ||
-    echo "install-deps: could not install nodejs/npm; the MCAP reader tests will skip"
+    optional_failed "could not install nodejs/npm; the MCAP reader tests will skip"
 fi
 mcap_reader="$(dirname "$0")/../tests/formats/mcap_reader"
 # Re-run npm ci whenever the lock file is newer than what was installed (a package was added).
@@ -41,7 +51,7 @@ if command -v npm >/dev/null 2>&1 &&
   { [ ! -f "$mcap_reader/node_modules/.package-lock.json" ] ||
     [ "$mcap_reader/package-lock.json" -nt "$mcap_reader/node_modules/.package-lock.json" ]; }; then
   (cd "$mcap_reader" && npm ci --no-audit --no-fund --loglevel=error) ||
-    echo "install-deps: npm ci failed; the MCAP reader tests will skip"
+    optional_failed "npm ci failed; the MCAP reader tests will skip"
 fi
 
 # Slurm and munge for the real single-node Slurm test (tests/slurm, ctest label `slurm`): it
@@ -55,5 +65,5 @@ done
 if ((${#slurm_missing[@]})); then
   export DEBIAN_FRONTEND=noninteractive
   { apt-get update -qq && apt-get install -y -qq --no-install-recommends "${slurm_missing[@]}"; } ||
-    echo "install-deps: could not install ${slurm_missing[*]}; the Slurm test will skip"
+    optional_failed "could not install ${slurm_missing[*]}; the Slurm test will skip"
 fi

@@ -12,7 +12,10 @@ namespace {
 //   o     = integrateStepsShifted(steps; r_L, r_R, b, offset)   exact arcs over the encoder
 //           steps inside the lidar window [t_s, t_e], shifted to encoder time by -offset
 //   pred  = l^-1 * o * l                                        predicted lidar motion
-//   r     = W log(pred^-1 * sm),  W = diag(1/sigma_x, 1/sigma_y, 1/sigma_th)
+//   r     = W (t_sm - t_pred, angle(th_sm - th_pred)),  W = diag(1/sigma_x, 1/sigma_y, 1/sigma_th)
+// The translation error is taken in the lidar frame at the interval's start, where the scan
+// matcher's noise lives (and where joint's residuals are): log(pred^-1 * sm) would express it
+// in the predicted end frame, rotated by the interval's turn, and mix the per-axis sigmas.
 // p = (r_L, r_R, b, l_x, l_y, l_th); offset a separate one-element block (constant unless
 // estimated).
 struct IntervalResidual {
@@ -23,9 +26,10 @@ struct IntervalResidual {
   bool operator()(const T* p, const T* offset, T* residual) const {
     const SE2T<T> o = integrateStepsShifted(interval->steps, p[0], p[1], p[2], offset[0]);
     const SE2T<T> pred = lidarMotion(o, SE2T<T>(p[3], p[4], p[5]));
-    const SE2T<T> err = between(pred, interval->T_lidarStart_lidarEnd.template cast<T>());
-    const Eigen::Matrix<T, 3, 1> xi = err.log();
-    for (int i = 0; i < 3; ++i) residual[i] = xi(i) * inv_sigma(i);
+    const SE2T<T> sm = interval->T_lidarStart_lidarEnd.template cast<T>();
+    residual[0] = (sm.x - pred.x) * inv_sigma(0);
+    residual[1] = (sm.y - pred.y) * inv_sigma(1);
+    residual[2] = normalizeAngle(sm.yaw - pred.yaw) * inv_sigma(2);
     return true;
   }
 };

@@ -52,12 +52,12 @@ ModelBasedResult calibrateModelBased(const std::vector<CalibrationInterval>& int
   result.geometry = {-rot.J21 * b, rot.J22 * b, b};
 
   // Covariance: e_k = s_k - b c_k(J); G_k = -c_k, F_k = -b dc_k/dJ (central differences).
-  double sq = 0.0;
+  Eigen::Vector2d sq = Eigen::Vector2d::Zero();  // squared residuals per axis of the lidar frame
   Eigen::MatrixXd sumGtF = Eigen::MatrixXd::Zero(1, 2);
   const double h = 1e-6 * std::max(std::abs(rot.J21), std::abs(rot.J22));
   for (const CalibrationInterval& interval : intervals) {
     const Eigen::Vector2d c = unitOdometry(interval, rot.J21, rot.J22).c;
-    sq += (interval.T_lidarStart_lidarEnd.translation() - b * c).squaredNorm();
+    sq += (interval.T_lidarStart_lidarEnd.translation() - b * c).cwiseAbs2();
     Eigen::Matrix2d dc;
     dc.col(0) = (unitOdometry(interval, rot.J21 + h, rot.J22).c -
                  unitOdometry(interval, rot.J21 - h, rot.J22).c) /
@@ -67,12 +67,17 @@ ModelBasedResult calibrateModelBased(const std::vector<CalibrationInterval>& int
                 (2 * h);
     sumGtF += (-c).transpose() * (-b * dc);
   }
-  const double sigma_t2 = sq / (2.0 * n - 1.0);  // translation noise per axis
+  // Translation noise per axis (the scan matcher's x and y noise differ), with the 2n - 1
+  // degrees of freedom split evenly over the two axes; N = sum_k c_k^T diag(var) c_k.
+  const Eigen::Vector2d var = sq / (n - 0.5);
+  double sum_cVc = 0.0;
+  for (const CalibrationInterval& interval : intervals)
+    sum_cVc += unitOdometry(interval, rot.J21, rot.J22).c.cwiseAbs2().dot(var);
   const Eigen::MatrixXd H = Eigen::MatrixXd::Constant(1, 1, sum_cc);
-  const Eigen::MatrixXd N = Eigen::MatrixXd::Constant(1, 1, sigma_t2 * sum_cc);
+  const Eigen::MatrixXd N = Eigen::MatrixXd::Constant(1, 1, sum_cVc);
   result.covariance =
       radiiCovariance(twoStageCovariance(rot.covariance, H, N, sumGtF), rot.J21, rot.J22, b);
-  result.cost = sq + std::pow(rot.sigma_theta_rad, 2) * (n - 2);
+  result.cost = sq.sum() + std::pow(rot.sigma_theta_rad, 2) * (n - 2);
   result.intervals_used = n;
   result.iterations = 1;
   result.ok = true;

@@ -27,8 +27,9 @@ struct UmbmarkRun {
 };
 
 struct UmbmarkParams {
-  /// Side L of the square.
-  double side_m = 4.0;
+  /// Side L of the square; the default is that of the shipped squares
+  /// (worlds/scenarios/umbmark_cw.yaml, umbmark_ccw.yaml), as `calibrate --side` and bench use it.
+  double side_m = 2.5;
   /// Geometry the odometry used during the runs; the corrections are applied to it.
   DiffDriveParams nominal;
   /// With every run's encoder steps: correct again until no parameter changes by more than this

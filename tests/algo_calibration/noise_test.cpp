@@ -65,7 +65,8 @@ void checkCalibrated(
 SyntheticSpec noisy() {
   SyntheticSpec spec;
   spec.intervals = 80;
-  spec.sigma_xy_m = 0.002;
+  spec.sigma_x_m = 0.003;  // per axis: the noise frame matters
+  spec.sigma_y_m = 0.001;
   spec.sigma_theta_rad = 0.002;
   return spec;
 }

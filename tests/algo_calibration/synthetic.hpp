@@ -20,8 +20,11 @@ struct SyntheticSpec {
   int steps_per_interval = 30;
   double dt_s = 0.01;
   Driving driving = Driving::kMixed;
-  double sigma_xy_m = 0.0;       ///< noise added to the measured lidar translation, per axis
-  double sigma_theta_rad = 0.0;  ///< noise added to the measured lidar rotation
+  // Noise added to the measured lidar motion, in the lidar frame at the interval's start. The
+  // axes differ so that a method that mixes up the noise frame (or assumes it isotropic) shows.
+  double sigma_x_m = 0.0;        ///< along the lidar's x axis
+  double sigma_y_m = 0.0;        ///< along the lidar's y axis
+  double sigma_theta_rad = 0.0;  ///< on the rotation
   unsigned seed = 1;
 };
 
@@ -74,7 +77,7 @@ inline std::vector<CalibrationInterval> makeIntervals(const SyntheticSpec& spec)
     }
     interval.t_end_s = t;
     const SE2 sm = spec.T_base_lidar.inverse() * o * spec.T_base_lidar;
-    const double nx = spec.sigma_xy_m * gauss(rng), ny = spec.sigma_xy_m * gauss(rng);
+    const double nx = spec.sigma_x_m * gauss(rng), ny = spec.sigma_y_m * gauss(rng);
     const double nth = spec.sigma_theta_rad * gauss(rng);
     interval.T_lidarStart_lidarEnd = SE2(sm.x + nx, sm.y + ny, sm.yaw + nth);
     out.push_back(std::move(interval));

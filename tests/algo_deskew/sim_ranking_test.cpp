@@ -45,9 +45,17 @@ eval::ErrorStats meanError(DeskewMethod method, const PoseSeries& odometry) {
   return eval::summarize(errors_m);
 }
 
+/// Relative yaw-rate error of odometry that believes `nominal` on the arc (1 m/s, 1 rad/s):
+/// the true wheel rates (w_L, w_R) = truth.wheelRates(v, w) turned into a twist by `nominal`.
+double yawRateError(const DiffDriveParams& truth, const DiffDriveParams& nominal) {
+  const Eigen::Vector2d rates = truth.wheelRates(1.0, 1.0);
+  return nominal.twist(rates.x(), rates.y()).y() / 1.0 - 1.0;
+}
+
 // Physics says (docs/deskew.md derives each figure):
-// - none: points move ~tau (v + w r) during the scan, ~0.2 m on average;
-// - odometry methods with the nominal geometry keep its ~4% yaw-rate error: a few mm;
+// - none: points move ~tau (v + w r) during the scan, ~0.2 m on average, mostly from the turn;
+// - odometry methods with the nominal geometry (r_L +2 %, r_R -1.5 %, b +4 %) undo the turn
+//   only up to their yaw-rate error, -10.3 % on this arc, so they keep about 10 % of `none`;
 // - odom-icp replaces that error by ICP noise (~1 mm); quadratic equals linear at 100 Hz
 //   odometry (their difference is micrometres), so "combined <= quadratic <= linear" is asserted
 //   with a 5% tolerance between the last two;
@@ -66,12 +74,19 @@ TEST(DeskewOnSimulatedArc, MethodsRankAsPhysicsSays) {
   EXPECT_LT(mean[M::kOracle], mean[M::kOdomIcp]);
   EXPECT_LT(mean[M::kOdomIcp], mean[M::kOdomQuadratic]);
   EXPECT_LT(mean[M::kOdomQuadratic], 1.05 * mean[M::kOdomLinear]);
-  EXPECT_LT(mean[M::kOdomLinear], mean[M::kNone]);
   EXPECT_GT(mean[M::kNone], 0.1);
+  // The residual of the odometry methods is the yaw-rate error's share of `none` (26.1 of 255.7
+  // mm, ratio 0.102, against a predicted 0.103); 25 % leaves room for the translation share.
+  const double yaw_error = std::abs(yawRateError(*d.info.true_geometry, d.info.nominal_geometry));
+  EXPECT_NEAR(yaw_error, 0.103, 0.001);
+  EXPECT_NEAR(mean[M::kOdomLinear] / mean[M::kNone], yaw_error, 0.25 * yaw_error);
   // The goals: combined from the nominal geometry <= 2 mm, IMU <= 2 mm, all >= 30x below none
   // except the nominal-geometry odometry methods (the goal grants them the true geometry).
+  // Reached: odom-icp 1.06 mm, imu 0.37, const-velocity 0.80, vicp 0.80; the bounds sit at 2-4x.
   EXPECT_LT(mean[M::kOdomIcp], 0.002);
-  EXPECT_LT(mean[M::kImu], 0.002);
+  EXPECT_LT(mean[M::kImu], 0.0012);
+  EXPECT_LT(mean[M::kConstVelocity], 0.003);
+  EXPECT_LT(mean[M::kVicp], 0.003);
   for (M m : {M::kOdomIcp, M::kImu, M::kConstVelocity, M::kVicp})
     EXPECT_LT(30.0 * mean[m], mean[M::kNone]) << deskewMethodName(m);
 }

@@ -195,7 +195,7 @@ void checkBag(const ExportInput& in, const fs::path& bag, bool chunked,
 }
 
 TEST(ExportMcap, IndependentReaderDecodesEveryMessageChunkedWithZstd) {
-  if (const std::string why = test::nodeToolUnavailable(); !why.empty()) GTEST_SKIP() << why;
+  SLAMPREP_REQUIRE_NODE_TOOL();
   const ExportInput in = syntheticInput();
   ExportParams p;                       // zstd by default
   p.mcap_chunk_size_bytes = 64 * 1024;  // several chunks
@@ -206,7 +206,7 @@ TEST(ExportMcap, IndependentReaderDecodesEveryMessageChunkedWithZstd) {
 }
 
 TEST(ExportMcap, IndependentReaderDecodesLz4AndUncompressedChunks) {
-  if (const std::string why = test::nodeToolUnavailable(); !why.empty()) GTEST_SKIP() << why;
+  SLAMPREP_REQUIRE_NODE_TOOL();
   const ExportInput in = syntheticInput();
   for (const Compression c : {Compression::kLz4, Compression::kNone}) {
     ExportParams p;
@@ -219,7 +219,7 @@ TEST(ExportMcap, IndependentReaderDecodesLz4AndUncompressedChunks) {
 }
 
 TEST(ExportMcap, IndependentReaderDecodesEveryMessageUnchunked) {
-  if (const std::string why = test::nodeToolUnavailable(); !why.empty()) GTEST_SKIP() << why;
+  SLAMPREP_REQUIRE_NODE_TOOL();
   const ExportInput in = syntheticInput();
   ExportParams p;
   p.mcap_chunk_size_bytes = 0;

@@ -146,7 +146,7 @@ std::int64_t stampNs(double t) {
 }
 
 TEST(ImportMcap, BagWrittenByTheIndependentWriterBecomesADataset) {
-  if (const std::string why = test::nodeToolUnavailable(); !why.empty()) GTEST_SKIP() << why;
+  SLAMPREP_REQUIRE_NODE_TOOL();
   nlohmann::json spec;
   spec["channels"] = {{{"topic", "/front/scan"}, {"type", "sensor_msgs/msg/LaserScan"}},
                       {{"topic", "/wheels"}, {"type", "sensor_msgs/msg/JointState"}},

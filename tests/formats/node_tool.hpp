@@ -1,6 +1,7 @@
 #pragma once
 // Runs tests/formats/mcap_reader/mcap_tool.mjs (the independent @mcap/core reader and writer).
-// When node or the npm packages are missing, nodeToolUnavailable() says why, and the test skips.
+// When node or the npm packages are missing, nodeToolUnavailable() says why, and the test skips,
+// except under CI=true, where a missing tool fails the test: CI must not pass by skipping.
 
 #include <sys/file.h>
 #include <unistd.h>
@@ -44,6 +45,12 @@ inline std::string nodeToolUnavailable() {
   return {};
 }
 
+/// True when the environment says this is CI (CI=true, as GitHub and GitLab set it).
+inline bool runningInCi() {
+  const char* ci = std::getenv("CI");
+  return ci != nullptr && std::string(ci) == "true";
+}
+
 /// Runs `node mcap_tool.mjs args`; returns its exit code, stderr in `log`.
 inline int runNodeTool(const std::string& args, std::string* log = nullptr) {
   const auto err =
@@ -61,3 +68,12 @@ inline int runNodeTool(const std::string& args, std::string* log = nullptr) {
 }
 
 }  // namespace slamprep::test
+
+/// Skips the test when the independent MCAP reader cannot run; fails it instead under CI=true.
+#define SLAMPREP_REQUIRE_NODE_TOOL()                                                     \
+  do {                                                                                   \
+    if (const std::string why = ::slamprep::test::nodeToolUnavailable(); !why.empty()) { \
+      if (::slamprep::test::runningInCi()) FAIL() << why << " (CI=true: no skips)";      \
+      GTEST_SKIP() << why;                                                               \
+    }                                                                                    \
+  } while (false)

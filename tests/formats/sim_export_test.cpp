@@ -31,7 +31,7 @@ const Dataset& simulated() {
 }
 
 TEST(SimExport, IndependentReaderDecodesEveryMessageOfASimulatedRun) {
-  if (const std::string why = test::nodeToolUnavailable(); !why.empty()) GTEST_SKIP() << why;
+  SLAMPREP_REQUIRE_NODE_TOOL();
   const Dataset& d = simulated();
   ASSERT_GT(d.scans.size(), 20u);
   ExportInput in;
