@@ -139,7 +139,9 @@ void Progress::tick() {
 }
 
 void Progress::clearLine() {
-  if (options_.style == ProgressStyle::kBar && drawn_) write_("\r\033[K");
+  if (options_.style != ProgressStyle::kBar || !drawn_) return;
+  write_("\r\033[K");
+  drawn_ = false;  // nothing of the bar left for finish() to end
 }
 
 void Progress::finish(const std::string& message) {

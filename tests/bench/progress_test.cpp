@@ -89,6 +89,16 @@ TEST(Progress, BarRedrawsOneLineInPlace) {
   EXPECT_EQ(f.lines[2], "\n");
 }
 
+TEST(Progress, ClearedBarLeavesNoEmptyLine) {
+  Fake f;
+  Progress p = f.make(1, {.style = ProgressStyle::kBar});
+  p.advance(1, "vicp");
+  p.clearLine();  // before a table row goes to stdout
+  p.finish("");
+  ASSERT_EQ(f.lines.size(), 3u);
+  EXPECT_EQ(f.lines[2], "\r\033[K");
+}
+
 TEST(Progress, SilentWritesNothing) {
   Fake f;
   Progress p = f.make(1, {.style = ProgressStyle::kSilent});
