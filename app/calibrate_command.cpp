@@ -14,6 +14,7 @@
 #include "app/exit_codes.hpp"
 #include "app/outputs.hpp"
 #include "eval/bench/calibration_run.hpp"
+#include "eval/bench/command_progress.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -117,7 +118,12 @@ void checkPaths(const CalibrateFlags& flags) {
 
 int runCalibrate(const CalibrateFlags& flags) {
   checkPaths(flags);
-  const eval::DatasetCalibration c = eval::calibrateDataset(paramsOf(flags));
+  const eval::DatasetCalibration c = [&] {
+    eval::CommandProgress progress(1, "runs", "calibrate");
+    eval::StageReporter stages(flags.dataset.empty() ? "calibrate" : flags.dataset, 1);
+    stages.begin("calibrate");
+    return eval::calibrateDataset(paramsOf(flags));
+  }();
   if (c.failed_matches > 0)
     std::cerr << "calibrate: " << c.failed_matches << " scan matches failed (chains broken)\n";
   if (c.from_motion)

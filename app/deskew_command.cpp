@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "algo/calibration/calibration_json.hpp"
@@ -16,6 +17,7 @@
 #include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "core/odometry.hpp"
+#include "eval/bench/command_progress.hpp"
 #include "eval/bench/dataset_deskew.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "eval/formats/scan_jsonl.hpp"
@@ -121,7 +123,12 @@ struct MethodRun {
 
 MethodRun runMethod(algo::DeskewMethod method, const Dataset& d, const PoseSeries& odometry,
                     const Geometry& geometry, const DeskewFlags& flags) {
+  eval::StageReporter stages(std::string(algo::deskewMethodName(method)), 1);
+  stages.begin("deskew");
   eval::DatasetDeskewOptions options;
+  options.on_scan = [&](std::size_t done, std::size_t total) {
+    stages.update(static_cast<double>(done) / total);
+  };
   options.geometry = geometry.wheels;
   options.odometry = odometry;
   options.T_base_lidar = geometry.T_base_lidar;
@@ -147,11 +154,23 @@ MethodRun runMethod(algo::DeskewMethod method, const Dataset& d, const PoseSerie
   return run;
 }
 
+/// Every refused scan, `{"scan", "method", "reason", "detail"}` (docs/deskew.md).
+nlohmann::ordered_json refusalsJson(const MethodRun& run) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const auto& r : run.result.refusals)
+    out.push_back({{"scan", r.scan},
+                   {"method", std::string(algo::deskewMethodName(run.method))},
+                   {"reason", std::string(algo::deskewRefusalName(r.reason))},
+                   {"detail", r.detail}});
+  return out;
+}
+
 nlohmann::ordered_json toJson(const MethodRun& run) {
   const auto& e = run.result.error_m;
   auto num = [&](const std::optional<ErrorStats>& stats, double ErrorStats::*field) {
     return stats ? nlohmann::ordered_json((*stats).*field) : nlohmann::ordered_json(nullptr);
   };
+  const std::size_t scans = run.result.scans.size();
   return {{"method", std::string(algo::deskewMethodName(run.method))},
           {"mean_m", num(e, &ErrorStats::mean)},
           {"rms_m", num(e, &ErrorStats::rmse)},
@@ -161,8 +180,19 @@ nlohmann::ordered_json toJson(const MethodRun& run) {
           {"translation_mean_m", num(run.result.translation_induced_m, &ErrorStats::mean)},
           {"beams", e ? e->count : 0},
           {"seconds", run.result.seconds},
-          {"scans", run.result.scans.size()},
-          {"refused", run.result.refused}};
+          {"scans", scans},
+          {"refused", run.result.refused},
+          {"ok", scans - run.result.refused},
+          {"refused_by_reason", eval::refusedByReason(run.result.refusals)},
+          {"refusals", refusalsJson(run)}};
+}
+
+/// "not-bracketed 3, sample-gap 1": refused scans counted by reason.
+std::string reasonCounts(const std::map<std::string, int>& counts) {
+  std::string out;
+  for (const auto& [reason, n] : counts)
+    out += (out.empty() ? "" : ", ") + reason + " " + std::to_string(n);
+  return out;
 }
 
 void printRow(const MethodRun& run) {
@@ -176,6 +206,12 @@ void printRow(const MethodRun& run) {
     std::cout << std::setw(50) << "(no ground truth)";
   std::cout << std::setprecision(4) << std::setw(10) << run.result.seconds << std::setw(9)
             << run.result.refused << "\n";
+  const std::size_t scans = run.result.scans.size();
+  // The error figures cover the scans de-skewed: say how many of all, and why the others not.
+  if (run.result.refused > 0)
+    std::cout << "    ok " << scans - run.result.refused << " of " << scans
+              << " scans; refused: " << reasonCounts(eval::refusedByReason(run.result.refusals))
+              << "\n";
   if (!run.result.first_note.empty())
     std::cout << "    first note: " << run.result.first_note << "\n";
 }
@@ -224,15 +260,21 @@ int runDeskew(const DeskewFlags& given) {
   printHeader(flags, d, geometry);
   nlohmann::ordered_json json = nlohmann::ordered_json::array();
   std::size_t fully_refused = 0, with_refusals = 0;
+  std::map<std::string, int> refused_by_reason;  // over every method run
   std::vector<std::string> written;
   // Every method in turn; with --out its scans go into the folder being published.
   auto runAll = [&](const fs::path* partial) {
+    eval::CommandProgress progress(methods.run.size(), "methods", "deskew");
     for (const auto m : methods.run) {
       const MethodRun run = runMethod(m, d, odometry, geometry, flags);
+      progress.advance(std::string(algo::deskewMethodName(m)));
+      progress.clearLine();
       printRow(run);
       json.push_back(toJson(run));
       fully_refused += run.result.refused == static_cast<int>(d.scans.size());
       with_refusals += run.result.refused > 0;
+      for (const auto& [reason, n] : eval::refusedByReason(run.result.refusals))
+        refused_by_reason[reason] += n;
       if (!partial) continue;
       const std::string name = "deskewed_" + std::string(algo::deskewMethodName(m)) + ".jsonl";
       writeFileAtomic(*partial / name,
@@ -248,6 +290,9 @@ int runDeskew(const DeskewFlags& given) {
       runAll(&partial);
     });
   }
+  if (!refused_by_reason.empty())
+    std::cout << "refused scans by reason, all methods: " << reasonCounts(refused_by_reason)
+              << "\n";
   for (const auto& [m, reason] : methods.not_applicable)
     std::cout << std::left << std::setw(16) << algo::deskewMethodName(m)
               << "not applicable: " << reason << "\n";

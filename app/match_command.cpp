@@ -10,6 +10,7 @@
 #include "app/outputs.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "eval/bench/command_progress.hpp"
 #include "eval/bench/match_run.hpp"
 #include "eval/formats/dataset_io.hpp"
 
@@ -37,7 +38,12 @@ int runMatch(const MatchFlags& flags) {
   params.matcher = flags.deskew == "vicp" ? algo::ScanMatcher::kVicp : algo::ScanMatcher::kIcp;
   params.guess = algo::MotionGuess::kConstantVelocity;
   params.stamp_is_last_beam = flags.stamp_is_last_beam;
-  const eval::MatchRun run = eval::matchDataset(d, params);
+  const eval::MatchRun run = [&] {
+    eval::CommandProgress progress(1, "runs", "match");
+    eval::StageReporter stages(flags.dataset, 1);
+    stages.begin("match");
+    return eval::matchDataset(d, params);
+  }();
   if (!flags.out.empty()) writeFileAtomic(flags.out, eval::formatMatches(run.matches));
   const eval::ScanMatchError& e = run.error;
   std::cout << "matched " << e.pairs << " consecutive scan pairs (" << flags.deskew

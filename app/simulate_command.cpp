@@ -1,5 +1,4 @@
 // `slamprep simulate`: run the simulator for one world and scenario and write a dataset directory.
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -14,6 +13,7 @@
 #include "app/commands.hpp"
 #include "app/outputs.hpp"
 #include "core/error.hpp"
+#include "eval/bench/command_progress.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "sim/drive/simulator.hpp"
 
@@ -64,34 +64,6 @@ sim::SimConfig readConfigFile(const std::string& file) {
   return sim::configFromJson(json, file);
 }
 
-/// Progress on stderr: a bar redrawn in place on a terminal, else a plain line every 10 %.
-class Progress {
- public:
-  explicit Progress(bool enabled) : enabled_(enabled), tty_(isatty(STDERR_FILENO) != 0) {}
-
-  void operator()(double t_s, double duration_s) {
-    if (!enabled_ || duration_s <= 0.0) return;
-    const double f = std::clamp(t_s / duration_s, 0.0, 1.0);
-    if (tty_) {
-      constexpr int kWidth = 40;
-      const int filled = static_cast<int>(f * kWidth);
-      std::fprintf(stderr, "\r[%s%s] %3d%%  %.1f / %.1f s", std::string(filled, '#').c_str(),
-                   std::string(kWidth - filled, '.').c_str(), static_cast<int>(f * 100), t_s,
-                   duration_s);
-      if (f >= 1.0) std::fputc('\n', stderr);
-      std::fflush(stderr);
-    } else if (const int decile = static_cast<int>(f * 10); decile > last_decile_) {
-      last_decile_ = decile;
-      std::fprintf(stderr, "simulate: %d%% (%.1f / %.1f s)\n", decile * 10, t_s, duration_s);
-    }
-  }
-
- private:
-  bool enabled_;
-  bool tty_;
-  int last_decile_ = 0;
-};
-
 void printSummary(const sim::SimSummary& s, double wall_s, const std::string& out) {
   const double rtf = wall_s > 0.0 ? s.duration_s / wall_s : 0.0;
   const double deg = 180.0 / std::numbers::pi;
@@ -123,10 +95,15 @@ int run(const SimulateFlags& flags, const CLI::App& cli) {
   sim::validate(config, "command line");
   for (const std::string& assignment : flags.overrides) sim::applyOverride(config, assignment);
 
-  Progress progress(!flags.quiet);
   const auto start = std::chrono::steady_clock::now();  // for the summary only
-  const sim::SimResult result =
-      sim::simulate(config, [&](double t_s, double duration_s) { progress(t_s, duration_s); });
+  const sim::SimResult result = [&] {
+    eval::CommandProgress progress(1, "runs", "simulate", !flags.quiet);
+    eval::StageReporter stages(flags.out, 1);
+    stages.begin("simulate");
+    return sim::simulate(config, [&](double t_s, double duration_s) {
+      if (duration_s > 0.0) stages.update(t_s / duration_s);
+    });
+  }();
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   eval::writeDataset(flags.out, result.dataset);

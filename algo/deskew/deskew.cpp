@@ -60,6 +60,38 @@ bool deskewMethodUsesPreviousScan(DeskewMethod method) {
   return m && m->uses_previous_scan;
 }
 
+const std::vector<DeskewRefusal>& allDeskewRefusals() {
+  static const std::vector<DeskewRefusal> all = {
+      DeskewRefusal::kNoBeams,         DeskewRefusal::kNoBeamTimes,  DeskewRefusal::kUnknownMethod,
+      DeskewRefusal::kMissingInput,    DeskewRefusal::kNotBracketed, DeskewRefusal::kSampleGap,
+      DeskewRefusal::kBadPreviousScan, DeskewRefusal::kMatchFailed};
+  return all;
+}
+
+std::string_view deskewRefusalName(DeskewRefusal reason) {
+  switch (reason) {
+    case DeskewRefusal::kNone:
+      return "";
+    case DeskewRefusal::kNoBeams:
+      return "no-beams";
+    case DeskewRefusal::kNoBeamTimes:
+      return "no-beam-times";
+    case DeskewRefusal::kUnknownMethod:
+      return "unknown-method";
+    case DeskewRefusal::kMissingInput:
+      return "missing-input";
+    case DeskewRefusal::kNotBracketed:
+      return "not-bracketed";
+    case DeskewRefusal::kSampleGap:
+      return "sample-gap";
+    case DeskewRefusal::kBadPreviousScan:
+      return "bad-previous-scan";
+    case DeskewRefusal::kMatchFailed:
+      return "match-failed";
+  }
+  return "unknown";
+}
+
 std::string_view referenceTimeName(ReferenceTime reference) {
   switch (reference) {
     case ReferenceTime::kFirst:
@@ -105,16 +137,19 @@ DeskewResult deskew(DeskewMethod method, const LaserScan& scan, const DeskewInpu
                     const DeskewParams& params) {
   DeskewResult result;
   if (scan.size() == 0) {
+    result.refusal = DeskewRefusal::kNoBeams;
     result.reason = "the scan has no beams";
     return result;
   }
   if (!(scan.time_increment_s > 0.0) || !std::isfinite(scan.time_increment_s)) {
+    result.refusal = DeskewRefusal::kNoBeamTimes;
     result.reason = "time_increment is " + fmt(scan.time_increment_s) +
                     ": the beam times are unknown, so the scan cannot be de-skewed";
     return result;
   }
   const MethodEntry* m = entry(method);
   if (!m) {
+    result.refusal = DeskewRefusal::kUnknownMethod;
     result.reason = "unknown method";
     return result;
   }
@@ -129,6 +164,7 @@ DeskewResult deskew(DeskewMethod method, const LaserScan& scan, const DeskewInpu
   } catch (const Refusal& refusal) {
     result.p_ref.clear();
     result.T_ref_lidar.clear();
+    result.refusal = refusal.code;
     result.reason = refusal.reason;
     return result;
   }

@@ -48,6 +48,22 @@ enum class ReferenceTime { kFirst, kMiddle, kLast };
 std::string_view referenceTimeName(ReferenceTime reference);
 std::optional<ReferenceTime> parseReferenceTime(std::string_view name);
 
+/// Why a method refused a scan: short fixed names (deskewRefusalName()) that can be counted.
+enum class DeskewRefusal {
+  kNone,             ///< "" : not refused
+  kNoBeams,          ///< "no-beams": the scan is empty
+  kNoBeamTimes,      ///< "no-beam-times": time_increment <= 0, beam times unknown
+  kUnknownMethod,    ///< "unknown-method"
+  kMissingInput,     ///< "missing-input": the method's input (odometry, IMU, truth) is absent
+  kNotBracketed,     ///< "not-bracketed": odometry/IMU/truth do not cover the scan
+  kSampleGap,        ///< "sample-gap": odometry/IMU has a gap inside the scan
+  kBadPreviousScan,  ///< "bad-previous-scan": not earlier, or without beam times
+  kMatchFailed,      ///< "match-failed": the scan-to-scan match did not converge
+};
+/// Every refusal reason but kNone, in the order above.
+const std::vector<DeskewRefusal>& allDeskewRefusals();
+std::string_view deskewRefusalName(DeskewRefusal reason);
+
 /// What the stateful methods need from the previous scan (DeskewSequence fills this in).
 struct PreviousScan {
   /// As measured. vicp and odom-icp re-de-skew it with every new estimate, so both scans of a
@@ -116,7 +132,8 @@ struct DeskewResult {
   std::optional<Eigen::Vector3d> odometry_error_per_s;
   int rounds = 0;  ///< vicp, odom-icp: de-skew-and-match rounds run
   bool ok = false;
-  std::string reason;  ///< why it refused (ok = false), else empty
+  DeskewRefusal refusal = DeskewRefusal::kNone;  ///< why it refused, as a countable name
+  std::string reason;  ///< why it refused (ok = false), in words; else empty
   std::vector<std::string> warnings;
 };
 

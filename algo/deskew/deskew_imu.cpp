@@ -19,12 +19,13 @@ std::vector<std::pair<double, double>> gyroSamples(const ImuLog& imu, const Scan
   const auto after_first = std::upper_bound(imu.begin(), imu.end(), t.first_s, later);
   const auto after_last = std::upper_bound(imu.begin(), imu.end(), t.last_s, later);
   if (imu.empty() || after_first == imu.begin() || after_last == imu.end())
-    throw Refusal{"IMU does not bracket the scan [" + fmt(t.first_s) + ", " + fmt(t.last_s) +
-                  "] s"};
+    throw Refusal{DeskewRefusal::kNotBracketed, "IMU does not bracket the scan [" + fmt(t.first_s) +
+                                                    ", " + fmt(t.last_s) + "] s"};
   for (auto it = after_first - 1; it != after_last; ++it)
     if ((it + 1)->stamp_s - it->stamp_s > max_gap_s)
-      throw Refusal{"IMU has a gap of " + fmt((it + 1)->stamp_s - it->stamp_s) + " s at t = " +
-                    fmt(it->stamp_s) + " inside the scan; refused, not integrated across"};
+      throw Refusal{DeskewRefusal::kSampleGap,
+                    "IMU has a gap of " + fmt((it + 1)->stamp_s - it->stamp_s) + " s at t = " +
+                        fmt(it->stamp_s) + " inside the scan; refused, not integrated across"};
   auto gyroAt = [&](std::vector<ImuSample>::const_iterator hi, double s) {  // linear
     const auto lo = hi - 1;
     const double f = (s - lo->stamp_s) / (hi->stamp_s - lo->stamp_s);

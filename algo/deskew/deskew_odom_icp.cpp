@@ -19,7 +19,9 @@ Trajectory odomIcpKnots(const MethodCall& call) {
   }
   const PreviousScan& prev = *in.previous;
   const ScanTimes tp = previousTimes(prev);
-  if (t.first_s <= tp.first_s) throw Refusal{"the previous scan is not earlier than this one"};
+  if (t.first_s <= tp.first_s)
+    throw Refusal{DeskewRefusal::kBadPreviousScan,
+                  "the previous scan is not earlier than this one"};
   // T_L0_L(t) by odometry for one scan, seen from its first beam.
   auto odometryScan = [&](const LaserScan& scan, bool last_stamp, const ScanTimes& times) {
     return CorrectedScan{

@@ -22,8 +22,11 @@ Trajectory vicpKnots(const MethodCall& call) {
   const PreviousScan& prev = *in.previous;
   const ScanTimes& t = call.t;
   const ScanTimes tp = previousTimes(prev);
-  if (t.first_s <= tp.first_s) throw Refusal{"the previous scan is not earlier than this one"};
-  if (prev.scan.time_increment_s <= 0.0) throw Refusal{"the previous scan has no beam times"};
+  if (t.first_s <= tp.first_s)
+    throw Refusal{DeskewRefusal::kBadPreviousScan,
+                  "the previous scan is not earlier than this one"};
+  if (prev.scan.time_increment_s <= 0.0)
+    throw Refusal{DeskewRefusal::kBadPreviousScan, "the previous scan has no beam times"};
   Eigen::Vector3d twist_guess = prev.twist_lidar.value_or(Eigen::Vector3d::Zero());
   if (!in.odometry.empty()) {  // odometry, when there is some, is the better first guess
     const auto T_odom_prev = in.odometry.at(tp.first_s), T_odom_cur = in.odometry.at(t.first_s);
@@ -34,7 +37,7 @@ Trajectory vicpKnots(const MethodCall& call) {
   const JointEstimate est =
       estimateJointly(constantTwistScan(prev.scan, tp), constantTwistScan(call.scan, t), SE2(),
                       twist_guess, call.params);
-  if (!est.match) throw Refusal{"vicp: " + est.failure};
+  if (!est.match) throw Refusal{DeskewRefusal::kMatchFailed, "vicp: " + est.failure};
   if (!est.failure.empty())
     call.result.warnings.push_back("vicp: " + est.failure + "; kept the round before");
   call.result.match = est.match;

@@ -25,8 +25,8 @@ ScanTimes scanTimes(const LaserScan& scan, bool stamp_is_last_beam, ReferenceTim
 
 void MethodCall::need(bool given, std::string_view what) const {
   if (!given)
-    throw Refusal{std::string(deskewMethodName(method)) + " needs " + std::string(what) +
-                  ", none was given"};
+    throw Refusal{DeskewRefusal::kMissingInput, std::string(deskewMethodName(method)) + " needs " +
+                                                    std::string(what) + ", none was given"};
 }
 
 std::string fmt(double x) {
@@ -40,18 +40,18 @@ Trajectory lidarKnots(const PoseSeries& poses, const SE2& T_base_lidar, const Sc
                       const LaserScan& scan, bool stamp_is_last_beam, double max_gap_s,
                       std::string_view what) {
   if (auto warning = checkBracketing(scan, stamp_is_last_beam, poses, what))
-    throw Refusal{*warning};
+    throw Refusal{DeskewRefusal::kNotBracketed, *warning};
   const auto b0 = poses.bracket(t.first_s), b1 = poses.bracket(t.last_s);
   const std::size_t end = poses.size() == 1 ? 0 : std::min(b1->index + 1, poses.size() - 1);
   Trajectory knots;
   knots.reserve(end - b0->index + 1);
   for (std::size_t k = b0->index; k <= end; ++k) {
     if (k > b0->index && poses[k].stamp_s - poses[k - 1].stamp_s > max_gap_s)
-      throw Refusal{std::string(what) + " has a gap of " +
-                    fmt(poses[k].stamp_s - poses[k - 1].stamp_s) +
-                    " s at t = " + fmt(poses[k - 1].stamp_s) +
-                    " inside the scan (max_sample_gap_s = " + fmt(max_gap_s) +
-                    "); refused, not interpolated across"};
+      throw Refusal{
+          DeskewRefusal::kSampleGap,
+          std::string(what) + " has a gap of " + fmt(poses[k].stamp_s - poses[k - 1].stamp_s) +
+              " s at t = " + fmt(poses[k - 1].stamp_s) + " inside the scan (max_sample_gap_s = " +
+              fmt(max_gap_s) + "); refused, not interpolated across"};
     knots.push_back({poses[k].stamp_s, poses[k].value * T_base_lidar});
   }
   return knots;

@@ -20,6 +20,7 @@ ScanTimes scanTimes(const LaserScan& scan, bool stamp_is_last_beam, ReferenceTim
 
 /// Thrown by a method that cannot run, with its reason (caught in deskew(), never escapes).
 struct Refusal {
+  DeskewRefusal code;
   std::string reason;
 };
 

@@ -106,11 +106,13 @@ DatasetDeskew deskewDataset(const Dataset& dataset, algo::DeskewMethod method,
       out.first_note = "scan " + std::to_string(k) + ": " + note;
     out.warnings += result.warnings.size();
     if (!result.ok && out.refused++ == 0) out.first_reason = result.reason;
+    if (!result.ok) out.refusals.push_back({k, result.refusal, result.reason});
     const double stamp = record.scan.stamp_s;
     const bool counted = stamp >= options.measure_from_s && stamp <= options.measure_to_s;
     if (result.ok && counted && !record.p_ref_true.empty())
       measure(dataset, record, result, pooled);
     out.scans.push_back(std::move(result));
+    if (options.on_scan) options.on_scan(k + 1, dataset.scans.size());
   }
   if (pooled.total_m.empty()) return out;
   out.error_m = summarize(std::move(pooled.total_m));
@@ -118,6 +120,12 @@ DatasetDeskew deskewDataset(const Dataset& dataset, algo::DeskewMethod method,
   out.rotation_induced_m = summarize(std::move(pooled.rotation_m));
   out.translation_induced_m = summarize(std::move(pooled.translation_m));
   out.max_split_residual_m = pooled.max_residual_m;
+  return out;
+}
+
+std::map<std::string, int> refusedByReason(const std::vector<ScanRefusal>& refusals) {
+  std::map<std::string, int> out;
+  for (const auto& r : refusals) ++out[std::string(algo::deskewRefusalName(r.reason))];
   return out;
 }
 

@@ -2,7 +2,9 @@
 // De-skew every scan of a dataset with one method, and measure it against the ground-truth
 // undistorted points when the dataset has them. Shared by `slamprep bench` and the CLI.
 
+#include <functional>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,14 +32,24 @@ struct DatasetDeskewOptions {
   algo::ReferenceTime reference = algo::ReferenceTime::kFirst;
   /// Method parameters (point-to-line ICP inside vicp and odom-icp, quadratic pieces, ...).
   algo::DeskewParams params;
+  /// Called after every scan with (scans done, all scans): progress only, never the results.
+  std::function<void(std::size_t, std::size_t)> on_scan;
 };
 
 /// Options that use what the robot believes: nominal geometry, the dataset's mount.
 DatasetDeskewOptions nominalDeskewOptions(const Dataset& dataset);
 
+/// One scan a method refused: which, why (a countable name) and the message.
+struct ScanRefusal {
+  std::size_t scan = 0;  ///< index in the dataset
+  algo::DeskewRefusal reason = algo::DeskewRefusal::kNone;
+  std::string detail;
+};
+
 struct DatasetDeskew {
   std::vector<algo::DeskewResult> scans;  ///< one per dataset scan, in order
   int refused = 0;                        ///< scans the method refused
+  std::vector<ScanRefusal> refusals;      ///< every refused scan, in order
   std::string first_reason;               ///< why the first refused scan was refused
   std::size_t warnings = 0;               ///< warnings over all scans
   std::string first_note;                 ///< "scan k: ..." of the first refusal or warning
@@ -52,6 +64,9 @@ struct DatasetDeskew {
   /// max over beams of what the split leaves unexplained (range noise: the truth is noiseless).
   double max_split_residual_m = 0.0;
 };
+
+/// Refused scans counted by reason name ("not-bracketed": 3), names sorted.
+std::map<std::string, int> refusedByReason(const std::vector<ScanRefusal>& refusals);
 
 /// Runs `method` over the scans in order (stateful methods see the previous scan).
 DatasetDeskew deskewDataset(const Dataset& dataset, algo::DeskewMethod method,

@@ -80,6 +80,28 @@ Table deskewTable(const json& m) {
   return t;
 }
 
+// One line per de-skew method that refused scans, "odom-linear: 12 scans refused in 2 trial(s)
+// (not-bracketed 10, sample-gap 2)"; empty when none did. The error figures leave them out.
+std::string refusalLines(const json& m, const std::string& bullet) {
+  const std::string by_reason = "refused_by_reason/";
+  const auto total = [&](const std::string& path) {  // mean over the trials that have the key
+    return std::to_string(std::lround(m[path]["mean"].get<double>() * m[path]["n"].get<int>()));
+  };
+  std::string out;
+  for (const auto& method : methodsOf(m, "deskew")) {
+    const std::string p = "deskew/" + method + "/";
+    if (!m.contains(p + "refused_scans")) continue;
+    std::string reasons;
+    for (const auto& [path, _] : m.items())
+      if (path.rfind(p + by_reason, 0) == 0)
+        reasons += (reasons.empty() ? "" : ", ") + path.substr(p.size() + by_reason.size()) + " " +
+                   total(path);
+    out += bullet + method + ": " + total(p + "refused_scans") + " scans refused in " +
+           std::to_string(m[p + "refused_scans"]["n"].get<int>()) + " trial(s) (" + reasons + ")\n";
+  }
+  return out;
+}
+
 // Dead reckoning with each geometry: the nominal one, the true one (slip and quantisation only)
 // and every calibrated one.
 Table odometryTable(const json& m) {
@@ -217,6 +239,9 @@ std::string renderReport(const Suite& suite, const json& summary,
            "its cause: the part the method's rotation error explains and the part its translation "
            "error explains (docs/metrics.md).\n\n";
     out << perSection(parts, deskewTable);
+    if (const std::string r = refusalLines(m, "- "); !r.empty())
+      out << "Scans refused, left out of the figures (trials/<id>.json lists each):\n\n"
+          << r << "\n";
   }
   if (!odometryTable(m).rows.empty()) {
     out << "## Odometry\n\nWheel odometry integrated with each geometry against the ground "
@@ -243,7 +268,8 @@ std::string renderConsoleSummary(const json& summary) {
     if (!methodsOf(*metrics, "calibration").empty())
       out += "Calibration (absolute error vs truth)\n" + aligned(calibrationTable(*metrics)) + "\n";
     if (!methodsOf(*metrics, "deskew").empty())
-      out += "De-skew (point error vs ground truth)\n" + aligned(deskewTable(*metrics)) + "\n";
+      out += "De-skew (point error vs ground truth)\n" + aligned(deskewTable(*metrics)) + "\n" +
+             refusalLines(*metrics, "refused: ");
     if (const Table t = odometryTable(*metrics); !t.rows.empty())
       out += "Odometry (vs ground truth)\n" + aligned(t) + "\n";
     out += aligned(simulationTable(*metrics)) + "\n";

@@ -1,5 +1,7 @@
 #include "eval/bench/runner.hpp"
 
+#include <fcntl.h>
+#include <poll.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,12 +15,54 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "eval/bench/progress.hpp"
+#include "eval/bench/stage_report.hpp"
 
 namespace slamprep::eval {
 namespace {
 
+// A child's stage reports, one line each down the pipe (lines below PIPE_BUF are written whole
+// even when several children share it); updates at most every 0.2 s.
+StageSink pipeSink(int fd) {
+  return [fd, last = std::chrono::steady_clock::time_point()](const StageEvent& e) mutable {
+    const auto now = std::chrono::steady_clock::now();
+    if (e.kind == StageEvent::kUpdate && now - last < std::chrono::milliseconds(200)) return;
+    last = now;
+    const std::string line = encodeStageEvent(e);
+    if (::write(fd, line.data(), line.size()) < 0) return;  // progress only: never fails a trial
+  };
+}
+
+// Feeds every complete line waiting in the (non-blocking) pipe to `progress`.
+void drainStageReports(int fd, std::string& buffer, Progress& progress) {
+  char chunk[4096];
+  for (ssize_t n; (n = ::read(fd, chunk, sizeof chunk)) > 0;) buffer.append(chunk, n);
+  std::size_t begin = 0;
+  for (std::size_t end; (end = buffer.find('\n', begin)) != std::string::npos; begin = end + 1) {
+    StageEvent event;
+    if (decodeStageEvent(buffer.substr(begin, end - begin), event)) progress.stage(event);
+  }
+  buffer.erase(0, begin);
+}
+
+// Waits for any child to end, showing its stage reports meanwhile.
+pid_t waitForChild(int& status, int fd, std::string& buffer, Progress& progress) {
+  for (;;) {
+    const pid_t pid = ::waitpid(-1, &status, WNOHANG);
+    if (pid != 0) {
+      drainStageReports(fd, buffer, progress);
+      return pid;
+    }
+    pollfd readable{fd, POLLIN, 0};
+    ::poll(&readable, 1, 100);
+    drainStageReports(fd, buffer, progress);
+    progress.tick();
+  }
+}
+
 // Runs one trial in this (child) process and writes its files; returns the exit status.
-int runChild(const TrialSpec& spec, const TrialFunction& run, const RunOptions& options) {
+int runChild(const TrialSpec& spec, const TrialFunction& run, const RunOptions& options,
+             int report_fd) {
+  const ScopedStageSink sink(pipeSink(report_fd));
   try {
     TrialOutput out = run(spec);
     out.result["trial"] = specJson(spec);
@@ -85,6 +129,10 @@ RunReport runTrials(const std::vector<TrialSpec>& trials, const TrialFunction& r
   }
 
   Progress progress(pending.size(), "trials", options.show_progress ? stderr : nullptr);
+  int reports[2];  // children's stage reports -> this process
+  if (::pipe(reports) != 0) throw std::runtime_error("pipe failed");
+  ::fcntl(reports[0], F_SETFL, ::fcntl(reports[0], F_GETFL) | O_NONBLOCK);
+  std::string report_buffer;
   std::map<pid_t, const TrialSpec*> running;
   std::fflush(nullptr);  // children must not inherit unflushed output
   while (!pending.empty() || !running.empty()) {
@@ -93,11 +141,14 @@ RunReport runTrials(const std::vector<TrialSpec>& trials, const TrialFunction& r
       pending.pop_front();
       const pid_t pid = ::fork();
       if (pid < 0) throw std::runtime_error("fork failed");
-      if (pid == 0) ::_exit(runChild(*spec, run, options));
+      if (pid == 0) {
+        ::close(reports[0]);
+        ::_exit(runChild(*spec, run, options, reports[1]));
+      }
       running[pid] = spec;
     }
     int status = 0;
-    const pid_t pid = ::waitpid(-1, &status, 0);
+    const pid_t pid = waitForChild(status, reports[0], report_buffer, progress);
     if (pid < 0) throw std::runtime_error("waitpid failed");
     const TrialSpec* spec = running.at(pid);
     running.erase(pid);
@@ -107,6 +158,8 @@ RunReport runTrials(const std::vector<TrialSpec>& trials, const TrialFunction& r
       report.failed.push_back(spec->id);
     progress.advance(1, spec->id);
   }
+  ::close(reports[0]);
+  ::close(reports[1]);
   if (!report.failed.empty() || report.computed) progress.finish("");
   std::sort(report.failed.begin(), report.failed.end());
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

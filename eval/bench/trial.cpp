@@ -11,6 +11,7 @@
 #include "eval/bench/calibration_run.hpp"
 #include "eval/bench/dataset_deskew.hpp"
 #include "eval/bench/match_run.hpp"
+#include "eval/bench/stage_report.hpp"
 #include "eval/metrics/calibration_error.hpp"
 #include "eval/metrics/odometry_drift.hpp"
 #include "eval/metrics/trajectory_error.hpp"
@@ -106,9 +107,19 @@ json calibrationJson(const Dataset& dataset, const algo::CalibrationResult& resu
   return out;
 }
 
-json deskewJson(const DatasetDeskew& d) {
+// `refusals` is an array (never summarised); `refused_by_reason` counts enter the summary.
+json deskewJson(const DatasetDeskew& d, const std::string& method) {
   json out = {{"ok", d.refused == 0}};
-  if (d.refused) out["refused_scans"] = d.refused;
+  if (d.refused) {
+    out["refused_scans"] = d.refused;
+    out["refused_by_reason"] = refusedByReason(d.refusals);
+    out["refusals"] = json::array();
+    for (const auto& r : d.refusals)
+      out["refusals"].push_back({{"scan", r.scan},
+                                 {"method", method},
+                                 {"reason", std::string(algo::deskewRefusalName(r.reason))},
+                                 {"detail", r.detail}});
+  }
   if (!d.error_m) return out;
   out.update({{"mean_m", d.error_m->mean},
               {"rms_m", d.error_m->rmse},
@@ -214,8 +225,14 @@ json artifactsJson(const Dataset& dataset, const DiffDriveParams* calibrated,
 
 TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
   TrialOutput out;
+  const bool calibrates = !suite.calibration_methods.empty();
+  StageReporter stages(spec.id, 1 + (calibrates ? 2 : 0) + (suite.deskew_methods.empty() ? 0 : 1));
+  stages.begin("simulate");
   auto start = Clock::now();
-  const sim::SimResult sim = sim::simulate(simConfig(suite, spec));
+  const sim::SimResult sim =
+      sim::simulate(simConfig(suite, spec), [&](double t_s, double duration_s) {
+        if (duration_s > 0.0) stages.update(t_s / duration_s);
+      });
   const Dataset& dataset = sim.dataset;
   out.timing["simulate_s"] = secondsSince(start);
   out.result["sim"] = simJson(sim.summary);
@@ -226,7 +243,8 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
         odometryJson(integrateEncoders(dataset.encoders, geometry, ticks), dataset.groundtruth);
 
   std::vector<algo::CalibrationRun> calibrated;
-  if (!suite.calibration_methods.empty()) {
+  if (calibrates) {
+    stages.begin("match");
     start = Clock::now();
     CalibrationMotionOptions motion_options;
     motion_options.from_icp = suite.motion == "icp";
@@ -236,7 +254,9 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
     algo::CalibrationInput input;
     input.intervals = std::move(motion.intervals.intervals);
     input.nominal = dataset.info.nominal_geometry;
+    stages.begin("calibrate");
     for (const algo::CalibrationMethod method : suite.calibration_methods) {
+      stages.update(static_cast<double>(calibrated.size()) / suite.calibration_methods.size());
       const std::string name(algo::calibrationMethodName(method));
       start = Clock::now();
       calibrated.push_back(algo::calibrate(method, input));
@@ -252,17 +272,23 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
       dataset.encoders, deskew_options.geometry, dataset.info.ticks_per_revolution);
   std::optional<DatasetDeskew> shown;  // the scan plot shows the last method run
   std::string shown_method;
-  for (const auto& name : suite.deskew_methods) {
+  if (!suite.deskew_methods.empty()) stages.begin("deskew");
+  for (std::size_t i = 0; i < suite.deskew_methods.size(); ++i) {
+    const std::string& name = suite.deskew_methods[i];
     const auto method = algo::parseDeskewMethod(name);
     if (!method) throw InputError(suite.source.string() + ": deskew_methods", "unknown " + name);
+    deskew_options.on_scan = [&](std::size_t done, std::size_t total) {
+      stages.update((i + static_cast<double>(done) / total) / suite.deskew_methods.size());
+    };
     DatasetDeskew d = deskewDataset(dataset, *method, deskew_options);
     out.timing["deskew"][name] = d.seconds;
-    out.result["deskew"][name] = deskewJson(d);
+    out.result["deskew"][name] = deskewJson(d, name);
     if (*method != algo::DeskewMethod::kNone && *method != algo::DeskewMethod::kOracle) {
       shown = std::move(d);
       shown_method = name;
     }
   }
+  stages.end();
   // Artifacts for the plots: only the first trial, to keep results small. Arrays never enter
   // the summary (only numeric leaves of objects do).
   if (spec.index == 0)

@@ -71,6 +71,9 @@ TEST_F(DeskewCommand, AllMethodsWriteScansAndJson) {
     EXPECT_FALSE(
         fs::exists(dir() / "data" / ("deskewed_" + m["method"].get<std::string>() + ".jsonl")));
     EXPECT_EQ(m["refused"], 0);
+    EXPECT_EQ(m["ok"], m["scans"]);
+    EXPECT_TRUE(m["refused_by_reason"].is_object() && m["refused_by_reason"].empty());
+    EXPECT_TRUE(m["refusals"].is_array() && m["refusals"].empty());
   }
   EXPECT_EQ(j[0]["method"], "none");
   EXPECT_LT(j[1]["mean_m"].get<double>(), 1e-9);  // oracle
@@ -123,6 +126,34 @@ TEST_F(DeskewCommand, BadInputNamesTheProblem) {
   r = cli("deskew " + data() + " --method linear");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("did you mean 'odom-linear'?"), std::string::npos) << r.err;
+}
+
+// A wrong stamp convention pushes the first scans' beams before the odometry starts: those are
+// refused, listed with their reason, counted in `ok`, and the mean covers the others.
+TEST_F(DeskewCommand, EveryRefusalIsListedAndCounted) {
+  const fs::path json = dir() / "refusals.json";
+  const CliRun r = cli("deskew " + data() + " --method odom-linear --stamp-is-last-beam --force " +
+                       "--json " + json.string());
+  const auto m = nlohmann::json::parse(slurp(json)).at(0);
+  const int refused = m["refused"], scans = m["scans"];
+  ASSERT_GT(refused, 0) << r.out;
+  ASSERT_LT(refused, scans) << r.out;
+  EXPECT_EQ(r.exit_code, 0) << r.err;  // not every scan refused, no --strict
+  EXPECT_EQ(m["ok"], scans - refused);
+  EXPECT_EQ(m["refused_by_reason"], nlohmann::json({{"not-bracketed", refused}}));
+  ASSERT_EQ(m["refusals"].size(), static_cast<std::size_t>(refused));
+  for (const auto& x : m["refusals"]) {
+    EXPECT_EQ(x["method"], "odom-linear");
+    EXPECT_EQ(x["reason"], "not-bracketed");
+    EXPECT_NE(x["detail"].get<std::string>().find("does not bracket"), std::string::npos);
+  }
+  EXPECT_EQ(m["refusals"][0]["scan"], 0);
+  const std::string counted = "ok " + std::to_string(scans - refused) + " of " +
+                              std::to_string(scans) + " scans; refused: not-bracketed " +
+                              std::to_string(refused);
+  EXPECT_NE(r.out.find(counted), std::string::npos) << r.out;
+  EXPECT_EQ(
+      cli("deskew " + data() + " --method odom-linear --stamp-is-last-beam --strict").exit_code, 3);
 }
 
 }  // namespace

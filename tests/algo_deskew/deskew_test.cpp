@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "eval/metrics/deskew_error.hpp"
 #include "tests/algo_deskew/synthetic_world.hpp"
 
@@ -231,6 +233,7 @@ TEST(DeskewConventions, LastBeamStampEqualsFirstBeamStamp) {
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.reason.find("does not bracket"), std::string::npos) << r.reason;
   EXPECT_NE(r.reason.find("set stamp_is_last_beam"), std::string::npos) << r.reason;
+  EXPECT_EQ(deskewRefusalName(r.refusal), "not-bracketed");
 }
 
 // Other reference times: the points of reference R are the first-beam points moved by the true
@@ -254,6 +257,14 @@ TEST(DeskewConventions, ReferenceTimesAreConsistent) {
     }
 }
 
+TEST(DeskewRefusals, EveryReasonHasItsOwnName) {
+  std::set<std::string_view> names;
+  for (const DeskewRefusal r : allDeskewRefusals()) names.insert(deskewRefusalName(r));
+  EXPECT_EQ(names.size(), allDeskewRefusals().size());
+  EXPECT_EQ(names.count(""), 0u);
+  EXPECT_EQ(deskewRefusalName(DeskewRefusal::kNone), "");
+}
+
 TEST(DeskewRefusals, SaysWhy) {
   const Scenario s = makeScenario(constantVelocity());
   // time_increment = 0: beam times unknown.
@@ -263,12 +274,15 @@ TEST(DeskewRefusals, SaysWhy) {
   DeskewResult r = deskew(DeskewMethod::kNone, flat, in, {});
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.reason.find("time_increment"), std::string::npos);
+  EXPECT_EQ(deskewRefusalName(r.refusal), "no-beam-times");
   // Missing inputs.
   r = deskew(DeskewMethod::kOdomLinear, s.synth.scan, inputFor(s), {});
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.reason.find("needs odometry"), std::string::npos) << r.reason;
+  EXPECT_EQ(deskewRefusalName(r.refusal), "missing-input");
   r = deskew(DeskewMethod::kVicp, s.synth.scan, inputFor(s), {});
   EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.refusal, DeskewRefusal::kMissingInput);
   // An odometry gap of 0.3 s across the scan: refused, not interpolated across.
   PoseSeries gappy;
   const PoseSeries dense = resample(s.truth, 0.0, 2.0, 100.0);
@@ -277,6 +291,7 @@ TEST(DeskewRefusals, SaysWhy) {
   r = deskew(DeskewMethod::kOdomQuadratic, s.synth.scan, inputFor(s, gappy), {});
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.reason.find("gap"), std::string::npos) << r.reason;
+  EXPECT_EQ(deskewRefusalName(r.refusal), "sample-gap");
   EXPECT_TRUE(r.p_ref.empty());
   // No NaN anywhere for an all-no-return scan.
   LaserScan empty_returns = s.synth.scan;

@@ -27,6 +27,22 @@ TEST(Report, TablesShowEveryMethodWithUnits) {
   EXPECT_NE(md.find("![deskew.png](plots/deskew.png)"), std::string::npos);
 }
 
+TEST(Report, RefusedScansAreCountedByReason) {
+  nlohmann::json summary = summaryWith(0.042, 0.00123);
+  auto& m = summary["metrics"];
+  EXPECT_EQ(renderConsoleSummary(summary).find("refused"), std::string::npos);  // none refused
+  // Two trials refused 3 and 5 scans: 6 not-bracketed, 2 with a gap.
+  m["deskew/odom-linear/refused_scans"] = {{"n", 2}, {"mean", 4.0}, {"std", 1.41}};
+  m["deskew/odom-linear/refused_by_reason/not-bracketed"] = {{"n", 2}, {"mean", 3.0}, {"std", 0}};
+  m["deskew/odom-linear/refused_by_reason/sample-gap"] = {{"n", 1}, {"mean", 2.0}, {"std", 0}};
+  const std::string expected =
+      "odom-linear: 8 scans refused in 2 trial(s) (not-bracketed 6, sample-gap 2)";
+  EXPECT_NE(renderConsoleSummary(summary).find("refused: " + expected), std::string::npos)
+      << renderConsoleSummary(summary);
+  Suite suite;
+  EXPECT_NE(renderReport(suite, summary, {}).find("- " + expected), std::string::npos);
+}
+
 TEST(Report, IsAFunctionOfTheSummaryAlone) {
   Suite suite;
   suite.name = "demo";

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "core/atomic_file.hpp"
+#include "eval/bench/stage_report.hpp"
 #include "eval/bench/summary.hpp"
 
 namespace slamprep::eval {
@@ -56,6 +57,27 @@ TEST(Runner, SameBytesWhateverTheJobCount) {
   for (const auto& t : trials)
     EXPECT_EQ(readFile(freshDir("x").parent_path() / "jobs1" / "trials" / (t.id + ".json")),
               readFile(freshDir("x").parent_path() / "jobs2" / "trials" / (t.id + ".json")));
+}
+
+// Stage reports travel to the parent (on stderr here) and never into the result files.
+TEST(Runner, StageReportsLeaveTheResultsAlone) {
+  const Suite suite = fakeSuite();
+  const auto trials = expandTrials(suite);
+  const TrialFunction reporting = [](const TrialSpec& spec) {
+    StageReporter stages(spec.id, 2);
+    stages.begin("simulate");
+    for (int i = 0; i <= 10; ++i) stages.update(i / 10.0);
+    stages.begin("deskew");
+    return fakeTrial(spec);
+  };
+  const fs::path shown = freshDir("progress_shown"), quiet = freshDir("progress_quiet");
+  const RunReport a =
+      runTrials(trials, reporting, {2, {}, shown / "trials", shown / "timing", true});
+  runTrials(trials, fakeTrial, {1, {}, quiet / "trials", quiet / "timing", false});
+  EXPECT_EQ(a.computed, trials.size());
+  for (const auto& t : trials)
+    EXPECT_EQ(readFile(shown / "trials" / (t.id + ".json")),
+              readFile(quiet / "trials" / (t.id + ".json")));
 }
 
 TEST(Runner, ShardsMergeToTheSingleRun) {
