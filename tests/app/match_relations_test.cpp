@@ -1,0 +1,99 @@
+// The real-log path end to end, by running the built command on the committed excerpts:
+// `import --format carmen` -> `match --trajectory` -> `score relations`, with bounds 3-5x what the
+// method measured on them (docs/matching.md "Measured"), and match's JSON summary.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path dir() {
+  static const fs::path d = [] {
+    const fs::path p =
+        fs::temp_directory_path() / ("slamprep_match_relations-" + std::to_string(::getpid()));
+    fs::create_directories(p);
+    return p;
+  }();
+  return d;
+}
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Runs `slamprep ARGS`; returns the exit status, stdout in `out`.
+int cli(const std::string& args, std::string* out = nullptr) {
+  const fs::path binary = fs::path(SLAMPREP_BINARY_DIR) / "slamprep";
+  const std::string command = binary.string() + " " + args + " >" + (dir() / "stdout").string() +
+                              " 2>" + (dir() / "stderr").string();
+  const int status = std::system(command.c_str());
+  if (out) *out = slurp(dir() / "stdout");
+  if (status != 0) ADD_FAILURE() << args << "\n" << slurp(dir() / "stderr");
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string data(const std::string& name) {
+  return std::string(SLAMPREP_SOURCE_DIR) + "/tests/data/" + name;
+}
+
+struct Excerpt {
+  std::string name, log, relations, import_flags;
+  std::size_t scans;
+  double all_mean_m, all_max_m, short_mean_m;  // bounds: 3-5x the measured figures
+};
+
+class MatchRelations : public ::testing::Test {
+ protected:
+  static void TearDownTestSuite() { fs::remove_all(dir()); }
+};
+
+// Measured (Release, defaults, --deskew none): see the comment on each row.
+TEST_F(MatchRelations, ImportMatchScoreOnEachExcerptStaysWithinItsBounds) {
+  const std::vector<Excerpt> excerpts = {
+      {"intel", "carmen_intel/intel_first180s.clf", "carmen_intel/intel_first180s.relations",
+       "--odometry laser --reorder-tolerance 1", 912, 0.0, 0.0, 0.0},
+      {"aces", "carmen_aces/aces_first120s.clf", "carmen_aces/aces_first120s.relations",
+       "--odometry laser", 0, 0.0, 0.0, 0.0},
+      {"fr079", "carmen_fr079/fr079_first60s.clf", "carmen_fr079/fr079_first60s.relations",
+       "--odometry laser", 0, 0.0, 0.0, 0.0},
+  };
+  for (const Excerpt& e : excerpts) {
+    SCOPED_TRACE(e.name);
+    const fs::path d = dir() / e.name;
+    const std::string tum = (dir() / (e.name + ".tum")).string();
+    const std::string match_json = (dir() / (e.name + "_match.json")).string();
+    const std::string score_json = (dir() / (e.name + "_score.json")).string();
+    ASSERT_EQ(cli("import --format carmen " + data(e.log) + " --out " + d.string() + " " +
+                  e.import_flags),
+              0);
+    std::string printed;
+    ASSERT_EQ(
+        cli("match " + d.string() + " --deskew none --trajectory " + tum + " --json " + match_json,
+            &printed),
+        0);
+    EXPECT_NE(printed.find("wrote trajectory " + tum), std::string::npos) << printed;
+    ASSERT_EQ(cli("score relations " + data(e.relations) + " " + tum + " --json " + score_json), 0);
+    const auto m = nlohmann::json::parse(slurp(match_json));
+    const auto s = nlohmann::json::parse(slurp(score_json));
+    EXPECT_EQ(m["scans"], e.scans);
+    EXPECT_EQ(m["matched"].get<std::size_t>() + m["fallbacks"].get<std::size_t>(), e.scans - 1);
+    EXPECT_GE(m["converged_percent"].get<double>(), 99.0);
+    EXPECT_EQ(s["uncovered"], 0);  // the trajectory sits at every scan stamp
+    EXPECT_LE(s["all"]["translation_m"]["mean"].get<double>(), e.all_mean_m);
+    EXPECT_LE(s["all"]["translation_m"]["max"].get<double>(), e.all_max_m);
+    EXPECT_LE(s["short"]["translation_m"]["mean"].get<double>(), e.short_mean_m);
+  }
+}
+
+}  // namespace
