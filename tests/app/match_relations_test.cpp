@@ -50,6 +50,7 @@ std::string data(const std::string& name) {
 struct Excerpt {
   std::string name, log, relations, import_flags;
   std::size_t scans;
+  double min_converged_percent;
   double all_mean_m, all_max_m, short_mean_m;  // bounds: 3-5x the measured figures
 };
 
@@ -58,15 +59,20 @@ class MatchRelations : public ::testing::Test {
   static void TearDownTestSuite() { fs::remove_all(dir()); }
 };
 
-// Measured (Release, defaults, --deskew none): see the comment on each row.
+// Measured (Release, defaults, --deskew none), translation [m] over all relations mean / max,
+// short mean; converged %:
+//   intel 0.0183 / 0.135, 0.0173; 911 of 911 (100 %)
+//   aces  0.0596 / 0.487, 0.0600; 731 of 739 (98.9 %)
+//   fr079 0.0226 / 0.072, 0.0226; 277 of 277 (100 %)
+// The bounds are 3.1-4.1x these; converged one scan in a hundred below them.
 TEST_F(MatchRelations, ImportMatchScoreOnEachExcerptStaysWithinItsBounds) {
   const std::vector<Excerpt> excerpts = {
       {"intel", "carmen_intel/intel_first180s.clf", "carmen_intel/intel_first180s.relations",
-       "--odometry laser --reorder-tolerance 1", 912, 0.0, 0.0, 0.0},
+       "--odometry laser --reorder-tolerance 1", 912, 99.0, 0.075, 0.5, 0.07},
       {"aces", "carmen_aces/aces_first120s.clf", "carmen_aces/aces_first120s.relations",
-       "--odometry laser", 0, 0.0, 0.0, 0.0},
+       "--odometry laser", 740, 97.9, 0.2, 1.5, 0.2},
       {"fr079", "carmen_fr079/fr079_first60s.clf", "carmen_fr079/fr079_first60s.relations",
-       "--odometry laser", 0, 0.0, 0.0, 0.0},
+       "--odometry laser", 278, 99.0, 0.09, 0.25, 0.09},
   };
   for (const Excerpt& e : excerpts) {
     SCOPED_TRACE(e.name);
@@ -88,7 +94,7 @@ TEST_F(MatchRelations, ImportMatchScoreOnEachExcerptStaysWithinItsBounds) {
     const auto s = nlohmann::json::parse(slurp(score_json));
     EXPECT_EQ(m["scans"], e.scans);
     EXPECT_EQ(m["matched"].get<std::size_t>() + m["fallbacks"].get<std::size_t>(), e.scans - 1);
-    EXPECT_GE(m["converged_percent"].get<double>(), 99.0);
+    EXPECT_GE(m["converged_percent"].get<double>(), e.min_converged_percent);
     EXPECT_EQ(s["uncovered"], 0);  // the trajectory sits at every scan stamp
     EXPECT_LE(s["all"]["translation_m"]["mean"].get<double>(), e.all_mean_m);
     EXPECT_LE(s["all"]["translation_m"]["max"].get<double>(), e.all_max_m);
