@@ -34,6 +34,7 @@ struct MatchFlags {
   std::string deskew = "vicp";
   algo::KeyframeOdometryParams params;
   double keyframe_angle_deg = params.keyframe_angle_rad * kDegPerRad;
+  double odometry_sigma_deg = params.odometry_sigma_rad * kDegPerRad;
   bool stamp_is_last_beam = false;
   bool strict = false;
   bool force = false;
@@ -99,6 +100,7 @@ int runMatch(MatchFlags flags) {
     checkOutputFile(file, option, flags.force);
   }
   flags.params.keyframe_angle_rad = flags.keyframe_angle_deg / kDegPerRad;
+  flags.params.odometry_sigma_rad = flags.odometry_sigma_deg / kDegPerRad;
   const auto begin = std::chrono::steady_clock::now();
   const Dataset d = eval::readDataset(flags.dataset);
   if (d.scans.size() < 2) throw InputError(flags.dataset, "needs at least two scans to match");
@@ -186,6 +188,14 @@ Command addMatchCommand(CLI::App& app) {
   cli->add_option("--max-range", flags->params.max_range_m,
                   "points farther than this (m) from the sensor are not matched")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cli->add_option("--odometry-sigma", flags->params.odometry_sigma_m,
+                  "odometry noise per scan step (m) the match is fused with; 0: the match alone")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cli->add_option("--odometry-sigma-angle", flags->odometry_sigma_deg,
+                  "... and its heading noise per scan step (deg)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   return {cli, [flags] { return runMatch(*flags); }};
 }

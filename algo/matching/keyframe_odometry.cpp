@@ -1,5 +1,6 @@
 #include "algo/matching/keyframe_odometry.hpp"
 
+#include <Eigen/Dense>
 #include <cassert>
 #include <cmath>
 #include <deque>
@@ -42,6 +43,21 @@ bool beyond(const SE2& T, double distance_m, double angle_rad) {
 }
 
 }  // namespace
+
+SE2 fuseWithGuess(const SE2& T_kf_match, const Eigen::Matrix3d& match_covariance,
+                  const SE2& T_kf_guess, double odometry_sigma_m, double odometry_sigma_rad) {
+  if (odometry_sigma_m <= 0.0 || odometry_sigma_rad <= 0.0) return T_kf_match;
+  const Eigen::Vector3d d(T_kf_match.x - T_kf_guess.x, T_kf_match.y - T_kf_guess.y,
+                          normalizeAngle(T_kf_match.yaw - T_kf_guess.yaw));
+  const Eigen::Matrix3d info_match = match_covariance.inverse();
+  const Eigen::Vector3d info_odo(1.0 / (odometry_sigma_m * odometry_sigma_m),
+                                 1.0 / (odometry_sigma_m * odometry_sigma_m),
+                                 1.0 / (odometry_sigma_rad * odometry_sigma_rad));
+  const Eigen::Matrix3d info = info_match + Eigen::Matrix3d(info_odo.asDiagonal());
+  const Eigen::Vector3d step = info.ldlt().solve(info_match * d);
+  return SE2(T_kf_guess.x + step.x(), T_kf_guess.y + step.y(),
+             normalizeAngle(T_kf_guess.yaw + step.z()));
+}
 
 Points2 localMap(const std::vector<SE2>& keyframe_poses, const std::vector<const Points2*>& points,
                  const SE2& T_world_ref) {
@@ -86,7 +102,12 @@ KeyframeOdometry trackKeyframes(const std::vector<Points2>& all_points,
     scan.map_points = reference.points().size();
     scan.match =
         matchPointToLine(reference, points[k], between(T_world_kf, T_world_guess), params.icp);
-    const SE2 T_world_match = T_world_kf * scan.match.T_ref_cur;
+    const SE2 T_kf_guess = between(T_world_kf, T_world_guess);
+    SE2 T_kf_scan = scan.match.T_ref_cur;
+    if (increments[k])  // only an odometry guess carries information of its own
+      T_kf_scan = fuseWithGuess(T_kf_scan, scan.match.covariance, T_kf_guess,
+                                params.odometry_sigma_m, params.odometry_sigma_rad);
+    const SE2 T_world_match = T_world_kf * T_kf_scan;
     const bool believable = !beyond(between(T_world_guess, T_world_match), params.max_correction_m,
                                     params.max_correction_rad);
     if (scan.match.converged && believable) {

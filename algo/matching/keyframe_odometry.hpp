@@ -32,6 +32,11 @@ struct KeyframeOdometryParams {
   /// Points farther than this from the sensor are left out: some logs write "no return" as a
   /// reading at the sensor's range limit (ACES: 50 m), which would be a phantom wall.
   double max_range_m = 40.0;
+  /// Odometry noise per scan step (1 sigma). An accepted match is fused with the odometry
+  /// guess by information (below): where the scan constrains the pose poorly (a corridor's
+  /// length), the odometry decides. 0: the match alone.
+  double odometry_sigma_m = 0.01;
+  double odometry_sigma_rad = 0.3 * std::numbers::pi / 180.0;
   /// A converged match that moves the pose more than this from the guess is not believed (a
   /// wrong local minimum): a fallback, as a failed match is.
   double max_correction_m = 0.5;
@@ -69,6 +74,13 @@ struct KeyframeOdometry {
   std::size_t rejected = 0;        ///< of the fallbacks: converged, but beyond max_correction
   std::size_t keyframes = 0;
 };
+
+/// The information-weighted mean of the match and the guess, both T_kf_scan, as (x, y, yaw)
+/// vectors: g + (C_match^-1 + C_odo^-1)^-1 C_match^-1 (m - g), C_odo = diag(s_m^2, s_m^2, s_rad^2)
+/// (one Gauss-Newton step of both priors; corrections are small, so the vector form is exact
+/// enough).
+SE2 fuseWithGuess(const SE2& T_kf_match, const Eigen::Matrix3d& match_covariance,
+                  const SE2& T_kf_guess, double odometry_sigma_m, double odometry_sigma_rad);
 
 /// The local map of `keyframe_poses` (T_world_kf) and their points (each in its own frame),
 /// expressed in the frame T_world_ref.

@@ -172,5 +172,24 @@ TEST(KeyframeOdometry, WithoutOdometryTheLastStepIsTheGuess) {
   EXPECT_NEAR(run.scans.back().T_world_lidar.yaw, truth.back().yaw, kYawTolRad);
 }
 
+// The fusion of a match with the odometry guess (fuseWithGuess): a corridor along x leaves x to
+// the odometry and y, yaw to the match; equal confidence gives the midpoint; sigma 0 turns it off.
+TEST(KeyframeOdometry, FusionLeavesTheDirectionsTheScanDoesNotSeeToTheOdometry) {
+  const SE2 match(0.30, 0.05, 0.10), guess(0.20, 0.02, 0.08);
+  const Eigen::Matrix3d corridor = Eigen::Vector3d(1e6, 1e-8, 1e-10).asDiagonal();
+  const SE2 fused = fuseWithGuess(match, corridor, guess, 0.01, 0.01);
+  EXPECT_NEAR(fused.x, guess.x, 1e-9);  // weight 1e-4 / (1e-4 + 1e6) on the match
+  EXPECT_NEAR(fused.y, match.y, 1e-5);  // weight 1e-4 / (1e-4 + 1e-8) on the match
+  EXPECT_NEAR(fused.yaw, match.yaw, 1e-7);
+  const Eigen::Matrix3d same = Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal();
+  const SE2 mid = fuseWithGuess(match, same, guess, 0.01, 0.01);
+  EXPECT_NEAR(mid.x, 0.25, 1e-12);
+  EXPECT_NEAR(mid.y, 0.035, 1e-12);
+  EXPECT_NEAR(mid.yaw, 0.09, 1e-12);
+  const SE2 off = fuseWithGuess(match, same, guess, 0.0, 0.01);
+  EXPECT_EQ(off.x, match.x);
+  EXPECT_EQ(off.yaw, match.yaw);
+}
+
 }  // namespace
 }  // namespace slamprep::algo
