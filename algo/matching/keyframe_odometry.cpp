@@ -92,17 +92,16 @@ KeyframeOdometry trackKeyframes(const std::vector<Points2>& all_points,
   out.keyframes = 1;
   SE2 last_step;  // the last accepted motion: the guess where there is no odometry
   for (std::size_t k = 1; k < points.size(); ++k) {
-    const SE2& T_world_prev = out.scans.back().T_world_lidar;
+    const SE2 T_world_prev = out.scans.back().T_world_lidar;
     const SE2 T_world_guess = T_world_prev * increments[k].value_or(last_step);
-    const SE2& T_world_kf = window.poses.back();
+    const SE2 T_world_kf = window.poses.back();  // a copy: add() may drop it
     TrackedScan scan;
     scan.T_world_lidar = T_world_guess;
     scan.keyframe = window.newest;
     scan.fallback = true;
     scan.map_points = reference.points().size();
-    scan.match =
-        matchPointToLine(reference, points[k], between(T_world_kf, T_world_guess), params.icp);
     const SE2 T_kf_guess = between(T_world_kf, T_world_guess);
+    scan.match = matchPointToLine(reference, points[k], T_kf_guess, params.icp);
     SE2 T_kf_scan = scan.match.T_ref_cur;
     if (increments[k])  // only an odometry guess carries information of its own
       T_kf_scan = fuseWithGuess(T_kf_scan, scan.match.covariance, T_kf_guess,
