@@ -147,7 +147,7 @@ Command addMatchCommand(CLI::App& app) {
       "--trajectory FILE writes the base poses as TUM, --out FILE one JSON line per scan, --json\n"
       "FILE the summary. Exit 3 when no scan matched, or with --strict when any fell back.");
   cli->add_option("DATASET", flags->dataset, "dataset directory (read only)")->required();
-  cli->add_option("--out", flags->out, "write one JSON line per matched scan to FILE");
+  cli->add_option("--out", flags->out, "write one JSON line per scan after the first to FILE");
   cli->add_option("--trajectory", flags->trajectory,
                   "write the base trajectory at the scans' first beams to FILE (TUM)");
   cli->add_option("--json", flags->json_out, "write the summary (counts, timing, parameters)");
