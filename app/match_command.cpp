@@ -1,9 +1,15 @@
-// `slamprep match`: scan-to-scan lidar motions of a dataset (point-to-line ICP), written as
-// matches.jsonl (docs/deskew.md), with their error against ground truth when there is truth.
+// `slamprep match`: lidar odometry of a dataset by scan-to-local-map matching (point-to-line ICP,
+// the odometry as the guess), its trajectory as TUM, one JSON line per scan and a JSON summary
+// (docs/matching.md).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
-#include <iomanip>
 #include <iostream>
+#include <nlohmann/json.hpp>
+#include <numbers>
 
+#include "algo/deskew/deskew.hpp"
 #include "app/choices.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
@@ -11,73 +17,192 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "eval/bench/command_progress.hpp"
-#include "eval/bench/match_run.hpp"
+#include "eval/bench/dataset_deskew.hpp"
+#include "eval/bench/match_trajectory.hpp"
 #include "eval/formats/dataset_io.hpp"
+#include "eval/formats/tum.hpp"
 
 namespace slamprep::app {
 namespace {
 
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
 struct MatchFlags {
   std::string dataset;
-  std::string out;  // nothing is written without it
+  std::string out;  // nothing is written without an output flag
+  std::string trajectory;
+  std::string json_out;
   std::string deskew = "vicp";
+  algo::KeyframeOdometryParams params;
+  double keyframe_angle_deg = params.keyframe_angle_rad * kDegPerRad;
+  double odometry_sigma_deg = params.odometry_sigma_rad * kDegPerRad;
   bool stamp_is_last_beam = false;
   bool strict = false;
   bool force = false;
 };
 
-int runMatch(const MatchFlags& flags) {
-  checkInputDataset(flags.dataset, "DATASET");
-  if (!flags.out.empty()) {
-    checkNotInside(flags.out, flags.dataset, "--out");
-    checkOutputFile(flags.out, "--out", flags.force);
+/// Every scan's points in its first-beam lidar frame: as measured, or de-skewed by VICP where it
+/// applies (a scan it refuses, e.g. time_increment 0, is matched as measured and counted).
+std::vector<Points2> scanPoints(const Dataset& d, const MatchFlags& flags, int* refused) {
+  std::vector<Points2> points;
+  if (flags.deskew == "none") {
+    for (const ScanRecord& record : d.scans) points.push_back(record.scan.points());
+    return points;
   }
+  eval::DatasetDeskewOptions options = eval::nominalDeskewOptions(d);
+  if (d.encoders.empty()) options.odometry = d.odom_nominal;  // an imported log: its poses
+  options.stamp_is_last_beam = flags.stamp_is_last_beam;
+  const eval::DatasetDeskew deskewed = eval::deskewDataset(d, algo::DeskewMethod::kVicp, options);
+  const std::vector<Points2> corrected = eval::correctedPoints(deskewed);
+  for (std::size_t k = 0; k < d.scans.size(); ++k)
+    points.push_back(deskewed.scans[k].ok ? corrected[k] : d.scans[k].scan.points());
+  *refused = deskewed.refused;
+  return points;
+}
+
+nlohmann::ordered_json summaryJson(const MatchFlags& f, const eval::MatchTrajectory& run,
+                                   int deskew_refused, double seconds) {
+  const algo::KeyframeOdometry& t = run.tracked;
+  const std::size_t attempted = t.scans.size() - 1;
+  const algo::IcpParams& icp = f.params.icp;
+  return {
+      {"dataset", f.dataset},
+      {"deskew", f.deskew},
+      {"deskew_refused", deskew_refused},
+      {"scans", t.scans.size()},
+      {"matched", t.matched},
+      {"fallbacks", t.fallbacks},
+      {"rejected", t.rejected},
+      {"converged_percent", 100.0 * double(t.matched) / double(attempted)},
+      {"keyframes", t.keyframes},
+      {"odometry_guesses", run.odometry_guesses},
+      {"seconds", seconds},
+      {"params",
+       {{"max_iterations", icp.max_iterations},
+        {"max_correspondence_distance_m", icp.max_correspondence_distance_m},
+        {"trim_fraction", icp.trim_fraction},
+        {"keyframe_distance_m", f.params.keyframe_distance_m},
+        {"keyframe_angle_deg", f.keyframe_angle_deg},
+        {"local_map_keyframes", f.params.local_map_keyframes},
+        {"max_range_m", f.params.max_range_m},
+        {"max_correction_m", f.params.max_correction_m},
+        {"max_correction_deg", f.params.max_correction_rad * kDegPerRad}}},
+      {"trajectory_file", f.trajectory.empty() ? nullptr : nlohmann::ordered_json(f.trajectory)},
+      {"matches_file", f.out.empty() ? nullptr : nlohmann::ordered_json(f.out)}};
+}
+
+int runMatch(MatchFlags flags) {
+  checkInputDataset(flags.dataset, "DATASET");
+  for (const auto& [file, option] : {std::pair{flags.out, "--out"},
+                                     {flags.trajectory, "--trajectory"},
+                                     {flags.json_out, "--json"}}) {
+    if (file.empty()) continue;
+    checkNotInside(file, flags.dataset, option);
+    checkOutputFile(file, option, flags.force);
+  }
+  flags.params.keyframe_angle_rad = flags.keyframe_angle_deg / kDegPerRad;
+  flags.params.odometry_sigma_rad = flags.odometry_sigma_deg / kDegPerRad;
+  const auto begin = std::chrono::steady_clock::now();
   const Dataset d = eval::readDataset(flags.dataset);
   if (d.scans.size() < 2) throw InputError(flags.dataset, "needs at least two scans to match");
-  algo::ScanMotionParams params;  // a lidar-only log: no odometry guess
-  params.matcher = flags.deskew == "vicp" ? algo::ScanMatcher::kVicp : algo::ScanMatcher::kIcp;
-  params.guess = algo::MotionGuess::kConstantVelocity;
-  params.stamp_is_last_beam = flags.stamp_is_last_beam;
-  const eval::MatchRun run = [&] {
+  int refused = 0;
+  const std::vector<Points2> points = scanPoints(d, flags, &refused);
+  eval::MatchTrajectoryOptions options{flags.params, flags.stamp_is_last_beam};
+  const eval::MatchTrajectory run = [&] {
     eval::CommandProgress progress(1, "runs", "match");
     eval::StageReporter stages(flags.dataset, 1);
     stages.begin("match");
-    return eval::matchDataset(d, params);
+    return eval::matchTrajectory(d, points, options);
   }();
-  if (!flags.out.empty()) writeFileAtomic(flags.out, eval::formatMatches(run.matches));
-  const eval::ScanMatchError& e = run.error;
-  std::cout << "matched " << e.pairs << " consecutive scan pairs (" << flags.deskew
-            << "), converged " << e.converged << "\n";
-  if (e.compared > 0)
-    std::cout << std::fixed << std::setprecision(3)
-              << "mean error vs ground truth: " << 1e3 * e.translation_m.mean << " mm, "
-              << e.rotation_deg.mean << " deg\n";
-  std::cout << (flags.out.empty() ? "no --out: no matches written" : "wrote " + flags.out) << "\n";
-  return refusalExitCode(e.converged == 0, e.converged < e.pairs, flags.strict);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  const algo::KeyframeOdometry& t = run.tracked;
+  const std::size_t attempted = t.scans.size() - 1;
+  if (!flags.out.empty()) writeFileAtomic(flags.out, eval::formatTrackedMatches(run));
+  if (!flags.trajectory.empty())
+    writeFileAtomic(flags.trajectory, eval::formatTum(run.T_world_base, flags.trajectory));
+  const auto summary = summaryJson(flags, run, refused, seconds);
+  if (!flags.json_out.empty()) writeFileAtomic(flags.json_out, summary.dump(2) + "\n");
+  std::printf(
+      "matched %zu of %zu scans against the local map (%.2f %%), %zu fell back to the "
+      "odometry (%zu of them converged beyond the correction limit); %zu keyframes\n",
+      t.matched, attempted, summary["converged_percent"].get<double>(), t.fallbacks, t.rejected,
+      t.keyframes);
+  std::printf("guesses: %zu from the odometry, %zu from the last step; de-skew %s",
+              run.odometry_guesses, attempted - run.odometry_guesses, flags.deskew.c_str());
+  if (flags.deskew == "vicp") std::printf(" (%d scans refused, matched as measured)", refused);
+  std::printf("; %.2f s\n", seconds);
+  for (const auto& [file, what] : {std::pair{flags.out, "matches"},
+                                   {flags.trajectory, "trajectory"},
+                                   {flags.json_out, "summary"}})
+    if (!file.empty()) std::printf("wrote %s %s\n", what, file.c_str());
+  if (flags.out.empty() && flags.trajectory.empty() && flags.json_out.empty())
+    std::printf("no --out, --trajectory or --json: nothing written\n");
+  return refusalExitCode(t.matched == 0, t.fallbacks > 0, flags.strict);
 }
 
 }  // namespace
 
 Command addMatchCommand(CLI::App& app) {
   auto flags = std::make_shared<MatchFlags>();
-  auto* cli =
-      app.add_subcommand("match", "Scan-to-scan lidar motions of a dataset (point-to-line ICP).");
+  auto* cli = app.add_subcommand(
+      "match", "Lidar odometry: each scan matched against a local map of keyframes.");
   cli->footer(
-      "Matches every consecutive scan pair; prints the error against ground truth when there is\n"
-      "one; --out FILE writes one JSON line per pair (docs/deskew.md). Exit 3 when no pair\n"
-      "converged, or with --strict when any did not.");
+      "Matches every scan (point-to-line ICP) against the last keyframes' points, the odometry as\n"
+      "the guess; a failed match takes the odometry step and is counted (docs/matching.md).\n"
+      "--trajectory FILE writes the base poses as TUM, --out FILE one JSON line per scan, --json\n"
+      "FILE the summary. Exit 3 when no scan matched, or with --strict when any fell back.");
   cli->add_option("DATASET", flags->dataset, "dataset directory (read only)")->required();
-  cli->add_option("--out", flags->out, "write the matches to FILE (without it nothing is written)");
+  cli->add_option("--out", flags->out, "write one JSON line per scan after the first to FILE");
+  cli->add_option("--trajectory", flags->trajectory,
+                  "write the base trajectory at the scans' first beams to FILE (TUM)");
+  cli->add_option("--json", flags->json_out, "write the summary (counts, timing, parameters)");
   cli->add_flag("--force", flags->force,
-                "replace an existing --out; the old one stays until the new is complete");
-  cli->add_flag("--strict", flags->strict, "exit 3 when any pair did not converge, not only all");
+                "replace existing output files; the old ones stay until the new are complete");
+  cli->add_flag("--strict", flags->strict, "exit 3 when any scan fell back, not only all");
   cli->add_option("--deskew", flags->deskew,
-                  "vicp: de-skew both scans with the velocity estimated jointly with the match; "
-                  "none: match the scans as measured")
+                  "vicp: de-skew each scan with VICP first (scans it refuses are matched as "
+                  "measured); none: match the scans as measured")
       ->check(oneOf("de-skew", {"vicp", "none"}))
       ->capture_default_str();
   cli->add_flag("--stamp-is-last-beam", flags->stamp_is_last_beam,
                 "the scans' stamps mark their last beam, not their first");
+  algo::IcpParams& icp = flags->params.icp;
+  cli->add_option("--max-iterations", icp.max_iterations, "ICP rounds per match")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cli->add_option("--max-correspondence-distance", icp.max_correspondence_distance_m,
+                  "ICP gating: farther pairs (m) are no correspondence")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cli->add_option("--trim", icp.trim_fraction,
+                  "ICP trimming: this fraction of the gated pairs, the worst, is dropped")
+      ->check(CLI::Range(0.0, 0.9))
+      ->capture_default_str();
+  cli->add_option("--keyframe-distance", flags->params.keyframe_distance_m,
+                  "a scan this far (m) from the keyframe becomes a keyframe")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cli->add_option("--keyframe-angle", flags->keyframe_angle_deg,
+                  "... or one turned this much (deg)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cli->add_option("--local-map-keyframes", flags->params.local_map_keyframes,
+                  "keyframes whose points form the local map (1: scan-to-keyframe)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cli->add_option("--max-range", flags->params.max_range_m,
+                  "points farther than this (m) from the sensor are not matched")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cli->add_option("--odometry-sigma", flags->params.odometry_sigma_m,
+                  "odometry noise per scan step (m) the match is fused with; 0: the match alone")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cli->add_option("--odometry-sigma-angle", flags->odometry_sigma_deg,
+                  "... and its heading noise per scan step (deg)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   return {cli, [flags] { return runMatch(*flags); }};
 }
 

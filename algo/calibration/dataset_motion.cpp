@@ -8,14 +8,18 @@
 namespace slamprep::algo {
 namespace {
 
-// Nominal odometry between t0 and t1 seen by the lidar: T_base_lidar^-1 o T_base_lidar.
 SE2 odometryGuess(const Dataset& dataset, double t0_s, double t1_s) {
-  const auto odom0 = dataset.odom_nominal.at(t0_s), odom1 = dataset.odom_nominal.at(t1_s);
-  const SE2& l = dataset.info.T_base_lidar;
-  return odom0 && odom1 ? l.inverse() * between(*odom0, *odom1) * l : SE2();
+  return odometryLidarMotion(dataset, t0_s, t1_s).value_or(SE2());
 }
 
 }  // namespace
+
+std::optional<SE2> odometryLidarMotion(const Dataset& dataset, double t0_s, double t1_s) {
+  const auto odom0 = dataset.odom_nominal.at(t0_s), odom1 = dataset.odom_nominal.at(t1_s);
+  const SE2& l = dataset.info.T_base_lidar;
+  if (!odom0 || !odom1) return std::nullopt;
+  return l.inverse() * between(*odom0, *odom1) * l;
+}
 
 PoseSeries lidarPosesFromGroundTruth(const Dataset& dataset, bool stamp_is_last_beam) {
   PoseSeries poses;

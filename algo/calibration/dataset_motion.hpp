@@ -19,6 +19,10 @@ namespace slamprep::algo {
 /// Empty when the dataset has no ground truth.
 PoseSeries lidarPosesFromGroundTruth(const Dataset& dataset, bool stamp_is_last_beam = false);
 
+/// Nominal odometry between t0 and t1 seen by the lidar: T_base_lidar^-1 T_t0_t1 T_base_lidar
+/// (the guess of every odometry-guided match); nullopt where the odometry does not cover both.
+std::optional<SE2> odometryLidarMotion(const Dataset& dataset, double t0_s, double t1_s);
+
 /// How consecutive scans are matched.
 enum class ScanMatcher {
   kIcp,   ///< point-to-line ICP on the points given (as measured, or de-skewed beforehand)

@@ -88,6 +88,12 @@ expect 0 match "$ds" --out "$dir/matches.jsonl"
 expect 2 match "$ds" --out "$dir/matches.jsonl"
 err_has "$dir/matches.jsonl: exists; give --force"
 expect 0 match "$ds" --out "$dir/matches.jsonl" --force
+expect 2 match "$ds" --trajectory "$ds/match.tum"
+expect 0 match "$ds" --trajectory "$dir/match.tum" --json "$dir/match.json"
+expect 2 match "$ds" --trajectory "$dir/match.tum"
+err_has "$dir/match.tum: exists; give --force"
+expect 2 match "$ds" --json "$dir/match.json"
+expect 0 match "$ds" --trajectory "$dir/match.tum" --json "$dir/match.json" --force
 
 # export, a file and a folder of trajectories.
 fingerprint "$dir/ds.carmen" >"$dir/carmen.before"

@@ -1,0 +1,99 @@
+#pragma once
+// Lidar odometry by scan-to-local-map matching (docs/matching.md): each scan is matched
+// (point-to-line ICP) against the points of the last few keyframes, expressed in the newest
+// keyframe's frame; the guess is the previous pose composed with the odometry increment. A scan
+// becomes a keyframe once it has moved far enough from the current one. Matching a map that stays
+// put while the robot moves within it adds no drift between keyframes, where chaining
+// scan-to-scan matches adds the error of every pair.
+//
+// Failed matches: the scan's pose is the guess (previous pose o odometry increment), counted as
+// a fallback. Nothing else changes, so one failed scan costs the odometry's error over one step.
+
+#include <cstddef>
+#include <numbers>
+#include <optional>
+#include <vector>
+
+#include "algo/matching/icp.hpp"
+#include "core/laser_scan.hpp"
+#include "core/se2.hpp"
+
+namespace slamprep::algo {
+
+struct KeyframeOdometryParams {
+  /// The matcher. Defaults tuned on the benchmark logs (docs/matching.md "Defaults").
+  IcpParams icp = defaultIcp();
+  /// A scan farther than this from the current keyframe (translation) becomes a keyframe ...
+  double keyframe_distance_m = 0.3;
+  /// ... or turned more than this.
+  double keyframe_angle_rad = 10.0 * std::numbers::pi / 180.0;
+  /// The local map: points of this many most recent keyframes (1 = scan-to-keyframe).
+  std::size_t local_map_keyframes = 5;
+  /// Points farther than this from the sensor are left out: some logs write "no return" as a
+  /// reading at the sensor's range limit (ACES: 50 m), which would be a phantom wall.
+  double max_range_m = 40.0;
+  /// Odometry noise per scan step (1 sigma). An accepted match is fused with the odometry
+  /// guess by information (below): where the scan constrains the pose poorly (a corridor's
+  /// length), the odometry decides. 0: the match alone.
+  double odometry_sigma_m = 0.01;
+  double odometry_sigma_rad = 0.3 * std::numbers::pi / 180.0;
+  /// A converged match that moves the pose more than this from the guess is not believed (a
+  /// wrong local minimum): a fallback, as a failed match is.
+  double max_correction_m = 0.5;
+  double max_correction_rad = 20.0 * std::numbers::pi / 180.0;
+
+  static IcpParams defaultIcp() {
+    IcpParams p;
+    p.max_iterations = 100;
+    p.max_correspondence_distance_m = 0.5;
+    p.trim_fraction = 0.1;
+    // Every point from the first round: a 180-beam scan's every 4th point leaves too few pairs.
+    p.coarse_stride = 1;
+    // Converged at 0.5 mm / 0.1 mrad steps: 1 degree beams at 5-10 m resolve no finer, and
+    // tighter steps end in the slow limit cycles of nearest-neighbour correspondences.
+    p.translation_tolerance_m = 5e-4;
+    p.rotation_tolerance_rad = 1e-4;
+    return p;
+  }
+};
+
+/// What happened to one scan.
+struct TrackedScan {
+  SE2 T_world_lidar;           ///< pose of the scan's (first-beam) lidar frame
+  std::size_t keyframe = 0;    ///< index of the keyframe whose frame the match is in
+  IcpResult match;             ///< T_ref_cur = T_keyframe_scan; converged = false when it failed
+  bool fallback = false;       ///< pose taken from the guess (failed or rejected match)
+  bool is_keyframe = false;    ///< this scan started a keyframe
+  std::size_t map_points = 0;  ///< points of the local map it was matched against
+};
+
+struct KeyframeOdometry {
+  std::vector<TrackedScan> scans;  ///< one per input scan; scan 0 is the first keyframe
+  std::size_t matched = 0;         ///< scans 1..n-1 whose match was accepted
+  std::size_t fallbacks = 0;       ///< scans 1..n-1 placed by the guess instead
+  std::size_t rejected = 0;        ///< of the fallbacks: converged, but beyond max_correction
+  std::size_t keyframes = 0;
+};
+
+/// The information-weighted mean of the match and the guess, both T_kf_scan, as (x, y, yaw)
+/// vectors: g + (C_match^-1 + C_odo^-1)^-1 C_match^-1 (m - g), C_odo = diag(s_m^2, s_m^2, s_rad^2)
+/// (one Gauss-Newton step of both priors; corrections are small, so the vector form is exact
+/// enough).
+SE2 fuseWithGuess(const SE2& T_kf_match, const Eigen::Matrix3d& match_covariance,
+                  const SE2& T_kf_guess, double odometry_sigma_m, double odometry_sigma_rad);
+
+/// The local map of `keyframe_poses` (T_world_kf) and their points (each in its own frame),
+/// expressed in the frame T_world_ref.
+Points2 localMap(const std::vector<SE2>& keyframe_poses, const std::vector<const Points2*>& points,
+                 const SE2& T_world_ref);
+
+/// Tracks `points` (each scan in its own lidar frame, in time order). `increments[k]` is the
+/// guessed motion T_{k-1}_k of the lidar from scan k-1 to scan k (index 0 unused); nullopt: the
+/// last accepted step is repeated (constant velocity, all a lidar-only log has). The first scan
+/// sits at `T_world_lidar_start`.
+KeyframeOdometry trackKeyframes(const std::vector<Points2>& points,
+                                const std::vector<std::optional<SE2>>& increments,
+                                const KeyframeOdometryParams& params = {},
+                                const SE2& T_world_lidar_start = SE2());
+
+}  // namespace slamprep::algo

@@ -1,0 +1,66 @@
+#include "eval/bench/match_trajectory.hpp"
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "algo/calibration/dataset_motion.hpp"
+#include "algo/deskew/deskew.hpp"
+#include "core/error.hpp"
+
+namespace slamprep::eval {
+
+MatchTrajectory matchTrajectory(const Dataset& dataset, const std::vector<Points2>& points,
+                                const MatchTrajectoryOptions& options) {
+  MatchTrajectory run;
+  for (const ScanRecord& record : dataset.scans) {
+    const double t = algo::firstBeamTime(record.scan, options.stamp_is_last_beam);
+    if (!run.stamps_s.empty() && !(t > run.stamps_s.back()))
+      throw InputError("scans.jsonl: scan " + std::to_string(run.stamps_s.size()),
+                       "first-beam times not increasing");
+    run.stamps_s.push_back(t);
+  }
+  std::vector<std::optional<SE2>> increments(run.stamps_s.size());
+  for (std::size_t k = 1; k < increments.size(); ++k) {
+    increments[k] = algo::odometryLidarMotion(dataset, run.stamps_s[k - 1], run.stamps_s[k]);
+    run.odometry_guesses += increments[k] ? 1 : 0;
+  }
+  const SE2& T_base_lidar = dataset.info.T_base_lidar;
+  const auto odom0 = run.stamps_s.empty() ? std::nullopt : dataset.odom_nominal.at(run.stamps_s[0]);
+  const SE2 start = odom0.value_or(SE2()) * T_base_lidar;
+  const auto begin = std::chrono::steady_clock::now();
+  run.tracked = algo::trackKeyframes(points, increments, options.params, start);
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  const SE2 T_lidar_base = T_base_lidar.inverse();
+  for (std::size_t k = 0; k < run.tracked.scans.size(); ++k)
+    run.T_world_base.push_back(run.stamps_s[k], run.tracked.scans[k].T_world_lidar * T_lidar_base);
+  return run;
+}
+
+std::string formatTrackedMatches(const MatchTrajectory& run) {
+  std::string text;
+  for (std::size_t k = 1; k < run.tracked.scans.size(); ++k) {
+    const algo::TrackedScan& s = run.tracked.scans[k];
+    const algo::IcpResult& m = s.match;
+    nlohmann::ordered_json cov = nlohmann::ordered_json::array();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) cov.push_back(m.covariance(r, c));
+    const nlohmann::ordered_json line = {
+        {"stamp_ref", run.stamps_s[s.keyframe]},
+        {"stamp_cur", run.stamps_s[k]},
+        {"T_ref_cur", {m.T_ref_cur.x, m.T_ref_cur.y, m.T_ref_cur.yaw}},
+        {"converged", m.converged},
+        {"iterations", m.iterations},
+        {"inliers", m.inliers},
+        {"rms_m", m.rms_residual_m},
+        {"covariance", cov},
+        {"reason", m.reason},
+        {"fallback", s.fallback},
+        {"keyframe", s.is_keyframe},
+        {"map_points", s.map_points}};
+    text += line.dump() + "\n";
+  }
+  return text;
+}
+
+}  // namespace slamprep::eval

@@ -1,0 +1,39 @@
+#pragma once
+// `slamprep match` on a dataset: scan-to-local-map lidar odometry (algo::trackKeyframes) guided
+// by the dataset's odometry, its trajectory of the base, its per-scan lines and its summary
+// (docs/matching.md).
+
+#include <string>
+#include <vector>
+
+#include "algo/matching/keyframe_odometry.hpp"
+#include "core/dataset.hpp"
+#include "core/time_series.hpp"
+
+namespace slamprep::eval {
+
+struct MatchTrajectoryOptions {
+  algo::KeyframeOdometryParams params;
+  bool stamp_is_last_beam = false;
+};
+
+struct MatchTrajectory {
+  algo::KeyframeOdometry tracked;
+  std::vector<double> stamps_s;      ///< first-beam time of every scan
+  PoseSeries T_world_base;           ///< the base at every scan's first beam (T_world_lidar l^-1)
+  std::size_t odometry_guesses = 0;  ///< scans 1..n-1 whose guess came from the odometry
+  double seconds = 0.0;              ///< wall-clock time of the tracking
+};
+
+/// Tracks the scans given as `points` (one per dataset scan, in its first-beam lidar frame; e.g.
+/// the scans as measured or de-skewed). The guess of scan k is the nominal odometry between the
+/// two first beams (algo::odometryLidarMotion, as calibrate's matches use); where the odometry
+/// does not cover them, the last step. The world frame is the odometry's at the first scan (the
+/// origin without odometry). Throws InputError when first-beam times do not increase.
+MatchTrajectory matchTrajectory(const Dataset& dataset, const std::vector<Points2>& points,
+                                const MatchTrajectoryOptions& options = {});
+
+/// matches.jsonl (docs/matching.md): one object per scan after the first.
+std::string formatTrackedMatches(const MatchTrajectory& run);
+
+}  // namespace slamprep::eval

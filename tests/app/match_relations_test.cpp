@@ -1,0 +1,105 @@
+// The real-log path end to end, by running the built command on the committed excerpts:
+// `import --format carmen` -> `match --trajectory` -> `score relations`, with bounds 3-5x what the
+// method measured on them (docs/matching.md "Measured"), and match's JSON summary.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path dir() {
+  static const fs::path d = [] {
+    const fs::path p =
+        fs::temp_directory_path() / ("slamprep_match_relations-" + std::to_string(::getpid()));
+    fs::create_directories(p);
+    return p;
+  }();
+  return d;
+}
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Runs `slamprep ARGS`; returns the exit status, stdout in `out`.
+int cli(const std::string& args, std::string* out = nullptr) {
+  const fs::path binary = fs::path(SLAMPREP_BINARY_DIR) / "slamprep";
+  const std::string command = binary.string() + " " + args + " >" + (dir() / "stdout").string() +
+                              " 2>" + (dir() / "stderr").string();
+  const int status = std::system(command.c_str());
+  if (out) *out = slurp(dir() / "stdout");
+  if (status != 0) ADD_FAILURE() << args << "\n" << slurp(dir() / "stderr");
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string data(const std::string& name) {
+  return std::string(SLAMPREP_SOURCE_DIR) + "/tests/data/" + name;
+}
+
+struct Excerpt {
+  std::string name, log, relations, import_flags;
+  std::size_t scans;
+  double min_converged_percent;
+  double all_mean_m, all_max_m, short_mean_m;  // bounds: 3-5x the measured figures
+};
+
+class MatchRelations : public ::testing::Test {
+ protected:
+  static void TearDownTestSuite() { fs::remove_all(dir()); }
+};
+
+// Measured (Release, defaults, --deskew none), translation [m] over all relations mean / max,
+// short mean; converged %:
+//   intel 0.0178 / 0.171, 0.0174; 911 of 911 (100 %)
+//   aces  0.0493 / 0.338, 0.0489; 734 of 739 (99.3 %)
+//   fr079 0.0223 / 0.065, 0.0223; 277 of 277 (100 %)
+// The bounds are 3.5-4.2x these; converged one scan in a hundred below them.
+TEST_F(MatchRelations, ImportMatchScoreOnEachExcerptStaysWithinItsBounds) {
+  const std::vector<Excerpt> excerpts = {
+      {"intel", "carmen_intel/intel_first180s.clf", "carmen_intel/intel_first180s.relations",
+       "--odometry laser --reorder-tolerance 1", 912, 99.0, 0.075, 0.6, 0.07},
+      {"aces", "carmen_aces/aces_first120s.clf", "carmen_aces/aces_first120s.relations",
+       "--odometry laser", 740, 98.3, 0.2, 1.2, 0.2},
+      {"fr079", "carmen_fr079/fr079_first60s.clf", "carmen_fr079/fr079_first60s.relations",
+       "--odometry laser", 278, 99.0, 0.09, 0.25, 0.09},
+  };
+  for (const Excerpt& e : excerpts) {
+    SCOPED_TRACE(e.name);
+    const fs::path d = dir() / e.name;
+    const std::string tum = (dir() / (e.name + ".tum")).string();
+    const std::string match_json = (dir() / (e.name + "_match.json")).string();
+    const std::string score_json = (dir() / (e.name + "_score.json")).string();
+    ASSERT_EQ(cli("import --format carmen " + data(e.log) + " --out " + d.string() + " " +
+                  e.import_flags),
+              0);
+    std::string printed;
+    ASSERT_EQ(
+        cli("match " + d.string() + " --deskew none --trajectory " + tum + " --json " + match_json,
+            &printed),
+        0);
+    EXPECT_NE(printed.find("wrote trajectory " + tum), std::string::npos) << printed;
+    ASSERT_EQ(cli("score relations " + data(e.relations) + " " + tum + " --json " + score_json), 0);
+    const auto m = nlohmann::json::parse(slurp(match_json));
+    const auto s = nlohmann::json::parse(slurp(score_json));
+    EXPECT_EQ(m["scans"], e.scans);
+    EXPECT_EQ(m["matched"].get<std::size_t>() + m["fallbacks"].get<std::size_t>(), e.scans - 1);
+    EXPECT_GE(m["converged_percent"].get<double>(), e.min_converged_percent);
+    EXPECT_EQ(s["uncovered"], 0);  // the trajectory sits at every scan stamp
+    EXPECT_LE(s["all"]["translation_m"]["mean"].get<double>(), e.all_mean_m);
+    EXPECT_LE(s["all"]["translation_m"]["max"].get<double>(), e.all_max_m);
+    EXPECT_LE(s["short"]["translation_m"]["mean"].get<double>(), e.short_mean_m);
+  }
+}
+
+}  // namespace
