@@ -32,7 +32,10 @@ CalibrationRun robustFit(const std::vector<CalibrationInterval>& all, const Trim
   std::vector<TrimmedInterval> dropped;
   for (int round = 0; params.enabled && run.result.ok && round < params.max_rounds; ++round) {
     Screening screening = screenIntervals(all, run.result, params);
-    if (screening.kept == kept) break;
+    if (screening.kept == kept) {  // converged: report the outliers scored by the final fit
+      dropped = std::move(screening.dropped);
+      break;
+    }
     CalibrationRun refit = fit(selectIntervals(all, screening.kept), screening.kept);
     if (!refit.result.ok)
       refit.result.reason = "after dropping " + std::to_string(screening.dropped.size()) +

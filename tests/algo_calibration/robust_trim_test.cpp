@@ -90,7 +90,7 @@ TEST_P(RobustTrim, DropsExactlyTheGlitchesAndRecoversTheCleanFit) {
   std::vector<double> reported;
   for (const TrimmedInterval& t : robust.result.trimmed_worst) {
     reported.push_back(t.t0_s);
-    EXPECT_GT(t.residual_sigmas, 20.0);
+    EXPECT_GT(t.residual_sigmas, 20.0) << t.reason;
     EXPECT_FALSE(t.reason.empty());
   }
   std::sort(reported.begin(), reported.end());
