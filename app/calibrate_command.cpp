@@ -224,8 +224,8 @@ Command addCalibrateCommand(CLI::App& app) {
   cli->add_option("--deskew", flags->deskew,
                   "with --motion icp: de-skew scans with this method before matching them. auto: "
                   "imu when the log has one (independent of the wheel geometry being "
-                  "calibrated), else odom-linear with the nominal geometry; none: raw scans, "
-                  "which motion distortion biases")
+                  "calibrated), else odom-linear with the nominal geometry, none on instantaneous "
+                  "scans (time_increment 0); none: raw scans, which motion distortion biases")
       ->check(oneOf("de-skew method", deskews))
       ->capture_default_str();
   cli->add_flag("--stamp-is-last-beam", flags->stamp_is_last_beam,
