@@ -13,8 +13,12 @@
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
 #include "app/outputs.hpp"
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
 #include "eval/bench/calibration_run.hpp"
 #include "eval/bench/command_progress.hpp"
+#include "eval/bench/ros2_params.hpp"
+#include "eval/formats/tum.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -27,6 +31,10 @@ struct CalibrateFlags {
   std::string intervals_out;    // --intervals: write the intervals used as Censi records
   std::string tuples_in;        // --tuples: run on Censi records instead of the dataset's motion
   std::string json_out;
+  std::string odometry_out;  // --odometry-out: the odometry re-integrated with the best result
+  std::string ros2_out;      // --ros2-params: diff_drive_controller + static transform YAML
+  std::string nominal;       // --nominal r_L,r_R,b
+  double trim_sigmas = algo::TrimParams{}.threshold_sigmas;
   std::vector<std::string> squares;  // extra UMBmark square-run datasets
   // The shared interval policy (algo::IntervalParams: every scan match) unless overridden.
   double keyframe_cm = algo::IntervalParams{}.keyframe_translation_m * 100.0;
@@ -61,7 +69,12 @@ void printTable(const std::vector<algo::CalibrationRun>& rows,
       continue;
     }
     std::cout << r.intervals_used << " intervals/runs, condition number " << std::setprecision(3)
-              << r.condition_number << "\n";
+              << r.condition_number << ", " << r.intervals_trimmed << " trimmed\n";
+    for (const algo::TrimmedInterval& t : r.trimmed_worst)
+      std::cout << "  trimmed " << std::fixed << std::setprecision(3) << t.t0_s << ".." << t.t1_s
+                << " s: " << t.reason << " (" << std::setprecision(1) << t.residual_sigmas
+                << " robust sigmas)\n"
+                << std::defaultfloat;
     std::cout << "  " << std::left << std::setw(10) << "param" << std::setw(16) << "estimate"
               << std::setw(16) << "1-sigma";
     if (truth)
@@ -102,6 +115,14 @@ eval::DatasetCalibrationParams paramsOf(const CalibrateFlags& flags) {
   p.motion.intervals.keyframe_rotation_rad = flags.keyframe_deg * std::numbers::pi / 180.0;
   p.params.umbmark.side_m = flags.side_m;
   p.params.ceres.estimate_time_offset = flags.time_offset;
+  p.params.trim.enabled = flags.trim_sigmas > 0.0;
+  if (p.params.trim.enabled) p.params.trim.threshold_sigmas = flags.trim_sigmas;
+  if (!flags.nominal.empty()) {
+    const auto v = parseList(flags.nominal, "--nominal", {"r_L", "r_R", "b"});
+    if (!(v[0] > 0.0 && v[1] > 0.0 && v[2] > 0.0))
+      throw InputError("--nominal", "r_L, r_R and b must be > 0");
+    p.nominal = DiffDriveParams{v[0], v[1], v[2]};
+  }
   return p;
 }
 
@@ -112,8 +133,40 @@ void checkPaths(const CalibrateFlags& flags) {
   if (!flags.json_out.empty()) checkOutputFile(flags.json_out, "--json", flags.force);
   if (!flags.intervals_out.empty())
     checkOutputFile(flags.intervals_out, "--intervals", flags.force);
-  for (const std::string& out : {flags.json_out, flags.intervals_out})
+  if (!flags.odometry_out.empty())
+    checkOutputFile(flags.odometry_out, "--odometry-out", flags.force);
+  if (!flags.ros2_out.empty()) checkOutputFile(flags.ros2_out, "--ros2-params", flags.force);
+  if ((!flags.odometry_out.empty() || !flags.ros2_out.empty()) && flags.dataset.empty())
+    throw InputError("--odometry-out/--ros2-params", "need DATASET (its encoders and mount)");
+  for (const std::string& out :
+       {flags.json_out, flags.intervals_out, flags.odometry_out, flags.ros2_out})
     if (!out.empty() && !flags.dataset.empty()) checkNotInside(out, flags.dataset, "output");
+}
+
+// --odometry-out and --ros2-params from the best result; an error when no method is ok.
+void writeBestOutputs(const CalibrateFlags& flags, const eval::DatasetCalibration& c) {
+  if (flags.odometry_out.empty() && flags.ros2_out.empty()) return;
+  const algo::CalibrationRun* best = algo::bestRun(c.runs);
+  if (!best) throw InputError(flags.dataset, "no method gave a result: nothing to write");
+  const std::string method(algo::calibrationMethodName(best->method));
+  if (!flags.odometry_out.empty()) {
+    const PoseSeries odometry = eval::calibratedOdometry(c, best->result.geometry);
+    writeFileAtomic(flags.odometry_out, eval::formatTum(odometry, flags.odometry_out));
+    std::cerr << "calibrate: odometry with the " << method << " geometry written to "
+              << flags.odometry_out << "\n";
+  }
+  if (!flags.ros2_out.empty()) {
+    const bool mount = best->result.estimates_mount;
+    const eval::Ros2ParamsInput in{c.nominal,
+                                   best->result.geometry,
+                                   mount ? best->result.T_base_lidar : c.T_base_lidar,
+                                   method,
+                                   mount,
+                                   c.relative_to_odometry.has_value()};
+    writeFileAtomic(flags.ros2_out, eval::formatRos2Params(in));
+    std::cerr << "calibrate: ROS 2 parameters (" << method << ") written to " << flags.ros2_out
+              << "\n";
+  }
 }
 
 int runCalibrate(const CalibrateFlags& flags) {
@@ -140,7 +193,11 @@ int runCalibrate(const CalibrateFlags& flags) {
   for (const eval::NotApplicable& n : c.not_applicable)
     std::cout << "\n"
               << algo::calibrationMethodName(n.method) << ": not applicable: " << n.reason << "\n";
+  if (c.relative_to_odometry)
+    std::cout << "\nrelative to the log's odometry: "
+              << algo::odometryRelativeMeaning(*c.relative_to_odometry) << "\n";
   if (!flags.json_out.empty()) algo::writeCalibrationJson(flags.json_out, c.runs, c.truth);
+  writeBestOutputs(flags, c);
   const auto refused = std::count_if(c.runs.begin(), c.runs.end(),
                                      [](const algo::CalibrationRun& r) { return !r.result.ok; });
   return refusalExitCode(refused == static_cast<long>(c.runs.size()), refused > 0, flags.strict);
@@ -173,8 +230,8 @@ Command addCalibrateCommand(CLI::App& app) {
   cli->add_option("--deskew", flags->deskew,
                   "with --motion icp: de-skew scans with this method before matching them. auto: "
                   "imu when the log has one (independent of the wheel geometry being "
-                  "calibrated), else odom-linear with the nominal geometry; none: raw scans, "
-                  "which motion distortion biases")
+                  "calibrated), else odom-linear with the nominal geometry, none on instantaneous "
+                  "scans (time_increment 0); none: raw scans, which motion distortion biases")
       ->check(oneOf("de-skew method", deskews))
       ->capture_default_str();
   cli->add_flag("--stamp-is-last-beam", flags->stamp_is_last_beam,
@@ -185,9 +242,23 @@ Command addCalibrateCommand(CLI::App& app) {
   cli->add_option("--json", flags->json_out,
                   "write one object per method to FILE (what deskew and export read with "
                   "--calibration)");
+  cli->add_option("--odometry-out", flags->odometry_out,
+                  "write the odometry re-integrated with the best result's geometry to FILE "
+                  "(TUM; score it with `slamprep score relations`)");
+  cli->add_option("--ros2-params", flags->ros2_out,
+                  "write the best result as ros2_control diff_drive_controller parameters and "
+                  "the base_link -> laser static transform to FILE (ROS 2 parameter YAML)");
+  cli->add_option("--nominal", flags->nominal,
+                  "r_L,r_R,b in metres: the geometry the odometry uses (default: dataset.json's); "
+                  "a log without encoder ticks gets its wheel increments derived from its "
+                  "odometry poses with it, and the estimates are relative to it");
+  cli->add_option("--trim-sigmas", flags->trim_sigmas,
+                  "drop intervals whose residual against a first fit exceeds N robust (MAD) "
+                  "sigmas, refit until the kept set repeats; 0: keep every interval")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cli->add_flag("--force", flags->force,
-                "replace existing --json/--intervals files; the old ones stay until the new are "
-                "complete");
+                "replace existing output files; the old ones stay until the new are complete");
   cli->add_flag("--strict", flags->strict, "exit 3 when any method refused, not only all");
   cli->add_option("--keyframe-cm", flags->keyframe_cm,
                   "new interval every N cm of lidar motion (0: every scan match, as the bench)")

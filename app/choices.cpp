@@ -2,6 +2,9 @@
 
 #include <algorithm>
 
+#include "core/error.hpp"
+#include "eval/formats/text_io.hpp"
+
 namespace slamprep::app {
 
 std::size_t editDistance(const std::string& a, const std::string& b) {
@@ -66,6 +69,19 @@ CLI::Validator oneOf(const std::string& what, std::vector<std::string> valid) {
         return unknownChoice(what, value, valid);
       },
       description);
+}
+
+std::vector<double> parseList(const std::string& text, const char* flag,
+                              const std::vector<const char*>& names) {
+  std::vector<std::string_view> fields;
+  slamprep::eval::splitFields(text, ',', fields);
+  std::string expected;
+  for (const char* n : names) expected += (expected.empty() ? "" : ",") + std::string(n);
+  if (fields.size() != names.size()) throw InputError(flag, "expected " + expected);
+  std::vector<double> values;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    values.push_back(slamprep::eval::parseFiniteDouble(fields[i], {flag, 0}, names[i]));
+  return values;
 }
 
 }  // namespace slamprep::app

@@ -28,4 +28,9 @@ CLI::Validator oneOf(const std::string& what, std::vector<std::string> valid);
 /// "a|b|c", for option help.
 std::string joined(const std::vector<std::string>& names, const std::string& separator = "|");
 
+/// Comma-separated finite numbers, as many as `names` ("r_L,r_R,b" for --nominal); InputError
+/// naming `flag` and the field otherwise.
+std::vector<double> parseList(const std::string& text, const char* flag,
+                              const std::vector<const char*>& names);
+
 }  // namespace slamprep::app

@@ -30,20 +30,6 @@ struct ImportFlags {
   bool force = false;
 };
 
-/// Comma-separated finite numbers, as many as `names`.
-std::vector<double> parseList(const std::string& text, const char* flag,
-                              const std::vector<const char*>& names) {
-  std::vector<std::string_view> fields;
-  slamprep::eval::splitFields(text, ',', fields);
-  std::string expected;
-  for (const char* n : names) expected += (expected.empty() ? "" : ",") + std::string(n);
-  if (fields.size() != names.size()) throw InputError(flag, "expected " + expected);
-  std::vector<double> values;
-  for (std::size_t i = 0; i < names.size(); ++i)
-    values.push_back(slamprep::eval::parseFiniteDouble(fields[i], {flag, 0}, names[i]));
-  return values;
-}
-
 /// --lidar-mount x,y,yaw: metres and degrees on the command line.
 SE2 parseMount(const std::string& text) {
   const auto v = parseList(text, "--lidar-mount", {"x", "y", "yaw_deg"});

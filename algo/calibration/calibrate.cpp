@@ -1,17 +1,64 @@
 #include "algo/calibration/calibrate.hpp"
 
+#include <functional>
+#include <map>
+#include <numeric>
+
 namespace slamprep::algo {
 namespace {
 
+// One fit on a subset of the intervals; `kept` names the subset (indices into all of them).
+using IntervalFit = std::function<CalibrationRun(const std::vector<CalibrationInterval>& subset,
+                                                 const std::vector<int>& kept)>;
+
+// Closed-form joint fits by subset, so ceres starts from the joint fit of its own subset and
+// joint runs once per subset when both are asked for.
+using JointCache = std::map<std::vector<int>, JointResult>;
+
+const JointResult& jointOn(JointCache& cache, const std::vector<CalibrationInterval>& subset,
+                           const std::vector<int>& kept, const JointParams& params) {
+  auto it = cache.find(kept);
+  if (it == cache.end()) it = cache.emplace(kept, calibrateJoint(subset, params)).first;
+  return it->second;
+}
+
+// Fit, screen every interval against the fit, refit on the kept ones; until the kept set repeats
+// (robust_trim.hpp). Round 0 fits all intervals as given, so nothing dropped = the plain fit.
+CalibrationRun robustFit(const std::vector<CalibrationInterval>& all, const TrimParams& params,
+                         const IntervalFit& fit) {
+  std::vector<int> kept(all.size());
+  std::iota(kept.begin(), kept.end(), 0);
+  CalibrationRun run = fit(all, kept);
+  std::vector<TrimmedInterval> dropped;
+  for (int round = 0; params.enabled && run.result.ok && round < params.max_rounds; ++round) {
+    Screening screening = screenIntervals(all, run.result, params);
+    if (screening.kept == kept) {  // converged: report the outliers scored by the final fit
+      dropped = std::move(screening.dropped);
+      break;
+    }
+    CalibrationRun refit = fit(selectIntervals(all, screening.kept), screening.kept);
+    if (!refit.result.ok)
+      refit.result.reason = "after dropping " + std::to_string(screening.dropped.size()) +
+                            " outlier intervals: " + refit.result.reason;
+    run = std::move(refit);
+    kept = std::move(screening.kept);
+    dropped = std::move(screening.dropped);
+  }
+  run.result.intervals_trimmed += static_cast<int>(all.size() - kept.size());
+  if (static_cast<int>(dropped.size()) > params.report_worst) dropped.resize(params.report_worst);
+  run.result.trimmed_worst = std::move(dropped);
+  return run;
+}
+
 CalibrationRun refused(CalibrationMethod method, std::string reason) {
-  CalibrationRun run{method, {}, std::nullopt, 0.0};
+  CalibrationRun run{method, {}, std::nullopt, 0.0, std::nullopt};
   run.result.estimates_mount = estimatesMount(method);
   run.result.reason = std::move(reason);
   return run;
 }
 
 CalibrationRun fromCeres(const CeresResult& r, const CeresParams& params) {
-  CalibrationRun run{CalibrationMethod::kCeres, r, std::nullopt, 0.0};
+  CalibrationRun run{CalibrationMethod::kCeres, r, std::nullopt, 0.0, std::nullopt};
   if (params.estimate_time_offset && r.ok) {
     run.time_offset_s = r.time_offset_s;
     run.time_offset_sigma_s = r.time_offset_sigma_s;
@@ -29,7 +76,42 @@ CalibrationRun calibrateUmbmarkRuns(const CalibrationInput& input, const Calibra
   UmbmarkParams params = p.umbmark;
   if (input.nominal) params.nominal = *input.nominal;
   return {CalibrationMethod::kUmbmark, calibrateUmbmark(input.umbmark_runs, params), std::nullopt,
-          0.0};
+          0.0, std::nullopt};
+}
+
+// The fit of one interval method on a subset of the intervals.
+CalibrationRun fitMethod(CalibrationMethod method, const std::vector<CalibrationInterval>& subset,
+                         const std::vector<int>& kept, const CalibrationInput& input,
+                         const CalibrationParams& params, JointCache& joints) {
+  switch (method) {
+    case CalibrationMethod::kDirect: {
+      DirectLinearParams direct = params.direct;
+      direct.nominal = *input.nominal;
+      return {method, calibrateDirectLinear(subset, direct), std::nullopt, 0.0, std::nullopt};
+    }
+    case CalibrationMethod::kModel:
+      return {method, calibrateModelBased(subset, params.model), std::nullopt, 0.0, std::nullopt};
+    case CalibrationMethod::kJoint:
+      return {method, jointOn(joints, subset, kept, params.joint), std::nullopt, 0.0, std::nullopt};
+    case CalibrationMethod::kCeres: {
+      const JointResult& start = jointOn(joints, subset, kept, params.joint);
+      return fromCeres(calibrateCeres(subset, start, ceresParams(params)), params.ceres);
+    }
+    case CalibrationMethod::kUmbmark:
+      break;
+  }
+  return refused(method, "not an interval method");
+}
+
+CalibrationRun calibrateWith(CalibrationMethod method, const CalibrationInput& input,
+                             const CalibrationParams& params, JointCache& joints) {
+  if (auto reason = missingInput(method, input)) return refused(method, std::move(*reason));
+  if (method == CalibrationMethod::kUmbmark) return calibrateUmbmarkRuns(input, params);
+  return robustFit(
+      input.intervals, params.trim,
+      [&](const std::vector<CalibrationInterval>& subset, const std::vector<int>& kept) {
+        return fitMethod(method, subset, kept, input, params, joints);
+      });
 }
 
 }  // namespace
@@ -45,45 +127,17 @@ std::optional<std::string> missingInput(CalibrationMethod method, const Calibrat
 
 CalibrationRun calibrate(CalibrationMethod method, const CalibrationInput& input,
                          const CalibrationParams& params) {
-  if (auto reason = missingInput(method, input)) return refused(method, std::move(*reason));
-  const auto& intervals = input.intervals;
-  switch (method) {
-    case CalibrationMethod::kDirect: {
-      DirectLinearParams direct = params.direct;
-      direct.nominal = *input.nominal;
-      return {method, calibrateDirectLinear(intervals, direct), std::nullopt, 0.0};
-    }
-    case CalibrationMethod::kModel:
-      return {method, calibrateModelBased(intervals, params.model), std::nullopt, 0.0};
-    case CalibrationMethod::kJoint:
-      return {method, calibrateJoint(intervals, params.joint), std::nullopt, 0.0};
-    case CalibrationMethod::kCeres:
-      return fromCeres(calibrateCeres(intervals, ceresParams(params)), params.ceres);
-    case CalibrationMethod::kUmbmark:
-      return calibrateUmbmarkRuns(input, params);
-  }
-  return refused(method, "unknown method");
+  JointCache joints;
+  return calibrateWith(method, input, params, joints);
 }
 
 std::vector<CalibrationRun> calibrate(const std::vector<CalibrationMethod>& methods,
                                       const CalibrationInput& input,
                                       const CalibrationParams& params) {
   std::vector<CalibrationRun> runs;
-  std::optional<JointResult> joint;
-  for (CalibrationMethod method : methods) {
-    const bool joint_based =
-        method == CalibrationMethod::kJoint || method == CalibrationMethod::kCeres;
-    if (!joint_based) {
-      runs.push_back(calibrate(method, input, params));
-      continue;
-    }
-    if (!joint) joint = calibrateJoint(input.intervals, params.joint);
-    if (method == CalibrationMethod::kJoint)
-      runs.push_back({method, *joint, std::nullopt, 0.0});
-    else
-      runs.push_back(
-          fromCeres(calibrateCeres(input.intervals, *joint, ceresParams(params)), params.ceres));
-  }
+  JointCache joints;  // shared: joint runs once when both joint and ceres are asked for
+  for (CalibrationMethod method : methods)
+    runs.push_back(calibrateWith(method, input, params, joints));
   return runs;
 }
 

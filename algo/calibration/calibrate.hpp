@@ -13,6 +13,7 @@
 #include "algo/calibration/interval.hpp"
 #include "algo/calibration/joint_censi.hpp"
 #include "algo/calibration/model_based.hpp"
+#include "algo/calibration/robust_trim.hpp"
 #include "algo/calibration/umbmark.hpp"
 
 namespace slamprep::algo {
@@ -28,6 +29,8 @@ struct CalibrationInput {
 /// Every method's parameters. ceres starts from `joint` (its `start` is ignored); direct and
 /// umbmark take their nominal geometry from the input.
 struct CalibrationParams {
+  /// Robust screening of the intervals, applied around every interval method (robust_trim.hpp).
+  TrimParams trim;
   DirectLinearParams direct;
   ModelBasedParams model;
   JointParams joint;
@@ -42,6 +45,11 @@ struct CalibrationRun {
   /// ceres with estimate_time_offset, when ok: t_lidar - t_encoder and its 1-sigma.
   std::optional<double> time_offset_s;
   double time_offset_sigma_s = 0.0;
+  /// Set when the wheel increments were derived from odometry poses (a log without encoder
+  /// ticks): the nominal geometry they were derived with. The estimates are then the log's
+  /// odometry geometry corrected: estimate / nominal is the factor to apply to whatever geometry
+  /// the robot's odometry used (docs/calibration.md, "Logs without encoder ticks").
+  std::optional<DiffDriveParams> relative_to_odometry;
 };
 
 /// Why `method` does not apply to `input` (umbmark without square runs, direct without the
@@ -49,6 +57,9 @@ struct CalibrationRun {
 std::optional<std::string> missingInput(CalibrationMethod method, const CalibrationInput& input);
 
 /// Runs one method. A method whose input is missing refuses (ok = false, reason says which).
+/// Interval methods are fitted, their intervals screened against the fit and the fit repeated
+/// on the kept ones until the kept set repeats (robust_trim.hpp); when nothing is dropped the
+/// result is the plain fit, bit for bit.
 CalibrationRun calibrate(CalibrationMethod method, const CalibrationInput& input,
                          const CalibrationParams& params = {});
 

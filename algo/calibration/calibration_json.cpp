@@ -12,6 +12,10 @@ namespace {
 
 using nlohmann::json;
 
+json geometryJson(const DiffDriveParams& g) {
+  return {{"r_L", g.radius_left_m}, {"r_R", g.radius_right_m}, {"b", g.wheel_base_m}};
+}
+
 json toJson(const CalibrationRun& run, const std::optional<Eigen::VectorXd>& truth) {
   const CalibrationResult& r = run.result;
   json j = {{"method", calibrationMethodName(run.method)}, {"ok", r.ok}, {"reason", r.reason}};
@@ -29,6 +33,20 @@ json toJson(const CalibrationRun& run, const std::optional<Eigen::VectorXd>& tru
   j["condition_number"] =
       std::isfinite(r.condition_number) ? json(r.condition_number) : json(nullptr);
   j["intervals"] = r.intervals_used;
+  j["intervals_trimmed"] = r.intervals_trimmed;
+  json worst = json::array();
+  for (const TrimmedInterval& t : r.trimmed_worst)
+    worst.push_back(
+        {{"t0", t.t0_s}, {"t1", t.t1_s}, {"reason", t.reason}, {"residual", t.residual_sigmas}});
+  j["trimmed_worst"] = worst;
+  if (const auto& nominal = run.relative_to_odometry) {
+    j["relative_to_odometry"] = geometryJson(*nominal);
+    if (r.ok)
+      j["scale"] = {{"r_L", r.geometry.radius_left_m / nominal->radius_left_m},
+                    {"r_R", r.geometry.radius_right_m / nominal->radius_right_m},
+                    {"b", r.geometry.wheel_base_m / nominal->wheel_base_m}};
+    j["meaning"] = odometryRelativeMeaning(*nominal);
+  }
   return j;
 }
 
@@ -38,7 +56,7 @@ class EntryReader {
   EntryReader(const json& entry, std::string where) : e_(entry), where_(std::move(where)) {}
 
   [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    throw InputError(where_ + "." + key, what);
+    throw InputError(key.empty() ? where_ : where_ + "." + key, what);
   }
 
   CalibrationMethod method() const {
@@ -89,6 +107,34 @@ class EntryReader {
     return variance.asDiagonal();
   }
 
+  int count(const char* key) const {
+    if (!e_.contains(key)) return 0;
+    if (!e_[key].is_number_integer() || e_[key].get<long long>() < 0)
+      fail(key, "must be an integer >= 0");
+    return e_[key].get<int>();
+  }
+
+  std::vector<TrimmedInterval> trimmedWorst() const {
+    std::vector<TrimmedInterval> out;
+    if (!e_.contains("trimmed_worst")) return out;
+    const json& list = e_["trimmed_worst"];
+    if (!list.is_array()) fail("trimmed_worst", "must be an array");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const EntryReader item(list[i], where_ + ".trimmed_worst[" + std::to_string(i) + "]");
+      if (!list[i].is_object()) item.fail("", "not an object");
+      out.push_back({item.finite("t0"), item.finite("t1"), item.reason(), item.finite("residual")});
+    }
+    return out;
+  }
+
+  std::optional<DiffDriveParams> relativeToOdometry() const {
+    if (!e_.contains("relative_to_odometry")) return std::nullopt;
+    const json& g = e_["relative_to_odometry"];
+    const EntryReader item(g, where_ + ".relative_to_odometry");
+    if (!g.is_object()) item.fail("", "not an object");
+    return DiffDriveParams{item.positive("r_L"), item.positive("r_R"), item.positive("b")};
+  }
+
   CalibrationRun run() const {
     CalibrationRun run;
     run.method = method();
@@ -96,6 +142,9 @@ class EntryReader {
     r.ok = ok();
     r.reason = reason();
     r.estimates_mount = estimatesMount(run.method);
+    r.intervals_trimmed = count("intervals_trimmed");
+    r.trimmed_worst = trimmedWorst();
+    run.relative_to_odometry = relativeToOdometry();
     if (!r.ok) return run;
     r.geometry = {positive("r_L"), positive("r_R"), positive("b")};  // braces: left to right
     if (r.estimates_mount)
@@ -134,6 +183,16 @@ Eigen::VectorXd CalibrationTruth::values() const {
 double calibrationError(const Eigen::VectorXd& estimate, const Eigen::VectorXd& truth, int i) {
   const double e = estimate(i) - truth(i);
   return i == 5 ? normalizeAngle(e) : e;
+}
+
+std::string odometryRelativeMeaning(const DiffDriveParams& g) {
+  return "the log has no encoder ticks: wheel increments were derived from its odometry poses "
+         "with the nominal geometry r_L " +
+         json(g.radius_left_m).dump() + " m, r_R " + json(g.radius_right_m).dump() + " m, b " +
+         json(g.wheel_base_m).dump() +
+         " m, so r_L, r_R, b are relative to the log's own odometry geometry: scale = estimate / "
+         "nominal is the factor by which the geometry the robot's odometry used must be "
+         "multiplied (1 = the odometry was already right)";
 }
 
 std::string formatCalibrationJson(const std::vector<CalibrationRun>& runs,

@@ -3,7 +3,10 @@
 // only. An array, one object per method run: "method", "ok", "reason", "r_L", "r_R", "b", and
 // for joint and ceres "lidar_x", "lidar_y", "lidar_yaw" (metres, radians; null when not ok),
 // "sigma" (same keys), "error" (estimate minus truth, when there is truth), "condition_number",
-// "intervals".
+// "intervals", "intervals_trimmed", "trimmed_worst" ([{"t0", "t1", "reason", "residual"}], the
+// robust screening's worst outliers), and for a log without encoder ticks
+// "relative_to_odometry" (the nominal r_L, r_R, b the wheel increments were derived with),
+// "scale" (estimate / nominal, when ok) and "meaning" (a sentence saying so).
 
 #include <Eigen/Core>
 #include <array>
@@ -36,6 +39,9 @@ struct CalibrationTruth {
 /// estimate(i) - truth(i), the yaw (i = 5) wrapped to (-pi, pi].
 double calibrationError(const Eigen::VectorXd& estimate, const Eigen::VectorXd& truth, int i);
 
+/// The sentence "meaning" holds for results relative to a log's odometry geometry `nominal`.
+std::string odometryRelativeMeaning(const DiffDriveParams& nominal);
+
 /// The JSON text (two-space indent, keys sorted, newline at the end).
 std::string formatCalibrationJson(const std::vector<CalibrationRun>& runs,
                                   const std::optional<CalibrationTruth>& truth);
@@ -47,8 +53,10 @@ void writeCalibrationJson(const std::filesystem::path& path,
 /// A calibration JSON as read back: every run in file order, and the best one.
 struct CalibrationFile {
   std::string source;  ///< the file (or what the text came from), for messages
-  /// Each entry's method, ok, reason and, when ok, geometry (and mount for joint and ceres),
-  /// condition number, intervals; the covariance is diagonal (the file keeps 1-sigmas only).
+  /// Each entry's method, ok, reason, intervals_trimmed, trimmed_worst, relative_to_odometry
+  /// and, when ok, geometry (and mount for joint and ceres), condition number, intervals; the
+  /// covariance is diagonal (the file keeps 1-sigmas only). "scale" and "meaning" are derived
+  /// from the rest and not read.
   std::vector<CalibrationRun> runs;
 
   /// The best available result (calibration_method.hpp's rule); nullptr when none is ok.

@@ -11,6 +11,14 @@
 
 namespace slamprep::algo {
 
+/// An interval dropped as an outlier by the robust screening (robust_trim.hpp).
+struct TrimmedInterval {
+  double t0_s = 0.0;
+  double t1_s = 0.0;
+  std::string reason;            ///< which component disagreed with the fit, and by how much
+  double residual_sigmas = 0.0;  ///< its robust score z (robust_trim.hpp, Eq. 2)
+};
+
 /// The common part of every method's result. When ok is false, `reason` says why and the numbers
 /// are not to be used (they are finite, never NaN).
 struct CalibrationResult {
@@ -27,8 +35,13 @@ struct CalibrationResult {
   /// Condition number of the (column-equilibrated) least-squares problem(s); the worst one.
   double condition_number = 0.0;
   int intervals_used = 0;  ///< intervals in the final fit (after trimming)
-  int iterations = 0;      ///< solver iterations or trimming rounds
-  double cost = 0.0;       ///< final sum of squared (weighted) residuals
+  /// Intervals given but left out of the final fit: the robust screening's outliers plus, for
+  /// joint, the closed form's fixed-fraction rounds (JointParams::trim_fraction).
+  int intervals_trimmed = 0;
+  /// The screening's worst outliers (up to TrimParams::report_worst), worst first.
+  std::vector<TrimmedInterval> trimmed_worst;
+  int iterations = 0;  ///< solver iterations or trimming rounds
+  double cost = 0.0;   ///< final sum of squared (weighted) residuals
 
   /// 1-sigma of each estimated parameter (sqrt of the covariance diagonal), zeros if unknown.
   Eigen::VectorXd sigma() const;

@@ -29,7 +29,6 @@ struct JointResult : CalibrationResult {
   double sigma_theta_rad = 0.0;  ///< scan-match rotation noise, from the residuals
   double sigma_x_m = 0.0;        ///< scan-match translation noise along lidar x
   double sigma_y_m = 0.0;        ///< ... along lidar y
-  int intervals_trimmed = 0;     ///< dropped as outliers
   std::vector<int> used;         ///< indices of the intervals in the final fit
 };
 

@@ -4,8 +4,10 @@
 
 #include "algo/calibration/dataset_motion.hpp"
 #include "core/error.hpp"
+#include "core/odometry.hpp"
 #include "eval/bench/dataset_deskew.hpp"
 #include "eval/formats/dataset_io.hpp"
+#include "eval/formats/import.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -31,7 +33,22 @@ std::vector<algo::UmbmarkRun> umbmarkRuns(const DatasetCalibrationParams& params
   return runs;
 }
 
+// A log with odometry poses but no encoder ticks (an imported CARMEN log without --nominal):
+// encoders derived from the poses with `nominal`, so intervals can be cut. The estimates are then
+// relative to the log's own odometry geometry (docs/calibration.md).
+Dataset withDerivedEncoders(const Dataset& dataset, const DiffDriveParams& nominal) {
+  Dataset derived = dataset;
+  derived.encoders =
+      encodersFromPoses(dataset.odom_nominal, nominal, dataset.info.ticks_per_revolution);
+  derived.info.nominal_geometry = nominal;
+  return derived;
+}
+
 }  // namespace
+
+PoseSeries calibratedOdometry(const DatasetCalibration& c, const DiffDriveParams& geometry) {
+  return integrateEncoders(c.encoders, geometry, c.ticks_per_revolution, c.T_odom_base0);
+}
 
 CalibrationMotion calibrationMotion(const Dataset& dataset,
                                     const CalibrationMotionOptions& options) {
@@ -39,7 +56,11 @@ CalibrationMotion calibrationMotion(const Dataset& dataset,
   if (!options.from_icp) {
     motion.chains.push_back(algo::lidarPosesFromGroundTruth(dataset, options.stamp_is_last_beam));
   } else {
+    // auto on instantaneous scans (time_increment 0, e.g. CARMEN): nothing to de-skew.
+    const bool instantaneous =
+        !dataset.scans.empty() && dataset.scans.front().scan.time_increment_s == 0.0;
     const std::string name = options.deskew != "auto" ? options.deskew
+                             : instantaneous          ? "none"
                              : dataset.imu.empty()    ? "odom-linear"
                                                       : "imu";
     const auto method = algo::parseDeskewMethod(name);
@@ -65,10 +86,22 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params) {
     throw InputError("DATASET", "give a dataset directory, --tuples FILE, or both");
   std::optional<Dataset> dataset;
   if (!params.dataset.empty()) dataset = readDataset(params.dataset);
-  const Dataset* d = dataset ? &*dataset : nullptr;
   DatasetCalibration out;
+  if (dataset && dataset->encoders.size() < 2 && dataset->odom_nominal.size() >= 2) {
+    out.relative_to_odometry = params.nominal.value_or(dataset->info.nominal_geometry);
+    dataset = withDerivedEncoders(*dataset, *out.relative_to_odometry);
+  }
+  const Dataset* d = dataset ? &*dataset : nullptr;
   algo::CalibrationInput input;
-  if (d) input.nominal = d->info.nominal_geometry;
+  if (d) input.nominal = params.nominal.value_or(d->info.nominal_geometry);
+  if (d) {
+    out.nominal = *input.nominal;
+    out.T_base_lidar = d->info.T_base_lidar;
+    out.encoders = d->encoders;
+    out.ticks_per_revolution = d->info.ticks_per_revolution;
+    if (!d->encoders.empty())
+      out.T_odom_base0 = d->odom_nominal.at(d->encoders.front().stamp_s).value_or(SE2());
+  }
   if (d && d->info.true_geometry)
     out.truth = algo::CalibrationTruth{*d->info.true_geometry, d->info.T_base_lidar};
   if (contains(params.methods, algo::CalibrationMethod::kUmbmark))
@@ -96,6 +129,8 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params) {
       applicable.push_back(m);
   }
   out.runs = algo::calibrate(applicable, input, params.params);
+  for (algo::CalibrationRun& run : out.runs)
+    if (algo::isIntervalMethod(run.method)) run.relative_to_odometry = out.relative_to_odometry;
   return out;
 }
 

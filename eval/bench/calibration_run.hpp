@@ -19,7 +19,8 @@ struct CalibrationMotionOptions {
   /// Match scans de-skewed with this method first. "auto": the gyro (imu) when the log has one,
   /// since it does not depend on the wheel geometry being calibrated (de-skewing with the wrong
   /// geometry biased the mount yaw by 0.12 deg on 3 minutes of driving; imu: 0.02 deg), else
-  /// odom-linear. "none": raw scans, biased by the distortion itself.
+  /// odom-linear; none when the scans are instantaneous (time_increment 0, e.g. CARMEN logs).
+  /// "none": raw scans, biased by the distortion itself.
   std::string deskew = "auto";
   bool stamp_is_last_beam = false;  ///< the scans' stamps mark their last beam
   /// How intervals are cut; `slamprep calibrate` and the bench both keep the defaults (one
@@ -49,6 +50,9 @@ struct DatasetCalibrationParams {
   std::vector<std::string> squares;
   CalibrationMotionOptions motion;
   algo::CalibrationParams params;
+  /// The geometry the odometry is taken to use (`--nominal`); unset: dataset.json's. On a log
+  /// without encoder ticks the wheel increments are derived from the odometry poses with it.
+  std::optional<DiffDriveParams> nominal;
   /// Run only the methods whose input is there (`--method all`); the others are listed in
   /// DatasetCalibration::not_applicable instead of refusing.
   bool only_applicable = false;
@@ -67,7 +71,21 @@ struct DatasetCalibration {
   bool from_motion = false;  ///< the intervals were cut from the dataset's motion (no tuples)
   int failed_matches = 0;    ///< scan matches that broke a chain
   std::optional<algo::CalibrationTruth> truth;  ///< when the dataset knows its true geometry
+  /// Set when the log had no encoder ticks: the geometry the wheel increments were derived from
+  /// its odometry poses with (every interval run carries it as relative_to_odometry).
+  std::optional<DiffDriveParams> relative_to_odometry;
+  /// The encoders the intervals were cut from (derived ones for a log without ticks), and the
+  /// nominal odometry pose at their first stamp: what calibratedOdometry() integrates.
+  EncoderLog encoders;
+  int ticks_per_revolution = 0;
+  SE2 T_odom_base0;
+  DiffDriveParams nominal;  ///< the geometry the odometry uses (--nominal, else dataset.json's)
+  SE2 T_base_lidar;         ///< the dataset's lidar mount (dataset.json)
 };
+
+/// The encoders of `c` integrated with `geometry` from the nominal odometry's pose at their first
+/// stamp: T_odom_base at every encoder stamp (`calibrate --odometry-out`).
+PoseSeries calibratedOdometry(const DatasetCalibration& c, const DiffDriveParams& geometry);
 
 /// Reads the dataset (and square runs), builds the methods' inputs and runs them. Throws
 /// InputError naming the directory or file for bad input (before any matching is done).
