@@ -94,6 +94,9 @@ TEST_F(DeskewCommand, AllMethodsWriteScansAndJson) {
   const auto deskewed = lines(out / "deskewed_odom-linear.jsonl");
   ASSERT_EQ(scans.size(), deskewed.size());
   EXPECT_EQ(nlohmann::json::parse(deskewed[3])["time_increment"], 0.0);
+  // ... and the exact corrected points, one per measured beam, for the CSM export's theta.
+  EXPECT_EQ(nlohmann::json::parse(deskewed[3])["p_ref"].size(),
+            nlohmann::json::parse(scans[3])["nrays"].get<std::size_t>());
 }
 
 TEST_F(DeskewCommand, MatchWritesOneLinePerPair) {
