@@ -32,8 +32,10 @@ class GridRays {
   }
   /// Grid index of integer bin j (taken modulo a whole turn when the grid has one); -1 if none.
   long index(long j) const {
+    const auto size = static_cast<long>(grid_.size());
+    if (j >= 0 && j < size) return j;  // the common case: no division
     if (whole_turn_ > 0) j = ((j % whole_turn_) + whole_turn_) % whole_turn_;
-    return j >= 0 && j < static_cast<long>(grid_.size()) ? j : -1;
+    return j >= 0 && j < size ? j : -1;
   }
   /// Whether the grid closes on itself: its last ray is one increment before its first.
   bool fullTurn() const {
