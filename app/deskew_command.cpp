@@ -146,6 +146,7 @@ MethodRun runMethod(algo::DeskewMethod method, const Dataset& d, const PoseSerie
     rec.p_ref_true.clear();       // marks it not de-skewed
     if (r.ok) {
       rec.scan = r.repacked;
+      rec.p_ref = r.p_ref;  // the exact points, for the CSM export's per-ray theta
       rec.T_world_base_true = d.groundtruth.at(r.reference_s);
       rec.T_odom_base_nominal = d.odom_nominal.at(r.reference_s);
     }
@@ -178,6 +179,11 @@ nlohmann::ordered_json toJson(const MethodRun& run) {
           {"max_m", num(e, &ErrorStats::max)},
           {"rotation_mean_m", num(run.result.rotation_induced_m, &ErrorStats::mean)},
           {"translation_mean_m", num(run.result.translation_induced_m, &ErrorStats::mean)},
+          {"repacked_mean_m", num(run.result.repacked_error_m, &ErrorStats::mean)},
+          {"repacked_p95_m", num(run.result.repacked_error_m, &ErrorStats::p95)},
+          {"repacked_lost_beams", run.result.repacked_error_m
+                                      ? nlohmann::ordered_json(run.result.repacked_lost_beams)
+                                      : nlohmann::ordered_json(nullptr)},
           {"beams", e ? e->count : 0},
           {"seconds", run.result.seconds},
           {"scans", scans},
@@ -204,6 +210,11 @@ void printRow(const MethodRun& run) {
               << std::setw(10) << e->count;
   else
     std::cout << std::setw(50) << "(no ground truth)";
+  if (const auto& r = run.result.repacked_error_m)
+    std::cout << std::setprecision(3) << std::setw(12) << r->mean * 1e3 << std::setw(12)
+              << r->p95 * 1e3 << std::setw(8) << run.result.repacked_lost_beams;
+  else
+    std::cout << std::setw(32) << "";
   std::cout << std::setprecision(4) << std::setw(10) << run.result.seconds << std::setw(9)
             << run.result.refused << "\n";
   const std::size_t scans = run.result.scans.size();
@@ -242,7 +253,9 @@ void printHeader(const DeskewFlags& flags, const Dataset& d, const Geometry& geo
             << ", geometry " << geometry.source << "\n"
             << std::left << std::setw(16) << "method" << std::right << std::setw(10) << "mean mm"
             << std::setw(10) << "rms mm" << std::setw(10) << "p95 mm" << std::setw(10) << "max mm"
-            << std::setw(10) << "beams" << std::setw(10) << "seconds" << std::setw(9) << "refused"
+            << std::setw(10) << "beams" << std::setw(12) << "repacked mm" << std::setw(12)
+            << "rp p95 mm" << std::setw(8) << "lost" << std::setw(10) << "seconds" << std::setw(9)
+            << "refused"
             << "\n";
 }
 

@@ -25,6 +25,10 @@ struct ScanRecord {
   /// Ground-truth undistorted point of every beam in the lidar frame at the scan stamp
   /// (docs/design.md#what-the-simulators-truth-means); empty without truth, nullopt for no-hit.
   std::vector<std::optional<Eigen::Vector2d>> p_ref_true;
+  /// A de-skewed scan's exact corrected points (lidar frame at the scan stamp), one per measured
+  /// beam, nullopt for no return: rays that are not on the scan's regular grid. Empty for a scan
+  /// on its grid (docs/dataset.md, "p_ref").
+  std::vector<std::optional<Eigen::Vector2d>> p_ref;
 };
 
 /// dataset.json: provenance, geometry and sensor configuration.

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 namespace slamprep::algo {
 namespace {
@@ -106,27 +105,6 @@ void transformBeams(const LaserScan& scan, double first_beam_s, const Trajectory
     sa = sa * cd + ca * sd;
     ca = c_next;
   }
-}
-
-LaserScan repackScan(const LaserScan& grid,
-                     const std::vector<std::optional<Eigen::Vector2d>>& p_lidar) {
-  LaserScan out = grid;
-  const double inf = std::numeric_limits<double>::infinity();
-  out.ranges_m.assign(grid.size(), inf);
-  if (grid.size() == 0 || grid.angle_increment_rad == 0.0) return out;
-  const double bins_per_turn = 2.0 * std::numbers::pi / std::abs(grid.angle_increment_rad);
-  const double inv_increment = 1.0 / grid.angle_increment_rad;
-  const long size = static_cast<long>(grid.size());
-  for (const auto& p : p_lidar) {
-    if (!p) continue;
-    // Bin offset from angle_min, wrapped into [-0.5, turn - 0.5) bins without remainder().
-    double k = (std::atan2(p->y(), p->x()) - grid.angle_min_rad) * inv_increment;
-    k -= bins_per_turn * std::floor((k + 0.5) / bins_per_turn);
-    const long bin = static_cast<long>(std::floor(k + 0.5));
-    if (bin < 0 || bin >= size) continue;
-    out.ranges_m[bin] = std::min(out.ranges_m[bin], p->norm());
-  }
-  return out;
 }
 
 }  // namespace slamprep::algo

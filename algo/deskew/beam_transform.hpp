@@ -33,9 +33,4 @@ Trajectory relativeTo(const Trajectory& trajectory, double t);
 void transformBeams(const LaserScan& scan, double first_beam_s, const Trajectory& trajectory,
                     std::vector<std::optional<Eigen::Vector2d>>& out);
 
-/// Same as repackPoints() in core, without its per-point remainder(): bins by the nearest beam
-/// angle to atan2(y, x), keeps the nearest point per bin, +inf where no point landed.
-LaserScan repackScan(const LaserScan& grid,
-                     const std::vector<std::optional<Eigen::Vector2d>>& p_lidar);
-
 }  // namespace slamprep::algo

@@ -169,7 +169,7 @@ DeskewResult deskew(DeskewMethod method, const LaserScan& scan, const DeskewInpu
     return result;
   }
   if (params.repack) {
-    result.repacked = repackScan(scan, result.p_ref);
+    result.repacked = repackOnGrid(scan, result.p_ref, params.repacking).scan;
     result.repacked.stamp_s = t.ref_s;
     result.repacked.time_increment_s = 0.0;
   }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "algo/deskew/beam_transform.hpp"
+#include "algo/deskew/repack.hpp"
 #include "algo/matching/icp.hpp"
 #include "core/laser_scan.hpp"
 #include "core/samples.hpp"
@@ -109,13 +110,16 @@ struct DeskewParams {
   IcpParams icp;
   /// Also build the repacked LaserScan (costs an atan2 per beam).
   bool repack = true;
+  /// How the corrected points are interpolated onto the grid (repack.hpp).
+  RepackParams repacking;
 };
 
 struct DeskewResult {
   /// Every beam's point in the lidar frame at the reference time; nullopt for no return.
   std::vector<std::optional<Eigen::Vector2d>> p_ref;
-  /// The points as a scan on the input's beam grid (range = |p|, angle = atan2, nearest bin),
-  /// stamped at the reference time with time_increment 0: all beams now describe one instant.
+  /// The points as a scan on the input's beam grid (repackOnGrid: each grid ray's range on the
+  /// segment between the neighbouring points it crosses, +inf across depth jumps), stamped at
+  /// the reference time with time_increment 0: all beams now describe one instant.
   LaserScan repacked;
   double first_beam_s = 0.0;  ///< time of beam 0
   double reference_s = 0.0;   ///< time the points describe

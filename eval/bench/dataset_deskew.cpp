@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "algo/deskew/repack.hpp"
 #include "core/odometry.hpp"
 #include "eval/metrics/deskew_error.hpp"
 
@@ -45,7 +46,8 @@ std::vector<SE2> beamPoseErrors(const Dataset& dataset, const ScanRecord& record
 
 // Per-beam errors of all scans, pooled before summarising.
 struct PooledErrors {
-  std::vector<double> total_m, rotation_m, translation_m;
+  std::vector<double> total_m, rotation_m, translation_m, repacked_m;
+  std::size_t repacked_lost = 0;
   double max_residual_m = 0.0;
   bool split = true;  ///< every compared scan had its pose errors
 
@@ -61,12 +63,19 @@ struct PooledErrors {
 };
 
 void measure(const Dataset& dataset, const ScanRecord& record, const algo::DeskewResult& result,
-             PooledErrors& pooled) {
+             const algo::RepackParams& repacking, PooledErrors& pooled) {
   const BeamPoints truth = truthAtReference(dataset, record, result);
   if (truth.size() != result.p_ref.size()) return;
   const DeskewErrorResult e =
       deskewError(result.p_ref, truth, beamPoseErrors(dataset, record, result));
   if (e.ok) pooled.add(e);
+  if (result.repacked.size() != truth.size()) return;  // not repacked
+  // The truth through the same repacking: the surface each grid ray crosses, exact for flat
+  // walls, so what remains is the de-skew error carried onto the grid.
+  const LaserScan truth_repacked = algo::repackOnGrid(record.scan, truth, repacking).scan;
+  const RepackedErrorResult r = repackedError(result.repacked.ranges_m, truth_repacked.ranges_m);
+  pooled.repacked_m.insert(pooled.repacked_m.end(), r.errors_m.begin(), r.errors_m.end());
+  pooled.repacked_lost += r.lost;
 }
 
 }  // namespace
@@ -110,12 +119,16 @@ DatasetDeskew deskewDataset(const Dataset& dataset, algo::DeskewMethod method,
     const double stamp = record.scan.stamp_s;
     const bool counted = stamp >= options.measure_from_s && stamp <= options.measure_to_s;
     if (result.ok && counted && !record.p_ref_true.empty())
-      measure(dataset, record, result, pooled);
+      measure(dataset, record, result, options.params.repacking, pooled);
     out.scans.push_back(std::move(result));
     if (options.on_scan) options.on_scan(k + 1, dataset.scans.size());
   }
   if (pooled.total_m.empty()) return out;
   out.error_m = summarize(std::move(pooled.total_m));
+  if (!pooled.repacked_m.empty()) {
+    out.repacked_error_m = summarize(std::move(pooled.repacked_m));
+    out.repacked_lost_beams = pooled.repacked_lost;
+  }
   if (!pooled.split) return out;
   out.rotation_induced_m = summarize(std::move(pooled.rotation_m));
   out.translation_induced_m = summarize(std::move(pooled.translation_m));

@@ -63,6 +63,11 @@ struct DatasetDeskew {
   std::optional<ErrorStats> translation_induced_m;
   /// max over beams of what the split leaves unexplained (range noise: the truth is noiseless).
   double max_split_residual_m = 0.0;
+  /// The repacked scans (DeskewResult::repacked) against the true points repacked onto the same
+  /// grid the same way, per grid ray over all measured scans; nullopt without truth or repacking.
+  std::optional<ErrorStats> repacked_error_m;
+  /// Grid rays of the measured scans where the truth has a range and the repacked scan none.
+  std::size_t repacked_lost_beams = 0;
 };
 
 /// Refused scans counted by reason name ("not-bracketed": 3), names sorted.

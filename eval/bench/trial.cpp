@@ -132,6 +132,10 @@ json deskewJson(const DatasetDeskew& d, const std::string& method) {
                 {"translation_mean_m", d.translation_induced_m->mean},
                 {"translation_p95_m", d.translation_induced_m->p95},
                 {"split_residual_max_m", d.max_split_residual_m}});
+  if (d.repacked_error_m)
+    out.update({{"repacked_mean_m", d.repacked_error_m->mean},
+                {"repacked_p95_m", d.repacked_error_m->p95},
+                {"repacked_lost_beams", d.repacked_lost_beams}});
   return out;
 }
 

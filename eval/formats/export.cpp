@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
 
@@ -180,23 +181,73 @@ std::string formatCarmen(const Dataset& d, const std::vector<ScanRecord>& scans,
   return out;
 }
 
+namespace {
+
+/// One CSM ray: its angle, its reading (NaN: null) and CSM's valid flag.
+struct CsmRay {
+  double theta = 0.0;
+  double reading = std::numeric_limits<double>::quiet_NaN();
+  bool valid = false;
+};
+
+/// The exact angle of point p, unwrapped next to the beam angle: beam + offset, |offset| <= pi.
+double offsetFromBeam(const Eigen::Vector2d& p, double beam_angle) {
+  return std::remainder(std::atan2(p.y(), p.x()) - beam_angle, 2.0 * std::numbers::pi);
+}
+
+/// The scan's rays: on its grid, or, for a de-skewed scan (p_ref), each corrected point's exact
+/// angle and range (a ray without a return keeps the offset of the ray before it). Sorted so that
+/// theta increases (clockwise scans reversed) and cut to one turn: CSM requires min_theta =
+/// theta[0], max_theta = theta[n-1] and max_theta - min_theta <= 2 pi.
+std::vector<CsmRay> csmRays(const ScanRecord& record) {
+  const LaserScan& s = record.scan;
+  const std::size_t n = s.size();
+  std::vector<CsmRay> rays(n);
+  const bool exact = record.p_ref.size() == n;
+  double offset = 0.0;
+  for (std::size_t i = 0; exact && i < n; ++i)
+    if (record.p_ref[i]) {
+      offset = offsetFromBeam(*record.p_ref[i], s.beamAngle(i));  // for rays before the first
+      break;
+    }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (exact) {
+      const auto& p = record.p_ref[i];
+      if (p) offset = offsetFromBeam(*p, s.beamAngle(i));
+      rays[i] = {s.beamAngle(i) + offset, p ? p->norm() : std::numeric_limits<double>::quiet_NaN(),
+                 p.has_value()};
+    } else {
+      const double r = s.ranges_m[i];
+      rays[i] = {s.beamAngle(i), std::isfinite(r) ? r : std::numeric_limits<double>::quiet_NaN(),
+                 s.valid(i)};
+    }
+  }
+  std::stable_sort(rays.begin(), rays.end(),
+                   [](const CsmRay& a, const CsmRay& b) { return a.theta < b.theta; });
+  while (rays.size() > 1 && rays.back().theta - rays.front().theta > 2.0 * std::numbers::pi)
+    rays.pop_back();  // overlaps the start of the turn
+  return rays;
+}
+
+}  // namespace
+
 std::string formatCsm(const std::vector<ScanRecord>& scans) {
   std::string out;
   for (const auto& record : scans) {
     const LaserScan& s = record.scan;
-    const std::size_t n = s.size();
-    const bool reverse = s.angle_increment_rad < 0;
+    const std::vector<CsmRay> rays = csmRays(record);
+    const std::size_t n = rays.size();
     nlohmann::json j;
     j["nrays"] = n;
-    j["min_theta"] = n ? s.beamAngle(reverse ? n - 1 : 0) : s.angle_min_rad;
-    j["max_theta"] = n ? s.beamAngle(reverse ? 0 : n - 1) : s.angle_min_rad;
+    j["min_theta"] = n ? rays.front().theta : s.angle_min_rad;
+    j["max_theta"] = n ? rays.back().theta : s.angle_min_rad;
     nlohmann::json readings = nlohmann::json::array(), valid = nlohmann::json::array(),
                    theta = nlohmann::json::array();
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::size_t i = reverse ? n - 1 - k : k;
-      readings.push_back(std::isfinite(s.ranges_m[i]) ? nlohmann::json(s.ranges_m[i]) : nullptr);
-      valid.push_back(s.valid(i) ? 1 : 0);
-      theta.push_back(s.beamAngle(i));
+    for (const CsmRay& ray : rays) {
+      readings.push_back(std::isnan(ray.reading) ? nlohmann::json(nullptr)
+                                                 : nlohmann::json(ray.reading));
+      valid.push_back(ray.valid ? 1 : 0);
+      theta.push_back(ray.theta);
     }
     j["readings"] = readings;
     j["valid"] = valid;
@@ -213,6 +264,17 @@ std::string formatCsm(const std::vector<ScanRecord>& scans) {
     out += j.dump() + "\n";
   }
   return out;
+}
+
+std::string sm2CommandLine(const fs::path& csm_file, const SE2& T_base_lidar) {
+  std::string line = "CSM's sm2 matches in the lidar frame and needs the mount: sm2 -in " +
+                     csm_file.string() + " -laser_x ";
+  appendDouble(line, T_base_lidar.x);
+  line += " -laser_y ";
+  appendDouble(line, T_base_lidar.y);
+  line += " -laser_theta ";
+  appendDouble(line, T_base_lidar.yaw);
+  return line;
 }
 
 std::string formatKittiPoses(const std::vector<SE2>& poses) {
@@ -259,6 +321,7 @@ ExportResult exportDataset(const ExportInput& input, ExportFormat format, const 
       requireScans(scans, params.scans);
       write(out, formatCsm(scans));
       result.counts["laser_data"] = scans.size();
+      result.notes.push_back(sm2CommandLine(out, d.info.T_base_lidar));
       break;
     }
     case ExportFormat::kTum: {

@@ -80,8 +80,14 @@ void writeMcapFile(const std::filesystem::path& file, const ExportInput& input,
 /// CARMEN log text of `scans` with ODOM lines from the nominal odometry (docs/export.md).
 std::string formatCarmen(const Dataset& dataset, const std::vector<ScanRecord>& scans,
                          const ExportParams& params, std::size_t* skipped_scans = nullptr);
-/// CSM laser_data JSON lines: CSM's keys only, clockwise scans reversed so that theta increases.
+/// CSM laser_data JSON lines: CSM's keys only, rays sorted so that theta increases (clockwise
+/// scans reversed). A de-skewed scan (ScanRecord::p_ref) is written ray by ray at each corrected
+/// point's exact angle and range, not on the grid, cut to one turn (CSM requires max_theta -
+/// min_theta <= 2 pi).
 std::string formatCsm(const std::vector<ScanRecord>& scans);
+/// The sm2 command line for a CSM export: sm2 -in FILE -laser_x X -laser_y Y -laser_theta YAW
+/// (the mount in m, m, rad: sm2 turns the base odometry into the first guess with it).
+std::string sm2CommandLine(const std::filesystem::path& csm_file, const SE2& T_base_lidar);
 /// KITTI poses: one row-major 3x4 [R | t] per line.
 std::string formatKittiPoses(const std::vector<SE2>& poses);
 

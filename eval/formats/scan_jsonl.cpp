@@ -108,9 +108,10 @@ void appendBeamArrays(std::string& out, const LaserScan& scan) {
   out += ']';
 }
 
-void appendPoints(std::string& out, const std::vector<std::optional<Eigen::Vector2d>>& points,
+void appendPoints(std::string& out, const char* key,
+                  const std::vector<std::optional<Eigen::Vector2d>>& points,
                   const TextLocation& where) {
-  appendKey(out, "p_ref_true");
+  appendKey(out, key);
   out += '[';
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (i) out += ',';
@@ -118,7 +119,8 @@ void appendPoints(std::string& out, const std::vector<std::optional<Eigen::Vecto
       out += "null";
       continue;
     }
-    if (!points[i]->allFinite()) fail(where, "p_ref_true[" + std::to_string(i) + "]", "not finite");
+    if (!points[i]->allFinite())
+      fail(where, std::string(key) + "[" + std::to_string(i) + "]", "not finite");
     out += '[';
     appendDouble(out, points[i]->x());
     out += ',';
@@ -165,10 +167,10 @@ const json& arrayOfSize(const json& object, const char* key, std::size_t size,
   return value;
 }
 
-// [x, y, th] -> SE2; an array holding null (CSM writes NaN as null) means "unknown".
+// [x, y, th] -> SE2; null, or an array holding null (CSM writes NaN as null), means "unknown".
 std::optional<SE2> optionalPose(const json& object, const char* key, const TextLocation& where) {
   const json* value = find(object, key);
-  if (!value) return std::nullopt;
+  if (!value || value->is_null()) return std::nullopt;  // the CSM export writes null: unknown
   if (!value->is_array() || value->size() != 3) fail(where, key, "expected [x, y, th]");
   for (const auto& v : *value)
     if (v.is_null()) return std::nullopt;
@@ -240,18 +242,41 @@ void readRanges(const json& object, std::size_t nrays, LaserScan& scan, const Te
   }
 }
 
-std::vector<std::optional<Eigen::Vector2d>> readPoints(const json& object, std::size_t nrays,
+std::vector<std::optional<Eigen::Vector2d>> readPoints(const json& object, const char* key,
+                                                       std::size_t nrays,
                                                        const TextLocation& where) {
   std::vector<std::optional<Eigen::Vector2d>> points;
-  if (!find(object, "p_ref_true")) return points;
-  const json& array = arrayOfSize(object, "p_ref_true", nrays, where);
+  if (!find(object, key)) return points;
+  const json& array = arrayOfSize(object, key, nrays, where);
   points.resize(nrays);
   for (std::size_t i = 0; i < nrays; ++i) {
     const json& p = array[i];
     if (p.is_null()) continue;
-    const std::string field = "p_ref_true[" + std::to_string(i) + "]";
+    const std::string field = std::string(key) + "[" + std::to_string(i) + "]";
     if (!p.is_array() || p.size() != 2) fail(where, field, "expected [x, y] or null");
     points[i] = Eigen::Vector2d(toFinite(p[0], where, field), toFinite(p[1], where, field));
+  }
+  return points;
+}
+
+// CSM's per-ray theta, when it is not the regular grid of min_theta/angle_increment (an exact
+// de-skewed export): each ray's point, so that no ray is read at a wrong angle. Empty on the grid
+// (to 1e-9 rad) or when theta holds anything but finite numbers (it used to be ignored).
+std::vector<std::optional<Eigen::Vector2d>> raysOffGrid(const json& object, const LaserScan& scan,
+                                                        const TextLocation& where) {
+  std::vector<std::optional<Eigen::Vector2d>> points;
+  if (!find(object, "theta")) return points;
+  const json& theta = arrayOfSize(object, "theta", scan.size(), where);
+  bool on_grid = true;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!theta[i].is_number() || !std::isfinite(theta[i].get<double>())) return {};
+    on_grid = on_grid && std::abs(theta[i].get<double>() - scan.beamAngle(i)) <= 1e-9;
+  }
+  if (on_grid) return points;
+  points.resize(scan.size());
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const double th = theta[i].get<double>();
+    if (scan.valid(i)) points[i] = scan.ranges_m[i] * Eigen::Vector2d(std::cos(th), std::sin(th));
   }
   return points;
 }
@@ -266,10 +291,11 @@ ScanRecord readScanObject(const json& object, const TextLocation& where) {
   scan.scan_time_s = optionalNumber(object, "scan_time", 0.0, where);
   readRangeLimits(object, scan, where);
   readRanges(object, nrays, scan, where);
-  if (find(object, "theta")) arrayOfSize(object, "theta", nrays, where);
   record.T_odom_base_nominal = optionalPose(object, "odometry", where);
   record.T_world_base_true = optionalPose(object, "true_pose", where);
-  record.p_ref_true = readPoints(object, nrays, where);
+  record.p_ref_true = readPoints(object, "p_ref_true", nrays, where);
+  record.p_ref = find(object, "p_ref") ? readPoints(object, "p_ref", nrays, where)
+                                       : raysOffGrid(object, scan, where);
   checkScanHeader(scan, where);
   return record;
 }
@@ -288,10 +314,12 @@ void appendScanLine(std::string& out, const ScanRecord& record, const TextLocati
   if (std::isnan(scan.range_max_m) || scan.range_max_m == -HUGE_VAL)
     fail(where, "range_max", "must be finite or +inf to be written");
   checkScanHeader(scan, where);
-  if (!record.p_ref_true.empty() && record.p_ref_true.size() != n)
-    fail(where, "p_ref_true",
-         "has " + std::to_string(record.p_ref_true.size()) + " entries for " + std::to_string(n) +
-             " beams");
+  for (const auto& [key, points] :
+       {std::pair{"p_ref_true", &record.p_ref_true}, std::pair{"p_ref", &record.p_ref}})
+    if (!points->empty() && points->size() != n)
+      fail(
+          where, key,
+          "has " + std::to_string(points->size()) + " entries for " + std::to_string(n) + " beams");
 
   out += "{\"nrays\":";
   appendInt(out, static_cast<std::int64_t>(n));
@@ -312,7 +340,8 @@ void appendScanLine(std::string& out, const ScanRecord& record, const TextLocati
     appendDouble(out, scan.range_max_m);
   else
     out += "null";
-  if (!record.p_ref_true.empty()) appendPoints(out, record.p_ref_true, where);
+  if (!record.p_ref_true.empty()) appendPoints(out, "p_ref_true", record.p_ref_true, where);
+  if (!record.p_ref.empty()) appendPoints(out, "p_ref", record.p_ref, where);
   out += "}\n";
 }
 

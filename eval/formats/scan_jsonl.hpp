@@ -14,9 +14,9 @@ namespace slamprep::eval {
 
 /// Appends one scan as a single JSON line (with its '\n'). Throws InputError at `where` (the
 /// line it would occupy) for values that could not be read back: NaN/Inf in stamps, angles,
-/// poses or points, range_min not finite, p_ref_true not empty and not one entry per beam, and
-/// for scans readers refuse: no beams, range_min < 0, range_max <= range_min, time_increment < 0,
-/// scan_time < 0.
+/// poses or points, range_min not finite, p_ref_true or p_ref not empty and not one entry per
+/// beam, and for scans readers refuse: no beams, range_min < 0, range_max <= range_min,
+/// time_increment < 0, scan_time < 0.
 /// Non-finite ranges (REP 117 +inf/-inf/NaN) are all written as null and read back as +inf.
 void appendScanLine(std::string& out, const ScanRecord& record, const TextLocation& where);
 

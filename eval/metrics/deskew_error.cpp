@@ -1,6 +1,7 @@
 #include "eval/metrics/deskew_error.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace slamprep::eval {
 
@@ -56,6 +57,19 @@ DeskewErrorResult deskewError(const BeamPoints& p_corrected, const BeamPoints& p
     }
   }
   r.ok = true;
+  return r;
+}
+
+RepackedErrorResult repackedError(const std::vector<double>& ranges_m,
+                                  const std::vector<double>& true_ranges_m) {
+  RepackedErrorResult r;
+  if (ranges_m.size() != true_ranges_m.size()) return r;
+  for (std::size_t j = 0; j < ranges_m.size(); ++j) {
+    const bool has = std::isfinite(ranges_m[j]), has_true = std::isfinite(true_ranges_m[j]);
+    if (has && has_true) r.errors_m.push_back(std::abs(ranges_m[j] - true_ranges_m[j]));
+    r.lost += has_true && !has;
+    r.extra += has && !has_true;
+  }
   return r;
 }
 

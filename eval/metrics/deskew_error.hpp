@@ -43,4 +43,17 @@ struct DeskewErrorResult {
 DeskewErrorResult deskewError(const BeamPoints& p_corrected, const BeamPoints& p_true,
                               const std::vector<SE2>& beam_pose_errors = {});
 
+/// A repacked scan against the true points repacked onto the same grid the same way, ray by
+/// ray (docs/metrics.md, "Repacked de-skew error"). Both points of ray j lie on the ray, so their
+/// distance is |r_j - r_true_j|.
+struct RepackedErrorResult {
+  std::vector<double> errors_m;  ///< per grid ray where both have a range, in ray order
+  std::size_t lost = 0;          ///< rays where only the truth has a range
+  std::size_t extra = 0;         ///< rays where only the repacked scan has one
+};
+
+/// One range per grid ray each (+inf: no range); sizes must match (empty result otherwise).
+RepackedErrorResult repackedError(const std::vector<double>& ranges_m,
+                                  const std::vector<double>& true_ranges_m);
+
 }  // namespace slamprep::eval

@@ -57,24 +57,5 @@ TEST(TransformBeams, OneKnotIsOnePose) {
   EXPECT_LT((*out[10] - SE2(1.0, 2.0, 0.5) * scan.point(10)).norm(), 1e-14);
 }
 
-// Repacking points taken from a scan's own beams gives the scan back, clockwise or not.
-TEST(RepackScan, RoundTripsItsOwnBeams) {
-  for (double inc : {2 * std::numbers::pi / 720, -2 * std::numbers::pi / 720}) {
-    LaserScan scan = ringScan(720, inc);
-    std::vector<std::optional<Eigen::Vector2d>> p;
-    for (std::size_t i = 0; i < scan.size(); ++i)
-      p.push_back(scan.valid(i) ? std::optional(scan.point(i)) : std::nullopt);
-    const LaserScan repacked = repackScan(scan, p);
-    const LaserScan reference = repackPoints(scan, p);  // core's version, same semantics
-    for (std::size_t i = 0; i < scan.size(); ++i) {
-      EXPECT_EQ(repacked.ranges_m[i], reference.ranges_m[i]) << i;
-      if (scan.valid(i))
-        EXPECT_NEAR(repacked.ranges_m[i], scan.ranges_m[i], 1e-12) << i;
-      else
-        EXPECT_TRUE(std::isinf(repacked.ranges_m[i])) << i;
-    }
-  }
-}
-
 }  // namespace
 }  // namespace slamprep::algo

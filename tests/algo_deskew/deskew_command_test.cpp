@@ -77,6 +77,12 @@ TEST_F(DeskewCommand, AllMethodsWriteScansAndJson) {
   }
   EXPECT_EQ(j[0]["method"], "none");
   EXPECT_LT(j[1]["mean_m"].get<double>(), 1e-9);  // oracle
+  // The oracle's points are the truth: repacked the same way they give the same grid.
+  EXPECT_LT(j[1]["repacked_mean_m"].get<double>(), 1e-9);
+  EXPECT_EQ(j[1]["repacked_lost_beams"], 0);
+  for (const auto& m : j)
+    for (const char* key : {"repacked_mean_m", "repacked_p95_m", "repacked_lost_beams"})
+      EXPECT_TRUE(m.contains(key)) << key;
   EXPECT_GT(j[0]["mean_m"].get<double>(), 0.01);  // none: really distorted
   // Same line count as scans.jsonl; de-skewed lines carry time_increment 0.
   auto lines = [](const fs::path& f) {
@@ -91,6 +97,9 @@ TEST_F(DeskewCommand, AllMethodsWriteScansAndJson) {
   const auto deskewed = lines(out / "deskewed_odom-linear.jsonl");
   ASSERT_EQ(scans.size(), deskewed.size());
   EXPECT_EQ(nlohmann::json::parse(deskewed[3])["time_increment"], 0.0);
+  // ... and the exact corrected points, one per measured beam, for the CSM export's theta.
+  EXPECT_EQ(nlohmann::json::parse(deskewed[3])["p_ref"].size(),
+            nlohmann::json::parse(scans[3])["nrays"].get<std::size_t>());
 }
 
 TEST_F(DeskewCommand, MatchWritesOneLinePerPair) {

@@ -78,6 +78,7 @@ expect 0 deskew "$ds" --method none --out "$dir/fixed" --force
 [ -f "$dir/fixed/deskewed_none.jsonl" ] && [ ! -e "$dir/fixed/deskewed_odom-linear.jsonl" ] ||
   fail "deskew --force did not replace the folder: $(ls "$dir/fixed")"
 expect 0 export "$dir/fixed" --format csm --scans none --out "$dir/fixed.csm"
+err_has "sm2 -in $dir/fixed.csm -laser_x "  # CSM's sm2 needs the mount: the export says how
 
 # match: nothing without --out, never into its input, an existing file only with --force.
 expect 0 match "$ds"

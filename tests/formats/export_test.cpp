@@ -7,9 +7,11 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "eval/formats/scan_jsonl.hpp"
 #include "eval/formats/text_io.hpp"
 #include "eval/formats/tum.hpp"
 #include "export_input.hpp"
@@ -163,6 +165,104 @@ TEST(ExportCsm, CsmKeysOnlyAndClockwiseScansReversed) {
   EXPECT_TRUE(j["readings"][s.size() - 1 - 5].is_null());  // beam 5 has no return
   EXPECT_EQ(j["valid"][s.size() - 1 - 5], 0);
   EXPECT_EQ(j["odometry"][0].get<double>(), d.scans[0].T_odom_base_nominal->x);
+}
+
+// A de-skewed scan (p_ref off the grid: every point 0.2-0.4 of a beam past its beam angle, as
+// a robot that turns and accelerates leaves them) is exported ray by ray at the exact angles, and
+// the project's CSM reader (parseScanLine) gives the same points back: 1e-12 m covers |p| and atan2
+// written as shortest round-trip decimals and cos/sin on reading (a few roundings at 3 m).
+TEST(ExportCsm, DeskewedScansCarryTheExactThetaAndRoundTrip) {
+  for (double sign : {1.0, -1.0}) {
+    ScanRecord record;
+    LaserScan& s = record.scan;
+    s.stamp_s = 12.5;
+    s.angle_increment_rad = sign * 2.0 * std::numbers::pi / 360.0;
+    s.angle_min_rad = -sign * std::numbers::pi;
+    s.range_min_m = 0.1;
+    s.range_max_m = 20.0;
+    s.ranges_m.assign(360, 2.0);  // the repacked grid: not what this test is about
+    for (std::size_t i = 0; i < 360; ++i) {
+      const double angle =
+          s.beamAngle(i) + (0.3 + 0.1 * std::sin(0.05 * i)) * s.angle_increment_rad;
+      const double r = 2.0 + 0.5 * std::sin(0.1 * i);
+      const Eigen::Vector2d p = r * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+      record.p_ref.push_back(i % 50 == 7 ? std::nullopt : std::optional(p));
+    }
+    const std::string line = formatCsm({record});
+    const nlohmann::json j = nlohmann::json::parse(line);
+    ASSERT_EQ(j["nrays"], 360u);
+    EXPECT_EQ(j["min_theta"], j["theta"][0]);  // CSM's ld_valid_fields checks both ends
+    EXPECT_EQ(j["max_theta"], j["theta"][359]);
+    EXPECT_LE(j["max_theta"].get<double>() - j["min_theta"].get<double>(), 2 * std::numbers::pi);
+    for (std::size_t k = 0; k < 360; ++k) {
+      const std::size_t i = sign > 0 ? k : 359 - k;  // clockwise: reversed
+      if (k) {
+        ASSERT_GT(j["theta"][k].get<double>(), j["theta"][k - 1].get<double>()) << k;
+      }
+      if (!record.p_ref[i]) {  // its angle: the offset of the ray before it (monotone above)
+        EXPECT_TRUE(j["readings"][k].is_null());
+        EXPECT_EQ(j["valid"][k], 0);
+        continue;
+      }
+      const double expected =
+          s.beamAngle(i) + (0.3 + 0.1 * std::sin(0.05 * i)) * s.angle_increment_rad;
+      EXPECT_NEAR(j["theta"][k].get<double>(), expected, 1e-12) << k;
+      EXPECT_NEAR(j["readings"][k].get<double>(), record.p_ref[i]->norm(), 1e-15) << k;
+    }
+    const ScanRecord back = parseScanLine(line, TextLocation{"csm", 1});
+    ASSERT_EQ(back.p_ref.size(), 360u);
+    for (std::size_t k = 0; k < 360; ++k) {
+      const auto& original = record.p_ref[sign > 0 ? k : 359 - k];
+      ASSERT_EQ(back.p_ref[k].has_value(), original.has_value()) << k;
+      if (original) {
+        EXPECT_LT((*back.p_ref[k] - *original).norm(), 1e-12) << k;
+      }
+    }
+  }
+}
+
+// Points that turn past 2 pi (the robot turned with the lidar) are cut where they overlap the
+// start: CSM refuses a field of view over 2 pi. An on-grid scan reads back without p_ref.
+TEST(ExportCsm, ExactRaysAreCutToOneTurn) {
+  ScanRecord record;
+  LaserScan& s = record.scan;
+  s.angle_increment_rad = 2.0 * std::numbers::pi / 360.0;
+  s.angle_min_rad = 0.0;
+  s.range_max_m = 20.0;
+  s.ranges_m.assign(360, 2.0);
+  for (std::size_t i = 0; i < 360; ++i) {
+    const double angle = s.beamAngle(i) * (1.0 + 0.1 / (2.0 * std::numbers::pi));  // 0.1 rad more
+    record.p_ref.push_back(2.0 * Eigen::Vector2d(std::cos(angle), std::sin(angle)));
+  }
+  const nlohmann::json j = nlohmann::json::parse(formatCsm({record}));
+  const std::size_t n = j["nrays"].get<std::size_t>();
+  EXPECT_LT(n, 360u);
+  EXPECT_GT(n, 350u);  // 0.1 rad is 5.7 beams
+  EXPECT_LE(j["max_theta"].get<double>() - j["min_theta"].get<double>(), 2 * std::numbers::pi);
+  record.p_ref.clear();
+  EXPECT_TRUE(parseScanLine(formatCsm({record}), TextLocation{"csm", 1}).p_ref.empty());
+}
+
+// The de-skewed points travel through deskewed_<method>.jsonl as "p_ref".
+TEST(ExportCsm, ScanLinesCarryPref) {
+  ScanRecord record;
+  record.scan.angle_increment_rad = 0.1;
+  record.scan.range_max_m = 20.0;
+  record.scan.ranges_m = {1.0, 2.0, 3.0};
+  record.p_ref = {Eigen::Vector2d(1.0, 0.25), std::nullopt, Eigen::Vector2d(-0.1, 3.0)};
+  std::string line;
+  appendScanLine(line, record, TextLocation{"deskewed_imu.jsonl", 1});
+  const ScanRecord back = parseScanLine(line, TextLocation{"deskewed_imu.jsonl", 1});
+  ASSERT_EQ(back.p_ref.size(), 3u);
+  EXPECT_EQ(*back.p_ref[0], *record.p_ref[0]);
+  EXPECT_FALSE(back.p_ref[1]);
+  EXPECT_EQ(*back.p_ref[2], *record.p_ref[2]);
+}
+
+TEST(ExportCsm, Sm2CommandLineCarriesTheMount) {
+  EXPECT_NE(sm2CommandLine("out.csm", SE2(0.1, -0.02, 0.5))
+                .find("sm2 -in out.csm -laser_x 0.1 -laser_y -0.02 -laser_theta 0.5"),
+            std::string::npos);
 }
 
 TEST(ExportFormat, UnknownFormatsAreInputErrors) {

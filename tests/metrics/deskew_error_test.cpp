@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -93,6 +94,16 @@ TEST(DeskewError, RefusesMismatchedSizesAndEmptyScans) {
   const DeskewErrorResult r = deskewError({std::nullopt}, {std::nullopt});
   EXPECT_FALSE(r.ok);
   EXPECT_EQ(r.reason, "no beam has both a corrected and a true point");
+}
+
+// Ray by ray: |r - r_true| where both have a range; lost where only the truth has one.
+TEST(RepackedError, ComparesRaysAndCountsLostOnes) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const RepackedErrorResult r = repackedError({2.0, inf, 3.5, 1.0}, {2.25, 4.0, 3.0, inf});
+  EXPECT_EQ(r.errors_m, (std::vector<double>{0.25, 0.5}));
+  EXPECT_EQ(r.lost, 1u);
+  EXPECT_EQ(r.extra, 1u);
+  EXPECT_TRUE(repackedError({1.0}, {}).errors_m.empty());  // not the same grid
 }
 
 }  // namespace
