@@ -113,6 +113,15 @@ TEST(Explore, SameSeedSameKnotsOtherSeedOtherPath) {
     EXPECT_EQ(a[k].t_s, b[k].t_s);
     EXPECT_EQ(a[k].value, b[k].value);  // bit for bit
   }
+  // And the simulated data: the same truth, pose for pose, bit for bit.
+  const SimResult run1 = simulate(c, hall, exploreScenario(11, 60.0));
+  const SimResult run2 = simulate(c, hall, exploreScenario(11, 60.0));
+  ASSERT_EQ(run1.dataset.groundtruth.size(), run2.dataset.groundtruth.size());
+  for (std::size_t k = 0; k < run1.dataset.groundtruth.size(); ++k) {
+    const SE2& p1 = run1.dataset.groundtruth[k].value;
+    const SE2& p2 = run2.dataset.groundtruth[k].value;
+    ASSERT_TRUE(p1.x == p2.x && p1.y == p2.y && p1.yaw == p2.yaw) << k;
+  }
   bool differs = a.size() != other.size();
   for (std::size_t k = 0; !differs && k < a.size(); ++k) differs = a[k].value != other[k].value;
   EXPECT_TRUE(differs);
