@@ -46,8 +46,15 @@ FreeSpaceGrid::FreeSpaceGrid(const Scene& scene, double radius_m, double resolut
   const Eigen::AlignedBox2d box = worldBounds(scene.world());
   origin_m_ = box.min() - Eigen::Vector2d::Constant(radius_m);
   const Eigen::Vector2d extent = box.sizes() + Eigen::Vector2d::Constant(2.0 * radius_m);
-  nx_ = static_cast<int>(std::ceil(extent.x() / resolution_m)) + 1;
-  ny_ = static_cast<int>(std::ceil(extent.y() / resolution_m)) + 1;
+  const Eigen::Vector2d cells = (extent / resolution_m).array().ceil() + 1.0;
+  constexpr double kMaxCells = 4e6;  // ~100 MB of grid and search state
+  if (cells.prod() > kMaxCells)
+    throw InputError(scene.world().source.string(),
+                     "the world is too large for a free-space grid at " +
+                         std::to_string(resolution_m) +
+                         " m (more than 4e6 cells): raise grid_resolution_m");
+  nx_ = static_cast<int>(cells.x());
+  ny_ = static_cast<int>(cells.y());
   std::vector<bool> blocked(static_cast<std::size_t>(nx_) * ny_);
   for (int iy = 0; iy < ny_; ++iy)
     for (int ix = 0; ix < nx_; ++ix)

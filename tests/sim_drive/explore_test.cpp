@@ -140,6 +140,19 @@ TEST(Explore, FollowsOtherSegmentsFromWhereTheyEnd) {
   EXPECT_GT(result.summary.distance_m, 20.0);
 }
 
+TEST(Explore, RefusesAWorldTooLargeForItsGrid) {
+  World huge;
+  huge.source = "huge(test)";
+  huge.walls.push_back({{-1000.0, -1000.0}, {1000.0, 1000.0}, 0.2, 2.0});
+  huge.T_world_start = SE2(5.0, 0.0, 0.0);
+  try {
+    simulate(kinematic(), huge, exploreScenario(1, 10.0));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("grid_resolution_m"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Explore, RefusesBadKeys) {
   EXPECT_THROW(parseScenario("segments:\n  - {type: explore}\n", "t.yaml"), InputError);
   EXPECT_THROW(parseScenario("segments:\n  - {type: explore, duration_s: 10, max_speed_mps: 0.1, "
