@@ -67,6 +67,25 @@ TEST(Explore, StaysInTheLShapedHallFor240sWithEverySeed) {
   }
 }
 
+TEST(Explore, StartsAnywhereInTheHall) {
+  // Start poses across both wings, near walls and pillars, facing every way: the plan begins
+  // where the robot is and passes the path check (kinematic replay, 240 s) from each.
+  World hall = loadWorld(kRoot / "worlds" / "l_hall.yaml");
+  const Scene scene(hall);
+  const SimConfig c = kinematic();
+  int k = 0;
+  for (const Eigen::Vector3d& start :
+       {Eigen::Vector3d(1.0, 1.0, 0.0), Eigen::Vector3d(19.0, 7.0, 3.0),
+        Eigen::Vector3d(10.0, 4.0, 1.5), Eigen::Vector3d(6.7, 5.0, -2.0),
+        Eigen::Vector3d(4.0, 19.0, -1.0), Eigen::Vector3d(7.0, 10.0, 2.5),
+        Eigen::Vector3d(1.0, 13.0, -0.5), Eigen::Vector3d(16.0, 1.0, 0.7)}) {
+    SCOPED_TRACE(start.transpose());
+    const SE2 T_world_start(start.x(), start.y(), start.z());
+    const Scenario planned = planExplore(scene, exploreScenario(++k), c, T_world_start);
+    EXPECT_NO_THROW(checkPathInWorld(scene, planned, c, T_world_start, 240.0));
+  }
+}
+
 TEST(Explore, CommandsRespectTheLimitsAndTurnBothWays) {
   const World hall = loadWorld(kRoot / "worlds" / "l_hall.yaml");
   const Scene scene(hall);
