@@ -4,10 +4,13 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace slamprep::sim {
+
+struct ExploreParams;  // sim/drive/explore.hpp
 
 /// What a command sets: the body twist (v, w) or the two wheel rates directly.
 enum class CommandKind { twist, wheel_rates };
@@ -37,6 +40,9 @@ struct ProfileSegment {
   std::string where;  ///< "file:line: segments[k]" for error messages
   CommandKind kind = CommandKind::twist;
   std::vector<CommandKnot> knots;  ///< absolute times, first and last value zero, >= 2 knots
+  /// An `explore` segment before planning: its knots are a stop of the same length until
+  /// planExplore (sim/drive/explore.hpp) replaces them with a path through the world.
+  std::shared_ptr<const ExploreParams> explore;
 
   double start_s() const { return knots.front().t_s; }
   double end_s() const { return knots.back().t_s; }

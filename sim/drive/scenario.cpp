@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "sim/drive/explore.hpp"
 #include "sim/drive/segment_shapes.hpp"
 #include "sim/yaml/yaml_fields.hpp"
 
@@ -77,7 +78,7 @@ struct SegmentBuilder {
 
   void add(const std::string& type, const std::string& at, CommandKind kind,
            std::vector<CommandKnot> knots) {
-    out.push_back({type, at, kind, std::move(knots)});
+    out.push_back({type, at, kind, std::move(knots), nullptr});
   }
   void twist(const std::string& type, const std::string& at, const Eigen::Vector2d& peak,
              double area_s) {
@@ -188,6 +189,39 @@ void parseRandomSmooth(const YAML::Node& seg, const std::string& p, const std::s
                          static_cast<std::uint64_t>(seed_value), limits));
 }
 
+/// explore: random goals in the world's free space, planned when the simulator knows the world
+/// (sim/drive/explore.hpp); until then a stop of the same length.
+void parseExplore(const YAML::Node& seg, const std::string& p, const std::string& type,
+                  const std::string& at, SegmentBuilder& build) {
+  const Context& ctx = build.ctx;
+  auto params = std::make_shared<ExploreParams>();
+  ExploreParams& e = *params;
+  e.duration_s = positiveField(ctx, seg, p, "duration_s", std::nan(""));
+  e.min_speed_mps = positiveField(ctx, seg, p, "min_speed_mps", e.min_speed_mps);
+  e.max_speed_mps = positiveField(ctx, seg, p, "max_speed_mps", e.max_speed_mps);
+  if (e.max_speed_mps < e.min_speed_mps)
+    throw InputError(at, "max_speed_mps is below min_speed_mps");
+  e.max_turn_rate_radps = positiveField(ctx, seg, p, "max_turn_rate_radps", e.max_turn_rate_radps);
+  e.clearance_m = field(ctx, seg, p, "clearance_m", e.clearance_m, Bounds{0.0, kMaxValue});
+  e.lookahead_m = positiveField(ctx, seg, p, "lookahead_m", e.lookahead_m);
+  e.min_goal_distance_m =
+      field(ctx, seg, p, "min_goal_distance_m", e.min_goal_distance_m, Bounds{0.0, kMaxValue});
+  e.grid_resolution_m =
+      field(ctx, seg, p, "grid_resolution_m", e.grid_resolution_m, Bounds{0.01, 1.0});
+  e.control_period_s =
+      field(ctx, seg, p, "control_period_s", e.control_period_s, Bounds{0.01, 1.0});
+  if (e.duration_s / e.control_period_s > kMaxKnots)
+    ctx.doc.fail(seg["control_period_s"], joinKey(p, "control_period_s"),
+                 "too small for duration_s: more than 1e6 knots");
+  const YAML::Node seed = seg["seed"];
+  e.seed = seed ? static_cast<std::uint64_t>(
+                      ctx.doc.integer(seed, joinKey(p, "seed"), 0, std::int64_t{1} << 53))
+                : 1;
+  e.limits = build.limits;
+  build.stop(type, at, e.duration_s);
+  build.out.back().explore = std::move(params);
+}
+
 // ---- The file ------------------------------------------------------------------------------
 
 CommandProfile loadProfile(const std::filesystem::path& file, std::vector<std::string>& stack,
@@ -253,6 +287,11 @@ void parseSegment(const Context& ctx, const YAML::Node& seg, const std::string& 
     keys({"duration_s", "interval_s", "min_speed_mps", "max_speed_mps", "max_turn_rate_radps",
           "seed"});
     parseRandomSmooth(seg, p, type, at, build);
+  } else if (type == "explore") {
+    keys({"duration_s", "seed", "min_speed_mps", "max_speed_mps", "max_turn_rate_radps",
+          "clearance_m", "lookahead_m", "min_goal_distance_m", "grid_resolution_m",
+          "control_period_s"});
+    parseExplore(seg, p, type, at, build);
   } else if (type == "include") {
     keys({"file"});
     std::filesystem::path file = stringField(ctx, seg, p, "file");
@@ -263,7 +302,7 @@ void parseSegment(const Context& ctx, const YAML::Node& seg, const std::string& 
     ctx.doc.fail(seg["type"], joinKey(p, "type"),
                  "unknown segment type '" + type +
                      "' (expected straight, spin, arc, wheel_rates, stop, umbmark, "
-                     "figure_eight, stop_and_go, random_smooth or include)");
+                     "figure_eight, stop_and_go, random_smooth, explore or include)");
   }
   for (ProfileSegment& segment : out) profile.append(std::move(segment));
 }

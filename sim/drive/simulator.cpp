@@ -10,6 +10,7 @@
 #include "core/odometry.hpp"
 #include "core/paths.hpp"
 #include "sim/drive/controller.hpp"
+#include "sim/drive/explore.hpp"
 #include "sim/drive/rng.hpp"
 #include "sim/drive/sensors.hpp"
 #include "sim/physics/lidar.hpp"
@@ -305,13 +306,14 @@ SimResult simulate(const SimConfig& config, const ProgressCallback& progress) {
   return simulate(config, world, scenario, progress);
 }
 
-SimResult simulate(const SimConfig& config, const World& world, const Scenario& scenario,
+SimResult simulate(const SimConfig& config, const World& world, const Scenario& written,
                    const ProgressCallback& progress, ScenePhysicsParams physics) {
   validate(config, "config");
   const double duration_s =
-      config.duration_s > 0.0 ? config.duration_s : scenario.profile.duration_s();
+      config.duration_s > 0.0 ? config.duration_s : written.profile.duration_s();
   if (config.solver_iterations > 0) physics.solver_iterations = config.solver_iterations;
   Scene scene(world, physics);
+  const Scenario scenario = planExplore(scene, written, config, world.T_world_start);
   checkPathInWorld(scene, scenario, config, world.T_world_start, duration_s);
 
   Dataset data;

@@ -39,7 +39,8 @@ struct SimResult {
 /// bad configuration, bad files, or a scenario that leaves the world's free space.
 SimResult simulate(const SimConfig& config, const ProgressCallback& progress = {});
 
-/// Simulates an already loaded world and scenario (tests build them in memory). `physics` sets
+/// Simulates an already loaded world and scenario (tests build them in memory); `explore`
+/// segments are planned in the world first (planExplore). `physics` sets
 /// Bullet's solver (config.solver_iterations, when > 0, overrides its iterations).
 SimResult simulate(const SimConfig& config, const World& world, const Scenario& scenario,
                    const ProgressCallback& progress = {}, ScenePhysicsParams physics = {});
