@@ -38,7 +38,7 @@ std::string keysHelp() {
   std::ostringstream out;
   out << "Configuration keys for --set KEY=VALUE (defaults shown; docs/simulate.md explains "
          "them):\n";
-  const nlohmann::json flat = sim::toJson(sim::SimConfig{}).flatten();
+  const nlohmann::json flat = sim::toJson(sim::SimConfig{}, true).flatten();
   for (const std::string& key : sim::configKeys()) {
     std::string pointer = "/" + key;
     for (char& ch : pointer) {

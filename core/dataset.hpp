@@ -42,6 +42,8 @@ struct DatasetInfo {
   SE2 T_base_lidar;                              ///< lidar mount ("lidar_mount": x, y, yaw)
   int ticks_per_revolution = 4096;
   nlohmann::json config = nlohmann::json::object();  ///< full configuration as simulated
+  /// Every injected fault and its events (docs/faults.md); null when none was on.
+  nlohmann::json faults;
 };
 
 struct Dataset {

@@ -6,6 +6,8 @@
 #include <set>
 #include <sstream>
 
+#include "eval/bench/fault_report.hpp"
+
 namespace slamprep::eval {
 namespace {
 
@@ -250,6 +252,7 @@ std::string renderReport(const Suite& suite, const json& summary,
            "shows what slip and encoder quantisation alone leave.\n\n";
     out << perSection(parts, odometryTable);
   }
+  out << faultRobustnessSection(summary);  // "" unless the suite sweeps faults.enable
   out << "## Simulation and scan matching\n\n";
   out << perSection(parts, simulationTable);
   if (!plots.empty()) {

@@ -10,6 +10,7 @@
 #include "core/odometry.hpp"
 #include "eval/bench/calibration_run.hpp"
 #include "eval/bench/dataset_deskew.hpp"
+#include "eval/bench/fault_score.hpp"
 #include "eval/bench/match_run.hpp"
 #include "eval/bench/stage_report.hpp"
 #include "eval/metrics/calibration_error.hpp"
@@ -79,7 +80,13 @@ json odometryJson(const PoseSeries& odom, const PoseSeries& truth) {
 
 // Estimate, sigma and absolute error of one method, plus the drift with its geometry.
 json calibrationJson(const Dataset& dataset, const algo::CalibrationResult& result) {
-  if (!result.ok) return {{"ok", false}, {"reason", result.reason}};
+  if (!result.ok) {
+    json refused = {{"ok", false}, {"reason", result.reason}};
+    // With faults injected, a refusal counts as robust only when it names one of them.
+    if (dataset.info.faults.is_object())
+      refused["refusal_names_fault"] = namesInjectedFault(result.reason, dataset);
+    return refused;
+  }
   CalibrationEstimate estimate{result.geometry, std::nullopt, std::nullopt, std::nullopt};
   const Eigen::VectorXd sigma = result.sigma();
   if (sigma.size() >= 3) estimate.geometry_sigma = sigma.head<3>();
@@ -240,6 +247,7 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
   const Dataset& dataset = sim.dataset;
   out.timing["simulate_s"] = secondsSince(start);
   out.result["sim"] = simJson(sim.summary);
+  if (const json events = faultEventCounts(dataset); !events.empty()) out.result["faults"] = events;
   const int ticks = dataset.info.ticks_per_revolution;
   for (const auto& [name, geometry] : {std::pair{"nominal", dataset.info.nominal_geometry},
                                        std::pair{"true", *dataset.info.true_geometry}})

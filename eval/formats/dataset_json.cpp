@@ -120,6 +120,7 @@ DatasetInfo readInfo(const json& root, const std::string& file) {
     keyError(file, "ticks_per_revolution", "must be a positive int, got " + std::to_string(ticks));
   info.ticks_per_revolution = static_cast<int>(ticks);
   info.config = requiredObject(root, "config", file);
+  if (root.contains("faults")) info.faults = requiredObject(root, "faults", file);
   return info;
 }
 
@@ -146,6 +147,7 @@ std::string formatDatasetInfo(const DatasetInfo& info, const std::string& file) 
   out["lidar_mount"] = {{"x", mount.x}, {"y", mount.y}, {"yaw", mount.yaw}};
   out["ticks_per_revolution"] = info.ticks_per_revolution;
   out["config"] = ordered_json(info.config);
+  if (!info.faults.is_null()) out["faults"] = ordered_json(info.faults);
   return out.dump(2) + "\n";
 }
 

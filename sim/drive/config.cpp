@@ -60,6 +60,17 @@ void visitFields(Config& c, Visitor&& v) {
   v("imu.accel_noise_mps2", c.imu.accel_noise_mps2);
   v("imu.accel_bias_x_mps2", c.imu.accel_bias_x_mps2);
   v("imu.accel_bias_y_mps2", c.imu.accel_bias_y_mps2);
+  auto& f = c.faults;
+  v("faults.enable", f.enable);
+  v("faults.encoder_spikes.rate_hz", f.encoder_spike_rate_hz);
+  v("faults.encoder_spikes.ticks", f.encoder_spike_ticks);
+  v("faults.encoder_dropouts.rate_hz", f.encoder_dropout_rate_hz);
+  v("faults.encoder_dropouts.duration_s", f.encoder_dropout_duration_s);
+  v("faults.stamp_jitter.sigma_s", f.stamp_jitter_sigma_s);
+  v("faults.clock_offset.offset_s", f.clock_offset_s);
+  v("faults.dropped_scans.probability", f.dropped_scan_probability);
+  v("faults.dropped_beams.probability", f.dropped_beam_probability);
+  v("faults.imu_bias_drift.gyro_walk_radps_per_sqrt_s", f.imu_gyro_bias_walk_radps);
 }
 
 const char* modeName(SimMode mode) {
@@ -111,6 +122,16 @@ void fromJsonValue(const nlohmann::json& j, SimMode& out, const std::string& at)
 nlohmann::json toJsonValue(SimMode mode) {
   return modeName(mode);
 }
+nlohmann::json toJsonValue(const FaultSet& faults) {
+  return toString(faults);
+}
+void fromJsonValue(const nlohmann::json& j, FaultSet& out, const std::string& at) {
+  if (!j.is_string()) throw InputError(at, "expected a string of fault names");
+  std::string error;
+  const auto set = parseFaultSet(j.get<std::string>(), &error);
+  if (!set) throw InputError(at, error);
+  out = *set;
+}
 template <typename T>
 nlohmann::json toJsonValue(const T& value) {
   return value;
@@ -153,6 +174,9 @@ void fromText(const std::string& text, std::string& out, const std::string&) {
 void fromText(const std::string& text, SimMode& out, const std::string& at) {
   fromJsonValue(nlohmann::json(text), out, at);
 }
+void fromText(const std::string& text, FaultSet& out, const std::string& at) {
+  fromJsonValue(nlohmann::json(text), out, at);
+}
 
 // ---- Validation ----------------------------------------------------------------------------
 
@@ -173,6 +197,22 @@ struct Checker {
   }
 };
 
+void validateFaults(const Checker& check, const FaultsConfig& f) {
+  check.nonNegative("faults.encoder_spikes.rate_hz", f.encoder_spike_rate_hz);
+  if (f.encoder_spike_ticks < 1)
+    check.fail("faults.encoder_spikes.ticks", "must be at least 1", f.encoder_spike_ticks);
+  check.nonNegative("faults.encoder_dropouts.rate_hz", f.encoder_dropout_rate_hz);
+  check.positive("faults.encoder_dropouts.duration_s", f.encoder_dropout_duration_s);
+  check.nonNegative("faults.stamp_jitter.sigma_s", f.stamp_jitter_sigma_s);
+  if (!(std::abs(f.clock_offset_s) <= 1.0))
+    check.fail("faults.clock_offset.offset_s", "must be within [-1, 1] s", f.clock_offset_s);
+  for (const auto& [key, p] :
+       {std::pair{"faults.dropped_scans.probability", f.dropped_scan_probability},
+        std::pair{"faults.dropped_beams.probability", f.dropped_beam_probability}})
+    if (!(p >= 0.0 && p <= 1.0)) check.fail(key, "must be in [0, 1]", p);
+  check.nonNegative("faults.imu_bias_drift.gyro_walk_radps_per_sqrt_s", f.imu_gyro_bias_walk_radps);
+}
+
 }  // namespace
 
 DiffDriveParams SimConfig::nominalGeometry() const {
@@ -189,11 +229,12 @@ std::vector<std::string> configKeys() {
   return keys;
 }
 
-nlohmann::json toJson(const SimConfig& config) {
+nlohmann::json toJson(const SimConfig& config, bool every_key) {
   nlohmann::json json = nlohmann::json::object();
   visitFields(config, [&](const std::string& key, const auto& value) {
     json[pointer(key)] = toJsonValue(value);
   });
+  if (!every_key && !config.faults.enable.any()) json.erase("faults");
   return json;
 }
 
@@ -319,6 +360,7 @@ void validate(const SimConfig& c, const std::string& where) {
   check.positive("imu.rate_hz", c.imu.rate_hz);
   check.nonNegative("imu.gyro_noise_radps", c.imu.gyro_noise_radps);
   check.nonNegative("imu.accel_noise_mps2", c.imu.accel_noise_mps2);
+  validateFaults(check, c.faults);
 }
 
 double footprintRadius(const RobotConfig& r) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/diff_drive.hpp"
+#include "sim/drive/faults.hpp"
 #include "sim/drive/sensors.hpp"
 #include "sim/physics/lidar.hpp"
 #include "sim/physics/robot.hpp"
@@ -40,6 +41,7 @@ struct SimConfig {
   LidarConfig lidar;                ///< rotating lidar
   EncoderConfig encoders;           ///< wheel encoders
   ImuConfig imu;                    ///< planar IMU
+  FaultsConfig faults;              ///< injected faults, all off by default (docs/faults.md)
 
   /// The geometry the odometry is told: the true geometry scaled by the nominal errors.
   DiffDriveParams nominalGeometry() const;
@@ -48,8 +50,10 @@ struct SimConfig {
 /// Every configuration key, dotted ("lidar.rate_hz"), in a fixed order.
 std::vector<std::string> configKeys();
 
-/// The configuration as nested JSON ({"lidar": {"rate_hz": 10, ...}, ...}).
-nlohmann::json toJson(const SimConfig& config);
+/// The configuration as nested JSON ({"lidar": {"rate_hz": 10, ...}, ...}). The "faults" keys
+/// appear only when a fault is on (or every_key is set), so fault-free configurations read as
+/// they did before faults existed.
+nlohmann::json toJson(const SimConfig& config, bool every_key = false);
 
 /// Reads a configuration written by toJson; missing keys keep their defaults. Throws InputError
 /// naming `where` and the key for unknown keys and wrong types, and validates the result.

@@ -11,6 +11,8 @@
 #include "core/paths.hpp"
 #include "sim/drive/controller.hpp"
 #include "sim/drive/explore.hpp"
+#include "sim/drive/fault_injection.hpp"
+#include "sim/drive/floor_slip.hpp"
 #include "sim/drive/rng.hpp"
 #include "sim/drive/sensors.hpp"
 #include "sim/physics/lidar.hpp"
@@ -68,8 +70,8 @@ class Motion {
 class PhysicsMotion : public Motion {
  public:
   PhysicsMotion(Scene& scene, const Controller& controller, const RobotConfig& config,
-                const SE2& T_world_start)
-      : scene_(scene), controller_(controller), robot_(scene, config, T_world_start) {
+                const SE2& T_world_start, FloorSlip* slip)
+      : scene_(scene), controller_(controller), robot_(scene, config, T_world_start), slip_(slip) {
     angle0_ = {robot_.wheelAngleLeft(), robot_.wheelAngleRight()};
   }
   StepState initial() const override { return read(0.0); }
@@ -88,6 +90,10 @@ class PhysicsMotion : public Motion {
   StepState step(const StepState& prev, double t_s) override {
     const Eigen::Vector2d target = controller_.wheelRates(t_s);
     robot_.setWheelRateTargets(target.x(), target.y());
+    if (slip_) {
+      const auto friction = slip_->update(prev.t_s, prev.T_world_base);
+      robot_.setWheelFriction(friction[0], friction[1]);
+    }
     scene_.step(t_s - prev.t_s);
     robot_.update();
     return read(t_s);
@@ -108,6 +114,7 @@ class PhysicsMotion : public Motion {
   Scene& scene_;
   const Controller& controller_;
   Robot robot_;
+  FloorSlip* slip_;  // null: the floor is uniform
   Eigen::Vector2d angle0_ = Eigen::Vector2d::Zero();
 };
 
@@ -312,7 +319,7 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   const double duration_s =
       config.duration_s > 0.0 ? config.duration_s : written.profile.duration_s();
   if (config.solver_iterations > 0) physics.solver_iterations = config.solver_iterations;
-  Scene scene(world, physics);
+  Scene scene(worldWithFaults(world, config.faults.enable), physics);
   const Scenario scenario = planExplore(scene, written, config, world.T_world_start);
   checkPathInWorld(scene, scenario, config, world.T_world_start, duration_s);
 
@@ -329,8 +336,13 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
 
   const Controller controller(scenario.profile, info.nominal_geometry);
   std::unique_ptr<Motion> motion;
+  std::optional<FloorSlip> slip;
+  if (config.faults.enable.has(Fault::floor_patches) && config.mode == SimMode::physics)
+    slip.emplace(world.floor_patches, config.robot.wheel_friction,
+                 config.robot.geometry.wheel_base_m / 2);
   if (config.mode == SimMode::physics) {
-    motion = std::make_unique<PhysicsMotion>(scene, controller, config.robot, world.T_world_start);
+    motion = std::make_unique<PhysicsMotion>(scene, controller, config.robot, world.T_world_start,
+                                             slip ? &*slip : nullptr);
   } else {
     motion =
         std::make_unique<KinematicMotion>(controller, config.robot.geometry, world.T_world_start);
@@ -372,6 +384,8 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
       progress(std::min(cur.t_s, duration_s), duration_s);
   }
 
+  if (config.faults.enable.any())
+    info.faults = injectFaults(config, world, slip ? &*slip : nullptr, duration_s, data);
   // A scan completed after the last encoder sample (its last beam inside the final encoder
   // period) is not covered by the odometry: readDataset would refuse it, so it is not kept.
   while (!data.scans.empty() && !data.encoders.empty() &&

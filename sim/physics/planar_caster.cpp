@@ -36,11 +36,15 @@ bool segmentTouchesBox(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
 PlanarCaster::PlanarCaster(const World& world, const PlanarCasterParams& params)
     : edge_tolerance_(params.edge_tolerance) {
   assert(params.edge_tolerance > -1e-6 && params.cells_per_primitive > 0);
-  for (const Wall& wall : world.walls) addPrism(footprint(wall), wall.height_m);
-  for (const Box& box : world.boxes) addPrism(footprint(box), box.height_m);
-  for (const Polygon& poly : world.polygons) addPrism(poly.vertices_m, poly.height_m);
+  // Glass (returns: false) gives no return: the ray goes on to whatever stands behind it.
+  for (const Wall& wall : world.walls)
+    if (wall.returns) addPrism(footprint(wall), wall.height_m);
+  for (const Box& box : world.boxes)
+    if (box.returns) addPrism(footprint(box), box.height_m);
+  for (const Polygon& poly : world.polygons)
+    if (poly.returns) addPrism(poly.vertices_m, poly.height_m);
   for (const Cylinder& c : world.cylinders)
-    circles_.push_back({c.center_m, c.radius_m, c.height_m});
+    if (c.returns) circles_.push_back({c.center_m, c.radius_m, c.height_m});
   buildGrid(params.cells_per_primitive);
 }
 

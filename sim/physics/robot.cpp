@@ -169,6 +169,11 @@ void Robot::setWheelRateTargets(double left_radps, double right_radps) {
                                          impl_->config.max_wheel_torque_nm * impl_->motor_dt_s);
 }
 
+void Robot::setWheelFriction(double left, double right) {
+  impl_->wheel_left.body->setFriction(left);
+  impl_->wheel_right.body->setFriction(right);
+}
+
 void Robot::update() {
   Impl& m = *impl_;
   const double dt_s = m.scene.time_s() - m.last_time_s;

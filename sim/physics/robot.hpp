@@ -41,6 +41,9 @@ class Robot {
 
   const RobotConfig& config() const;
   void setWheelRateTargets(double left_radps, double right_radps);
+  /// Friction coefficient of each tyre from the next step on (Bullet multiplies it by the
+  /// floor's): how a low-friction floor patch acts on the wheel above it.
+  void setWheelFriction(double left, double right);
   /// Call after every Scene::step: reads the chassis pose and unwraps the wheel angles.
   void update();
   SE2 T_world_base() const;        // base frame: between the wheel contact points, x forward

@@ -89,19 +89,45 @@ std::string polygonProblem(const std::vector<Eigen::Vector2d>& v) {
   return {};
 }
 
+/// The optional `returns` flag of an object: false makes it glass.
+bool parseReturns(const YamlDoc& doc, const YAML::Node& node, const std::string& key) {
+  const YAML::Node value = node["returns"];
+  if (!value) return true;
+  const std::string text = value.IsScalar() ? value.Scalar() : "";
+  if (text != "true" && text != "false")
+    doc.fail(value, key + ".returns", "expected true or false");
+  return text == "true";
+}
+
+std::vector<Eigen::Vector2d> parseOutline(const YamlDoc& doc, const YAML::Node& list,
+                                          const std::string& key) {
+  if (!list.IsSequence()) doc.fail(list, key, "expected a list of points [x, y]");
+  // polygonProblem is O(n^2): 10^4 vertices (10^8 pair tests) is far beyond any hand-made world.
+  constexpr std::size_t kMaxVertices = 10000;
+  if (list.size() > kMaxVertices)
+    doc.fail(list, key, "more than " + std::to_string(kMaxVertices) + " vertices");
+  std::vector<Eigen::Vector2d> vertices;
+  for (std::size_t i = 0; i < list.size(); ++i)
+    vertices.push_back(doc.point(list[i], key + "[" + std::to_string(i) + "]", kCoordinate));
+  if (const std::string problem = polygonProblem(vertices); !problem.empty())
+    doc.fail(list, key, "degenerate polygon: " + problem);
+  return vertices;
+}
+
 Wall parseWall(const YamlDoc& doc, const YAML::Node& node, const std::string& key) {
-  doc.checkKeys(node, key, {"from", "to", "thickness", "height"});
+  doc.checkKeys(node, key, {"from", "to", "thickness", "height", "returns"});
   Wall wall;
   wall.from_m = requiredPoint(doc, node, "from", key);
   wall.to_m = requiredPoint(doc, node, "to", key);
   if ((wall.to_m - wall.from_m).norm() < 1e-9) doc.fail(node, key, "'from' and 'to' coincide");
   wall.thickness_m = optionalSize(doc, node, "thickness", key, wall.thickness_m);
   wall.height_m = optionalSize(doc, node, "height", key, wall.height_m);
+  wall.returns = parseReturns(doc, node, key);
   return wall;
 }
 
 Box parseBox(const YamlDoc& doc, const YAML::Node& node, const std::string& key) {
-  doc.checkKeys(node, key, {"center", "size", "yaw_deg", "height"});
+  doc.checkKeys(node, key, {"center", "size", "yaw_deg", "height", "returns"});
   const Eigen::Vector2d c = requiredPoint(doc, node, "center", key);
   const double yaw_deg = doc.optionalNumber(node, "yaw_deg", key, 0.0, kYaw);
   Box box;
@@ -112,34 +138,36 @@ Box parseBox(const YamlDoc& doc, const YAML::Node& node, const std::string& key)
   box.size_m = {doc.number(size[0], key + ".size[0]", kSize),
                 doc.number(size[1], key + ".size[1]", kSize)};
   box.height_m = optionalSize(doc, node, "height", key, box.height_m);
+  box.returns = parseReturns(doc, node, key);
   return box;
 }
 
 Cylinder parseCylinder(const YamlDoc& doc, const YAML::Node& node, const std::string& key) {
-  doc.checkKeys(node, key, {"center", "radius", "height"});
+  doc.checkKeys(node, key, {"center", "radius", "height", "returns"});
   Cylinder cyl;
   cyl.center_m = requiredPoint(doc, node, "center", key);
   cyl.radius_m = doc.number(doc.required(node, "radius", key), key + ".radius", kSize);
   cyl.height_m = optionalSize(doc, node, "height", key, cyl.height_m);
+  cyl.returns = parseReturns(doc, node, key);
   return cyl;
 }
 
 Polygon parsePolygon(const YamlDoc& doc, const YAML::Node& node, const std::string& key) {
-  doc.checkKeys(node, key, {"vertices", "height"});
-  const YAML::Node list = doc.required(node, "vertices", key);
-  if (!list.IsSequence()) doc.fail(list, key + ".vertices", "expected a list of points [x, y]");
-  // polygonProblem is O(n^2): 10^4 vertices (10^8 pair tests) is far beyond any hand-made world.
-  constexpr std::size_t kMaxVertices = 10000;
-  if (list.size() > kMaxVertices)
-    doc.fail(list, key + ".vertices", "more than " + std::to_string(kMaxVertices) + " vertices");
+  doc.checkKeys(node, key, {"vertices", "height", "returns"});
   Polygon poly;
-  for (std::size_t i = 0; i < list.size(); ++i)
-    poly.vertices_m.push_back(
-        doc.point(list[i], key + ".vertices[" + std::to_string(i) + "]", kCoordinate));
-  if (const std::string problem = polygonProblem(poly.vertices_m); !problem.empty())
-    doc.fail(list, key + ".vertices", "degenerate polygon: " + problem);
+  poly.vertices_m = parseOutline(doc, doc.required(node, "vertices", key), key + ".vertices");
   poly.height_m = optionalSize(doc, node, "height", key, poly.height_m);
+  poly.returns = parseReturns(doc, node, key);
   return poly;
+}
+
+FloorPatch parseFloorPatch(const YamlDoc& doc, const YAML::Node& node, const std::string& key) {
+  doc.checkKeys(node, key, {"outline", "friction"});
+  FloorPatch patch;
+  patch.outline_m = parseOutline(doc, doc.required(node, "outline", key), key + ".outline");
+  patch.friction = doc.number(doc.required(node, "friction", key), key + ".friction",
+                              Bounds{0.0, 10.0});  // Bullet clamps combined friction at 10
+  return patch;
 }
 
 SE2 parseStart(const YamlDoc& doc, const YAML::Node& node) {
@@ -153,7 +181,8 @@ SE2 parseStart(const YamlDoc& doc, const YAML::Node& node) {
 
 World parseWorld(const YamlDoc& doc, const YAML::Node& root, const std::filesystem::path& file) {
   if (!root.IsMap()) throw InputError(file.string(), "expected a mapping at the top level");
-  doc.checkKeys(root, "", {"name", "start", "walls", "boxes", "cylinders", "polygons"});
+  doc.checkKeys(root, "",
+                {"name", "start", "walls", "boxes", "cylinders", "polygons", "floor_patches"});
   World world;
   world.source = file;
   world.name = file.stem().string();
@@ -170,6 +199,9 @@ World parseWorld(const YamlDoc& doc, const YAML::Node& root, const std::filesyst
   });
   forEachItem(doc, root, "polygons", [&](const YAML::Node& n, const std::string& k) {
     world.polygons.push_back(parsePolygon(doc, n, k));
+  });
+  forEachItem(doc, root, "floor_patches", [&](const YAML::Node& n, const std::string& k) {
+    world.floor_patches.push_back(parseFloorPatch(doc, n, k));
   });
   if (world.walls.empty() && world.boxes.empty() && world.cylinders.empty() &&
       world.polygons.empty())
@@ -218,6 +250,19 @@ std::vector<std::vector<Eigen::Vector2d>> outline(const World& world) {
   }
   for (const Polygon& poly : world.polygons) closed(poly.vertices_m);
   return lines;
+}
+
+bool insidePolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p) {
+  bool inside = false;
+  for (std::size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++) {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[j];
+    // Crossing number: edges that straddle the horizontal line through p, right of p.
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y()))
+      inside = !inside;
+  }
+  return inside;
 }
 
 }  // namespace slamprep::sim

@@ -80,6 +80,7 @@ TEST(SimConfig, JsonRoundTripsEveryKey) {
   applyOverride(c, "imu.gyro_bias_radps=0.004");
   applyOverride(c, "seed=77");
   applyOverride(c, "mode=kinematic");
+  applyOverride(c, "faults.enable=clock_offset");  // the fault keys are written only with one on
   const nlohmann::json json = toJson(c);
   EXPECT_EQ(json["lidar"]["mount"]["yaw_rad"], -0.25);
   EXPECT_EQ(json.flatten().size(), configKeys().size());

@@ -1,0 +1,20 @@
+#pragma once
+// Robustness scoring against injected faults (docs/faults.md): how many events each fault put
+// into a trial's data, and whether a method that refused said which fault it saw.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "core/dataset.hpp"
+
+namespace slamprep::eval {
+
+/// {"<fault>": number of injected events, ...} for every fault that was on; empty without any.
+/// Faults without discrete events (stamp_jitter, clock_offset, imu_bias_drift, glass) count 1.
+nlohmann::json faultEventCounts(const Dataset& dataset);
+
+/// True when `reason` names a fault that was on in `dataset`: its name ("encoder_spikes"), or
+/// the name in words and singular ("encoder spike"), case-insensitively.
+bool namesInjectedFault(const std::string& reason, const Dataset& dataset);
+
+}  // namespace slamprep::eval

@@ -1,0 +1,266 @@
+#include "sim/drive/fault_injection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "sim/drive/rng.hpp"
+
+namespace slamprep::sim {
+namespace {
+
+using nlohmann::json;
+
+SplitMix64 stream(std::uint64_t seed, RngStream id) {
+  return SplitMix64(streamSeed(seed, id));
+}
+
+/// Event times of a Poisson process of `rate_hz` on [0, duration_s): exponential gaps.
+std::vector<double> poissonTimes(SplitMix64& rng, double rate_hz, double duration_s) {
+  std::vector<double> times;
+  if (!(rate_hz > 0.0)) return times;
+  for (double t = 0.0;;) {
+    t += -std::log(1.0 - rng.uniform()) / rate_hz;  // 1 - u in (0, 1]: finite log
+    if (t >= duration_s) return times;
+    times.push_back(t);
+  }
+}
+
+/// One stamp error per sample: N(0, sigma^2) cut to +-0.45 periods so the order is kept.
+std::vector<double> jitter(SplitMix64& rng, std::size_t n, double sigma_s, double rate_hz) {
+  const double limit_s = 0.45 / rate_hz;
+  std::vector<double> out(n);
+  for (double& e : out) e = std::clamp(sigma_s * rng.gaussian(), -limit_s, limit_s);
+  return out;
+}
+
+json jitterSummary(const std::vector<double>& errors) {
+  double sum2 = 0.0, max_abs = 0.0;
+  for (double e : errors) {
+    sum2 += e * e;
+    max_abs = std::max(max_abs, std::abs(e));
+  }
+  const double rms = errors.empty() ? 0.0 : std::sqrt(sum2 / errors.size());
+  return {{"count", errors.size()}, {"rms_s", rms}, {"max_abs_s", max_abs}};
+}
+
+// ---- Encoders --------------------------------------------------------------------------------
+
+/// A spike: the first sample at or after the event time reads `ticks` too many on one wheel.
+json injectSpikes(const FaultsConfig& f, std::uint64_t seed, double duration_s, EncoderLog& log) {
+  SplitMix64 rng = stream(seed, RngStream::fault_encoder_spikes);
+  json events = json::array();
+  for (const double t : poissonTimes(rng, f.encoder_spike_rate_hz, duration_s)) {
+    const bool left = rng.uniform() < 0.5;
+    const std::int64_t ticks = (rng.uniform() < 0.5 ? -1 : 1) * std::int64_t{f.encoder_spike_ticks};
+    const auto it = std::lower_bound(
+        log.begin(), log.end(), t, [](const EncoderSample& s, double v) { return s.stamp_s < v; });
+    if (it == log.end()) continue;
+    (left ? it->ticks_left : it->ticks_right) += ticks;
+    events.push_back({{"t_s", it->stamp_s},
+                      {"sample", it - log.begin()},
+                      {"wheel", left ? "left" : "right"},
+                      {"ticks", ticks}});
+  }
+  return {
+      {"rate_hz", f.encoder_spike_rate_hz}, {"ticks", f.encoder_spike_ticks}, {"events", events}};
+}
+
+/// Dropout windows [t, t + duration) in true time; returns the record and fills `windows`.
+json dropoutWindows(const FaultsConfig& f, std::uint64_t seed, double duration_s,
+                    std::vector<std::pair<double, double>>& windows) {
+  SplitMix64 rng = stream(seed, RngStream::fault_encoder_dropouts);
+  json events = json::array();
+  for (const double t : poissonTimes(rng, f.encoder_dropout_rate_hz, duration_s)) {
+    windows.emplace_back(t, t + f.encoder_dropout_duration_s);
+    events.push_back({{"t_from_s", t}, {"t_to_s", t + f.encoder_dropout_duration_s}});
+  }
+  return {{"rate_hz", f.encoder_dropout_rate_hz},
+          {"duration_s", f.encoder_dropout_duration_s},
+          {"events", events}};
+}
+
+bool inWindow(const std::vector<std::pair<double, double>>& windows, double t) {
+  return std::any_of(windows.begin(), windows.end(),
+                     [t](const auto& w) { return t >= w.first && t < w.second; });
+}
+
+// ---- Scans -----------------------------------------------------------------------------------
+
+/// Dropped beams by the scan's index in the clean log; the beam reads no return.
+json dropBeams(const FaultsConfig& f, std::uint64_t seed, std::vector<ScanRecord>& scans) {
+  SplitMix64 rng = stream(seed, RngStream::fault_dropped_beams);
+  json events = json::array();
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < scans.size(); ++k) {
+    ScanRecord& r = scans[k];
+    json beams = json::array();
+    for (std::size_t i = 0; i < r.scan.size(); ++i) {
+      if (!(rng.uniform() < f.dropped_beam_probability)) continue;
+      r.scan.ranges_m[i] = std::numeric_limits<double>::infinity();
+      if (i < r.p_ref_true.size()) r.p_ref_true[i].reset();
+      beams.push_back(i);
+    }
+    count += beams.size();
+    if (!beams.empty()) events.push_back({{"scan", k}, {"beams", beams}});
+  }
+  return {{"probability", f.dropped_beam_probability}, {"count", count}, {"events", events}};
+}
+
+std::vector<bool> droppedScans(const FaultsConfig& f, std::uint64_t seed, double lidar_hz,
+                               const std::vector<ScanRecord>& scans, json& record) {
+  SplitMix64 rng = stream(seed, RngStream::fault_dropped_scans);
+  std::vector<bool> dropped(scans.size());
+  json events = json::array();
+  for (std::size_t k = 0; k < scans.size(); ++k) {
+    dropped[k] = rng.uniform() < f.dropped_scan_probability;
+    if (dropped[k]) events.push_back({{"scan", k}, {"t_s", static_cast<double>(k) / lidar_hz}});
+  }
+  record = {{"probability", f.dropped_scan_probability}, {"events", events}};
+  return dropped;
+}
+
+/// Gyro bias random walk: b_k = b_{k-1} + q sqrt(dt) n_k, added to every sample; the record
+/// keeps the bias once per second.
+json driftImu(const FaultsConfig& f, std::uint64_t seed, ImuLog& imu) {
+  SplitMix64 rng = stream(seed, RngStream::fault_imu_bias_drift);
+  json series = json::array();
+  double bias = 0.0, t_prev = imu.empty() ? 0.0 : imu.front().stamp_s, next_record = 0.0;
+  for (ImuSample& s : imu) {
+    bias +=
+        f.imu_gyro_bias_walk_radps * std::sqrt(std::max(0.0, s.stamp_s - t_prev)) * rng.gaussian();
+    t_prev = s.stamp_s;
+    s.gyro_z_radps += bias;
+    if (s.stamp_s >= next_record) {
+      series.push_back({s.stamp_s, bias});
+      next_record += 1.0;
+    }
+  }
+  return {{"gyro_walk_radps_per_sqrt_s", f.imu_gyro_bias_walk_radps},
+          {"final_bias_radps", bias},
+          {"bias_radps", series}};
+}
+
+}  // namespace
+
+json injectStreamFaults(const FaultsConfig& f, std::uint64_t seed, const StreamRates& rates,
+                        double duration_s, Dataset& data) {
+  json out = json::object();
+  const FaultSet& on = f.enable;
+
+  // Encoders: spikes and jitter by clean index, then the dropouts removed.
+  if (on.has(Fault::encoder_spikes))
+    out["encoder_spikes"] = injectSpikes(f, seed, duration_s, data.encoders);
+  std::vector<std::pair<double, double>> windows;
+  if (on.has(Fault::encoder_dropouts))
+    out["encoder_dropouts"] = dropoutWindows(f, seed, duration_s, windows);
+  json jitter_record = json::object();
+  if (on.has(Fault::stamp_jitter)) {
+    SplitMix64 rng = stream(seed, RngStream::fault_jitter_encoders);
+    const auto e = jitter(rng, data.encoders.size(), f.stamp_jitter_sigma_s, rates.encoders_hz);
+    for (std::size_t k = 0; k < e.size(); ++k) data.encoders[k].stamp_s += e[k];
+    jitter_record["encoders"] = jitterSummary(e);
+  }
+  if (!windows.empty()) {
+    // The windows are in true time: undo nothing, a jittered stamp moves < half a period.
+    EncoderLog kept;
+    kept.reserve(data.encoders.size());
+    const double period = 1.0 / rates.encoders_hz;
+    for (std::size_t k = 0; k < data.encoders.size(); ++k)
+      if (!inWindow(windows, static_cast<double>(k) * period)) kept.push_back(data.encoders[k]);
+    std::size_t i = 0;
+    for (auto& event : out["encoder_dropouts"]["events"]) {
+      const auto& [from, to] = windows[i++];
+      event["samples"] = static_cast<std::int64_t>(std::ceil(to * rates.encoders_hz - 1e-9)) -
+                         static_cast<std::int64_t>(std::ceil(from * rates.encoders_hz - 1e-9));
+    }
+    out["encoder_dropouts"]["removed"] = data.encoders.size() - kept.size();
+    data.encoders = std::move(kept);
+  }
+
+  // IMU: bias drift, then stamp jitter.
+  if (on.has(Fault::imu_bias_drift)) out["imu_bias_drift"] = driftImu(f, seed, data.imu);
+  if (on.has(Fault::stamp_jitter)) {
+    SplitMix64 rng = stream(seed, RngStream::fault_jitter_imu);
+    const auto e = jitter(rng, data.imu.size(), f.stamp_jitter_sigma_s, rates.imu_hz);
+    for (std::size_t k = 0; k < e.size(); ++k) data.imu[k].stamp_s += e[k];
+    jitter_record["imu"] = jitterSummary(e);
+  }
+
+  // Scans: beams, stamps (jitter + offset) by clean index, then whole scans dropped.
+  if (on.has(Fault::dropped_beams)) out["dropped_beams"] = dropBeams(f, seed, data.scans);
+  if (on.has(Fault::stamp_jitter)) {
+    SplitMix64 rng = stream(seed, RngStream::fault_jitter_scans);
+    const auto e = jitter(rng, data.scans.size(), f.stamp_jitter_sigma_s, rates.lidar_hz);
+    for (std::size_t k = 0; k < e.size(); ++k) data.scans[k].scan.stamp_s += e[k];
+    jitter_record["scans"] = jitterSummary(e);
+    jitter_record["scan_stamp_errors_s"] = e;
+    jitter_record["sigma_s"] = f.stamp_jitter_sigma_s;
+    out["stamp_jitter"] = jitter_record;
+  }
+  if (on.has(Fault::clock_offset)) {
+    for (ScanRecord& r : data.scans) r.scan.stamp_s += f.clock_offset_s;
+    out["clock_offset"] = {{"offset_s", f.clock_offset_s}};
+  }
+  if (on.has(Fault::dropped_scans)) {
+    json record;
+    const std::vector<bool> dropped = droppedScans(f, seed, rates.lidar_hz, data.scans, record);
+    std::vector<ScanRecord> kept;
+    kept.reserve(data.scans.size());
+    for (std::size_t k = 0; k < data.scans.size(); ++k)
+      if (!dropped[k]) kept.push_back(std::move(data.scans[k]));
+    data.scans = std::move(kept);
+    out["dropped_scans"] = record;
+  }
+  return out;
+}
+
+World worldWithFaults(const World& world, const FaultSet& faults) {
+  World out = world;
+  if (!faults.has(Fault::glass)) {
+    for (Wall& o : out.walls) o.returns = true;
+    for (Box& o : out.boxes) o.returns = true;
+    for (Cylinder& o : out.cylinders) o.returns = true;
+    for (Polygon& o : out.polygons) o.returns = true;
+  }
+  if (!faults.has(Fault::floor_patches)) out.floor_patches.clear();
+  return out;
+}
+
+namespace {
+
+// Which objects are glass: {"walls": [indices], "boxes": [...], ...}.
+json glassRecord(const World& world) {
+  auto indices = [](const auto& objects) {
+    json out = json::array();
+    for (std::size_t i = 0; i < objects.size(); ++i)
+      if (!objects[i].returns) out.push_back(i);
+    return out;
+  };
+  return {{"walls", indices(world.walls)},
+          {"boxes", indices(world.boxes)},
+          {"cylinders", indices(world.cylinders)},
+          {"polygons", indices(world.polygons)}};
+}
+
+}  // namespace
+
+json injectFaults(const SimConfig& config, const World& world, const FloorSlip* slip,
+                  double duration_s, Dataset& data) {
+  const FaultsConfig& f = config.faults;
+  const StreamRates rates{config.encoders.rate_hz, config.imu.rate_hz, config.lidar.rate_hz};
+  json out = {{"enabled", json::array()}};
+  for (const auto& [fault, name] : kFaultNames)
+    if (f.enable.has(fault)) out["enabled"].push_back(name);
+  out.update(injectStreamFaults(f, config.seed, rates, duration_s, data));
+  if (f.enable.has(Fault::floor_patches)) {
+    json record = slip ? slip->record() : json{{"patches", json::array()}};
+    record["active"] = slip != nullptr;  // kinematic mode: the wheels never slip
+    out["floor_patches"] = record;
+  }
+  if (f.enable.has(Fault::glass)) out["glass"] = glassRecord(world);
+  return out;
+}
+
+}  // namespace slamprep::sim

@@ -1,0 +1,74 @@
+#pragma once
+// Faults real robots have and a clean simulation lacks: encoder spikes and dropouts, stamp
+// jitter, a lidar-odometry clock offset, dropped scans and beams, IMU bias drift, slippery floor
+// and glass. Each is off by default, switched on by name (`--set faults.enable=...`), has its own
+// seeded stream, and every injected event is recorded in dataset.json (docs/faults.md).
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace slamprep::sim {
+
+enum class Fault : std::uint8_t {
+  encoder_spikes,    ///< one encoder sample of one wheel off by +-ticks, the next ones right
+  encoder_dropouts,  ///< no encoder samples for a while
+  stamp_jitter,      ///< Gaussian error on every sensor stamp
+  clock_offset,      ///< constant lidar clock offset against the odometry's
+  dropped_scans,     ///< whole scans lost
+  dropped_beams,     ///< single beams without a return
+  imu_bias_drift,    ///< gyro bias as a random walk
+  floor_patches,     ///< the world's low-friction floor patches make the wheels slip
+  glass,             ///< the world's `returns: false` objects give no lidar return
+};
+
+/// Every fault with its name, in the order the names are written.
+inline constexpr std::array<std::pair<Fault, std::string_view>, 9> kFaultNames{{
+    {Fault::encoder_spikes, "encoder_spikes"},
+    {Fault::encoder_dropouts, "encoder_dropouts"},
+    {Fault::stamp_jitter, "stamp_jitter"},
+    {Fault::clock_offset, "clock_offset"},
+    {Fault::dropped_scans, "dropped_scans"},
+    {Fault::dropped_beams, "dropped_beams"},
+    {Fault::imu_bias_drift, "imu_bias_drift"},
+    {Fault::floor_patches, "floor_patches"},
+    {Fault::glass, "glass"},
+}};
+
+std::string_view faultName(Fault fault);
+
+/// Which faults are on.
+class FaultSet {
+ public:
+  bool has(Fault f) const { return (bits_ >> static_cast<unsigned>(f)) & 1U; }
+  void add(Fault f) { bits_ |= 1U << static_cast<unsigned>(f); }
+  bool any() const { return bits_ != 0; }
+  bool operator==(const FaultSet&) const = default;
+
+ private:
+  std::uint32_t bits_ = 0;
+};
+
+/// "none", or the names of the faults on joined by commas in kFaultNames order.
+std::string toString(const FaultSet& faults);
+/// Reads "none", "all" or comma-separated names; nullopt (and *error set) for an unknown name.
+std::optional<FaultSet> parseFaultSet(std::string_view text, std::string* error);
+
+/// Strength of every fault: used only when the fault is in `enable`. The defaults are ordinary
+/// for a real indoor robot (docs/faults.md says where each comes from).
+struct FaultsConfig {
+  FaultSet enable;                          ///< faults.enable: all off by default
+  double encoder_spike_rate_hz = 0.01;      ///< spikes per second (1 per 100 s)
+  int encoder_spike_ticks = 500;            ///< size of a spike, sign random
+  double encoder_dropout_rate_hz = 0.01;    ///< dropouts per second
+  double encoder_dropout_duration_s = 0.2;  ///< no samples for this long
+  double stamp_jitter_sigma_s = 0.001;      ///< per stamp, cut at 0.45 sample periods
+  double clock_offset_s = 0.005;            ///< lidar stamps = true time + this
+  double dropped_scan_probability = 0.01;   ///< per scan
+  double dropped_beam_probability = 0.005;  ///< per beam
+  double imu_gyro_bias_walk_radps = 1e-4;   ///< gyro bias random walk, rad/s per sqrt(s)
+};
+
+}  // namespace slamprep::sim
