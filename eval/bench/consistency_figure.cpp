@@ -126,7 +126,7 @@ std::optional<plot::Figure> consistencyFigure(
                     .x_label = "error / reported σ",
                     .y_label = "density",
                     .x_range = plot::Range{-kRange, kRange},
-                    .legend = plot::LegendPosition::UpperRight};
+                    .legend = plot::LegendPosition::Auto};
     std::size_t index = 0;
     for (const auto& method : methods) {
       const std::size_t colour = index++;  // one colour per method in every panel
@@ -149,7 +149,7 @@ std::optional<plot::Figure> consistencyFigure(
   if (!off_scale.empty()) {
     std::string names;
     for (const auto& m : off_scale) names += (names.empty() ? "" : ", ") + m;
-    fig.title += "; off scale: " + names;
+    fig.title += "; not drawn where most are beyond ±5σ: " + names;
   }
   return fig;
 }
