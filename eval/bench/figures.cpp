@@ -9,6 +9,7 @@
 #include "algo/deskew/deskew.hpp"
 #include "core/atomic_file.hpp"
 #include "core/paths.hpp"
+#include "eval/bench/consistency_figure.hpp"
 #include "eval/plot/plot.hpp"
 #include "sim/physics/world.hpp"
 
@@ -52,6 +53,8 @@ std::vector<std::string> plottedDeskewMethods(const json& metrics) {
   }
   return out;
 }
+
+constexpr int kMinSeedsForConsistency = 20;
 
 constexpr const char* kOracleNote = "oracle (rounding floor, ~1e-12 mm) not drawn";
 
@@ -340,6 +343,10 @@ std::vector<std::string> renderSuitePlots(const Suite& suite, const json& summar
                                          [](const SweepAxis& a) { return a.key == "duration_s"; });
     if (sweeps_time) figures.emplace_back("calibration_vs_time.png", calibrationVsTime(groups));
   }
+  // error/sigma histograms need many seeds of one experiment to say anything (the seeds suite).
+  if (suite.seeds >= kMinSeedsForConsistency)
+    if (auto fig = consistencyFigure(readTrialRows(out_dir / "trials.csv")))
+      figures.emplace_back("consistency.png", std::move(*fig));
   if (const auto artifacts = firstArtifacts(suite, out_dir)) {
     if (artifacts->contains("trajectory"))
       figures.emplace_back("trajectory.png", trajectoryFigure(suite, (*artifacts)["trajectory"]));

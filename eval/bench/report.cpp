@@ -201,6 +201,60 @@ std::vector<std::pair<std::string, const json*>> sections(const json& summary) {
   return out;
 }
 
+// Seeds per group below which coverage and NEES are too noisy to print (1/n steps).
+constexpr int kMinConsistencyTrials = 10;
+
+// Bias, spread, RMS and coverage of each method's signed error against its reported sigma over
+// the seeds of one group, and the mean NEES (summary "consistency", docs/results.md).
+Table consistencyTable(const json& c) {
+  static const std::pair<const char*, const char*> kParams[] = {
+      {"r_L", "r_L [%]"},          {"r_R", "r_R [%]"},          {"b", "b [%]"},
+      {"lidar_x", "lidar x [mm]"}, {"lidar_y", "lidar y [mm]"}, {"lidar_yaw", "lidar yaw [deg]"}};
+  Table t{{"method", "parameter", "n", "bias", "std", "RMS", "within 1σ", "within 3σ"}, {}};
+  const auto value = [&](const std::string& key, double scale = 1.0) {
+    return c.contains(key) ? fmt(c[key].get<double>() * scale) : std::string("-");
+  };
+  for (const auto& method : methodsOf(c, "calibration")) {
+    const std::string p = "calibration/" + method + "/consistency/";
+    for (const auto& [param, label] : kParams) {
+      const std::string q = p + param + "/";
+      if (!c.contains(q + "n")) continue;
+      t.rows.push_back({method, label, value(q + "n"), value(q + "bias"), value(q + "std"),
+                        value(q + "rms"), value(q + "coverage_1sigma", 100) + " %",
+                        value(q + "coverage_3sigma", 100) + " %"});
+    }
+  }
+  return t;
+}
+
+// Mean NEES per method beside the value an honest covariance gives (its dimension).
+Table neesTable(const json& c) {
+  Table t{{"method", "n", "mean NEES", "honest (dimension)"}, {}};
+  for (const auto& method : methodsOf(c, "calibration")) {
+    const std::string p = "calibration/" + method + "/consistency/";
+    if (!c.contains(p + "nees_mean")) continue;
+    int dim = 0;
+    for (const char* param : {"r_L", "r_R", "b", "lidar_x", "lidar_y", "lidar_yaw"})
+      dim += c.contains(p + param + "/n");
+    t.rows.push_back({method, fmt(c[p + "nees_n"].get<double>()),
+                      fmt(c[p + "nees_mean"].get<double>()), std::to_string(dim)});
+  }
+  return t;
+}
+
+std::string consistencySections(const json& summary) {
+  std::string out;
+  const json groups = summary.value("groups", json::array());
+  if (groups.size() > kMaxGroupSections) return out;
+  for (const auto& g : groups) {
+    if (!g.contains("consistency") || g.value("trials", 0) < kMinConsistencyTrials) continue;
+    if (groups.size() > 1) out += "### " + groupName(g) + "\n\n";
+    out += markdown(consistencyTable(g["consistency"])) + "\n" +
+           markdown(neesTable(g["consistency"])) + "\n";
+  }
+  return out;
+}
+
 // One Markdown table per section, under the section's heading when there are several.
 std::string perSection(const std::vector<std::pair<std::string, const json*>>& parts,
                        Table (*table)(const json&)) {
@@ -234,6 +288,15 @@ std::string renderReport(const Suite& suite, const json& summary,
            "Bullet simulated (relative for r_L, r_R, b). A method that refuses (ill-conditioned "
            "data) counts against `ok` and is left out of the errors.\n\n";
     out << perSection(parts, calibrationTable);
+  }
+  if (const std::string c = consistencySections(summary); !c.empty()) {
+    out << "## Consistency\n\nIs the reported σ honest? Over the seeds of one group: the signed "
+           "error's mean (bias), standard deviation and RMS, the fraction of seeds whose |error| "
+           "is within 1σ and 3σ of the σ the method reported (68.3 % and 99.7 % if honest), and "
+           "the mean normalised estimation error squared with the full reported covariance "
+           "(its dimension if honest: 6 with the mount, 3 without). Units: % of the true value "
+           "for r_L, r_R, b.\n\n"
+        << c;
   }
   if (any_deskew) {
     out << "## De-skew\n\nDistance of each corrected point to the ground-truth undistorted point "

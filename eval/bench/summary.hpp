@@ -25,8 +25,9 @@ TrialSet loadTrials(const std::vector<TrialSpec>& trials, const std::filesystem:
 std::map<std::string, double> flattenMetrics(const nlohmann::json& result);
 
 /// summary.json: for every metric path, {n, mean, std, min, max} over all trials, and the same
-/// per sweep point ("groups"). Depends only on the set of results, so shards merge to the same
-/// bytes as a single run.
+/// per sweep point ("groups"); per group also the calibration consistency over its seeds
+/// ("consistency": calibration/<method>/consistency/<param>/<stat>, docs/results.md). Depends only
+/// on the set of results, so shards merge to the same bytes as a single run.
 nlohmann::json summarize(const Suite& suite, const TrialSet& set);
 
 /// trials.csv: one row per trial (index order), one column per metric path (sorted).

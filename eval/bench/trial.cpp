@@ -14,6 +14,7 @@
 #include "eval/bench/match_run.hpp"
 #include "eval/bench/stage_report.hpp"
 #include "eval/metrics/calibration_error.hpp"
+#include "eval/metrics/consistency.hpp"
 #include "eval/metrics/odometry_drift.hpp"
 #include "eval/metrics/trajectory_error.hpp"
 #include "sim/drive/simulator.hpp"
@@ -101,10 +102,22 @@ json calibrationJson(const Dataset& dataset, const algo::CalibrationResult& resu
       {"r_L", {"r_L_pct", 100.0}},      {"r_R", {"r_R_pct", 100.0}},
       {"b", {"b_pct", 100.0}},          {"mount_x", {"lidar_x_mm", 1.0}},
       {"mount_y", {"lidar_y_mm", 1.0}}, {"mount_yaw", {"lidar_yaw_deg", 1.0}}};
-  for (const auto& p : error.parameters) {
+  Eigen::VectorXd error_si(static_cast<Eigen::Index>(error.parameters.size()));
+  for (std::size_t i = 0; i < error.parameters.size(); ++i) {
+    const auto& p = error.parameters[i];
     const auto& [key, scale] = kKeys.at(p.name);
     out["abs_error"][key] = std::abs(p.error) * scale;
+    out["signed_error"][key] = p.error * scale;
+    if (p.sigma) out["sigma"][key] = *p.sigma * scale;
+    error_si(i) = p.error * (p.unit == "relative" ? p.truth
+                             : p.unit == "mm"     ? 1e-3
+                                                  : std::numbers::pi / 180);
   }
+  // NEES over the parameters the method estimates, with its full covariance (SI units).
+  const auto k = error_si.size();
+  if (result.covariance.rows() >= k && result.covariance.cols() >= k)
+    if (const auto nees = normalizedErrorSquared(error_si, result.covariance.topLeftCorner(k, k)))
+      out["nees"] = *nees;
   if (error.all_within_3_sigma) out["inside_3sigma"] = *error.all_within_3_sigma;
   const PoseSeries odom =
       integrateEncoders(dataset.encoders, result.geometry, dataset.info.ticks_per_revolution);

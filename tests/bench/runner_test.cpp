@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "core/atomic_file.hpp"
@@ -151,6 +152,48 @@ TEST(Compare, FlagsOnlyMetricsWorseThanTheirTolerance) {
   const auto drop = compareToBaseline(lower, baseline, {{"a", 0.0, 0.01, true}});
   ASSERT_EQ(drop.size(), 1u);
   EXPECT_NEAR(drop[0].allowed, 0.99, 1e-15);
+}
+
+}  // namespace
+}  // namespace slamprep::eval
+
+namespace slamprep::eval {
+namespace {
+
+// One trial result of group (world, scenario): joint's signed r_L error and sigma, and a NEES.
+nlohmann::json consistencyTrial(const std::string& world, bool ok, double error, double sigma,
+                                double nees) {
+  nlohmann::json joint = {{"ok", ok}};
+  if (ok)
+    joint.update(
+        {{"signed_error", {{"r_L_pct", error}}}, {"sigma", {{"r_L_pct", sigma}}}, {"nees", nees}});
+  return {
+      {"trial", {{"world", world}, {"scenario", "s.yaml"}, {"sweep", nlohmann::json::object()}}},
+      {"calibration", {{"joint", joint}}}};
+}
+
+TEST(Summary, ConsistencyPerGroupOverTheTrialsThatDidNotRefuse) {
+  TrialSet set;
+  for (const auto& [e, n] : {std::pair{1.0, 4.0}, {-2.0, 8.0}, {0.5, 5.0}, {3.0, 7.0}})
+    set.results.push_back(consistencyTrial("a.yaml", true, e, 1.0, n));
+  set.results.push_back(consistencyTrial("a.yaml", false, 0, 0, 0));       // refused: left out
+  set.results.push_back(consistencyTrial("b.yaml", true, 0.1, 2.0, 1.0));  // another group
+  Suite suite;
+  suite.name = "s";
+  const nlohmann::json summary = summarize(suite, set);
+  ASSERT_EQ(summary["groups"].size(), 2u);
+  const auto& c = summary["groups"][0]["consistency"];
+  const std::string p = "calibration/joint/consistency/";
+  EXPECT_EQ(c[p + "r_L/n"], 4);
+  EXPECT_DOUBLE_EQ(c[p + "r_L/bias"].get<double>(), 0.625);
+  EXPECT_DOUBLE_EQ(c[p + "r_L/rms"].get<double>(), std::sqrt(14.25 / 4));
+  EXPECT_DOUBLE_EQ(c[p + "r_L/coverage_1sigma"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(c[p + "r_L/coverage_3sigma"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(c[p + "nees_mean"].get<double>(), 6.0);  // (4 + 8 + 5 + 7) / 4
+  EXPECT_EQ(c[p + "nees_n"], 4);
+  EXPECT_FALSE(c.contains(p + "lidar_x/n"));  // no sigma reported for it
+  EXPECT_DOUBLE_EQ(summary["groups"][1]["consistency"][p + "r_L/coverage_1sigma"].get<double>(),
+                   1.0);
 }
 
 }  // namespace

@@ -1,0 +1,157 @@
+#include "eval/bench/consistency_figure.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <set>
+#include <string>
+
+namespace slamprep::eval {
+namespace {
+
+constexpr double kRange = 5.0;     // histogram over error/sigma in [-5, 5]
+constexpr double kBinWidth = 0.5;  // 20 bins: ~5 runs per central bin at 100 seeds
+
+struct Parameter {
+  const char* key;    // key in the trial results
+  const char* title;  // panel title
+};
+constexpr Parameter kParameters[] = {
+    {"r_L_pct", "left wheel radius"}, {"r_R_pct", "right wheel radius"},
+    {"b_pct", "wheel base"},          {"lidar_x_mm", "lidar mount x"},
+    {"lidar_y_mm", "lidar mount y"},  {"lidar_yaw_deg", "lidar mount yaw"}};
+
+// error / sigma of one method and parameter over the trials that did not refuse.
+std::vector<double> normalizedErrors(const std::vector<std::map<std::string, double>>& rows,
+                                     const std::string& method, const std::string& key) {
+  std::vector<double> out;
+  const std::string p = "calibration/" + method + "/";
+  for (const auto& row : rows) {
+    const auto ok = row.find(p + "ok"), error = row.find(p + "signed_error/" + key),
+               sigma = row.find(p + "sigma/" + key);
+    if (ok == row.end() || ok->second != 1.0 || error == row.end() || sigma == row.end() ||
+        !(sigma->second > 0.0))
+      continue;
+    out.push_back(error->second / sigma->second);
+  }
+  return out;
+}
+
+std::vector<std::string> splitCsvLine(const std::string& line) {
+  std::vector<std::string> out(1);
+  for (char c : line) {
+    if (c == ',')
+      out.emplace_back();
+    else
+      out.back() += c;
+  }
+  return out;
+}
+
+// Outline of the histogram as a density (count / (n * bin width)); runs beyond the range fall
+// in the end bins, so the area stays 1.
+plot::Series stepHistogram(const std::vector<double>& z) {
+  const int bins = static_cast<int>(std::lround(2 * kRange / kBinWidth));
+  std::vector<int> counts(bins, 0);
+  for (double v : z)
+    ++counts[std::clamp(static_cast<int>(std::floor((v + kRange) / kBinWidth)), 0, bins - 1)];
+  plot::Series s{.style = plot::Style::Line};
+  for (int i = 0; i < bins; ++i) {
+    const double density = counts[i] / (z.size() * kBinWidth);
+    const double left = -kRange + i * kBinWidth;
+    s.x.insert(s.x.end(), {left, left + kBinWidth});
+    s.y.insert(s.y.end(), {density, density});
+  }
+  s.x.insert(s.x.begin(), -kRange);
+  s.y.insert(s.y.begin(), 0.0);
+  s.x.push_back(kRange);
+  s.y.push_back(0.0);
+  return s;
+}
+
+plot::Series normalDensity() {
+  plot::Series s{.label = "unit normal",
+                 .style = plot::Style::Line,
+                 .color = plot::rgb(0x000000),
+                 .dashed = true};
+  for (int i = 0; i <= 200; ++i) {
+    const double x = -kRange + i * (2 * kRange / 200);
+    s.x.push_back(x);
+    s.y.push_back(std::exp(-0.5 * x * x) / std::sqrt(2 * std::numbers::pi));
+  }
+  return s;
+}
+
+bool offScale(const std::vector<double>& z) {
+  const auto inside =
+      std::count_if(z.begin(), z.end(), [](double v) { return std::abs(v) <= kRange; });
+  return 2 * inside < static_cast<std::ptrdiff_t>(z.size());
+}
+
+}  // namespace
+
+std::vector<std::map<std::string, double>> readTrialRows(const std::filesystem::path& trials_csv) {
+  std::vector<std::map<std::string, double>> rows;
+  std::ifstream in(trials_csv);
+  std::string line;
+  if (!std::getline(in, line)) return rows;
+  const auto header = splitCsvLine(line);
+  constexpr std::size_t kTextColumns = 4;  // id, world, scenario, seed
+  while (std::getline(in, line)) {
+    const auto cells = splitCsvLine(line);
+    auto& row = rows.emplace_back();
+    for (std::size_t i = kTextColumns; i < cells.size() && i < header.size(); ++i)
+      if (!cells[i].empty()) row[header[i]] = std::strtod(cells[i].c_str(), nullptr);
+  }
+  return rows;
+}
+
+std::optional<plot::Figure> consistencyFigure(
+    const std::vector<std::map<std::string, double>>& trial_rows) {
+  std::set<std::string> methods;
+  for (const auto& row : trial_rows)
+    for (const auto& [path, _] : row) {
+      const auto at = path.find("/sigma/");
+      if (path.rfind("calibration/", 0) == 0 && at != std::string::npos)
+        methods.insert(path.substr(12, at - 12));
+    }
+  if (methods.empty()) return std::nullopt;
+  std::set<std::string> off_scale;
+  plot::Figure fig{.width_px = 1500, .height_px = 950, .rows = 2, .cols = 3};
+  for (const auto& param : kParameters) {
+    plot::Axes axes{.title = param.title,
+                    .x_label = "error / reported σ",
+                    .y_label = "density",
+                    .x_range = plot::Range{-kRange, kRange},
+                    .legend = plot::LegendPosition::Auto};
+    std::size_t index = 0;
+    for (const auto& method : methods) {
+      const std::size_t colour = index++;  // one colour per method in every panel
+      const auto z = normalizedErrors(trial_rows, method, param.key);
+      if (z.empty()) continue;
+      if (offScale(z)) {
+        off_scale.insert(method);
+        continue;
+      }
+      plot::Series s = stepHistogram(z);
+      s.label = method + " (n = " + std::to_string(z.size()) + ")";
+      s.color = plot::paletteColor(colour);
+      axes.series.push_back(std::move(s));
+    }
+    axes.series.push_back(normalDensity());
+    fig.axes.push_back(std::move(axes));
+  }
+  fig.title =
+      "Calibration error in units of the reported σ, per trial (|error/σ| > 5 in the end bins)";
+  if (!off_scale.empty()) {
+    std::string names;
+    for (const auto& m : off_scale) names += (names.empty() ? "" : ", ") + m;
+    fig.title += "; not drawn where most are beyond ±5σ: " + names;
+  }
+  return fig;
+}
+
+}  // namespace slamprep::eval
