@@ -119,7 +119,7 @@ Command addBenchCommand(CLI::App& app) {
       "beyond its tolerance (--compare) or a Slurm job failed (--wait).");
   cli->add_option("--suite", flags->options.suite,
                   "Suite name under eval/suites/ (default, regression, sweep-speed, "
-                  "sweep-calibration, calibration-goal, seeds) or a suite YAML file")
+                  "sweep-calibration, calibration-goal, seeds, faults) or a suite YAML file")
       ->capture_default_str();
   cli->add_option("--jobs,-j", flags->options.jobs,
                   "Trials run at once in worker processes (0: one per core); results are the "
