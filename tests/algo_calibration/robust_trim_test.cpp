@@ -7,6 +7,7 @@
 
 #include "algo/calibration/calibrate.hpp"
 #include "algo/calibration/calibration_json.hpp"
+#include "algo/calibration/joint_censi.hpp"
 #include "core/error.hpp"
 #include "synthetic.hpp"
 
@@ -151,6 +152,22 @@ TEST(RobustTrim, JsonCarriesTrimmedIntervalsAndTheOdometryReference) {
   EXPECT_EQ(file.runs[0].relative_to_odometry->wheel_base_m, 0.5);
   EXPECT_THROW(parseCalibrationJson(R"([{"method":"joint","ok":false,"trimmed_worst":3}])", "c"),
                InputError);
+}
+
+// Joint's own trimming (before the screening around every method): with 5 % trimmed per round
+// it must drop the glitches first, so its fit is close to the clean-data fit. A trimming that
+// sorted the wrong way would keep the glitches and drop the best intervals.
+TEST(JointTrim, DropsTheWorstIntervalsFirst) {
+  const SyntheticSpec spec = specFor(CalibrationMethod::kJoint);
+  std::vector<double> starts;
+  const auto glitchy = withGlitches(makeIntervals(spec), &starts);
+  const JointResult clean = calibrateJoint(makeIntervals(spec));
+  JointParams params;
+  params.trim_fraction = 0.05;  // 4 of the 80 intervals in the first round
+  const JointResult trimmed = calibrateJoint(glitchy, params);
+  ASSERT_TRUE(clean.ok && trimmed.ok) << trimmed.reason;
+  const double clean_error = worstRelativeError(clean.geometry, spec.truth);
+  EXPECT_LT(worstRelativeError(trimmed.geometry, spec.truth), 3.0 * clean_error + 1e-4);
 }
 
 }  // namespace
