@@ -37,25 +37,25 @@ MatchRun matchDataset(const Dataset& dataset, const algo::ScanMotionParams& para
   return run;
 }
 
+nlohmann::ordered_json matchLine(double stamp_ref_s, double stamp_cur_s, const algo::IcpResult& m) {
+  nlohmann::ordered_json cov = nlohmann::ordered_json::array();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) cov.push_back(m.covariance(r, c));
+  return {{"stamp_ref", stamp_ref_s},
+          {"stamp_cur", stamp_cur_s},
+          {"T_ref_cur", {m.T_ref_cur.x, m.T_ref_cur.y, m.T_ref_cur.yaw}},
+          {"converged", m.converged},
+          {"iterations", m.iterations},
+          {"inliers", m.inliers},
+          {"rms_m", m.rms_residual_m},
+          {"covariance", cov},
+          {"reason", m.reason}};
+}
+
 std::string formatMatches(const std::vector<algo::ScanMatch>& matches) {
   std::string text;
-  for (const algo::ScanMatch& s : matches) {
-    const algo::IcpResult& m = s.match;
-    nlohmann::ordered_json cov = nlohmann::ordered_json::array();
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) cov.push_back(m.covariance(r, c));
-    const nlohmann::ordered_json line = {
-        {"stamp_ref", s.stamp_ref_s},
-        {"stamp_cur", s.stamp_cur_s},
-        {"T_ref_cur", {m.T_ref_cur.x, m.T_ref_cur.y, m.T_ref_cur.yaw}},
-        {"converged", m.converged},
-        {"iterations", m.iterations},
-        {"inliers", m.inliers},
-        {"rms_m", m.rms_residual_m},
-        {"covariance", cov},
-        {"reason", m.reason}};
-    text += line.dump() + "\n";
-  }
+  for (const algo::ScanMatch& s : matches)
+    text += matchLine(s.stamp_ref_s, s.stamp_cur_s, s.match).dump() + "\n";
   return text;
 }
 

@@ -2,6 +2,7 @@
 // Scan matching on a dataset (`slamprep match`, and the bench's "matching" figures): the matches
 // of algo::matchConsecutiveScans, their error against the true lidar motion, matches.jsonl.
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -36,5 +37,9 @@ MatchRun matchDataset(const Dataset& dataset, const algo::ScanMotionParams& para
 /// matches.jsonl (docs/deskew.md): one object per pair, stamp_ref, stamp_cur, T_ref_cur, converged,
 /// iterations, inliers, rms_m, covariance (row-major 3x3), reason.
 std::string formatMatches(const std::vector<algo::ScanMatch>& matches);
+
+/// One matches.jsonl object: the stamps, T_ref_cur, convergence, inliers, RMS, the 3x3
+/// covariance (row-major) and the reason (docs/matching.md).
+nlohmann::ordered_json matchLine(double stamp_ref_s, double stamp_cur_s, const algo::IcpResult& m);
 
 }  // namespace slamprep::eval

@@ -7,6 +7,7 @@
 #include "algo/calibration/dataset_motion.hpp"
 #include "algo/deskew/deskew.hpp"
 #include "core/error.hpp"
+#include "eval/bench/match_run.hpp"
 
 namespace slamprep::eval {
 
@@ -42,22 +43,10 @@ std::string formatTrackedMatches(const MatchTrajectory& run) {
   for (std::size_t k = 1; k < run.tracked.scans.size(); ++k) {
     const algo::TrackedScan& s = run.tracked.scans[k];
     const algo::IcpResult& m = s.match;
-    nlohmann::ordered_json cov = nlohmann::ordered_json::array();
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) cov.push_back(m.covariance(r, c));
-    const nlohmann::ordered_json line = {
-        {"stamp_ref", run.stamps_s[s.keyframe]},
-        {"stamp_cur", run.stamps_s[k]},
-        {"T_ref_cur", {m.T_ref_cur.x, m.T_ref_cur.y, m.T_ref_cur.yaw}},
-        {"converged", m.converged},
-        {"iterations", m.iterations},
-        {"inliers", m.inliers},
-        {"rms_m", m.rms_residual_m},
-        {"covariance", cov},
-        {"reason", m.reason},
-        {"fallback", s.fallback},
-        {"keyframe", s.is_keyframe},
-        {"map_points", s.map_points}};
+    nlohmann::ordered_json line = matchLine(run.stamps_s[s.keyframe], run.stamps_s[k], m);
+    line["fallback"] = s.fallback;
+    line["keyframe"] = s.is_keyframe;
+    line["map_points"] = s.map_points;
     text += line.dump() + "\n";
   }
   return text;
