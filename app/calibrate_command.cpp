@@ -9,6 +9,7 @@
 
 #include "algo/calibration/calibration_json.hpp"
 #include "algo/deskew/deskew.hpp"
+#include "algo/timing/dataset_stamps.hpp"
 #include "app/choices.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
@@ -31,9 +32,10 @@ struct CalibrateFlags {
   std::string intervals_out;    // --intervals: write the intervals used as Censi records
   std::string tuples_in;        // --tuples: run on Censi records instead of the dataset's motion
   std::string json_out;
-  std::string odometry_out;  // --odometry-out: the odometry re-integrated with the best result
-  std::string ros2_out;      // --ros2-params: diff_drive_controller + static transform YAML
-  std::string nominal;       // --nominal r_L,r_R,b
+  std::string odometry_out;     // --odometry-out: the odometry re-integrated with the best result
+  std::string ros2_out;         // --ros2-params: diff_drive_controller + static transform YAML
+  std::string nominal;          // --nominal r_L,r_R,b
+  std::string stamps = "auto";  // auto: jittered constant-rate streams back on their grids
   double trim_sigmas = algo::TrimParams{}.threshold_sigmas;
   std::vector<std::string> squares;  // extra UMBmark square-run datasets
   // The shared interval policy (algo::IntervalParams: every scan match) unless overridden.
@@ -109,6 +111,7 @@ eval::DatasetCalibrationParams paramsOf(const CalibrateFlags& flags) {
   p.tuples = flags.tuples_in;
   p.squares = flags.squares;
   p.motion.from_icp = flags.motion == "icp";
+  p.regularize_stamps = flags.stamps == "auto";
   p.motion.deskew = flags.deskew;
   p.motion.stamp_is_last_beam = flags.stamp_is_last_beam;
   p.motion.intervals.keyframe_translation_m = flags.keyframe_cm / 100.0;
@@ -177,6 +180,7 @@ int runCalibrate(const CalibrateFlags& flags) {
     stages.begin("calibrate");
     return eval::calibrateDataset(paramsOf(flags));
   }();
+  std::cerr << algo::stampsSummary(c.stamps);
   if (c.failed_matches > 0)
     std::cerr << "calibrate: " << c.failed_matches << " scan matches failed (chains broken)\n";
   if (c.from_motion)
@@ -224,6 +228,13 @@ Command addCalibrateCommand(CLI::App& app) {
   cli->add_option("--motion", flags->motion,
                   "lidar motion from ICP scan matching or from ground truth (oracle)")
       ->check(oneOf("motion", {"icp", "groundtruth"}))
+      ->capture_default_str();
+  cli->add_option("--stamps", flags->stamps,
+                  "auto: match scans on stamps put back on their constant-rate grid where a "
+                  "stream (encoders, odometry, IMU, scans) is measurably jittered "
+                  "(docs/calibration.md, \"Jittered stamps\"); raw: as logged. Outputs keep "
+                  "the log's stamps")
+      ->check(oneOf("stamps", {"auto", "raw"}))
       ->capture_default_str();
   std::vector<std::string> deskews = {"auto"};
   for (auto m : algo::allDeskewMethods()) deskews.emplace_back(algo::deskewMethodName(m));

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "algo/calibration/calibration_json.hpp"
+#include "algo/timing/dataset_stamps.hpp"
 #include "app/choices.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
@@ -35,7 +36,8 @@ struct DeskewFlags {
   std::string calibration;  // calibrate --json output
   std::string out;          // nothing is written without it
   std::string json_out;
-  std::vector<double> window;  // --window T0 T1: scans whose stamp is inside count in the metrics
+  std::vector<double> window;   // --window T0 T1: scans whose stamp is inside count in the metrics
+  std::string stamps = "auto";  // auto: jittered constant-rate streams back on their grids
   bool stamp_is_last_beam = false;
   bool no_write = false;  // deprecated: nothing is written without --out anyway
   bool strict = false;
@@ -261,8 +263,10 @@ void printHeader(const DeskewFlags& flags, const Dataset& d, const Geometry& geo
 
 int runDeskew(const DeskewFlags& given) {
   const DeskewFlags flags = checkFlags(given);
-  const Dataset d = eval::readDataset(flags.dataset);
+  Dataset d = eval::readDataset(flags.dataset);
   if (d.scans.empty()) throw InputError(flags.dataset, "has no scans to de-skew");
+  const std::string stamps =
+      flags.stamps == "auto" ? algo::stampsSummary(algo::regularizeStamps(d)) : "";
   const Geometry geometry = chooseGeometry(flags, d);
   // Odometry for the chosen geometry: the dataset's own for nominal, else re-integrated.
   const PoseSeries odometry =
@@ -271,6 +275,7 @@ int runDeskew(const DeskewFlags& given) {
           : integrateEncoders(d.encoders, geometry.wheels, d.info.ticks_per_revolution);
   const MethodChoice methods = chooseMethods(flags, d, !odometry.empty());
   printHeader(flags, d, geometry);
+  std::cout << stamps;
   nlohmann::ordered_json json = nlohmann::ordered_json::array();
   std::size_t fully_refused = 0, with_refusals = 0;
   std::map<std::string, int> refused_by_reason;  // over every method run
@@ -341,6 +346,12 @@ Command addDeskewCommand(CLI::App& app) {
   names.emplace_back("all");
   cli->add_option("--method", flags->method, "de-skew method, or all: the ones that apply")
       ->check(oneOf("method", names))
+      ->capture_default_str();
+  cli->add_option("--stamps", flags->stamps,
+                  "auto: put the stamps of a constant-rate stream (encoders, odometry, IMU, "
+                  "scans) that are measurably jittered back on their grid (docs/deskew.md, "
+                  "\"Jittered stamps\"); raw: use them as logged")
+      ->check(oneOf("stamps", {"auto", "raw"}))
       ->capture_default_str();
   cli->add_option("--reference", flags->reference, "time the corrected points describe")
       ->check(oneOf("reference", {"first", "middle", "last"}))

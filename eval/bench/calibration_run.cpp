@@ -113,7 +113,14 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params) {
     } else {
       if (!params.motion.from_icp && !d->hasTruth())
         throw InputError(params.dataset, "--motion groundtruth: the dataset has no ground truth");
-      CalibrationMotion motion = calibrationMotion(*d, params.motion);
+      // The motion from stamps back on their grids; every output keeps the log's own stamps.
+      std::optional<Dataset> regular;
+      if (params.regularize_stamps) {
+        regular = *d;
+        out.stamps = algo::regularizeStamps(*regular);
+      }
+      CalibrationMotion motion =
+          calibrationMotion(algo::anyApplied(out.stamps) ? *regular : *d, params.motion);
       out.intervals = std::move(motion.intervals);
       out.from_motion = true;
       out.failed_matches = motion.failed_matches;

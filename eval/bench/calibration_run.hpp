@@ -9,6 +9,7 @@
 #include "algo/calibration/calibration.hpp"
 #include "algo/calibration/calibration_json.hpp"
 #include "algo/calibration/dataset_motion.hpp"
+#include "algo/timing/dataset_stamps.hpp"
 #include "core/dataset.hpp"
 
 namespace slamprep::eval {
@@ -53,6 +54,9 @@ struct DatasetCalibrationParams {
   /// The geometry the odometry is taken to use (`--nominal`); unset: dataset.json's. On a log
   /// without encoder ticks the wheel increments are derived from the odometry poses with it.
   std::optional<DiffDriveParams> nominal;
+  /// Put measurably jittered stamps of constant-rate streams back on their grids first
+  /// (`--stamps auto`, algo/timing/dataset_stamps.hpp); false: the stamps as logged.
+  bool regularize_stamps = true;
   /// Run only the methods whose input is there (`--method all`); the others are listed in
   /// DatasetCalibration::not_applicable instead of refusing.
   bool only_applicable = false;
@@ -70,6 +74,7 @@ struct DatasetCalibration {
   algo::IntervalSet intervals;                ///< what the interval methods used, what was dropped
   bool from_motion = false;  ///< the intervals were cut from the dataset's motion (no tuples)
   int failed_matches = 0;    ///< scan matches that broke a chain
+  std::vector<algo::StreamStamps> stamps;       ///< what stamp regularisation found and did
   std::optional<algo::CalibrationTruth> truth;  ///< when the dataset knows its true geometry
   /// Set when the log had no encoder ticks: the geometry the wheel increments were derived from
   /// its odometry poses with (every interval run carries it as relative_to_odometry).

@@ -6,6 +6,7 @@
 
 #include "algo/calibration/calibrate.hpp"
 #include "algo/calibration/dataset_motion.hpp"
+#include "algo/timing/dataset_stamps.hpp"
 #include "core/error.hpp"
 #include "core/odometry.hpp"
 #include "eval/bench/calibration_run.hpp"
@@ -257,9 +258,13 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
       sim::simulate(simConfig(suite, spec), [&](double t_s, double duration_s) {
         if (duration_s > 0.0) stages.update(t_s / duration_s);
       });
-  const Dataset& dataset = sim.dataset;
   out.timing["simulate_s"] = secondsSince(start);
   out.result["sim"] = simJson(sim.summary);
+  // Jittered stamps (the stamp_jitter fault) back on their grids, as calibrate and deskew do;
+  // clean streams are left bit for bit, so clean trials are unchanged.
+  Dataset dataset = sim.dataset;
+  const auto stamps = algo::regularizeStamps(dataset);
+  if (algo::anyApplied(stamps)) out.result["stamps"] = algo::stampsJson(stamps);
   if (const json events = faultEventCounts(dataset); !events.empty()) out.result["faults"] = events;
   const int ticks = dataset.info.ticks_per_revolution;
   for (const auto& [name, geometry] : {std::pair{"nominal", dataset.info.nominal_geometry},

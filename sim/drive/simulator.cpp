@@ -391,6 +391,11 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   while (!data.scans.empty() && !data.encoders.empty() &&
          data.scans.back().scan.endTime() > data.encoders.back().stamp_s)
     data.scans.pop_back();
+  // Stamp jitter can put the first scan's first beam before the first (jittered) encoder
+  // sample; such a scan is not covered either.
+  while (!data.scans.empty() && !data.encoders.empty() &&
+         data.scans.front().scan.stamp_s < data.encoders.front().stamp_s)
+    data.scans.erase(data.scans.begin());
   data.odom_nominal =
       integrateEncoders(data.encoders, info.nominal_geometry, info.ticks_per_revolution);
   for (ScanRecord& record : data.scans) {

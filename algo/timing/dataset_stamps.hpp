@@ -1,0 +1,42 @@
+#pragma once
+// Every constant-rate stream of a dataset put back on its grid where its stamps are measurably
+// jittered (stamp_grid.hpp): encoders, the odometry poses, the IMU and the scans' first beams.
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "algo/timing/stamp_grid.hpp"
+#include "core/dataset.hpp"
+
+namespace slamprep::algo {
+
+/// One stream's outcome (StampGrid without the stamps).
+struct StreamStamps {
+  std::string stream;  ///< "encoders", "odometry", "imu", "scans"
+  std::size_t samples = 0;
+  bool applied = false;
+  std::string reason;
+  double period_s = 0.0;
+  double residual_rms_s = 0.0;
+  double residual_max_s = 0.0;
+  std::size_t missing_samples = 0;
+};
+
+/// Regularises each stream of `dataset` in place; a stream that is regular already, not
+/// constant-rate, or too short keeps its stamps bit for bit. A scan's nominal odometry pose is
+/// re-read at its new stamp.
+std::vector<StreamStamps> regularizeStamps(Dataset& dataset, const StampGridParams& params = {});
+
+/// True when any stream's stamps were changed.
+bool anyApplied(const std::vector<StreamStamps>& streams);
+
+/// {"<stream>": {"applied", "reason", "period_s", "residual_rms_s", "residual_max_s",
+/// "missing_samples", "samples"}} (docs/deskew.md, "Jittered stamps").
+nlohmann::json stampsJson(const std::vector<StreamStamps>& streams);
+
+/// One line per regularised stream, e.g. "stamps: scans put on their 0.1 s grid (jitter RMS
+/// 1.01 ms, max 2.99 ms)"; empty when none was.
+std::string stampsSummary(const std::vector<StreamStamps>& streams);
+
+}  // namespace slamprep::algo
