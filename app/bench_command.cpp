@@ -1,6 +1,7 @@
 // `slamprep bench`: the main job. Runs a suite, writes results/<suite>/, compares to a baseline.
 #include <iostream>
 
+#include "app/choices.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
 #include "app/outputs.hpp"
@@ -147,7 +148,7 @@ Command addBenchCommand(CLI::App& app) {
                 "that depends on it; shards already complete are not resubmitted");
   cli->add_option("--shards", flags->slurm_params.shards, "Array tasks with --slurm")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   cli->add_option("--partition", flags->slurm_params.partition, "sbatch --partition with --slurm");
   cli->add_option(
          "--sbatch-arg", flags->slurm_params.sbatch_args,

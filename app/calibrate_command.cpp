@@ -266,21 +266,21 @@ Command addCalibrateCommand(CLI::App& app) {
   cli->add_option("--trim-sigmas", flags->trim_sigmas,
                   "drop intervals whose residual against a first fit exceeds N robust (MAD) "
                   "sigmas, refit until the kept set repeats; 0: keep every interval")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegative())
       ->capture_default_str();
   cli->add_flag("--force", flags->force,
                 "replace existing output files; the old ones stay until the new are complete");
   cli->add_flag("--strict", flags->strict, "exit 3 when any method refused, not only all");
   cli->add_option("--keyframe-cm", flags->keyframe_cm,
                   "new interval every N cm of lidar motion (0: every scan match, as the bench)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegative())
       ->capture_default_str();
   cli->add_option("--keyframe-deg", flags->keyframe_deg, "... or every N degrees")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegative())
       ->capture_default_str();
   cli->add_option("--square", flags->squares, "UMBmark square-run dataset (repeatable)");
   cli->add_option("--side", flags->side_m, "UMBmark square side (m)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->capture_default_str();
   cli->add_flag("--time-offset", flags->time_offset,
                 "ceres: also estimate a constant encoder-to-lidar clock offset");

@@ -1,6 +1,7 @@
 #include "app/choices.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/error.hpp"
 #include "eval/formats/text_io.hpp"
@@ -69,6 +70,29 @@ CLI::Validator oneOf(const std::string& what, std::vector<std::string> valid) {
         return unknownChoice(what, value, valid);
       },
       description);
+}
+
+namespace {
+
+// A finite number passing `ok`, else "must be <rule> (got <text>)".
+CLI::Validator numberCheck(const char* rule, bool (*ok)(double)) {
+  return CLI::Validator(
+      [rule, ok](std::string& value) {
+        double x = 0.0;
+        if (CLI::detail::lexical_cast(value, x) && std::isfinite(x) && ok(x)) return std::string();
+        return "must be " + std::string(rule) + " (got " + value + ")";
+      },
+      rule == std::string("> 0") ? "POSITIVE" : "NONNEGATIVE");
+}
+
+}  // namespace
+
+CLI::Validator positive() {
+  return numberCheck("> 0", [](double x) { return x > 0.0; });
+}
+
+CLI::Validator nonNegative() {
+  return numberCheck(">= 0", [](double x) { return x >= 0.0; });
 }
 
 std::vector<double> parseList(const std::string& text, const char* flag,

@@ -25,6 +25,11 @@ std::string unknownChoice(const std::string& what, const std::string& typed,
 /// A CLI11 check that accepts exactly `valid` and otherwise fails with unknownChoice().
 CLI::Validator oneOf(const std::string& what, std::vector<std::string> valid);
 
+/// Checks for numeric options: a finite number > 0 / >= 0, else "must be > 0 (got 0)"
+/// (CLI11's PositiveNumber answers "Value 0 not in range 0.000000 to 1.797e308").
+CLI::Validator positive();
+CLI::Validator nonNegative();
+
 /// "a|b|c", for option help.
 std::string joined(const std::vector<std::string>& names, const std::string& separator = "|");
 

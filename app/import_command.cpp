@@ -118,17 +118,17 @@ Command addImportCommand(CLI::App& app) {
            flags->geometry_given = true;
          },
          "nominal radius of both wheels (m)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   cli->add_option("--wheel-radius-left", g.radius_left_m, "nominal left wheel radius (m)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->each(given)
       ->capture_default_str();
   cli->add_option("--wheel-radius-right", g.radius_right_m, "nominal right wheel radius (m)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->each(given)
       ->capture_default_str();
   cli->add_option("--wheel-base", g.wheel_base_m, "nominal wheel base (m)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->each(given)
       ->capture_default_str();
   cli->add_option("--nominal", flags->nominal,
@@ -136,12 +136,12 @@ Command addImportCommand(CLI::App& app) {
                   "it (slamprep exports do)");
   cli->add_option("--ticks-per-revolution", flags->params.ticks_per_revolution,
                   "resolution of the derived encoder ticks")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->capture_default_str();
   cli->add_option("--time-increment", flags->time_increment_s,
                   "time between beams (s); carmen default: the log's PARAM, else 0 = unknown "
                   "(de-skew refuses); mcap: replaces every LaserScan's")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegative())
       ->each([flags](const std::string&) { flags->time_increment_given = true; });
   cli->add_option("--lidar-mount", flags->lidar_mount,
                   "x,y,yaw_deg of the lidar on the base: metres, metres, degrees (default: from "
@@ -150,7 +150,7 @@ Command addImportCommand(CLI::App& app) {
                 "carmen: without --lidar-mount or a mount PARAM, take robot_pose^-1 laser_pose");
   cli->add_option("--reorder-tolerance", flags->params.reorder_tolerance_s,
                   "carmen: stamps running backwards by up to this (s) are sorted into place")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegative())
       ->capture_default_str();
   cli->add_option_function<std::string>(
          "--out-of-order",

@@ -169,11 +169,11 @@ Command addMatchCommand(CLI::App& app) {
                 "the scans' stamps mark their last beam, not their first");
   algo::IcpParams& icp = flags->params.icp;
   cli->add_option("--max-iterations", icp.max_iterations, "ICP rounds per match")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->capture_default_str();
   cli->add_option("--max-correspondence-distance", icp.max_correspondence_distance_m,
                   "ICP gating: farther pairs (m) are no correspondence")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->capture_default_str();
   cli->add_option("--trim", icp.trim_fraction,
                   "ICP trimming: this fraction of the gated pairs, the worst, is dropped")
@@ -181,27 +181,27 @@ Command addMatchCommand(CLI::App& app) {
       ->capture_default_str();
   cli->add_option("--keyframe-distance", flags->params.keyframe_distance_m,
                   "a scan this far (m) from the keyframe becomes a keyframe")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->capture_default_str();
   cli->add_option("--keyframe-angle", flags->keyframe_angle_deg,
                   "... or one turned this much (deg)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->capture_default_str();
   cli->add_option("--local-map-keyframes", flags->params.local_map_keyframes,
                   "keyframes whose points form the local map (1: scan-to-keyframe)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->capture_default_str();
   cli->add_option("--max-range", flags->params.max_range_m,
                   "points farther than this (m) from the sensor are not matched")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->capture_default_str();
   cli->add_option("--odometry-sigma", flags->params.odometry_sigma_m,
                   "odometry noise per scan step (m) the match is fused with; 0: the match alone")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegative())
       ->capture_default_str();
   cli->add_option("--odometry-sigma-angle", flags->odometry_sigma_deg,
                   "... and its heading noise per scan step (deg)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegative())
       ->capture_default_str();
   return {cli, [flags] { return runMatch(*flags); }};
 }

@@ -155,11 +155,11 @@ Command addScoreCommand(CLI::App& app) {
   rel->add_option("TRAJ", flags->second, "TUM trajectory")->required();
   rel->add_option("--max-time-difference", flags->relations.max_time_difference_s,
                   "interpolate between samples at most this far (s) from a relation stamp")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegative())
       ->capture_default_str();
   rel->add_option("--short", flags->relations.short_relation_s,
                   "relations under this many seconds apart form the short subset")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->capture_default_str();
   auto* ape = cli->add_subcommand("ape", "Absolute pose error (evo's definition).");
   auto* rpe = cli->add_subcommand("rpe", "Relative pose error (evo's definition).");
@@ -172,10 +172,10 @@ Command addScoreCommand(CLI::App& app) {
       ->capture_default_str();
   ape->add_option("--max-time-difference", flags->ape.max_time_difference_s,
                   "association tolerance (s)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegative())
       ->capture_default_str();
   rpe->add_option("--delta", flags->rpe.delta, "pose-pair spacing")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->capture_default_str();
   rpe->add_option("--unit", flags->unit, "frames or m")
       ->check(oneOf("delta unit", {"frames", "m"}))
@@ -183,7 +183,7 @@ Command addScoreCommand(CLI::App& app) {
   rpe->add_flag("--all-pairs", flags->rpe.all_pairs, "every start pose, not consecutive segments");
   rpe->add_option("--max-time-difference", flags->rpe.max_time_difference_s,
                   "association tolerance (s)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegative())
       ->capture_default_str();
   for (auto* sub : {rel, ape, rpe}) {
     sub->add_option("--json", flags->json_out,

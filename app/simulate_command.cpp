@@ -127,7 +127,7 @@ Command addSimulateCommand(CLI::App& app) {
   cli->add_option("--duration", flags->duration_s,
                   "Simulated seconds; 0 (default) runs the scenario's own length. Longer than "
                   "the scenario: the robot stands still at the end")
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegative());
   cli->add_option("--seed", flags->seed,
                   "Seed of all sensor noise (default 1). Same seed and "
                   "configuration give byte-identical datasets");

@@ -20,6 +20,14 @@ err_has "did you mean 'carmen'?"
 expect 2 simulate --mode physic --out "$dir/s"
 err_has "did you mean 'physics'?"
 
+# Numbers out of their range say the rule and the value.
+expect 2 match "$ds" --keyframe-distance 0
+err_has "--keyframe-distance: must be > 0 (got 0)"
+expect 2 calibrate "$ds" --trim-sigmas -1
+err_has "--trim-sigmas: must be >= 0 (got -1)"
+expect 2 deskew "$ds" --stamps grid
+err_has "unknown stamps 'grid' (valid: auto, raw)"
+
 # Unknown options: CLI11's message, then the closest option.
 expect 2 calibrate "$ds" --methd joint
 err_has "The following arguments were not expected"
