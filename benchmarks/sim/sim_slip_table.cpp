@@ -3,7 +3,8 @@
 // SimSummary::drift_true.max_position_error_m), for solver iterations x contact relaxation, plus
 // the CPU time of the figure eight with the full sensor set. Not a test: it prints a table for
 // docs/simulate.md and results/benchmarks.md.
-// Run: sim_slip_table [iterations,...] [relaxation,...]   (defaults: 50,30,20,15,12,10 and 1,1.5)
+// Run: sim_slip_table [iterations,...] [relaxation,...] [physics_rate_hz,...]
+//      (defaults: 50,30,20,15,12,10; 1,1.5; 1000)
 
 #include <cstdio>
 #include <ctime>
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
   const std::vector<double> iterations =
       parseList(argc > 1 ? argv[1] : nullptr, {50, 30, 20, 15, 12, 10});
   const std::vector<double> relaxations = parseList(argc > 2 ? argv[2] : nullptr, {1.0, 1.5});
+  const std::vector<double> rates = parseList(argc > 3 ? argv[3] : nullptr, {1000.0});
   const std::vector<std::string> scenarios = {"figure_eight",  "arc",  "umbmark_ccw", "umbmark_cw",
                                               "random_smooth", "spin", "stop_and_go", "default"};
   const World world = loadWorld(root / "worlds" / "room.yaml");
@@ -39,30 +41,33 @@ int main(int argc, char** argv) {
   for (const std::string& name : scenarios)
     loaded.push_back(loadScenario(root / "worlds" / "scenarios" / (name + ".yaml")));
 
-  std::printf("| iterations | relaxation | figure-eight CPU (s) | real-time factor |");
+  std::printf(
+      "| physics rate (Hz) | iterations | relaxation | figure-eight CPU (s) | real-time factor |");
   for (const std::string& name : scenarios) std::printf(" %s (mm) |", name.c_str());
   std::printf("\n");
-  for (const double relaxation : relaxations)
-    for (const double iters : iterations) {
-      const ScenePhysicsParams physics{static_cast<int>(iters), relaxation};
-      SimConfig config;
-      std::printf("| %d | %.2f |", physics.solver_iterations, relaxation);
-      double cpu_s = 0.0, sim_s = 0.0;
-      std::string row;
-      for (std::size_t k = 0; k < scenarios.size(); ++k) {
-        const std::clock_t start = std::clock();
-        const SimResult result = simulate(config, world, loaded[k], {}, physics);
-        if (k == 0) {
-          cpu_s = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
-          sim_s = result.summary.duration_s;
+  for (const double rate : rates)
+    for (const double relaxation : relaxations)
+      for (const double iters : iterations) {
+        const ScenePhysicsParams physics{static_cast<int>(iters), relaxation};
+        SimConfig config;
+        config.physics_rate_hz = rate;
+        std::printf("| %.0f | %d | %.2f |", rate, physics.solver_iterations, relaxation);
+        double cpu_s = 0.0, sim_s = 0.0;
+        std::string row;
+        for (std::size_t k = 0; k < scenarios.size(); ++k) {
+          const std::clock_t start = std::clock();
+          const SimResult result = simulate(config, world, loaded[k], {}, physics);
+          if (k == 0) {
+            cpu_s = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+            sim_s = result.summary.duration_s;
+          }
+          char cell[32];
+          std::snprintf(cell, sizeof cell, " %.2f |",
+                        result.summary.drift_true.max_position_error_m * 1e3);
+          row += cell;
         }
-        char cell[32];
-        std::snprintf(cell, sizeof cell, " %.2f |",
-                      result.summary.drift_true.max_position_error_m * 1e3);
-        row += cell;
+        std::printf(" %.3f | %.0f |%s\n", cpu_s, sim_s / cpu_s, row.c_str());
+        std::fflush(stdout);
       }
-      std::printf(" %.3f | %.0f |%s\n", cpu_s, sim_s / cpu_s, row.c_str());
-      std::fflush(stdout);
-    }
   return 0;
 }
