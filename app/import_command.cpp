@@ -71,16 +71,30 @@ int runImport(ImportFlags flags) {
     const auto v = parseList(flags.nominal, "--nominal", {"r_L", "r_R", "b"});
     flags.params.nominal_geometry = DiffDriveParams{v[0], v[1], v[2]};
   }
-  // A bag is read chunk by chunk from its files; a CARMEN log is text read whole.
-  const eval::ImportResult result =
-      flags.format == "carmen"
-          ? eval::importCarmen(slamprep::eval::readTextFile(flags.input), flags.input, flags.params)
-          : eval::importMcap(std::filesystem::path(flags.input), flags.params);
-  eval::writeDataset(flags.out, result.dataset);
+  // A CARMEN log is text read whole. A bag is read chunk by chunk from its files, its scans
+  // parked in a spill file inside the dataset being written and streamed into scans.jsonl, so
+  // memory holds the small streams, not the ranges.
+  eval::ImportResult result;
+  std::size_t scans = 0;
+  if (flags.format == "carmen") {
+    result = eval::importCarmen(eval::readTextFile(flags.input), flags.input, flags.params);
+    eval::writeDataset(flags.out, result.dataset);
+    scans = result.dataset.scans.size();
+  } else {
+    eval::publishDirectoryAtomically(flags.out, [&](const std::filesystem::path& partial) {
+      flags.params.spill_dir = partial;
+      result = eval::importMcap(std::filesystem::path(flags.input), flags.params);
+      eval::writeDatasetFiles(partial, result.dataset, flags.out,
+                              [&](ScanRecord& r) { return result.scans->next(r); });
+      scans = result.scans->count();
+      for (std::string& note : result.scans->notes()) result.notes.push_back(std::move(note));
+      result.scans.reset();  // deletes the spill file before the directory is published
+    });
+  }
   const Dataset& d = result.dataset;
-  std::cout << "imported " << d.scans.size() << " scans, " << d.encoders.size()
-            << " encoder samples, " << d.odom_nominal.size() << " odometry poses, " << d.imu.size()
-            << " IMU samples into " << flags.out << "\n";
+  std::cout << "imported " << scans << " scans, " << d.encoders.size() << " encoder samples, "
+            << d.odom_nominal.size() << " odometry poses, " << d.imu.size() << " IMU samples into "
+            << flags.out << "\n";
   printSummary(result.summary);
   for (const auto& note : result.notes) std::cerr << "import: note: " << note << "\n";
   return 0;

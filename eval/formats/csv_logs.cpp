@@ -51,21 +51,48 @@ void checkWritable(const std::string& file, std::size_t index, double stamp_s,
 
 }  // namespace
 
+namespace {
+
+void appendEncoderRow(std::string& out, const EncoderLog& encoders, std::size_t k,
+                      const std::string& file) {
+  const EncoderSample& e = encoders[k];
+  checkWritable(file, k, e.stamp_s, k ? &encoders[k - 1].stamp_s : nullptr, {});
+  appendDouble(out, e.stamp_s);
+  out += ',';
+  appendInt(out, e.ticks_left);
+  out += ',';
+  appendInt(out, e.ticks_right);
+  out += '\n';
+}
+
+void appendImuRow(std::string& out, const ImuLog& imu, std::size_t k, const std::string& file) {
+  const ImuSample& s = imu[k];
+  checkWritable(file, k, s.stamp_s, k ? &imu[k - 1].stamp_s : nullptr,
+                {s.gyro_z_radps, s.accel_x_mps2, s.accel_y_mps2});
+  appendDouble(out, s.stamp_s);
+  out += ',';
+  appendDouble(out, s.gyro_z_radps);
+  out += ',';
+  appendDouble(out, s.accel_x_mps2);
+  out += ',';
+  appendDouble(out, s.accel_y_mps2);
+  out += '\n';
+}
+
+}  // namespace
+
 std::string formatEncoders(const EncoderLog& encoders, const std::string& file) {
   std::string out(kEncoderHeader);
   out += '\n';
   out.reserve(out.size() + encoders.size() * 48);
-  for (std::size_t k = 0; k < encoders.size(); ++k) {
-    const EncoderSample& e = encoders[k];
-    checkWritable(file, k, e.stamp_s, k ? &encoders[k - 1].stamp_s : nullptr, {});
-    appendDouble(out, e.stamp_s);
-    out += ',';
-    appendInt(out, e.ticks_left);
-    out += ',';
-    appendInt(out, e.ticks_right);
-    out += '\n';
-  }
+  for (std::size_t k = 0; k < encoders.size(); ++k) appendEncoderRow(out, encoders, k, file);
   return out;
+}
+
+void writeEncoders(const std::filesystem::path& path, const EncoderLog& encoders,
+                   const std::string& file) {
+  writeRows(path, std::string(kEncoderHeader) + '\n', encoders.size(),
+            [&](std::string& out, std::size_t k) { appendEncoderRow(out, encoders, k, file); });
 }
 
 EncoderLog parseEncoders(std::string_view text, const std::string& file) {
@@ -85,20 +112,13 @@ std::string formatImu(const ImuLog& imu, const std::string& file) {
   std::string out(kImuHeader);
   out += '\n';
   out.reserve(out.size() + imu.size() * 80);
-  for (std::size_t k = 0; k < imu.size(); ++k) {
-    const ImuSample& s = imu[k];
-    checkWritable(file, k, s.stamp_s, k ? &imu[k - 1].stamp_s : nullptr,
-                  {s.gyro_z_radps, s.accel_x_mps2, s.accel_y_mps2});
-    appendDouble(out, s.stamp_s);
-    out += ',';
-    appendDouble(out, s.gyro_z_radps);
-    out += ',';
-    appendDouble(out, s.accel_x_mps2);
-    out += ',';
-    appendDouble(out, s.accel_y_mps2);
-    out += '\n';
-  }
+  for (std::size_t k = 0; k < imu.size(); ++k) appendImuRow(out, imu, k, file);
   return out;
+}
+
+void writeImu(const std::filesystem::path& path, const ImuLog& imu, const std::string& file) {
+  writeRows(path, std::string(kImuHeader) + '\n', imu.size(),
+            [&](std::string& out, std::size_t k) { appendImuRow(out, imu, k, file); });
 }
 
 ImuLog parseImu(std::string_view text, const std::string& file) {

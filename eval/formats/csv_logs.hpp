@@ -15,11 +15,16 @@ inline constexpr std::string_view kImuHeader = "stamp_s,gyro_z_radps,accel_x_mps
 /// Throws InputError("file:line") for non-finite or non-increasing stamps (what the reader
 /// rejects).
 std::string formatEncoders(const EncoderLog& encoders, const std::string& file);
+/// The same text written to `path` piece by piece.
+void writeEncoders(const std::filesystem::path& path, const EncoderLog& encoders,
+                   const std::string& file);
 /// Rejects a wrong header, wrong column counts, non-numbers, NaN/Inf and unsorted/duplicate stamps.
 EncoderLog parseEncoders(std::string_view text, const std::string& file);
 
 /// Throws InputError("file:line") for non-finite values or non-increasing stamps.
 std::string formatImu(const ImuLog& imu, const std::string& file);
+/// The same text written to `path` piece by piece.
+void writeImu(const std::filesystem::path& path, const ImuLog& imu, const std::string& file);
 ImuLog parseImu(std::string_view text, const std::string& file);
 
 }  // namespace slamprep::eval

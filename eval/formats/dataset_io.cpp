@@ -160,17 +160,33 @@ void checkWritable(const Dataset& dataset, const std::filesystem::path& named_as
 
 }  // namespace
 
+namespace {
+
+// Every file but scans.jsonl; errors name the final path: that is the file the user asked for.
+void writeStreamFiles(const std::filesystem::path& dir, const Dataset& dataset,
+                      const std::filesystem::path& named_as) {
+  auto name = [&](const char* file) { return (named_as / file).string(); };
+  writeTextFile(dir / kDatasetJson, formatDatasetInfo(dataset.info, name(kDatasetJson)));
+  writeTum(dir / kGroundTruthTum, dataset.groundtruth, name(kGroundTruthTum));
+  writeTum(dir / kOdomNominalTum, dataset.odom_nominal, name(kOdomNominalTum));
+  writeEncoders(dir / kEncodersCsv, dataset.encoders, name(kEncodersCsv));
+  writeImu(dir / kImuCsv, dataset.imu, name(kImuCsv));
+}
+
+}  // namespace
+
 void writeDatasetFiles(const std::filesystem::path& dir, const Dataset& dataset,
                        const std::filesystem::path& named_as) {
   checkWritable(dataset, named_as);
-  // Errors name the final path: that is the file the user asked for.
-  auto name = [&](const char* file) { return (named_as / file).string(); };
-  writeTextFile(dir / kDatasetJson, formatDatasetInfo(dataset.info, name(kDatasetJson)));
-  writeTextFile(dir / kGroundTruthTum, formatTum(dataset.groundtruth, name(kGroundTruthTum)));
-  writeTextFile(dir / kOdomNominalTum, formatTum(dataset.odom_nominal, name(kOdomNominalTum)));
-  writeTextFile(dir / kEncodersCsv, formatEncoders(dataset.encoders, name(kEncodersCsv)));
-  writeTextFile(dir / kImuCsv, formatImu(dataset.imu, name(kImuCsv)));
-  writeScans(dir / kScansJsonl, dataset.scans, name(kScansJsonl));
+  writeStreamFiles(dir, dataset, named_as);
+  writeScans(dir / kScansJsonl, dataset.scans, (named_as / kScansJsonl).string());
+}
+
+void writeDatasetFiles(const std::filesystem::path& dir, const Dataset& dataset,
+                       const std::filesystem::path& named_as,
+                       const std::function<bool(ScanRecord&)>& scans) {
+  writeStreamFiles(dir, dataset, named_as);
+  writeScans(dir / kScansJsonl, scans, (named_as / kScansJsonl).string());
 }
 
 void writeDataset(const std::filesystem::path& dir, const Dataset& dataset) {

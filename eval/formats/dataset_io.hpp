@@ -16,6 +16,11 @@ void writeDataset(const std::filesystem::path& dir, const Dataset& dataset);
 /// publishDirectoryAtomically, with more files beside them); messages name `named_as`.
 void writeDatasetFiles(const std::filesystem::path& dir, const Dataset& dataset,
                        const std::filesystem::path& named_as);
+/// The same with scans.jsonl written from `scans` (dataset.scans is not written; the source
+/// checks that the odometry covers each scan, e.g. a spilled import's ScanStream).
+void writeDatasetFiles(const std::filesystem::path& dir, const Dataset& dataset,
+                       const std::filesystem::path& named_as,
+                       const std::function<bool(ScanRecord&)>& scans);
 
 /// Reads a dataset directory. Throws InputError naming file, line and field on malformed input.
 Dataset readDataset(const std::filesystem::path& dir);

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -59,6 +60,11 @@ struct ImportParams {
   std::string scan_topic, odom_topic, joint_topic, imu_topic;
   /// JointState names of the wheels; empty = the one joint whose name contains "left"/"right".
   std::string left_joint, right_joint;
+  /// MCAP: park the scans in a file in this directory while the bag is read, and hand them out
+  /// through ImportResult::scans instead of Dataset::scans (memory then holds the other streams
+  /// and one chunk; `slamprep import` spills into the dataset directory it is writing). Empty:
+  /// the scans are held in memory.
+  std::filesystem::path spill_dir;
 };
 
 /// What an import read and decided, printed by `slamprep import` (CARMEN fills it).
@@ -72,10 +78,25 @@ struct ImportSummary {
   std::map<std::string, std::size_t> dropped;    ///< reason -> lines not imported
 };
 
+/// The scans of an import that spilled them (ImportParams::spill_dir), in stamp order, ready to
+/// be written: mount, time increment and odometry pose applied as the in-memory import applies
+/// them; a scan the odometry does not cover is dropped with --trim, else next() throws.
+class ScanStream {
+ public:
+  virtual ~ScanStream() = default;
+  /// The next scan; false after the last.
+  virtual bool next(ScanRecord& out) = 0;
+  /// Scans handed out so far.
+  virtual std::size_t count() const = 0;
+  /// Notes on the scans (time increments replaced or 0, scans dropped), once all were read.
+  virtual std::vector<std::string> notes() const = 0;
+};
+
 struct ImportResult {
-  Dataset dataset;
+  Dataset dataset;                 ///< without scans when `scans` is set
   std::vector<std::string> notes;  ///< what was assumed or dropped, for the user
   ImportSummary summary;
+  std::unique_ptr<ScanStream> scans;  ///< set when the scans were spilled
 };
 
 /// Throws InputError naming the file, line and field on malformed logs, stamps out of order

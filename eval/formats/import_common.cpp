@@ -23,28 +23,35 @@ void checkParams(const ImportParams& p) {
 }
 
 /// Attaches the odometry to the scans; refuses (or with trim drops) scans it does not cover.
+bool attachOdometryTo(ScanRecord& r, const PoseSeries& odometry, bool trim,
+                      const std::string& where) {
+  if (!odometry.covers(r.scan.stamp_s) || !odometry.covers(r.scan.endTime())) {
+    if (trim) return false;
+    throw InputError(where,
+                     "scan at " + std::to_string(r.scan.stamp_s) + ".." +
+                         std::to_string(r.scan.endTime()) + " s is not covered by the odometry (" +
+                         (odometry.empty() ? std::string("none")
+                                           : std::to_string(odometry.frontStamp()) + ".." +
+                                                 std::to_string(odometry.backStamp()) + " s") +
+                         "); use --trim to drop such scans");
+  }
+  r.T_odom_base_nominal = odometry.at(r.scan.stamp_s);
+  return true;
+}
+
+std::string trimmedNote(std::size_t dropped) {
+  return dropped == 0
+             ? ""
+             : std::to_string(dropped) + " scans outside the odometry were dropped (--trim)";
+}
+
 void attachOdometry(Dataset& d, bool trim, const std::vector<std::string>& scan_where,
                     std::vector<std::string>& notes) {
   std::vector<ScanRecord> kept;
-  for (std::size_t i = 0; i < d.scans.size(); ++i) {
-    ScanRecord& r = d.scans[i];
-    if (!d.odom_nominal.covers(r.scan.stamp_s) || !d.odom_nominal.covers(r.scan.endTime())) {
-      if (trim) continue;
-      throw InputError(
-          scan_where[i],
-          "scan at " + std::to_string(r.scan.stamp_s) + ".." + std::to_string(r.scan.endTime()) +
-              " s is not covered by the odometry (" +
-              (d.odom_nominal.empty() ? std::string("none")
-                                      : std::to_string(d.odom_nominal.frontStamp()) + ".." +
-                                            std::to_string(d.odom_nominal.backStamp()) + " s") +
-              "); use --trim to drop such scans");
-    }
-    r.T_odom_base_nominal = d.odom_nominal.at(r.scan.stamp_s);
-    kept.push_back(std::move(r));
-  }
-  if (kept.size() < d.scans.size())
-    notes.push_back(std::to_string(d.scans.size() - kept.size()) +
-                    " scans outside the odometry were dropped (--trim)");
+  for (std::size_t i = 0; i < d.scans.size(); ++i)
+    if (attachOdometryTo(d.scans[i], d.odom_nominal, trim, scan_where[i]))
+      kept.push_back(std::move(d.scans[i]));
+  if (kept.size() < d.scans.size()) notes.push_back(trimmedNote(d.scans.size() - kept.size()));
   if (kept.empty()) throw InputError(scan_where.empty() ? "" : scan_where[0], "no scan left");
   d.scans = std::move(kept);
 }

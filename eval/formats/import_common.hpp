@@ -17,6 +17,14 @@ void checkGeometry(const DiffDriveParams& g, const std::string& where);
 /// Throws InputError naming the command-line option of the first invalid parameter.
 void checkParams(const ImportParams& p);
 
+/// Attaches the odometry pose at its stamp to one scan; false when the odometry does not cover
+/// the scan and `trim` says drop it; without trim such a scan is refused (InputError at `where`).
+bool attachOdometryTo(ScanRecord& scan, const PoseSeries& odometry, bool trim,
+                      const std::string& where);
+
+/// "N scans outside the odometry were dropped (--trim)"; empty when none was.
+std::string trimmedNote(std::size_t dropped);
+
 /// Attaches the odometry to the scans; refuses (or with trim drops) scans it does not cover.
 void attachOdometry(Dataset& d, bool trim, const std::vector<std::string>& scan_where,
                     std::vector<std::string>& notes);

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <memory>
 #include <numbers>
 
@@ -12,6 +13,7 @@
 #include "eval/formats/ros2_messages.hpp"
 #include "eval/formats/ros_samples.hpp"
 #include "eval/formats/rosbag2.hpp"
+#include "eval/formats/scan_spill.hpp"
 #include "eval/formats/text_io.hpp"
 #include "eval/formats/tf_tree.hpp"
 
@@ -19,6 +21,9 @@ namespace slamprep::eval {
 namespace {
 
 constexpr double kMaxTiltRad = 2.0 * std::numbers::pi / 180.0;
+
+// Inside the spill directory, removed before the directory is published.
+constexpr const char* kSpillFile = ".scans.spill";
 
 enum class Role { kNone, kScan, kOdom, kJoint, kImu, kTf, kTfStatic };
 
@@ -30,6 +35,12 @@ struct Place {
   Role role = Role::kNone;
 };
 
+std::string placeText(const std::vector<std::string>& files,
+                      const std::map<Role, std::string>& topics, const Place& p) {
+  return files[p.file] + ": offset " + std::to_string(p.offset) + ": " + topics.at(p.role) +
+         " message " + std::to_string(p.sequence);
+}
+
 template <typename T>
 struct Sample {
   std::uint64_t log_ns;
@@ -38,21 +49,32 @@ struct Sample {
 };
 
 /// The topics read and what the pass over the bag keeps of them: decoded values, not messages.
+/// Samples as they are read: a deque grows without copying what it holds (a 2-hour bag has
+/// 1.6 M IMU samples; a vector's doubling held up to three times their size at once).
+template <typename T>
+using Samples = std::deque<Sample<T>>;
+
+/// A scan parked in the spill file: its stamp (for the order checks) and where it starts.
+struct SpilledScan {
+  double stamp_s = 0.0;
+  std::uint64_t offset = 0;
+};
+
 struct BagData {
   std::vector<std::string> files;
   std::map<Role, std::string> topics;
-  std::vector<Sample<LaserScan>> scans;
+  Samples<LaserScan> scans;      ///< without a spill
+  ScanSpill* spill = nullptr;    ///< with one: the scans go there ...
+  Samples<SpilledScan> spilled;  ///< ... and this is what stays in memory
   std::string laser_frame;
-  std::vector<Sample<std::pair<double, SE2>>> odom;
-  std::vector<Sample<EncoderSample>> joints;
-  std::vector<Sample<ImuSample>> imu;
+  Samples<std::pair<double, SE2>> odom;
+  Samples<EncoderSample> joints;
+  Samples<ImuSample> imu;
   TfTree tf;
   std::optional<DiffDriveParams> geometry;  ///< from slamprep's Metadata record
 
-  std::string where(const Place& p) const {
-    return files[p.file] + ": offset " + std::to_string(p.offset) + ": " + topics.at(p.role) +
-           " message " + std::to_string(p.sequence);
-  }
+  std::string where(const Place& p) const { return placeText(files, topics, p); }
+  bool anyScan() const { return !scans.empty() || !spilled.empty(); }
 };
 
 std::string_view typeOf(Role r) {
@@ -75,11 +97,15 @@ void decode(const McapMessage& m, const Place& place, const ImportParams& p, Bag
   switch (place.role) {
     case Role::kScan: {
       const LaserScanMsg msg = decodeLaserScan(m.data, where);
-      if (d.scans.empty()) d.laser_frame = msg.header.frame_id;
+      if (!d.anyScan()) d.laser_frame = msg.header.frame_id;
       if (msg.header.frame_id != d.laser_frame)
         throw InputError(where, "header.frame_id: " + msg.header.frame_id +
                                     ", but the first scan's is " + d.laser_frame);
-      d.scans.push_back({m.log_time_ns, place, scanFromMsg(msg, where)});
+      LaserScan scan = scanFromMsg(msg, where);
+      if (d.spill)
+        d.spilled.push_back({m.log_time_ns, place, {scan.stamp_s, d.spill->append(scan)}});
+      else
+        d.scans.push_back({m.log_time_ns, place, std::move(scan)});
       break;
     }
     case Role::kOdom: {
@@ -154,17 +180,20 @@ void readFile(ByteSource& source, std::size_t file, const ImportParams& p, BagDa
 
 /// Sorts by log time (file order for equal times) and checks the header stamps increase.
 template <typename T, typename Stamp>
-void sortAndCheck(std::vector<Sample<T>>& samples, const BagData& d, Stamp stamp) {
-  std::stable_sort(samples.begin(), samples.end(),
-                   [](const auto& a, const auto& b) { return a.log_ns < b.log_ns; });
+void sortAndCheck(Samples<T>& samples, const BagData& d, Stamp stamp) {
+  const auto by_log_time = [](const auto& a, const auto& b) { return a.log_ns < b.log_ns; };
+  // Usually in order already; stable_sort would allocate a copy of them all.
+  if (!std::is_sorted(samples.begin(), samples.end(), by_log_time))
+    std::stable_sort(samples.begin(), samples.end(), by_log_time);
   for (std::size_t k = 1; k < samples.size(); ++k)
     requireIncreasing(stamp(samples[k - 1].value), stamp(samples[k].value),
                       {d.where(samples[k].place), 0}, "header.stamp");
 }
 
 BagData readBag(const std::vector<ByteSource*>& files, const ImportParams& p,
-                const std::string& bag) {
+                const std::string& bag, ScanSpill* spill) {
   BagData d;
+  d.spill = spill;
   for (const ByteSource* f : files) d.files.push_back(f->name());
   const BagTopics topics = listTopics(files);
   auto choose = [&](Role r, const std::string& chosen, const char* preferred, const char* flag) {
@@ -187,8 +216,9 @@ BagData readBag(const std::vector<ByteSource*>& files, const ImportParams& p,
       d.topics[role] = topic;
   for (std::size_t i = 0; i < files.size(); ++i) readFile(*files[i], i, p, d);
 
-  if (d.scans.empty()) throw InputError(bag, d.topics.at(Role::kScan) + ": no messages");
+  if (!d.anyScan()) throw InputError(bag, d.topics.at(Role::kScan) + ": no messages");
   sortAndCheck(d.scans, d, [](const LaserScan& s) { return s.stamp_s; });
+  sortAndCheck(d.spilled, d, [](const SpilledScan& s) { return s.stamp_s; });
   sortAndCheck(d.odom, d, [](const auto& o) { return o.first; });
   sortAndCheck(d.joints, d, [](const EncoderSample& e) { return e.stamp_s; });
   sortAndCheck(d.imu, d, [](const ImuSample& s) { return s.stamp_s; });
@@ -227,6 +257,7 @@ void attachEncoders(const BagData& d, const ImportParams& p, const std::string& 
     if (d.joints.size() < 2)
       throw InputError(bag, d.topics.at(Role::kJoint) + ": fewer than 2 messages");
     const DiffDriveParams nominal = nominalGeometry(d, p, false, bag);
+    ds.encoders.reserve(d.joints.size());
     for (const auto& s : d.joints) ds.encoders.push_back(s.value);
     const SE2 start = odom.at(ds.encoders.front().stamp_s).value_or(SE2());
     ds.odom_nominal = integrateEncoders(ds.encoders, nominal, p.ticks_per_revolution, start);
@@ -237,13 +268,24 @@ void attachEncoders(const BagData& d, const ImportParams& p, const std::string& 
   const DiffDriveParams nominal = nominalGeometry(d, p, true, bag);
   double lateral = 0.0;
   ds.encoders = encodersFromPoses(odom, nominal, p.ticks_per_revolution, &lateral);
-  ds.odom_nominal = odom;
+  ds.odom_nominal = std::move(odom);
   ds.info = importedInfo(
       p, nominal, bag, "mcap",
       "derived from Odometry " + d.topics.at(Role::kOdom) + " with the nominal geometry");
   if (lateral > 1e-6)
     r.notes.push_back("odometry has sideways steps up to " + std::to_string(lateral) +
                       " m that no wheel motion explains (dropped from the encoders)");
+}
+
+template <typename T>
+void release(Samples<T>& v) {
+  Samples<T>().swap(v);
+}
+
+/// An upside-down lidar's scan seen from above: beam angles negated.
+void mirror(LaserScan& scan) {
+  scan.angle_min_rad = -scan.angle_min_rad;
+  scan.angle_increment_rad = -scan.angle_increment_rad;
 }
 
 /// The lidar mount from the tf tree (or --lidar-mount); an upside-down lidar's beam angles are
@@ -274,10 +316,7 @@ void mountLidar(const BagData& d, const ImportParams& p, ImportResult& r) {
   info.T_base_lidar = mount.T_base_lidar;
   info.config["lidar_mount_from"] = "tf " + path.frames;
   if (mount.upside_down) {
-    for (ScanRecord& s : r.dataset.scans) {
-      s.scan.angle_min_rad = -s.scan.angle_min_rad;
-      s.scan.angle_increment_rad = -s.scan.angle_increment_rad;
-    }
+    for (ScanRecord& s : r.dataset.scans) mirror(s.scan);
     info.config["lidar_upside_down"] = "true";
     r.notes.push_back("lidar mounted upside down (tf " + path.frames +
                       "): beam angles negated, so the scans are clockwise in the base frame");
@@ -288,33 +327,105 @@ void mountLidar(const BagData& d, const ImportParams& p, ImportResult& r) {
                       std::to_string(path.motion_rad) + " rad): its first value is used");
 }
 
-void setTimeIncrement(const ImportParams& p, ImportResult& r) {
+/// Scans whose time_increment --time-increment replaced, and those left at 0.
+struct TimeIncrementCounts {
   std::size_t replaced = 0, zero = 0;
-  for (ScanRecord& s : r.dataset.scans) {
-    if (p.time_increment_s) {
-      if (s.scan.time_increment_s != 0 && s.scan.time_increment_s != *p.time_increment_s)
-        ++replaced;
-      s.scan.time_increment_s = *p.time_increment_s;
-    }
-    if (s.scan.time_increment_s == 0) ++zero;
+};
+
+void applyTimeIncrement(LaserScan& scan, const ImportParams& p, TimeIncrementCounts& counts) {
+  if (p.time_increment_s) {
+    if (scan.time_increment_s != 0 && scan.time_increment_s != *p.time_increment_s)
+      ++counts.replaced;
+    scan.time_increment_s = *p.time_increment_s;
   }
-  const std::string n = std::to_string(r.dataset.scans.size());
-  if (replaced)
-    r.notes.push_back("--time-increment replaced a different time_increment in " +
-                      std::to_string(replaced) + " of " + n + " scans");
-  if (zero)
-    r.notes.push_back(std::to_string(zero) + " of " + n +
-                      " scans have time_increment 0 (the bag does not say when each beam was "
-                      "taken): de-skew methods will refuse them; give --time-increment SECONDS");
+  if (scan.time_increment_s == 0) ++counts.zero;
 }
+
+void addTimeIncrementNotes(const TimeIncrementCounts& c, std::size_t scans,
+                           std::vector<std::string>& notes) {
+  const std::string n = std::to_string(scans);
+  if (c.replaced)
+    notes.push_back("--time-increment replaced a different time_increment in " +
+                    std::to_string(c.replaced) + " of " + n + " scans");
+  if (c.zero)
+    notes.push_back(std::to_string(c.zero) + " of " + n +
+                    " scans have time_increment 0 (the bag does not say when each beam was "
+                    "taken): de-skew methods will refuse them; give --time-increment SECONDS");
+}
+
+void setTimeIncrement(const ImportParams& p, ImportResult& r) {
+  TimeIncrementCounts counts;
+  for (ScanRecord& s : r.dataset.scans) applyTimeIncrement(s.scan, p, counts);
+  addTimeIncrementNotes(counts, r.dataset.scans.size(), r.notes);
+}
+
+/// The spilled scans read back in stamp order with what importBag does to scans in memory:
+/// mirrored when the lidar is upside down, the time increment set, the odometry attached.
+class SpilledScans final : public ScanStream {
+ public:
+  SpilledScans(std::unique_ptr<ScanSpill> spill, BagData& d, const Dataset& ds,
+               const ImportParams& p)
+      : spill_(std::move(spill)),
+        stubs_(std::move(d.spilled)),
+        files_(d.files),
+        topics_(d.topics),
+        odometry_(ds.odom_nominal),
+        upside_down_(ds.info.config.value("lidar_upside_down", "") == "true"),
+        params_(p) {}
+
+  bool next(ScanRecord& out) override {
+    while (k_ < stubs_.size()) {
+      const Sample<SpilledScan>& stub = stubs_[k_++];
+      ScanRecord r;
+      r.scan = spill_->read(stub.value.offset);
+      if (upside_down_) mirror(r.scan);
+      applyTimeIncrement(r.scan, params_, counts_);
+      if (!attachOdometryTo(r, odometry_, params_.trim, where(stub.place))) {
+        ++dropped_;
+        continue;
+      }
+      out = std::move(r);
+      ++count_;
+      return true;
+    }
+    if (count_ == 0) throw InputError(where(stubs_.front().place), "no scan left");
+    return false;
+  }
+
+  std::size_t count() const override { return count_; }
+
+  std::vector<std::string> notes() const override {
+    std::vector<std::string> notes;
+    addTimeIncrementNotes(counts_, stubs_.size(), notes);
+    if (dropped_) notes.push_back(trimmedNote(dropped_));
+    return notes;
+  }
+
+ private:
+  std::string where(const Place& p) const { return placeText(files_, topics_, p); }
+
+  std::unique_ptr<ScanSpill> spill_;
+  Samples<SpilledScan> stubs_;
+  std::vector<std::string> files_;
+  std::map<Role, std::string> topics_;
+  PoseSeries odometry_;
+  bool upside_down_ = false;
+  ImportParams params_;
+  TimeIncrementCounts counts_;
+  std::size_t k_ = 0, count_ = 0, dropped_ = 0;
+};
 
 ImportResult importBag(const std::vector<ByteSource*>& files, const ImportParams& p,
                        const std::string& bag) {
   checkParams(p);
   if (p.base_frame.empty()) throw InputError("--base-frame", "must not be empty");
-  BagData d = readBag(files, p, bag);
+  std::unique_ptr<ScanSpill> spill;
+  if (!p.spill_dir.empty()) spill = std::make_unique<ScanSpill>(p.spill_dir / kSpillFile);
+  BagData d = readBag(files, p, bag, spill.get());
   ImportResult r;
   attachEncoders(d, p, bag, r);
+  release(d.odom);  // what a long bag holds besides its scans: freed as soon as converted
+  release(d.joints);
   Dataset& ds = r.dataset;
   std::vector<std::string> scan_where;
   for (auto& s : d.scans) {  // moved: a long bag's scans are most of the memory
@@ -323,13 +434,19 @@ ImportResult importBag(const std::vector<ByteSource*>& files, const ImportParams
     ds.scans.push_back(std::move(record));
     scan_where.push_back(d.where(s.place));
   }
+  ds.imu.reserve(d.imu.size());
   for (const auto& s : d.imu) ds.imu.push_back(s.value);
+  release(d.imu);
   ds.info.config["scan_topic"] = d.topics.at(Role::kScan);
   if (files.size() > 1) ds.info.config["bag_files"] = std::to_string(files.size());
   mountLidar(d, p, r);
   const SE2& m = ds.info.T_base_lidar;
   if (!std::isfinite(m.x) || !std::isfinite(m.y) || !std::isfinite(m.yaw))
     throw InputError(bag, "lidar mount not finite");
+  if (spill) {
+    r.scans = std::make_unique<SpilledScans>(std::move(spill), d, ds, p);
+    return r;
+  }
   setTimeIncrement(p, r);
   attachOdometry(ds, p.trim, scan_where, r.notes);
   return r;

@@ -387,6 +387,22 @@ void writeScans(const std::filesystem::path& path, const std::vector<ScanRecord>
   });
 }
 
+void writeScans(const std::filesystem::path& path, const ScanSource& next,
+                const std::string& file) {
+  std::size_t k = 0;
+  ScanRecord record;
+  double last_stamp = 0.0;
+  writeTextFile(path, [&](std::string& out) {
+    for (std::size_t end = k + 16; k < end && next(record); ++k) {
+      const TextLocation where{file, k + 1};
+      if (k > 0) requireIncreasing(last_stamp, record.scan.stamp_s, where, "stamp_s");
+      last_stamp = record.scan.stamp_s;
+      appendScanLine(out, record, where);
+    }
+    return !out.empty();
+  });
+}
+
 std::vector<ScanRecord> parseScans(std::string_view text, const std::string& file,
                                    std::vector<std::size_t>* line_numbers) {
   std::vector<ScanRecord> scans;

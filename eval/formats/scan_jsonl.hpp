@@ -3,6 +3,7 @@
 // Scan Matcher) plus slamprep's exact fields (docs/dataset.md, "scans.jsonl").
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -30,6 +31,10 @@ std::string formatScans(const std::vector<ScanRecord>& scans, const std::string&
 /// 1 GB per 30 min), with writeTextFile's durability; `file` names it in errors.
 void writeScans(const std::filesystem::path& path, const std::vector<ScanRecord>& scans,
                 const std::string& file);
+/// The same from a source that hands out one scan at a time (false after the last), so the
+/// scans need never all be in memory.
+using ScanSource = std::function<bool(ScanRecord&)>;
+void writeScans(const std::filesystem::path& path, const ScanSource& next, const std::string& file);
 /// Every non-blank line is a scan; stamps must increase strictly. `line_numbers`, when given,
 /// receives the 1-based line of every scan (for messages about a scan found later).
 std::vector<ScanRecord> parseScans(std::string_view text, const std::string& file,

@@ -180,4 +180,16 @@ void writeTextFile(const std::filesystem::path& path,
     throw InputError(path.string(), std::string("flush failed: ") + std::strerror(errno));
 }
 
+void writeRows(const std::filesystem::path& path, std::string_view header, std::size_t rows,
+               const std::function<void(std::string&, std::size_t)>& append_row) {
+  std::size_t k = 0;
+  bool header_written = false;
+  writeTextFile(path, [&](std::string& out) {
+    if (!header_written) out += header;
+    header_written = true;
+    for (const std::size_t end = std::min(rows, k + 4096); k < end; ++k) append_row(out, k);
+    return !out.empty();
+  });
+}
+
 }  // namespace slamprep::eval

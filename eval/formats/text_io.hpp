@@ -95,5 +95,9 @@ void writeTextFile(const std::filesystem::path& path, std::string_view text);
 /// fills its (cleared) argument with the next piece and returns false when there is none.
 void writeTextFile(const std::filesystem::path& path,
                    const std::function<bool(std::string&)>& next_piece);
+/// A table written piece by piece: `header`, then append_row(out, k) for k = 0 .. rows - 1, 4096
+/// rows a piece (a 2-hour log's IMU table is ~100 MB of text).
+void writeRows(const std::filesystem::path& path, std::string_view header, std::size_t rows,
+               const std::function<void(std::string&, std::size_t)>& append_row);
 
 }  // namespace slamprep::eval

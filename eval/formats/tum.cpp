@@ -45,30 +45,44 @@ double yawFromQuaternion(double qx, double qy, double qz, double qw) {
   return std::atan2(2.0 * (qw * qz + qx * qy), qw * qw + qx * qx - qy * qy - qz * qz);
 }
 
+namespace {
+
+constexpr const char* kTumHeader = "# t x y z qx qy qz qw\n";
+
+void appendTumRow(std::string& out, const PoseSeries& poses, std::size_t k,
+                  const std::string& file) {
+  const auto& sample = poses[k];
+  const SE2& T = sample.value;
+  const TextLocation where{file, k + 2};  // after the header line
+  if (!std::isfinite(sample.stamp_s) || !std::isfinite(T.x) || !std::isfinite(T.y) ||
+      !std::isfinite(T.yaw))
+    throw InputError(where.str(), "t x y yaw: must be finite to be written");
+  if (k > 0) requireIncreasing(poses[k - 1].stamp_s, sample.stamp_s, where, "t");
+  const YawQuaternion q = yawToQuaternion(T.yaw);
+  appendDouble(out, sample.stamp_s);
+  out += ' ';
+  appendDouble(out, T.x);
+  out += ' ';
+  appendDouble(out, T.y);
+  out += " 0 0 0 ";
+  appendDouble(out, q.qz);
+  out += ' ';
+  appendDouble(out, q.qw);
+  out += '\n';
+}
+
+}  // namespace
+
 std::string formatTum(const PoseSeries& poses, const std::string& file) {
-  std::string out = "# t x y z qx qy qz qw\n";
+  std::string out = kTumHeader;
   out.reserve(out.size() + poses.size() * 96);
-  for (std::size_t k = 0; k < poses.size(); ++k) {
-    const auto& sample = poses[k];
-    const SE2& T = sample.value;
-    const TextLocation where{file, k + 2};  // after the header line
-    if (!std::isfinite(sample.stamp_s) || !std::isfinite(T.x) || !std::isfinite(T.y) ||
-        !std::isfinite(T.yaw))
-      throw InputError(where.str(), "t x y yaw: must be finite to be written");
-    if (k > 0) requireIncreasing(poses[k - 1].stamp_s, sample.stamp_s, where, "t");
-    const YawQuaternion q = yawToQuaternion(T.yaw);
-    appendDouble(out, sample.stamp_s);
-    out += ' ';
-    appendDouble(out, T.x);
-    out += ' ';
-    appendDouble(out, T.y);
-    out += " 0 0 0 ";
-    appendDouble(out, q.qz);
-    out += ' ';
-    appendDouble(out, q.qw);
-    out += '\n';
-  }
+  for (std::size_t k = 0; k < poses.size(); ++k) appendTumRow(out, poses, k, file);
   return out;
+}
+
+void writeTum(const std::filesystem::path& path, const PoseSeries& poses, const std::string& file) {
+  writeRows(path, kTumHeader, poses.size(),
+            [&](std::string& out, std::size_t k) { appendTumRow(out, poses, k, file); });
 }
 
 PoseSeries parseTum(std::string_view text, const std::string& file) {

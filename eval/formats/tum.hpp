@@ -26,6 +26,8 @@ double yawFromQuaternion(double qx, double qy, double qz, double qw);
 /// TUM text of a planar trajectory, with a '#' header line. Throws InputError("file:line") for
 /// non-finite values or stamps that do not increase (what the reader would reject).
 std::string formatTum(const PoseSeries& poses, const std::string& file);
+/// The same text written to `path` piece by piece.
+void writeTum(const std::filesystem::path& path, const PoseSeries& poses, const std::string& file);
 /// Parses TUM text; `file` names it in errors. Rejects wrong column counts, non-numbers, NaN/Inf,
 /// quaternions far from unit norm and timestamps that do not increase strictly.
 PoseSeries parseTum(std::string_view text, const std::string& file);

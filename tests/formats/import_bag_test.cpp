@@ -263,5 +263,47 @@ TEST(ImportBag, ScansWithoutBeamTimingAreKeptWithANoteOrGivenOne) {
   for (const auto& n : given.notes) EXPECT_EQ(n.find("time_increment 0"), std::string::npos) << n;
 }
 
+// A spilled import (what `slamprep import` does with a bag) hands out the scans the in-memory
+// import holds, bit for bit: mirrored for an upside-down lidar, time increments as given, the
+// odometry attached; the notes are the same and the spill file is gone with the stream.
+TEST(ImportBag, SpilledScansAreTheScansOfTheInMemoryImport) {
+  test::RobotBagParams b;
+  b.tf_static = {test::transform("base_link", "laser",
+                                 test::pose3(0.2, -0.1, 0.3, std::numbers::pi, 0.0, 0.4))};
+  b.time_increment_s = 0.0f;
+  const fs::path file = test::scratch("spill.mcap");
+  writeFileAtomic(file, test::robotBag(b));
+  const fs::path spill_dir = test::scratch("spill_dir");
+  fs::create_directories(spill_dir);
+  ImportParams p;
+  p.nominal_geometry = DiffDriveParams{0.1, 0.1, 0.5};
+  const ImportResult memory = importMcap(file, p);
+  p.spill_dir = spill_dir;
+  ImportResult spilled = importMcap(file, p);
+  ASSERT_TRUE(spilled.scans);
+  EXPECT_TRUE(spilled.dataset.scans.empty());
+  EXPECT_FALSE(fs::is_empty(spill_dir));
+  std::vector<ScanRecord> streamed;
+  for (ScanRecord r; spilled.scans->next(r);) streamed.push_back(r);
+  ASSERT_EQ(streamed.size(), memory.dataset.scans.size());
+  EXPECT_EQ(spilled.scans->count(), streamed.size());
+  for (std::size_t k = 0; k < streamed.size(); ++k) {
+    const LaserScan &a = streamed[k].scan, &m = memory.dataset.scans[k].scan;
+    EXPECT_EQ(a.stamp_s, m.stamp_s);
+    EXPECT_EQ(a.angle_min_rad, m.angle_min_rad);
+    EXPECT_EQ(a.angle_increment_rad, m.angle_increment_rad);
+    EXPECT_EQ(a.time_increment_s, m.time_increment_s);
+    EXPECT_EQ(a.ranges_m, m.ranges_m);
+    ASSERT_TRUE(streamed[k].T_odom_base_nominal);
+    EXPECT_EQ(streamed[k].T_odom_base_nominal->x, memory.dataset.scans[k].T_odom_base_nominal->x);
+  }
+  EXPECT_LT(memory.dataset.scans[0].scan.angle_increment_rad, 0.0);  // mirrored in both
+  std::vector<std::string> notes = spilled.notes;
+  for (const std::string& n : spilled.scans->notes()) notes.push_back(n);
+  EXPECT_EQ(notes, memory.notes);
+  spilled.scans.reset();
+  EXPECT_TRUE(fs::is_empty(spill_dir));
+}
+
 }  // namespace
 }  // namespace slamprep::eval
