@@ -186,6 +186,25 @@ json decimated(const PoseSeries& poses, double step_s) {
   return xyArray(points);
 }
 
+// Dead-reckoning error against the truth every `step_s`, with both started on the true start
+// pose (evo's APE, aligned at the first pose): {"t", "translation_m", "heading_deg"}.
+json odometryErrorJson(const PoseSeries& truth, const PoseSeries& odometry_world, double step_s) {
+  json out = {
+      {"t", json::array()}, {"translation_m", json::array()}, {"heading_deg", json::array()}};
+  double next = -1e300;
+  for (const auto& s : odometry_world.samples()) {
+    if (s.stamp_s < next) continue;
+    const auto T_true = truth.at(s.stamp_s);
+    if (!T_true) continue;
+    const SE2 e = T_true->inverse() * s.value;
+    out["t"].push_back(s.stamp_s);
+    out["translation_m"].push_back((s.value.translation() - T_true->translation()).norm());
+    out["heading_deg"].push_back(e.yaw * 180.0 / std::numbers::pi);
+    next = s.stamp_s + step_s;
+  }
+  return out;
+}
+
 // The scan whose true lidar turned most while it was taken: where distortion shows best.
 std::size_t mostDistortedScan(const Dataset& dataset) {
   std::size_t best = 0;
@@ -212,14 +231,17 @@ json artifactsJson(const Dataset& dataset, const DiffDriveParams* calibrated,
     PoseSeries world;
     const SE2 T_world_odom = dataset.groundtruth[0].value * odom[0].value.inverse();
     for (const auto& s : odom.samples()) world.push_back(s.stamp_s, T_world_odom * s.value);
-    return decimated(world, step_s);
+    return world;
   };
   const int ticks = dataset.info.ticks_per_revolution;
-  out["trajectory"]["nominal"] =
-      anchored(integrateEncoders(dataset.encoders, dataset.info.nominal_geometry, ticks));
+  const auto addOdometry = [&](const char* name, const DiffDriveParams& geometry) {
+    const PoseSeries world = anchored(integrateEncoders(dataset.encoders, geometry, ticks));
+    out["trajectory"][name] = decimated(world, step_s);
+    out["odometry_error"][name] = odometryErrorJson(dataset.groundtruth, world, step_s);
+  };
+  addOdometry("nominal", dataset.info.nominal_geometry);
   if (calibrated) {
-    out["trajectory"]["calibrated"] =
-        anchored(integrateEncoders(dataset.encoders, *calibrated, ticks));
+    addOdometry("calibrated", *calibrated);
     out["trajectory"]["calibrated_method"] = calibrated_method;
   }
   const std::size_t k = mostDistortedScan(dataset);

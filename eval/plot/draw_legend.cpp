@@ -102,6 +102,18 @@ void drawLegendSample(GlCanvas& canvas, const LegendEntry& e, double x0, double 
 
 }  // namespace
 
+double outsideLegendWidth(const Axes& axes, const Metrics& m, TextRenderer& text) {
+  double widest = 0.0;
+  bool any = false;
+  for (const Segments& s : axes.segments)
+    if (!s.label.empty())
+      widest = std::max(widest, text.measure(s.label, m.legend_font).width_px), any = true;
+  for (const Series& s : axes.series)
+    if (!s.label.empty())
+      widest = std::max(widest, text.measure(s.label, m.legend_font).width_px), any = true;
+  return any ? m.pad + 2.4 * m.legend_font + m.pad + widest + m.pad * 1.25 : 0.0;
+}
+
 void drawLegend(GlCanvas& canvas, const Axes& axes, const PanelLayout& L,
                 const std::vector<Look>& looks, const Metrics& m, TextRenderer& text,
                 std::vector<TextItem>& texts) {
@@ -110,10 +122,7 @@ void drawLegend(GlCanvas& canvas, const Axes& axes, const PanelLayout& L,
   if (entries.empty()) return;
   const double row = 1.5 * m.legend_font;
   const double sample = 2.4 * m.legend_font;
-  double widest = 0.0;
-  for (const auto& e : entries)
-    widest = std::max(widest, text.measure(e.label, m.legend_font).width_px);
-  const double w = m.pad + sample + m.pad + widest + m.pad * 1.25;
+  const double w = outsideLegendWidth(axes, m, text);
   const double h = m.pad * 0.75 * 2 + row * static_cast<double>(entries.size());
 
   LegendPosition position = axes.legend;
@@ -125,7 +134,11 @@ void drawLegend(GlCanvas& canvas, const Axes& axes, const PanelLayout& L,
       if (c < best) best = c, position = candidate;
     }
   }
-  const PixelRect box = legendBox(position, L, w, h, m.pad);
+  const PixelRect box =
+      position == LegendPosition::Outside
+          ? PixelRect{std::round(L.right_px + m.pad), L.top_px, std::round(L.right_px + m.pad + w),
+                      std::round(L.top_px + h)}
+          : legendBox(position, L, w, h, m.pad);
   Triangles fill, edge;
   appendRect(fill, box);
   canvas.fill(fill, kLegendFill);

@@ -190,7 +190,7 @@ bool usable(double value, bool log_axis) {
 
 double dodgeOffset(const Axes& axes, std::size_t index) {
   const std::size_t n = axes.series.size();
-  if (axes.categories.empty() || n < 2) return 0.0;
+  if (axes.categories.empty() || !axes.dodge || n < 2) return 0.0;
   // Bars share 80 % of a category; markers with error bars read better closer together (50 %).
   const bool bars = std::any_of(axes.series.begin(), axes.series.end(),
                                 [](const Series& s) { return s.style == Style::Bars; });
@@ -233,8 +233,10 @@ void validateFigure(const Figure& f) {
   if (f.rows < 1 || f.cols < 1 || f.rows > 16 || f.cols > 16) {
     throw InputError(name, "rows and cols must be within 1..16");
   }
-  if (f.axes.size() > static_cast<std::size_t>(f.rows * f.cols)) {
-    throw InputError(name, std::to_string(f.axes.size()) + " axes do not fit a " +
+  const auto gridded = static_cast<std::size_t>(
+      std::count_if(f.axes.begin(), f.axes.end(), [](const Axes& a) { return !a.inset; }));
+  if (gridded > static_cast<std::size_t>(f.rows * f.cols)) {
+    throw InputError(name, std::to_string(gridded) + " axes do not fit a " +
                                std::to_string(f.rows) + "x" + std::to_string(f.cols) + " grid");
   }
   if (!std::isfinite(f.font_scale) || f.font_scale <= 0.0 || f.font_scale > 10.0) {
@@ -246,6 +248,12 @@ void validateFigure(const Figure& f) {
   for (std::size_t i = 0; i < f.axes.size(); ++i) {
     const Axes& a = f.axes[i];
     const std::string where = name + ": axes[" + std::to_string(i) + "]";
+    if (a.inset) {
+      const auto& r = *a.inset;
+      if (!(r[0] >= 0.0 && r[0] < r[2] && r[2] <= 1.0 && r[1] >= 0.0 && r[1] < r[3] && r[3] <= 1.0))
+        throw InputError(where + ".inset",
+                         "must be fractions left < right, top < bottom in [0, 1]");
+    }
     checkRange(a.x_range, a.log_x, where + ".x_range");
     checkRange(a.y_range, a.log_y, where + ".y_range");
     if (!a.categories.empty() && a.log_x) {
@@ -285,7 +293,9 @@ PanelPlan planPanel(const Axes& axes, const PixelRect& cell, const Metrics& m, T
                         (axes.x_label.empty() ? 0.0 : m.pad * 0.5 + label_h) + m.pad;
   const double label_column = axes.y_label.empty() ? 0.0 : label_h + m.pad * 0.75;
   double left = m.pad + label_column + 3.0 * m.tick_font + m.pad * 0.5 + m.tick_length;
-  double right = 2.0 * m.pad;
+  const double legend =
+      axes.legend == LegendPosition::Outside ? outsideLegendWidth(axes, m, text) + m.pad : 0.0;
+  double right = 2.0 * m.pad + legend;
 
   PanelPlan plan;
   plan.cell = cell;
@@ -315,7 +325,7 @@ PanelPlan planPanel(const Axes& axes, const PixelRect& cell, const Metrics& m, T
     // Margins that fit the labels just measured; the next pass uses them.
     left = m.pad + label_column + widestLabel(plan.y_ticks, m.tick_font, text) + m.pad * 0.5 +
            m.tick_length;
-    right = 2.0 * m.pad;
+    right = 2.0 * m.pad + legend;
     for (const Tick& t : plan.x_ticks) {
       if (!t.major) continue;
       const double half = text.measure(t.label, m.tick_font).width_px / 2;
@@ -344,11 +354,20 @@ FigurePlan planFigure(const Figure& figure, TextRenderer& text) {
                        figure.height_px - m.pad * 0.5};
   const double cell_w = (area.right - area.left) / figure.cols;
   const double cell_h = (area.bottom - area.top) / figure.rows;
-  for (std::size_t i = 0; i < figure.axes.size(); ++i) {
-    const int row = static_cast<int>(i) / figure.cols, col = static_cast<int>(i) % figure.cols;
-    const PixelRect cell{area.left + col * cell_w, area.top + row * cell_h,
-                         area.left + (col + 1) * cell_w, area.top + (row + 1) * cell_h};
-    plan.panels.push_back(planPanel(figure.axes[i], cell, m, text));
+  int grid_index = 0;  // insets take no place in the grid
+  for (const Axes& axes : figure.axes) {
+    PixelRect cell;
+    if (axes.inset) {
+      const auto& f = *axes.inset;
+      cell = {f[0] * figure.width_px, f[1] * figure.height_px, f[2] * figure.width_px,
+              f[3] * figure.height_px};
+    } else {
+      const int row = grid_index / figure.cols, col = grid_index % figure.cols;
+      ++grid_index;
+      cell = {area.left + col * cell_w, area.top + row * cell_h, area.left + (col + 1) * cell_w,
+              area.top + (row + 1) * cell_h};
+    }
+    plan.panels.push_back(planPanel(axes, cell, m, text));
   }
   return plan;
 }

@@ -42,6 +42,10 @@ struct FigurePlan {
   std::vector<PanelPlan> panels;
 };
 
+/// Width of a LegendPosition::Outside legend (0 without labelled series), which the panel's
+/// plot area leaves free on its right (draw_legend.cpp).
+double outsideLegendWidth(const Axes& axes, const Metrics& m, TextRenderer& text);
+
 /// Lays out every panel of a validated figure.
 FigurePlan planFigure(const Figure& figure, TextRenderer& text);
 

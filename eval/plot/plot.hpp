@@ -52,8 +52,9 @@ enum class Style {
 /// Marker shape; Auto picks by series index so series differ in shape as well as colour.
 enum class Marker { Auto, Circle, Square, Triangle, Diamond, TriangleDown, Plus, Cross };
 
-/// Where the legend goes. Auto picks the corner that covers the fewest data.
-enum class LegendPosition { Auto, UpperRight, UpperLeft, LowerLeft, LowerRight, None };
+/// Where the legend goes. Auto picks the corner that covers the fewest data; Outside puts it to
+/// the right of the plot area, which is narrowed to make room, so it never covers data.
+enum class LegendPosition { Auto, UpperRight, UpperLeft, LowerLeft, LowerRight, Outside, None };
 
 /// One data series. x and y have equal length; non-finite points (and y <= 0 on a log y axis,
 /// x <= 0 on a log x axis) are skipped and break a line.
@@ -99,8 +100,13 @@ struct Axes {
   bool grid = true;                ///< light grid at the major ticks
   LegendPosition legend = LegendPosition::Auto;  ///< legend placement
   std::vector<std::string> categories{};  ///< non-empty: categorical x, labels at x = 0, 1, ...
-  std::vector<Segments> segments{};       ///< outlines, drawn first
-  std::vector<Series> series{};           ///< data, drawn in order
+  /// Categorical x: series side by side within a category slot; false: each at its own x.
+  bool dodge = true;
+  /// An inset: the panel's cell as fractions of the figure (left, top, right, bottom) instead of
+  /// its place in the grid; drawn on white over the panels before it.
+  std::optional<std::array<double, 4>> inset{};
+  std::vector<Segments> segments{};  ///< outlines, drawn first
+  std::vector<Series> series{};      ///< data, drawn in order
 };
 
 /// A whole image: a title and a grid of panels.

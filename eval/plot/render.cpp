@@ -33,6 +33,11 @@ Image render(const Figure& figure) {
     const PanelPlan& panel = plan.panels[i];
     const PanelLayout& L = panel.layout;
     const auto looks = resolveLooks(axes);
+    if (axes.inset) {  // on white, over whatever panel it sits in
+      Triangles blank;
+      appendRect(blank, panel.cell);
+      canvas.fill(blank, kWhite);
+    }
     canvas.setClip(plotRect(L));
     if (axes.grid) drawGrid(canvas, panel, axes, m);
     drawSegments(canvas, axes, L);

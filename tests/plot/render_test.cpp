@@ -360,3 +360,35 @@ TEST(Render, FontScaleGrowsTheMargins) {
 
 }  // namespace
 }  // namespace slamprep::eval::plot
+
+namespace slamprep::eval::plot {
+namespace {
+
+// An Outside legend narrows the plot area by its width and is drawn in the space freed, so it
+// covers no data; an inset takes no grid cell and sits where it is put.
+TEST(Render, OutsideLegendLeavesThePlotAreaToTheData) {
+  Figure fig{.width_px = 600, .height_px = 400};
+  Axes axes{.legend = LegendPosition::None};
+  axes.series.push_back({.label = "a rather long method name", .x = {0, 1}, .y = {0, 1}});
+  fig.axes = {axes};
+  const double right_none = layoutFigure(fig)[0].right_px;
+  fig.axes[0].legend = LegendPosition::Outside;
+  const PanelLayout outside = layoutFigure(fig)[0];
+  EXPECT_LT(outside.right_px, right_none - 150.0);
+  const Image image = render(fig);
+  bool ink_right_of_plot = false;  // the legend's text, beside the plot area
+  for (int y = static_cast<int>(outside.top_px); y < static_cast<int>(outside.top_px) + 40; ++y)
+    for (int x = static_cast<int>(outside.right_px) + 20; x < fig.width_px - 5; ++x)
+      ink_right_of_plot = ink_right_of_plot || image.pixel(x, y)[0] < 128;
+  EXPECT_TRUE(ink_right_of_plot);
+  Axes inset{.inset = std::array<double, 4>{0.6, 0.1, 0.9, 0.4}};
+  inset.series.push_back({.x = {0, 1}, .y = {0, 1}});
+  fig.axes.push_back(inset);
+  const auto layouts = layoutFigure(fig);  // a 1x1 grid holds the main panel and the inset
+  ASSERT_EQ(layouts.size(), 2u);
+  EXPECT_GT(layouts[1].left_px, 0.6 * fig.width_px);
+  EXPECT_LT(layouts[1].bottom_px, 0.4 * fig.height_px);
+}
+
+}  // namespace
+}  // namespace slamprep::eval::plot

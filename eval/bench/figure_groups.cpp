@@ -1,0 +1,141 @@
+#include "eval/bench/figure_groups.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <regex>
+
+namespace slamprep::eval {
+namespace {
+
+using nlohmann::json;
+
+// Scenario files in words; others: the file's stem with spaces.
+std::string scenarioWords(const std::string& file) {
+  static const std::map<std::string, std::string> kKnown = {
+      {"default", "Calibration drive"},
+      {"calibration_3min", "3-minute calibration drive"},
+      {"arc", "Circle arc, 1 m/s"},
+      {"random_smooth", "Random smooth drive"},
+      {"figure_eight", "Figure eight"},
+      {"explore", "Exploration"},
+      {"spin", "Spins"},
+      {"stop_and_go", "Stop and go"}};
+  const std::string stem = std::filesystem::path(file).stem().string();
+  if (const auto it = kKnown.find(stem); it != kKnown.end()) return it->second;
+  static const std::regex kCircle(R"(circle_v([0-9.]+))");
+  std::smatch m;
+  if (std::regex_match(stem, m, kCircle)) return "Circle at " + m[1].str() + " m/s";
+  std::string words = stem;
+  std::replace(words.begin(), words.end(), '_', ' ');
+  if (!words.empty()) words[0] = static_cast<char>(std::toupper(words[0]));
+  return words;
+}
+
+// A sweep value in words: "lidar 5 Hz", "120 s", "range noise 5 mm", "faults: all".
+std::string sweepWords(const std::string& key, const std::string& value) {
+  if (key == "lidar.rate_hz") return "lidar " + value + " Hz";
+  if (key == "duration_s") return value + " s";
+  if (key == "lidar.range_noise_m") {
+    const double mm = std::stod(value) * 1e3;
+    char text[32];
+    std::snprintf(text, sizeof text, "range noise %g mm", mm);
+    return text;
+  }
+  if (key == "faults.enable") {
+    std::string v = value;
+    std::replace(v.begin(), v.end(), '_', ' ');
+    return v == "none" ? "no fault" : v == "all" ? "every fault" : v;
+  }
+  return key + " = " + value;
+}
+
+}  // namespace
+
+std::string conditionLabel(const json& group, const json& groups) {
+  const std::string scenario = group.value("scenario", "");
+  const bool scenarios_differ = std::any_of(groups.begin(), groups.end(), [&](const json& g) {
+    return g.value("scenario", "") != scenario;
+  });
+  std::string label = scenarios_differ ? scenarioWords(scenario) : "";
+  for (const auto& [key, value] : group["sweep"].items())
+    label += (label.empty() ? "" : ", ") + sweepWords(key, value.get<std::string>());
+  return label.empty() ? scenarioWords(scenario) : label;
+}
+
+std::string seedsNote(int seeds) {
+  return seeds <= 1 ? "1 seed" : "mean ± 1σ over " + std::to_string(seeds) + " seeds";
+}
+
+double statOf(const json& metrics, const std::string& path, const char* stat) {
+  return metrics.contains(path) ? metrics[path][stat].get<double>() : std::nan("");
+}
+
+std::vector<std::string> methodsIn(const json& groups, const std::string& section,
+                                   const std::string& leaf) {
+  std::vector<std::string> out;
+  const std::string prefix = section + "/", suffix = "/" + leaf;
+  for (const auto& g : groups)
+    for (const auto& [path, _] : g["metrics"].items()) {
+      if (path.rfind(prefix, 0) != 0 || path.size() <= prefix.size() + suffix.size() ||
+          path.compare(path.size() - suffix.size(), suffix.size(), suffix) != 0)
+        continue;
+      const std::string method =
+          path.substr(prefix.size(), path.size() - prefix.size() - suffix.size());
+      if (method.find('/') == std::string::npos &&
+          std::find(out.begin(), out.end(), method) == out.end())
+        out.push_back(method);
+    }
+  return out;
+}
+
+plot::Color methodColor(const std::vector<std::string>& all, const std::string& method) {
+  return plot::paletteColor(std::find(all.begin(), all.end(), method) - all.begin());
+}
+
+plot::Marker methodMarker(const std::vector<std::string>& all, const std::string& method) {
+  static const plot::Marker kShapes[] = {plot::Marker::Circle,       plot::Marker::Square,
+                                         plot::Marker::Triangle,     plot::Marker::Diamond,
+                                         plot::Marker::TriangleDown, plot::Marker::Plus,
+                                         plot::Marker::Cross};
+  const auto i = static_cast<std::size_t>(std::find(all.begin(), all.end(), method) - all.begin());
+  return kShapes[i % std::size(kShapes)];
+}
+
+plot::Series methodDots(const std::vector<std::string>& all, const std::string& method) {
+  return {.label = method,
+          .style = plot::Style::Markers,
+          .color = methodColor(all, method),
+          .marker_size_px = 9.0,
+          .marker = methodMarker(all, method)};
+}
+
+std::optional<std::vector<double>> scenarioSeries(const json& groups) {
+  static const std::regex kNumbered(R"((.*[^0-9.])([0-9]+(\.[0-9]+)?))");
+  std::optional<std::string> stem;
+  std::vector<double> values;
+  for (const auto& g : groups) {
+    const std::string s = std::filesystem::path(g.value("scenario", "")).stem().string();
+    std::smatch m;
+    if (!std::regex_match(s, m, kNumbered)) return std::nullopt;
+    if (stem && *stem != m[1].str()) return std::nullopt;
+    stem = m[1].str();
+    values.push_back(std::stod(m[2].str()));
+  }
+  std::vector<double> distinct = values;
+  std::sort(distinct.begin(), distinct.end());
+  if (std::unique(distinct.begin(), distinct.end()) - distinct.begin() < 3) return std::nullopt;
+  return values;
+}
+
+std::string otherSweepLabel(const json& group, const std::string& axis) {
+  std::string label;
+  for (const auto& [key, value] : group["sweep"].items())
+    if (key != axis)
+      label += (label.empty() ? "" : ", ") + sweepWords(key, value.get<std::string>());
+  return label;
+}
+
+}  // namespace slamprep::eval

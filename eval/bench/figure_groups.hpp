@@ -1,0 +1,44 @@
+#pragma once
+// What every suite figure shares: the groups of a summary (one condition each: scenario and
+// sweep values, over its seeds) named in words, one colour and marker per method in every
+// figure, and a statistic with the number of seeds behind it. Figures never pool groups.
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "eval/plot/plot.hpp"
+
+namespace slamprep::eval {
+
+/// "Circle arc", "Circle at 0.5 m/s, lidar 5 Hz", "every fault": what sets the group apart from
+/// the others of `groups` (its scenario when they differ, its sweep values), in words.
+std::string conditionLabel(const nlohmann::json& group, const nlohmann::json& groups);
+
+/// ", 1 seed" / ", mean ± 1σ over 5 seeds": what the dots and error bars of a group show.
+std::string seedsNote(int seeds);
+
+/// A statistic of a metrics object; NaN when absent.
+double statOf(const nlohmann::json& metrics, const std::string& path, const char* stat);
+
+/// Methods with "<section>/<method>/<leaf>" in any group, in first-seen order.
+std::vector<std::string> methodsIn(const nlohmann::json& groups, const std::string& section,
+                                   const std::string& leaf);
+
+/// The same colour and marker for a method in every figure: its place in `all`.
+plot::Color methodColor(const std::vector<std::string>& all, const std::string& method);
+plot::Marker methodMarker(const std::vector<std::string>& all, const std::string& method);
+
+/// Dots (with 1σ bars when seeds >= 2) of one method, at categorical x positions.
+plot::Series methodDots(const std::vector<std::string>& all, const std::string& method);
+
+/// When every group's scenario is one file of a series, `<stem><number>.yaml` with one stem
+/// (circle_v0.25, circle_v0.5, ...), the numbers; nullopt otherwise (unrelated scenarios,
+/// which must not be joined by lines).
+std::optional<std::vector<double>> scenarioSeries(const nlohmann::json& groups);
+
+/// Sweep values of a group other than `axis`, as a label ("lidar 5 Hz"); "" when none.
+std::string otherSweepLabel(const nlohmann::json& group, const std::string& axis);
+
+}  // namespace slamprep::eval

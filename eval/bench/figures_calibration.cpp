@@ -1,0 +1,149 @@
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "eval/bench/figure_groups.hpp"
+#include "eval/bench/figures_internal.hpp"
+
+namespace slamprep::eval {
+namespace {
+
+using nlohmann::json;
+
+struct Param {
+  const char* key;    // abs_error/<key>
+  const char* label;  // category label
+};
+
+struct PanelSpec {
+  const char* title;
+  const char* unit;
+  std::vector<Param> params;
+};
+
+const std::vector<PanelSpec>& panelSpecs() {
+  static const std::vector<PanelSpec> kPanels = {
+      {"wheel geometry",
+       "|error| [%]",
+       {{"r_L_pct", "r_{L}"}, {"r_R_pct", "r_{R}"}, {"b_pct", "b"}}},
+      {"lidar mount position", "|error| [mm]", {{"lidar_x_mm", "x"}, {"lidar_y_mm", "y"}}},
+      {"lidar mount yaw", "|error| [deg]", {{"lidar_yaw_deg", "yaw"}}}};
+  return kPanels;
+}
+
+// One panel of a group: a dot per method and parameter, the methods side by side; only the
+// methods that estimate these parameters (direct and model have no mount).
+plot::Axes calibrationPanel(const json& group, const PanelSpec& spec,
+                            const std::vector<std::string>& methods, int seeds) {
+  plot::Axes axes{.title = spec.title,
+                  .y_label = spec.unit,
+                  .log_y = true,
+                  .legend = plot::LegendPosition::None};
+  for (const Param& p : spec.params) axes.categories.push_back(p.label);
+  const json& m = group["metrics"];
+  for (const std::string& method : methods) {
+    plot::Series dots = methodDots(methods, method);
+    bool any = false;
+    for (std::size_t i = 0; i < spec.params.size(); ++i) {
+      const std::string path = "calibration/" + method + "/abs_error/" + spec.params[i].key;
+      const double v = statOf(m, path, "mean");
+      any = any || std::isfinite(v);
+      dots.x.push_back(static_cast<double>(i));
+      dots.y.push_back(v);
+      dots.y_err.push_back(seeds >= 2 ? statOf(m, path, "std") : 0.0);
+    }
+    if (any) axes.series.push_back(dots);
+  }
+  return axes;
+}
+
+}  // namespace
+
+plot::Figure calibrationFigure(const json& groups) {
+  const auto methods = methodsIn(groups, "calibration", "ok");
+  // A condition where every method refused (an arc has no excitation to calibrate from) gets
+  // no row; the title says so.
+  std::vector<const json*> shown;
+  std::string left_out;
+  for (const auto& g : groups) {
+    bool any = false;
+    for (const auto& method : methods)
+      any = any || std::isfinite(
+                       statOf(g["metrics"], "calibration/" + method + "/abs_error/b_pct", "mean"));
+    if (any)
+      shown.push_back(&g);
+    else
+      left_out += (left_out.empty() ? "" : ", ") + conditionLabel(g, groups);
+  }
+  const int rows = std::max<int>(1, shown.size());
+  plot::Figure fig{.width_px = 1600,
+                   .height_px = 70 + 330 * rows,
+                   .title = "Calibration error against the simulated truth, per condition" +
+                            (left_out.empty() ? "" : " (every method refused: " + left_out + ")"),
+                   .rows = rows,
+                   .cols = 3};
+  for (const json* group : shown) {
+    const json& g = *group;
+    const int seeds = g.value("trials", 1);
+    const std::string condition = conditionLabel(g, groups) + " (" + seedsNote(seeds) + ")";
+    for (const PanelSpec& spec : panelSpecs()) {
+      plot::Axes axes = calibrationPanel(g, spec, methods, seeds);
+      if (&spec == &panelSpecs().front()) {
+        axes.title = condition + ": " + spec.title;
+        axes.legend = plot::LegendPosition::Outside;  // every method, beside the data
+      }
+      fig.axes.push_back(axes);
+    }
+  }
+  return fig;
+}
+
+plot::Figure calibrationVsTimeFigure(const json& groups) {
+  const std::vector<std::pair<std::string, std::string>> params = {
+      {"b_pct", "b |error| [%]"},
+      {"r_L_pct", "r_{L} |error| [%]"},
+      {"r_R_pct", "r_{R} |error| [%]"},
+      {"lidar_yaw_deg", "lidar yaw |error| [deg]"}};
+  const auto methods = methodsIn(groups, "calibration", "ok");
+  std::map<std::string, std::vector<const json*>> columns;  // by the other sweep values
+  for (const auto& g : groups) columns[otherSweepLabel(g, "duration_s")].push_back(&g);
+  const int cols = static_cast<int>(columns.size());
+  plot::Figure fig{.width_px = 560 * cols + 200,
+                   .height_px = 1300,
+                   .title = "Calibration error vs driving time (" +
+                            seedsNote(groups.front().value("trials", 1)) + " per point)",
+                   .rows = static_cast<int>(params.size()),
+                   .cols = cols};
+  for (const auto& [key, label] : params)
+    for (const auto& [column, members] : columns) {
+      plot::Axes axes{.title = column,
+                      .x_label = "driving time [s]",
+                      .y_label = label,
+                      .log_y = true,
+                      .legend = plot::LegendPosition::None};
+      if (&column == &columns.rbegin()->first && key == params.front().first)
+        axes.legend = plot::LegendPosition::Outside;
+      for (const std::string& method : methods) {
+        plot::Series line = methodDots(methods, method);
+        line.style = plot::Style::LineMarkers;
+        std::vector<std::pair<double, const json*>> points;
+        for (const json* g : members)
+          points.push_back({std::stod((*g)["sweep"]["duration_s"].get<std::string>()), g});
+        std::sort(points.begin(), points.end(),
+                  [](const auto& a, const auto& b) { return a.first < b.first; });
+        for (const auto& [t, g] : points) {
+          const std::string path = "calibration/" + method + "/abs_error/" + key;
+          line.x.push_back(t);
+          line.y.push_back(statOf((*g)["metrics"], path, "mean"));
+          line.y_err.push_back(g->value("trials", 1) >= 2 ? statOf((*g)["metrics"], path, "std")
+                                                          : 0.0);
+        }
+        if (std::any_of(line.y.begin(), line.y.end(), [](double v) { return std::isfinite(v); }))
+          axes.series.push_back(line);
+      }
+      fig.axes.push_back(axes);
+    }
+  return fig;
+}
+
+}  // namespace slamprep::eval

@@ -1,0 +1,32 @@
+#pragma once
+// The suite figures, one function each (figures.cpp decides which a suite gets).
+
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "eval/bench/suite.hpp"
+#include "eval/plot/plot.hpp"
+
+namespace slamprep::eval {
+
+// figures_calibration.cpp
+/// Absolute error of every method and parameter, one row of panels per group, dots with 1σ over
+/// the group's seeds.
+plot::Figure calibrationFigure(const nlohmann::json& groups);
+/// Error against driving time (the duration_s sweep axis), one column per other sweep value.
+plot::Figure calibrationVsTimeFigure(const nlohmann::json& groups);
+
+// figures_deskew.cpp
+/// Mean point error of every method, one panel per group, dots with 1σ over its seeds.
+plot::Figure deskewFigure(const nlohmann::json& groups);
+/// Mean point error against the measured speed of a scenario series, one panel per other sweep
+/// value; nullopt when the scenarios are not a series (scenarioSeries).
+std::optional<plot::Figure> deskewVsSpeedFigure(const nlohmann::json& groups);
+
+// figures_maps.cpp
+plot::Figure trajectoryFigure(const Suite& suite, const nlohmann::json& trajectory);
+plot::Figure scanFigure(const Suite& suite, const nlohmann::json& scan);
+/// Dead-reckoning error over time, nominal and calibrated geometry (evo's APE plot).
+plot::Figure odometryErrorFigure(const nlohmann::json& odometry_error);
+
+}  // namespace slamprep::eval

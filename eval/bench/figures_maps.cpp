@@ -1,0 +1,175 @@
+#include <algorithm>
+#include <cmath>
+
+#include "core/paths.hpp"
+#include "eval/bench/figures_internal.hpp"
+#include "sim/physics/world.hpp"
+
+namespace slamprep::eval {
+namespace {
+
+using nlohmann::json;
+
+plot::Segments worldOutline(const Suite& suite) {
+  plot::Segments seg{.label = "world", .color = {0.55, 0.55, 0.55, 1.0}, .line_width_px = 1.5};
+  const sim::World world = sim::loadWorld(resolveDataPath(suite.worlds.front()));
+  for (const auto& poly : sim::outline(world))
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const auto& a = poly[i];
+      const auto& b = poly[(i + 1) % poly.size()];
+      seg.xyxy.push_back({a.x(), a.y(), b.x(), b.y()});
+    }
+  return seg;
+}
+
+plot::Series xySeries(const json& points, std::string label, plot::Style style) {
+  plot::Series s{.label = std::move(label), .style = style};
+  for (const auto& p : points) {
+    s.x.push_back(p[0].get<double>());
+    s.y.push_back(p[1].get<double>());
+  }
+  return s;
+}
+
+plot::Series mark(const json& point, std::string label, plot::Marker marker) {
+  return {.label = std::move(label),
+          .x = {point[0].get<double>()},
+          .y = {point[1].get<double>()},
+          .style = plot::Style::Markers,
+          .color = plot::rgb(0x000000),
+          .marker_size_px = 14.0,
+          .marker = marker};
+}
+
+// Distance of each beam's point to its true point, in mm (both lists hold the same beams).
+plot::Series residualsMm(const json& points, const json& truth, std::string label,
+                         plot::Color color) {
+  plot::Series s{.label = std::move(label),
+                 .style = plot::Style::Points,
+                 .color = color,
+                 .marker_size_px = 3.0};
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    s.x.push_back(static_cast<double>(i));
+    s.y.push_back(1e3 * std::hypot(points[i][0].get<double>() - truth[i][0].get<double>(),
+                                   points[i][1].get<double>() - truth[i][1].get<double>()));
+  }
+  return s;
+}
+
+}  // namespace
+
+plot::Figure trajectoryFigure(const Suite& suite, const json& trajectory) {
+  plot::Axes axes{.x_label = "x [m]",
+                  .y_label = "y [m]",
+                  .equal_aspect = true,
+                  .legend = plot::LegendPosition::Outside};
+  axes.segments.push_back(worldOutline(suite));
+  // Truth wide and light underneath: calibrated odometry lies on it and must not hide it.
+  plot::Series truth = xySeries(trajectory["true"], "ground truth", plot::Style::Line);
+  truth.color = plot::rgb(0x999999);
+  truth.line_width_px = 6.0;
+  axes.series.push_back(truth);
+  plot::Series nominal =
+      xySeries(trajectory["nominal"], "odometry, nominal geometry", plot::Style::Line);
+  nominal.dashed = true;
+  axes.series.push_back(nominal);
+  if (trajectory.contains("calibrated"))
+    axes.series.push_back(
+        xySeries(trajectory["calibrated"],
+                 "odometry, calibrated (" + trajectory.value("calibrated_method", "?") + ")",
+                 plot::Style::Line));
+  const json& path = trajectory["true"];
+  axes.series.push_back(mark(path.front(), "start", plot::Marker::Circle));
+  axes.series.push_back(mark(path.back(), "end (truth)", plot::Marker::Square));
+  return {.width_px = 1400,
+          .height_px = 1000,
+          .title = "Trajectory: truth vs dead reckoning (first trial)",
+          .axes = {axes}};
+}
+
+plot::Figure scanFigure(const Suite& suite, const json& scan) {
+  plot::Axes axes{.x_label = "x [m]",
+                  .y_label = "y [m]",
+                  .equal_aspect = true,
+                  .legend = plot::LegendPosition::Outside};
+  axes.segments.push_back(worldOutline(suite));
+  // Truth underneath and larger, so corrected points sitting on it stay visible.
+  plot::Series truth = xySeries(scan["true"], "ground truth", plot::Style::Points);
+  truth.color = plot::rgb(0x999999);
+  truth.marker_size_px = 6.0;
+  axes.series.push_back(truth);
+  axes.series.push_back(xySeries(scan["raw"], "raw (distorted)", plot::Style::Points));
+  const bool deskewed = scan.contains("deskewed");
+  const std::string method = deskewed ? scan["deskew_method"].get<std::string>() : "";
+  if (deskewed)
+    axes.series.push_back(
+        xySeries(scan["deskewed"], "de-skewed (" + method + ")", plot::Style::Points));
+  for (std::size_t i = 1; i < axes.series.size(); ++i) axes.series[i].marker_size_px = 3.0;
+  plot::Series lidar{.label = "lidar", .style = plot::Style::Markers, .marker_size_px = 12.0};
+  lidar.x = {scan["lidar"][0].get<double>()};
+  lidar.y = {scan["lidar"][1].get<double>()};
+  axes.series.push_back(lidar);
+  plot::Figure fig{.width_px = 1400,
+                   .height_px = 1300,
+                   .title = "The most distorted scan of the first trial, in the world frame",
+                   .rows = 2,
+                   .cols = 1,
+                   .axes = {axes}};
+  // Millimetres are invisible at room scale: each beam's distance to its true point below.
+  if (scan["raw"].size() == scan["true"].size()) {
+    plot::Axes residual{.title = "distance of each beam's point to its true point",
+                        .x_label = "beam (in the order taken)",
+                        .y_label = "error [mm]",
+                        .log_y = true,
+                        // The reference beam is exact to rounding: keep the axis on what shows.
+                        .y_range = plot::Range{1e-3, 1e4},
+                        .legend = plot::LegendPosition::Outside};
+    residual.series.push_back(residualsMm(scan["raw"], scan["true"], "raw", plot::paletteColor(0)));
+    if (deskewed && scan["deskewed"].size() == scan["true"].size())
+      residual.series.push_back(residualsMm(scan["deskewed"], scan["true"],
+                                            "de-skewed (" + method + ")", plot::paletteColor(1)));
+    fig.axes.push_back(residual);
+  }
+  fig.rows = static_cast<int>(fig.axes.size());
+  if (fig.rows == 1) fig.height_px = 1000;
+  return fig;
+}
+
+plot::Figure odometryErrorFigure(const json& odometry_error) {
+  plot::Axes trans{.title = "position error",
+                   .x_label = "time [s]",
+                   .y_label = "error [m]",
+                   .legend = plot::LegendPosition::Outside};
+  plot::Axes heading{.title = "heading error",
+                     .x_label = "time [s]",
+                     .y_label = "error [deg]",
+                     .legend = plot::LegendPosition::Outside};
+  std::size_t i = 0;
+  for (const char* name : {"nominal", "calibrated"}) {
+    if (!odometry_error.contains(name)) continue;
+    const json& e = odometry_error[name];
+    const std::string label = std::string(name) + " geometry";
+    plot::Series t{.label = label, .color = plot::paletteColor(i)};
+    plot::Series h{.label = label, .color = plot::paletteColor(i)};
+    t.dashed = h.dashed = i == 0;
+    for (std::size_t k = 0; k < e["t"].size(); ++k) {
+      t.x.push_back(e["t"][k].get<double>());
+      t.y.push_back(e["translation_m"][k].get<double>());
+      h.x.push_back(e["t"][k].get<double>());
+      h.y.push_back(e["heading_deg"][k].get<double>());
+    }
+    trans.series.push_back(t);
+    heading.series.push_back(h);
+    ++i;
+  }
+  return {.width_px = 1300,
+          .height_px = 900,
+          .title =
+              "Dead-reckoning error against the truth, started on the true pose (first "
+              "trial)",
+          .rows = 2,
+          .cols = 1,
+          .axes = {trans, heading}};
+}
+
+}  // namespace slamprep::eval

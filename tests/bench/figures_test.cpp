@@ -1,0 +1,104 @@
+// The rules the suite figures keep (docs/plots.md): no bars, one panel or row per condition
+// (never pooled), lines only along a scenario series, error bars only from repeated seeds,
+// legends beside the data, panel titles in words.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "eval/bench/figure_groups.hpp"
+#include "eval/bench/figures_internal.hpp"
+
+namespace slamprep::eval {
+namespace {
+
+using nlohmann::json;
+
+json stat(double mean, double std) {
+  return {{"mean", mean}, {"std", std}, {"min", mean}, {"max", mean}, {"n", 1}};
+}
+
+// A group of `seeds` trials: calibration errors for joint (with mount) and model (without),
+// de-skew errors for none and odom-linear, and the measured mean speed.
+json group(const std::string& scenario, json sweep, int seeds, double scale) {
+  json m;
+  for (const char* p : {"r_L_pct", "r_R_pct", "b_pct", "lidar_x_mm", "lidar_y_mm", "lidar_yaw_deg"})
+    m[std::string("calibration/joint/abs_error/") + p] = stat(0.05 * scale, 0.01);
+  for (const char* p : {"r_L_pct", "r_R_pct", "b_pct"})
+    m[std::string("calibration/model/abs_error/") + p] = stat(0.2 * scale, 0.03);
+  m["calibration/joint/ok"] = m["calibration/model/ok"] = stat(1, 0);
+  m["deskew/none/mean_m"] = stat(0.1 * scale, 0.01);
+  m["deskew/odom-linear/mean_m"] = stat(0.005 * scale, 0.001);
+  m["sim/mean_speed_mps"] = stat(scale, 0.0);
+  return {{"scenario", scenario}, {"sweep", sweep}, {"trials", seeds}, {"metrics", m}};
+}
+
+bool anyBars(const plot::Figure& f) {
+  for (const auto& a : f.axes)
+    for (const auto& s : a.series)
+      if (s.style == plot::Style::Bars) return true;
+  return false;
+}
+
+TEST(Figures, CalibrationHasARowPerConditionAndBarsOfSigmaOnlyFromSeeds) {
+  const json groups = json::array({group("worlds/scenarios/default.yaml", json::object(), 1, 1.0),
+                                   group("worlds/scenarios/arc.yaml", json::object(), 5, 2.0)});
+  const plot::Figure f = calibrationFigure(groups);
+  ASSERT_EQ(f.axes.size(), 6u);  // two rows of three panels: nothing pooled
+  EXPECT_FALSE(anyBars(f));
+  EXPECT_EQ(f.axes[0].title, "Calibration drive (1 seed): wheel geometry");
+  EXPECT_EQ(f.axes[3].title, "Circle arc, 1 m/s (mean ± 1σ over 5 seeds): wheel geometry");
+  EXPECT_EQ(f.axes[0].legend, plot::LegendPosition::Outside);
+  for (const auto& s : f.axes[0].series)
+    for (double e : s.y_err) EXPECT_EQ(e, 0.0);  // one seed: no spread to show
+  for (const auto& s : f.axes[3].series)
+    for (double e : s.y_err) EXPECT_GT(e, 0.0);
+  // Each row shows its own condition's values, not a mean over both.
+  EXPECT_DOUBLE_EQ(f.axes[0].series[0].y[0], 0.05);
+  EXPECT_DOUBLE_EQ(f.axes[3].series[0].y[0], 0.10);
+  // Mount panels only have the methods that estimate a mount.
+  ASSERT_EQ(f.axes[1].series.size(), 1u);
+  EXPECT_EQ(f.axes[1].series[0].label, "joint");
+}
+
+TEST(Figures, UnrelatedScenariosAreNotJoinedByLines) {
+  const json groups =
+      json::array({group("worlds/scenarios/default.yaml", json::object(), 1, 1.0),
+                   group("worlds/scenarios/arc.yaml", json::object(), 1, 2.0),
+                   group("worlds/scenarios/random_smooth.yaml", json::object(), 1, 3.0)});
+  EXPECT_FALSE(deskewVsSpeedFigure(groups));
+  const plot::Figure f = deskewFigure(groups);
+  ASSERT_EQ(f.axes.size(), 3u);
+  for (const auto& a : f.axes)
+    for (const auto& s : a.series) EXPECT_EQ(s.style, plot::Style::Markers);
+}
+
+TEST(Figures, AScenarioSeriesIsASweepWithOnePanelPerOtherSweepValue) {
+  json groups = json::array();
+  for (const char* rate : {"5", "10"})
+    for (const char* v : {"0.25", "0.5", "1.0"})
+      groups.push_back(group(std::string("worlds/scenarios/sweep/circle_v") + v + ".yaml",
+                             {{"lidar.rate_hz", rate}}, 2, std::stod(v)));
+  const auto f = deskewVsSpeedFigure(groups);
+  ASSERT_TRUE(f);
+  ASSERT_EQ(f->axes.size(), 2u);  // 5 Hz and 10 Hz never share a line
+  EXPECT_EQ(f->axes[0].title.find("rate_hz"), std::string::npos);
+  EXPECT_NE(f->axes[0].title.find("Hz"), std::string::npos);
+  for (const auto& s : f->axes[0].series) {
+    EXPECT_EQ(s.style, plot::Style::LineMarkers);
+    EXPECT_EQ(s.x, (std::vector<double>{0.25, 0.5, 1.0}));  // along the measured speed
+  }
+}
+
+TEST(Figures, ConditionsAreNamedInWords) {
+  const json g = group("worlds/scenarios/calibration_3min.yaml",
+                       {{"duration_s", "120"}, {"lidar.range_noise_m", "0.005"}}, 2, 1.0);
+  EXPECT_EQ(conditionLabel(g, json::array({g})), "120 s, range noise 5 mm");
+  EXPECT_EQ(otherSweepLabel(g, "duration_s"), "range noise 5 mm");
+  const json f =
+      group("worlds/scenarios/default.yaml", {{"faults.enable", "encoder_spikes"}}, 5, 1.0);
+  EXPECT_EQ(conditionLabel(f, json::array({f})), "encoder spikes");
+}
+
+}  // namespace
+}  // namespace slamprep::eval
