@@ -130,6 +130,32 @@ std::optional<std::vector<double>> scenarioSeries(const json& groups) {
   return values;
 }
 
+bool naturalLess(const std::string& a, const std::string& b) {
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    const bool da = std::isdigit(static_cast<unsigned char>(a[i])) != 0;
+    const bool db = std::isdigit(static_cast<unsigned char>(b[j])) != 0;
+    if (da && db) {
+      std::size_t ei = i, ej = j;
+      const double x = std::stod(a.substr(i), &ei), y = std::stod(b.substr(j), &ej);
+      if (x != y) return x < y;
+      i += ei, j += ej;
+    } else {
+      if (a[i] != b[j]) return a[i] < b[j];
+      ++i, ++j;
+    }
+  }
+  return a.size() - i < b.size() - j;
+}
+
+std::string commonSeedsNote(const json& groups) {
+  if (groups.empty()) return "";
+  const int seeds = groups.front().value("trials", 1);
+  for (const auto& g : groups)
+    if (g.value("trials", 1) != seeds) return "";
+  return seedsNote(seeds);
+}
+
 std::string otherSweepLabel(const json& group, const std::string& axis) {
   std::string label;
   for (const auto& [key, value] : group["sweep"].items())

@@ -38,6 +38,12 @@ plot::Series methodDots(const std::vector<std::string>& all, const std::string& 
 /// which must not be joined by lines).
 std::optional<std::vector<double>> scenarioSeries(const nlohmann::json& groups);
 
+/// "lidar 5 Hz" before "lidar 10 Hz": numbers inside the labels compare by value.
+bool naturalLess(const std::string& a, const std::string& b);
+
+/// The seeds behind every group when they are equal ("mean ± 1σ over 5 seeds"), else "".
+std::string commonSeedsNote(const nlohmann::json& groups);
+
 /// Sweep values of a group other than `axis`, as a label ("lidar 5 Hz"); "" when none.
 std::string otherSweepLabel(const nlohmann::json& group, const std::string& axis);
 

@@ -76,21 +76,24 @@ plot::Figure calibrationFigure(const json& groups) {
       left_out += (left_out.empty() ? "" : ", ") + conditionLabel(g, groups);
   }
   const int rows = std::max<int>(1, shown.size());
-  plot::Figure fig{.width_px = 1600,
-                   .height_px = 70 + 330 * rows,
-                   .title = "Calibration error against the simulated truth, per condition" +
-                            (left_out.empty() ? "" : " (every method refused: " + left_out + ")"),
-                   .rows = rows,
-                   .cols = 3};
+  // The seeds in the figure title when every group has as many, else in each row's title.
+  const std::string common = commonSeedsNote(groups);
+  std::string title = "Calibration error against the simulated truth";
+  if (!common.empty()) title += " (" + common + ")";
+  if (!left_out.empty()) title += "; every method refused: " + left_out;
+  plot::Figure fig{
+      .width_px = 1600, .height_px = 70 + 330 * rows, .title = title, .rows = rows, .cols = 3};
   for (const json* group : shown) {
     const json& g = *group;
     const int seeds = g.value("trials", 1);
-    const std::string condition = conditionLabel(g, groups) + " (" + seedsNote(seeds) + ")";
+    const std::string condition =
+        conditionLabel(g, groups) + (common.empty() ? " (" + seedsNote(seeds) + ")" : "");
     for (const PanelSpec& spec : panelSpecs()) {
       plot::Axes axes = calibrationPanel(g, spec, methods, seeds);
       if (&spec == &panelSpecs().front()) {
-        axes.title = condition + ": " + spec.title;
-        axes.legend = plot::LegendPosition::Outside;  // every method, beside the data
+        axes.title = condition;  // the row's condition; the y label names the parameters
+        if (group == shown.front())
+          axes.legend = plot::LegendPosition::Outside;  // every method, beside the data
       }
       fig.axes.push_back(axes);
     }
@@ -105,7 +108,7 @@ plot::Figure calibrationVsTimeFigure(const json& groups) {
       {"r_R_pct", "r_{R} |error| [%]"},
       {"lidar_yaw_deg", "lidar yaw |error| [deg]"}};
   const auto methods = methodsIn(groups, "calibration", "ok");
-  std::map<std::string, std::vector<const json*>> columns;  // by the other sweep values
+  std::map<std::string, std::vector<const json*>, decltype(&naturalLess)> columns(naturalLess);
   for (const auto& g : groups) columns[otherSweepLabel(g, "duration_s")].push_back(&g);
   const int cols = static_cast<int>(columns.size());
   plot::Figure fig{.width_px = 560 * cols + 200,

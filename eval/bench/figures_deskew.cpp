@@ -70,7 +70,7 @@ plot::Figure deskewFigure(const json& groups) {
 std::optional<plot::Figure> deskewVsSpeedFigure(const json& groups) {
   if (!scenarioSeries(groups)) return std::nullopt;
   const auto methods = plottedDeskewMethods(groups);
-  std::map<std::string, std::vector<const json*>> panels;  // by the sweep values
+  std::map<std::string, std::vector<const json*>, decltype(&naturalLess)> panels(naturalLess);
   for (const auto& g : groups) panels[otherSweepLabel(g, "")].push_back(&g);
   const int cols = static_cast<int>(panels.size());
   plot::Figure fig{.width_px = 640 * cols + 220,
@@ -95,7 +95,9 @@ std::optional<plot::Figure> deskewVsSpeedFigure(const json& groups) {
     for (const std::string& method : methods) {
       plot::Series line = methodDots(methods, method);
       line.style = plot::Style::LineMarkers;
-      line.dashed = method == "odom-quadratic";  // on odom-linear at 100 Hz odometry
+      // odom-quadratic lies on odom-linear at 100 Hz odometry: dashed over larger markers.
+      line.dashed = method == "odom-quadratic";
+      if (method == "odom-linear") line.marker_size_px = 14.0;
       for (const auto& [speed, g] : points) {
         line.x.push_back(speed);
         line.y.push_back(meanMm(*g, method, "mean"));

@@ -46,8 +46,8 @@ TEST(Figures, CalibrationHasARowPerConditionAndBarsOfSigmaOnlyFromSeeds) {
   const plot::Figure f = calibrationFigure(groups);
   ASSERT_EQ(f.axes.size(), 6u);  // two rows of three panels: nothing pooled
   EXPECT_FALSE(anyBars(f));
-  EXPECT_EQ(f.axes[0].title, "Calibration drive (1 seed): wheel geometry");
-  EXPECT_EQ(f.axes[3].title, "Circle arc, 1 m/s (mean ± 1σ over 5 seeds): wheel geometry");
+  EXPECT_EQ(f.axes[0].title, "Calibration drive (1 seed)");
+  EXPECT_EQ(f.axes[3].title, "Circle arc, 1 m/s (mean ± 1σ over 5 seeds)");
   EXPECT_EQ(f.axes[0].legend, plot::LegendPosition::Outside);
   for (const auto& s : f.axes[0].series)
     for (double e : s.y_err) EXPECT_EQ(e, 0.0);  // one seed: no spread to show
