@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <functional>
 
 namespace slamprep::algo {
 namespace {
@@ -21,44 +22,58 @@ StreamStamps report(std::string stream, std::size_t samples, const StampGrid& gr
           grid.residual_max_s, grid.missing_samples};
 }
 
-// Fits the grid of `stamps` and, when applied, hands each new stamp to set(i, t).
-template <typename Set>
-StreamStamps regularize(std::string stream, const std::vector<double>& stamps,
-                        const StampGridParams& params, Set set) {
-  const StampGrid grid = fitStampGrid(stamps, params);
-  if (grid.applied)
-    for (std::size_t i = 0; i < stamps.size(); ++i) set(i, grid.stamps[i]);
-  return report(std::move(stream), stamps.size(), grid);
+// A stream's fitted grid, and how to write a new stamp back into the dataset.
+struct Fitted {
+  std::string stream;
+  std::vector<double> stamps;
+  StampGrid grid;
+  std::function<void(std::size_t, double)> set;
+};
+
+// The host stamps every stream of a log alike: moving some onto their grids while one that has
+// no grid keeps its raw stamps would shift them against each other (fr079's laser at 4.7 Hz
+// against its irregular ODOM lines), so then every stream keeps its stamps.
+bool aStreamHasNoGrid(const std::vector<Fitted>& fitted) {
+  return std::any_of(fitted.begin(), fitted.end(), [](const Fitted& f) {
+    return !f.grid.applied && f.grid.reason != "regular already";
+  });
 }
 
 }  // namespace
 
 std::vector<StreamStamps> regularizeStamps(Dataset& d, const StampGridParams& params) {
+  std::vector<Fitted> fitted;
+  auto fit = [&](std::string stream, std::vector<double> stamps,
+                 std::function<void(std::size_t, double)> set) {
+    if (stamps.empty()) return;
+    StampGrid grid = fitStampGrid(stamps, params);
+    fitted.push_back({std::move(stream), std::move(stamps), std::move(grid), std::move(set)});
+  };
+  fit("encoders", stampsOf(d.encoders),
+      [&](std::size_t i, double t) { d.encoders[i].stamp_s = t; });
+  PoseSeries moved;
+  fit("odometry", stampsOf(d.odom_nominal.samples()),
+      [&](std::size_t i, double t) { moved.push_back(t, d.odom_nominal[i].value); });
+  fit("imu", stampsOf(d.imu), [&](std::size_t i, double t) { d.imu[i].stamp_s = t; });
+  std::vector<double> scan_stamps;
+  for (const ScanRecord& r : d.scans) scan_stamps.push_back(r.scan.stamp_s);
+  fit("scans", scan_stamps, [&](std::size_t i, double t) { d.scans[i].scan.stamp_s = t; });
+
+  const bool keep_all = aStreamHasNoGrid(fitted);
   std::vector<StreamStamps> out;
-  if (!d.encoders.empty())
-    out.push_back(regularize("encoders", stampsOf(d.encoders), params,
-                             [&](std::size_t i, double t) { d.encoders[i].stamp_s = t; }));
-  if (!d.odom_nominal.empty()) {
-    PoseSeries moved;
-    moved.reserve(d.odom_nominal.size());
-    out.push_back(
-        regularize("odometry", stampsOf(d.odom_nominal.samples()), params,
-                   [&](std::size_t i, double t) { moved.push_back(t, d.odom_nominal[i].value); }));
-    if (out.back().applied) d.odom_nominal = std::move(moved);
+  for (Fitted& f : fitted) {
+    if (keep_all && f.grid.applied) {
+      f.grid.applied = false;
+      f.grid.reason = "kept with the other streams: one of them has no constant-rate grid";
+    }
+    if (f.grid.applied)
+      for (std::size_t i = 0; i < f.stamps.size(); ++i) f.set(i, f.grid.stamps[i]);
+    out.push_back(report(f.stream, f.stamps.size(), f.grid));
   }
-  if (!d.imu.empty())
-    out.push_back(regularize("imu", stampsOf(d.imu), params,
-                             [&](std::size_t i, double t) { d.imu[i].stamp_s = t; }));
-  if (!d.scans.empty()) {
-    std::vector<double> t;
-    for (const ScanRecord& r : d.scans) t.push_back(r.scan.stamp_s);
-    out.push_back(regularize("scans", t, params, [&](std::size_t i, double stamp) {
-      ScanRecord& r = d.scans[i];
-      r.scan.stamp_s = stamp;
-      if (r.T_odom_base_nominal)
-        r.T_odom_base_nominal = d.odom_nominal.at(stamp).value_or(*r.T_odom_base_nominal);
-    }));
-  }
+  if (!moved.empty()) d.odom_nominal = std::move(moved);
+  for (ScanRecord& r : d.scans)  // the nominal pose at each (moved) scan stamp
+    if (r.T_odom_base_nominal && anyApplied(out))
+      r.T_odom_base_nominal = d.odom_nominal.at(r.scan.stamp_s).value_or(*r.T_odom_base_nominal);
   return out;
 }
 

@@ -24,8 +24,9 @@ struct StreamStamps {
 };
 
 /// Regularises each stream of `dataset` in place; a stream that is regular already, not
-/// constant-rate, or too short keeps its stamps bit for bit. A scan's nominal odometry pose is
-/// re-read at its new stamp.
+/// constant-rate, or too short keeps its stamps bit for bit, and when any stream has no
+/// constant-rate grid every stream keeps its stamps (they were stamped by one host: moving some
+/// would shift them against it). A scan's nominal odometry pose is re-read at its new stamp.
 std::vector<StreamStamps> regularizeStamps(Dataset& dataset, const StampGridParams& params = {});
 
 /// True when any stream's stamps were changed.

@@ -113,5 +113,27 @@ TEST(DatasetStamps, MovesScansAndKeepsCleanStreams) {
   EXPECT_LT(std::abs(d.scans[150].scan.stamp_s - truth[150]), 0.5e-3);
 }
 
+// fr079: a 4.7 Hz laser with 3 ms of jitter beside irregular odometry lines. Putting only the
+// scans on their grid would shift them against the odometry, so both keep their stamps.
+TEST(DatasetStamps, AStreamWithoutAGridKeepsEveryStreamAsLogged) {
+  Dataset d;
+  const auto truth = trueGrid(300, 0.2, 0.0, 0);
+  for (double x : jittered(truth, 3e-3, 0.2, 9)) {
+    ScanRecord r;
+    r.scan.stamp_s = x;
+    d.scans.push_back(r);
+  }
+  std::mt19937_64 rng(4);
+  std::exponential_distribution<double> gap(20.0);
+  for (double t = 0.0; t < 61.0; t += 0.01 + gap(rng)) d.odom_nominal.push_back(t, SE2());
+  const Dataset before = d;
+  const auto streams = regularizeStamps(d);
+  EXPECT_FALSE(anyApplied(streams));
+  EXPECT_EQ(streams.back().stream, "scans");
+  EXPECT_NE(streams.back().reason.find("kept with the other streams"), std::string::npos);
+  for (std::size_t k = 0; k < d.scans.size(); ++k)
+    EXPECT_EQ(d.scans[k].scan.stamp_s, before.scans[k].scan.stamp_s);
+}
+
 }  // namespace
 }  // namespace slamprep::algo
