@@ -1,6 +1,7 @@
 #include "algo/calibration/calibration_result.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -56,6 +57,23 @@ std::string describeDegenerateDriving(const std::vector<CalibrationInterval>& in
          "drive at least two different curvatures, e.g. a figure eight plus spins";
 }
 
+double adjacentCorrelationFactor(const std::vector<CalibrationInterval>& intervals,
+                                 const std::vector<double>& residuals) {
+  double sum_sq = 0.0, sum_lag = 0.0;
+  int adjacent = 0;
+  for (std::size_t k = 0; k < residuals.size(); ++k) {
+    sum_sq += residuals[k] * residuals[k];
+    if (k + 1 < residuals.size() &&
+        std::abs(intervals[k].t_end_s - intervals[k + 1].t_start_s) <= 1e-9) {
+      sum_lag += residuals[k] * residuals[k + 1];
+      ++adjacent;
+    }
+  }
+  if (adjacent == 0 || !(sum_sq > 0.0)) return 1.0;
+  const double rho = (sum_lag / adjacent) / (sum_sq / static_cast<double>(residuals.size()));
+  return 1.0 + 2.0 * std::clamp(rho, -0.45, 0.5);
+}
+
 RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, double max_condition) {
   RotationFit fit;
   const auto n = static_cast<Eigen::Index>(intervals.size());
@@ -81,7 +99,8 @@ RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, doubl
   fit.residuals_rad.assign(res.data(), res.data() + n);
   const double dof = static_cast<double>(n - 2);
   fit.sigma_theta_rad = dof > 0 ? std::sqrt(res.squaredNorm() / dof) : 0.0;
-  fit.covariance = fit.sigma_theta_rad * fit.sigma_theta_rad * (A.transpose() * A).inverse();
+  fit.covariance = adjacentCorrelationFactor(intervals, fit.residuals_rad) * fit.sigma_theta_rad *
+                   fit.sigma_theta_rad * (A.transpose() * A).inverse();
   // r_L = -J21 b and r_R = J22 b must both be positive for b > 0.
   if (fit.J21 > 0.0 && fit.J22 < 0.0) {
     fit.reason = "left/right encoder channels swapped: " + formatJ(fit.J21, fit.J22) +

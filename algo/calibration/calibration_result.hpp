@@ -55,13 +55,23 @@ double equilibratedConditionNumber(const Eigen::MatrixXd& A);
 struct RotationFit {
   bool ok = false;
   std::string reason;
-  double J21 = 0.0;                                      ///< -r_L / b
-  double J22 = 0.0;                                      ///< r_R / b
-  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();  ///< of (J21, J22)
+  double J21 = 0.0;  ///< -r_L / b
+  double J22 = 0.0;  ///< r_R / b
+  /// of (J21, J22): sigma_theta^2 (A^T A)^-1 times adjacentCorrelationFactor of the residuals
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
   double sigma_theta_rad = 0.0;       ///< rotation noise estimated from the residuals
   double condition_number = 0.0;      ///< of the n x 2 design [sum dphi_L, sum dphi_R]
   std::vector<double> residuals_rad;  ///< measured minus predicted rotation, per interval
 };
+
+/// Long-run variance factor 1 + 2 rho of one residual per interval: rho is the correlation of
+/// the residuals of intervals that meet end to start (one scan shared by two consecutive scan
+/// matches enters them with opposite signs, so rho < 0 and errors partly cancel along a chain).
+/// Multiplying a per-interval variance by it gives the variance of a sum over many consecutive
+/// intervals (docs/design.md, "Calibration: is the reported sigma honest?"). rho is clamped to
+/// [-0.45, 0.5] (an MA(1) process has |rho| <= 0.5); 1 when no two intervals meet.
+double adjacentCorrelationFactor(const std::vector<CalibrationInterval>& intervals,
+                                 const std::vector<double>& residuals);
 
 /// Least-squares rotation fit (docs/design.md, "Calibration: model-based method", step 1).
 /// Refuses (with the reason naming the kind of driving) when the design is worse conditioned

@@ -58,16 +58,42 @@ Eigen::Vector3d residualSigma(ceres::Problem& problem, const Eigen::Vector3d& si
   return (sq / dof).cwiseSqrt();
 }
 
-double jacobianCondition(ceres::Problem& problem, std::vector<double*> blocks) {
+// Whitened residuals and their Jacobian w.r.t. `blocks`, without the loss function.
+Eigen::MatrixXd whitenedJacobian(ceres::Problem& problem, std::vector<double*> blocks,
+                                 std::vector<double>* residuals = nullptr) {
   ceres::Problem::EvaluateOptions options;
   options.apply_loss_function = false;
   options.parameter_blocks = std::move(blocks);
   ceres::CRSMatrix crs;
-  problem.Evaluate(options, nullptr, nullptr, nullptr, &crs);
+  problem.Evaluate(options, nullptr, residuals, nullptr, &crs);
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
   for (int r = 0; r < crs.num_rows; ++r)
     for (int k = crs.rows[r]; k < crs.rows[r + 1]; ++k) J(r, crs.cols[k]) = crs.values[k];
-  return equilibratedConditionNumber(J);
+  return J;
+}
+
+// Sandwich C B C around Ceres' covariance C = (J^T J)^-1 of the whitened problem: B weighs each
+// axis' rows by f = (1 + 2 rho) (sigma_residual / sigma_whitening)^2, the long-run variance of
+// that axis' residuals (consecutive scan matches share a scan, so their errors partly cancel)
+// in units of the variance the problem was whitened with. B = J^T J when f = 1.
+Eigen::MatrixXd longRunCovariance(const Eigen::MatrixXd& C, const Eigen::MatrixXd& J,
+                                  const std::vector<double>& residuals,
+                                  const std::vector<CalibrationInterval>& intervals,
+                                  const Eigen::Vector3d& sigma_whitening,
+                                  const Eigen::Vector3d& sigma_residual) {
+  const auto n = static_cast<Eigen::Index>(intervals.size());
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(J.cols(), J.cols());
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<double> r(n);
+    Eigen::MatrixXd J_axis(n, J.cols());
+    for (Eigen::Index k = 0; k < n; ++k) {
+      r[k] = residuals[3 * k + axis];
+      J_axis.row(k) = J.row(3 * k + axis);
+    }
+    const double ratio = sigma_residual(axis) / sigma_whitening(axis);
+    B += adjacentCorrelationFactor(intervals, r) * ratio * ratio * J_axis.transpose() * J_axis;
+  }
+  return C * B * C;
 }
 
 }  // namespace
@@ -121,7 +147,9 @@ CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
     result.cost = 2.0 * summary.final_cost;
     std::vector<double*> blocks = {p};
     if (params.estimate_time_offset) blocks.push_back(&offset);
-    result.condition_number = jacobianCondition(problem, blocks);
+    std::vector<double> residuals;
+    const Eigen::MatrixXd J = whitenedJacobian(problem, blocks, &residuals);
+    result.condition_number = equilibratedConditionNumber(J);
     if (summary.termination_type != ceres::CONVERGENCE) {
       result.reason = "Ceres did not converge: " + summary.BriefReport();
       return result;
@@ -140,19 +168,27 @@ CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
     cov_options.num_threads = 1;
     ceres::Covariance covariance(cov_options);
     std::vector<std::pair<const double*, const double*>> pairs = {{p, p}};
-    if (params.estimate_time_offset) pairs.push_back({&offset, &offset});
+    if (params.estimate_time_offset) pairs.insert(pairs.end(), {{p, &offset}, {&offset, &offset}});
     if (!covariance.Compute(pairs, &problem)) {
       result.reason = "covariance rank deficient: parameters not identifiable from these intervals";
       return result;
     }
-    Eigen::Matrix<double, 6, 6, Eigen::RowMajor> cov;
-    covariance.GetCovarianceBlock(p, p, cov.data());
-    result.covariance = cov;
+    const int m_blocks = static_cast<int>(J.cols());
+    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(m_blocks, m_blocks);
+    Eigen::Matrix<double, 6, 6, Eigen::RowMajor> cov_pp;
+    covariance.GetCovarianceBlock(p, p, cov_pp.data());
+    C.topLeftCorner<6, 6>() = cov_pp;
     if (params.estimate_time_offset) {
-      double var = 0.0;
-      covariance.GetCovarianceBlock(&offset, &offset, &var);
-      result.time_offset_sigma_s = std::sqrt(std::max(0.0, var));
+      Eigen::Matrix<double, 6, 1> cov_po;
+      covariance.GetCovarianceBlock(p, &offset, cov_po.data());
+      covariance.GetCovarianceBlock(&offset, &offset, &C(6, 6));
+      C.block<6, 1>(0, 6) = cov_po;
+      C.block<1, 6>(6, 0) = cov_po.transpose();
     }
+    const Eigen::MatrixXd cov = longRunCovariance(C, J, residuals, intervals, sigma, refined);
+    result.covariance = cov.topLeftCorner<6, 6>();
+    if (params.estimate_time_offset)
+      result.time_offset_sigma_s = std::sqrt(std::max(0.0, cov(6, 6)));
   }
   result.geometry = {p[0], p[1], p[2]};
   result.T_base_lidar = SE2(p[3], p[4], p[5]);

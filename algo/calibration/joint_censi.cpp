@@ -111,7 +111,16 @@ JointResult fitOnce(const std::vector<CalibrationInterval>& intervals, const Joi
   var /= std::max<double>(1.0, static_cast<double>(n - 2));  // 2n - 4 dof over two axes
   result.sigma_x_m = std::sqrt(var.x());
   result.sigma_y_m = std::sqrt(var.y());
-  const Eigen::Matrix2d cov_n = R_l * var.asDiagonal() * R_l.transpose();
+  // Consecutive scan matches share a scan: their errors partly cancel along the chain.
+  std::vector<double> e_x(n), e_y(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Eigen::Vector2d e_lidar = R_l.transpose() * e.segment<2>(2 * k);
+    e_x[k] = e_lidar.x();
+    e_y[k] = e_lidar.y();
+  }
+  const Eigen::Vector2d var_long_run(var.x() * adjacentCorrelationFactor(intervals, e_x),
+                                     var.y() * adjacentCorrelationFactor(intervals, e_y));
+  const Eigen::Matrix2d cov_n = R_l * var_long_run.asDiagonal() * R_l.transpose();
 
   // Fisher information of stage 2 (sandwich for the unweighted fit) and dependence on stage 1.
   const double h = 1e-6 * std::max(std::abs(stage1.J21), std::abs(stage1.J22));

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "sim/drive/rng.hpp"
 
 namespace slamprep::sim {
 namespace {
@@ -21,6 +22,8 @@ void visitFields(Config& c, Visitor&& v) {
   v("physics_rate_hz", c.physics_rate_hz);
   v("solver_iterations", c.solver_iterations);
   v("path_margin_m", c.path_margin_m);
+  v("start_jitter.position_m", c.start_jitter.position_m);
+  v("start_jitter.yaw_deg", c.start_jitter.yaw_deg);
   auto& r = c.robot;
   v("robot.radius_left_m", r.geometry.radius_left_m);
   v("robot.radius_right_m", r.geometry.radius_right_m);
@@ -222,6 +225,17 @@ DiffDriveParams SimConfig::nominalGeometry() const {
           g.wheel_base_m * (1.0 + nominal.wheel_base_error)};
 }
 
+SE2 SimConfig::startPose(const SE2& T_world_start) const {
+  if (!start_jitter.any()) return T_world_start;
+  SplitMix64 rng(streamSeed(seed, RngStream::start_pose));
+  const auto symmetric = [&rng](double half_width) {
+    return half_width * (2.0 * rng.uniform() - 1.0);
+  };
+  const double dx = symmetric(start_jitter.position_m), dy = symmetric(start_jitter.position_m);
+  const double dyaw = symmetric(start_jitter.yaw_deg * std::numbers::pi / 180.0);
+  return SE2(T_world_start.x + dx, T_world_start.y + dy, normalizeAngle(T_world_start.yaw + dyaw));
+}
+
 std::vector<std::string> configKeys() {
   std::vector<std::string> keys;
   SimConfig config;
@@ -235,6 +249,7 @@ nlohmann::json toJson(const SimConfig& config, bool every_key) {
     json[pointer(key)] = toJsonValue(value);
   });
   if (!every_key && !config.faults.enable.any()) json.erase("faults");
+  if (!every_key && !config.start_jitter.any()) json.erase("start_jitter");
   return json;
 }
 
@@ -302,6 +317,9 @@ void validate(const SimConfig& c, const std::string& where) {
                c.solver_iterations);
   }
   check.nonNegative("path_margin_m", c.path_margin_m);
+  check.nonNegative("start_jitter.position_m", c.start_jitter.position_m);
+  if (c.start_jitter.yaw_deg < 0.0 || c.start_jitter.yaw_deg > 180.0)
+    check.fail("start_jitter.yaw_deg", "must be in [0, 180]", c.start_jitter.yaw_deg);
   const RobotConfig& r = c.robot;
   check.positive("robot.radius_left_m", r.geometry.radius_left_m);
   check.positive("robot.radius_right_m", r.geometry.radius_right_m);

@@ -27,6 +27,16 @@ struct NominalErrors {
   double wheel_base_error = 0.04;      ///< b: +4 %
 };
 
+/// Where the robot starts, moved per seed: uniform offsets of up to +-position_m in x and y and
+/// +-yaw_deg in heading from the world's start pose, drawn from the seed's own stream. 0 (the
+/// default) starts every seed at the world's start pose. Repeated runs then differ in where the
+/// robot drives relative to the walls, as repeated real experiments do.
+struct StartJitter {
+  double position_m = 0.0;
+  double yaw_deg = 0.0;
+  bool any() const { return position_m > 0.0 || yaw_deg > 0.0; }
+};
+
 struct SimConfig {
   std::string world = "worlds/room.yaml";  ///< world file (relative: cwd, then dataDir())
   std::string scenario = "worlds/scenarios/default.yaml";  ///< scenario file (same lookup)
@@ -36,6 +46,7 @@ struct SimConfig {
   double physics_rate_hz = 1000.0;  ///< fixed physics (and ground-truth) step rate
   int solver_iterations = 0;        ///< Bullet constraint-solver iterations; 0 keeps the Scene's
   double path_margin_m = 0.05;      ///< clearance the pre-check demands around the footprint
+  StartJitter start_jitter;         ///< per-seed start pose offsets, off by default
   RobotConfig robot;                ///< TRUE geometry and the physical robot
   NominalErrors nominal;            ///< what the odometry (and the controller) believe
   LidarConfig lidar;                ///< rotating lidar
@@ -45,6 +56,8 @@ struct SimConfig {
 
   /// The geometry the odometry is told: the true geometry scaled by the nominal errors.
   DiffDriveParams nominalGeometry() const;
+  /// The world's start pose moved by this seed's start_jitter draw (unchanged when it is off).
+  SE2 startPose(const SE2& T_world_start) const;
 };
 
 /// Every configuration key, dotted ("lidar.rate_hz"), in a fixed order.

@@ -10,9 +10,10 @@ namespace slamprep::sim {
 
 /// Fixed stream ids mixed into the run seed.
 enum class RngStream : std::uint64_t {
-  lidar = 0x6c696461ULL,     // "lida"
-  encoders = 0x656e636fULL,  // "enco"
-  imu = 0x696d7531ULL,       // "imu1"
+  lidar = 0x6c696461ULL,       // "lida"
+  encoders = 0x656e636fULL,    // "enco"
+  imu = 0x696d7531ULL,         // "imu1"
+  start_pose = 0x73747274ULL,  // "strt": the start_jitter draw
   // One stream per fault (sim/drive/faults.hpp), so turning one on leaves the others' draws.
   fault_encoder_spikes = 0x66737069ULL,    // "fspi"
   fault_encoder_dropouts = 0x6664726fULL,  // "fdro"

@@ -320,8 +320,9 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
       config.duration_s > 0.0 ? config.duration_s : written.profile.duration_s();
   if (config.solver_iterations > 0) physics.solver_iterations = config.solver_iterations;
   Scene scene(worldWithFaults(world, config.faults.enable), physics);
-  const Scenario scenario = planExplore(scene, written, config, world.T_world_start);
-  checkPathInWorld(scene, scenario, config, world.T_world_start, duration_s);
+  const SE2 T_world_start = config.startPose(world.T_world_start);
+  const Scenario scenario = planExplore(scene, written, config, T_world_start);
+  checkPathInWorld(scene, scenario, config, T_world_start, duration_s);
 
   Dataset data;
   DatasetInfo& info = data.info;
@@ -341,11 +342,10 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
     slip.emplace(world.floor_patches, config.robot.wheel_friction,
                  config.robot.geometry.wheel_base_m / 2);
   if (config.mode == SimMode::physics) {
-    motion = std::make_unique<PhysicsMotion>(scene, controller, config.robot, world.T_world_start,
+    motion = std::make_unique<PhysicsMotion>(scene, controller, config.robot, T_world_start,
                                              slip ? &*slip : nullptr);
   } else {
-    motion =
-        std::make_unique<KinematicMotion>(controller, config.robot.geometry, world.T_world_start);
+    motion = std::make_unique<KinematicMotion>(controller, config.robot.geometry, T_world_start);
   }
   LidarStream lidar(config.lidar, streamSeed(config.seed, RngStream::lidar), data.scans);
   EncoderStream encoders(config.encoders, data.encoders);

@@ -2,6 +2,7 @@
 // Synthetic calibration intervals from known geometry, generated with core's exact arc model
 // (wheelIncrement), independent of the algo/ motion model under test.
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -25,6 +26,14 @@ struct SyntheticSpec {
   double sigma_x_m = 0.0;        ///< along the lidar's x axis
   double sigma_y_m = 0.0;        ///< along the lidar's y axis
   double sigma_theta_rad = 0.0;  ///< on the rotation
+  /// Scan-to-scan matching: each interval's noise is (a_k + R w_{k+1} - w_k) / sqrt(3) per axis,
+  /// a_k, w_k unit Gaussians (w_k: the error of the scan at the interval's start in its frame,
+  /// R the interval's rotation: translation rows only, the sigmas scale each axis), so
+  /// consecutive intervals' errors correlate with rho = -1/3 and the variance stays sigma^2.
+  bool shared_scans = false;
+  /// Consecutive intervals driving the same manoeuvre (scan matches are short: the motion changes
+  /// slowly from one to the next).
+  int intervals_per_manoeuvre = 1;
   unsigned seed = 1;
 };
 
@@ -41,7 +50,7 @@ inline Eigen::Vector2d wheelRates(const SyntheticSpec& spec, int k, int j) {
       w = {-4.0, 4.0};
       break;
     default:
-      switch (k % 4) {
+      switch ((k / spec.intervals_per_manoeuvre) % 4) {
         case 0:
           w = {3.0, 6.0};
           break;  // curve left
@@ -64,6 +73,13 @@ inline std::vector<CalibrationInterval> makeIntervals(const SyntheticSpec& spec)
   std::normal_distribution<double> gauss(0.0, 1.0);
   std::vector<CalibrationInterval> out;
   double t = 0.0;
+  // Three unit Gaussians drawn in order (argument evaluation order is unspecified).
+  const auto draw3 = [&] {
+    Eigen::Vector3d v;
+    for (int i = 0; i < 3; ++i) v(i) = gauss(rng);
+    return v;
+  };
+  Eigen::Vector3d w_start = spec.shared_scans ? draw3() : Eigen::Vector3d::Zero();
   for (int k = 0; k < spec.intervals; ++k) {
     CalibrationInterval interval;
     interval.t_start_s = t;
@@ -77,8 +93,16 @@ inline std::vector<CalibrationInterval> makeIntervals(const SyntheticSpec& spec)
     }
     interval.t_end_s = t;
     const SE2 sm = spec.T_base_lidar.inverse() * o * spec.T_base_lidar;
-    const double nx = spec.sigma_x_m * gauss(rng), ny = spec.sigma_y_m * gauss(rng);
-    const double nth = spec.sigma_theta_rad * gauss(rng);
+    Eigen::Vector3d unit = draw3();
+    if (spec.shared_scans) {
+      const Eigen::Vector3d w_end = draw3();
+      Eigen::Vector3d w_end_here = w_end;  // the end scan's error, seen from the start frame
+      w_end_here.head<2>() = Eigen::Rotation2D<double>(sm.yaw).toRotationMatrix() * w_end.head<2>();
+      unit = (unit + w_end_here - w_start) / std::sqrt(3.0);
+      w_start = w_end;
+    }
+    const double nx = spec.sigma_x_m * unit.x(), ny = spec.sigma_y_m * unit.y();
+    const double nth = spec.sigma_theta_rad * unit.z();
     interval.T_lidarStart_lidarEnd = SE2(sm.x + nx, sm.y + ny, sm.yaw + nth);
     out.push_back(std::move(interval));
   }

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "core/error.hpp"
 
 namespace slamprep::sim {
@@ -81,6 +83,7 @@ TEST(SimConfig, JsonRoundTripsEveryKey) {
   applyOverride(c, "seed=77");
   applyOverride(c, "mode=kinematic");
   applyOverride(c, "faults.enable=clock_offset");  // the fault keys are written only with one on
+  applyOverride(c, "start_jitter.yaw_deg=30");     // and the start_jitter keys only when it is on
   const nlohmann::json json = toJson(c);
   EXPECT_EQ(json["lidar"]["mount"]["yaw_rad"], -0.25);
   EXPECT_EQ(json.flatten().size(), configKeys().size());
@@ -104,6 +107,30 @@ TEST(SimConfig, JsonRejectsUnknownKeysAndWrongTypes) {
   EXPECT_THROW(configFromJson(json, "cfg.json"), InputError);
   // Missing keys keep their defaults.
   EXPECT_EQ(configFromJson(nlohmann::json::object(), "cfg.json").lidar.rate_hz, 10.0);
+}
+
+// Off, the start is the world's; on, each seed moves it by its own draw within the bounds, the
+// same draw every time, and 100 seeds spread over the whole range (each half hit at least once).
+TEST(SimConfig, StartJitterMovesTheStartPerSeedWithinItsBounds) {
+  SimConfig c;
+  const SE2 world_start(5.0, 4.0, 0.3);
+  EXPECT_EQ(c.startPose(world_start).translation(), world_start.translation());
+  EXPECT_FALSE(toJson(c).contains("start_jitter"));
+  applyOverride(c, "start_jitter.position_m=0.25");
+  applyOverride(c, "start_jitter.yaw_deg=180");
+  bool left = false, right = false, turned_left = false, turned_right = false;
+  for (std::uint64_t seed = 1; seed <= 100; ++seed) {
+    c.seed = seed;
+    const SE2 start = c.startPose(world_start);
+    EXPECT_EQ(start.x, c.startPose(world_start).x);
+    EXPECT_LE(std::abs(start.x - 5.0), 0.25);
+    EXPECT_LE(std::abs(start.y - 4.0), 0.25);
+    (start.x < 5.0 ? left : right) = true;
+    (normalizeAngle(start.yaw - 0.3) < 0.0 ? turned_right : turned_left) = true;
+  }
+  EXPECT_TRUE(left && right && turned_left && turned_right);
+  EXPECT_NE(overrideError("start_jitter.yaw_deg=181"), "");
+  EXPECT_NE(overrideError("start_jitter.position_m=-1"), "");
 }
 
 TEST(SimConfig, FootprintCoversChassisAndWheels) {
