@@ -83,7 +83,9 @@ nlohmann::ordered_json summaryJson(const MatchFlags& f, const eval::MatchTraject
         {"trim_fraction", icp.trim_fraction},
         {"keyframe_distance_m", f.params.keyframe_distance_m},
         {"keyframe_angle_deg", f.keyframe_angle_deg},
-        {"local_map_keyframes", f.params.local_map_keyframes},
+        {"voxel_size_m", f.params.submap.voxel_size_m},
+        {"submap_radius_m", f.params.submap.max_distance_m},
+        {"submap_travel_m", f.params.submap.max_travel_m},
         {"max_range_m", f.params.max_range_m},
         {"max_correction_m", f.params.max_correction_m},
         {"max_correction_deg", f.params.max_correction_rad * kDegPerRad}}},
@@ -148,7 +150,7 @@ Command addMatchCommand(CLI::App& app) {
   auto* cli = app.add_subcommand(
       "match", "Lidar odometry: each scan matched against a local map of keyframes.");
   cli->footer(
-      "Matches every scan (point-to-line ICP) against the last keyframes' points, the odometry as\n"
+      "Matches every scan (point-to-line ICP) against a voxel map of the keyframes of the last metres of travel, the odometry as\n"
       "the guess; a failed match takes the odometry step and is counted (docs/matching.md).\n"
       "--trajectory FILE writes the base poses as TUM, --out FILE one JSON line per scan, --json\n"
       "FILE the summary. Exit 3 when no scan matched, or with --strict when any fell back.");
@@ -187,9 +189,18 @@ Command addMatchCommand(CLI::App& app) {
                   "... or one turned this much (deg)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  cli->add_option("--local-map-keyframes", flags->params.local_map_keyframes,
-                  "keyframes whose points form the local map (1: scan-to-keyframe)")
+  algo::LocalSubmapParams& submap = flags->params.submap;
+  cli->add_option("--voxel-size", submap.voxel_size_m,
+                  "the local map keeps one keyframe point per voxel of this edge (m)")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cli->add_option("--submap-radius", submap.max_distance_m,
+                  "map points farther than this (m) from the robot are dropped")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cli->add_option("--submap-travel", submap.max_travel_m,
+                  "map points inserted more than this many metres of travel ago are dropped")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cli->add_option("--max-range", flags->params.max_range_m,
                   "points farther than this (m) from the sensor are not matched")

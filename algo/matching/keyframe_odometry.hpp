@@ -1,10 +1,11 @@
 #pragma once
 // Lidar odometry by scan-to-local-map matching (docs/matching.md): each scan is matched
-// (point-to-line ICP) against the points of the last few keyframes, expressed in the newest
+// (point-to-line ICP) against a local submap (algo/matching/local_submap.hpp: the voxel-
+// downsampled points of the keyframes of the last metres of travel), expressed in the newest
 // keyframe's frame; the guess is the previous pose composed with the odometry increment. A scan
-// becomes a keyframe once it has moved far enough from the current one. Matching a map that stays
-// put while the robot moves within it adds no drift between keyframes, where chaining
-// scan-to-scan matches adds the error of every pair.
+// becomes a keyframe, and its points enter the submap, once it has moved far enough from the
+// current one. Matching a map that stays put while the robot moves within it adds no drift, where
+// chaining scan-to-scan matches adds the error of every pair.
 //
 // Failed matches: the scan's pose is the guess (previous pose o odometry increment), counted as
 // a fallback. Nothing else changes, so one failed scan costs the odometry's error over one step.
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "algo/matching/icp.hpp"
+#include "algo/matching/local_submap.hpp"
 #include "core/laser_scan.hpp"
 #include "core/se2.hpp"
 
@@ -27,8 +29,8 @@ struct KeyframeOdometryParams {
   double keyframe_distance_m = 0.3;
   /// ... or turned more than this.
   double keyframe_angle_rad = 10.0 * std::numbers::pi / 180.0;
-  /// The local map: points of this many most recent keyframes (1 = scan-to-keyframe).
-  std::size_t local_map_keyframes = 5;
+  /// The local map: every keyframe's points, voxel-downsampled, forgotten by distance and travel.
+  LocalSubmapParams submap;
   /// Points farther than this from the sensor are left out: some logs write "no return" as a
   /// reading at the sensor's range limit (ACES: 50 m), which would be a phantom wall.
   double max_range_m = 40.0;
