@@ -81,6 +81,7 @@ nlohmann::ordered_json summaryJson(const MatchFlags& f, const eval::MatchTraject
        {{"max_iterations", icp.max_iterations},
         {"max_correspondence_distance_m", icp.max_correspondence_distance_m},
         {"trim_fraction", icp.trim_fraction},
+        {"line_max_thickness", icp.line_max_thickness},
         {"keyframe_distance_m", f.params.keyframe_distance_m},
         {"keyframe_angle_deg", f.keyframe_angle_deg},
         {"voxel_size_m", f.params.submap.voxel_size_m},
@@ -180,6 +181,10 @@ Command addMatchCommand(CLI::App& app) {
   cli->add_option("--trim", icp.trim_fraction,
                   "ICP trimming: this fraction of the gated pairs, the worst, is dropped")
       ->check(CLI::Range(0.0, 0.9))
+      ->capture_default_str();
+  cli->add_option("--line-thickness", icp.line_max_thickness,
+                  "a map point's neighbours are a line when sqrt(lambda_min / lambda_max) is below")
+      ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   cli->add_option("--keyframe-distance", flags->params.keyframe_distance_m,
                   "a scan this far (m) from the keyframe becomes a keyframe")

@@ -4,17 +4,40 @@
 
 namespace slamprep::algo {
 
-std::int64_t LocalSubmap::voxelKey(const Eigen::Vector2d& p_world) const {
+std::pair<std::int64_t, std::int64_t> LocalSubmap::cell(const Eigen::Vector2d& p_world) const {
+  return {static_cast<std::int64_t>(std::floor(p_world.x() / params_.voxel_size_m)),
+          static_cast<std::int64_t>(std::floor(p_world.y() / params_.voxel_size_m))};
+}
+
+std::int64_t LocalSubmap::key(std::int64_t ix, std::int64_t iy) {
   // Two 32-bit cell indices in one key: +-2^31 voxels of 5 cm span 10^8 m, more than any log.
-  const auto ix = static_cast<std::int64_t>(std::floor(p_world.x() / params_.voxel_size_m));
-  const auto iy = static_cast<std::int64_t>(std::floor(p_world.y() / params_.voxel_size_m));
   return (ix << 32) ^ (iy & 0xffffffffLL);
+}
+
+std::int64_t LocalSubmap::voxelKey(const Eigen::Vector2d& p_world) const {
+  const auto [ix, iy] = cell(p_world);
+  return key(ix, iy);
+}
+
+bool LocalSubmap::hasPointNear(const Eigen::Vector2d& p_world) const {
+  const auto [ix, iy] = cell(p_world);
+  for (std::int64_t dx = -1; dx <= 1; ++dx)
+    for (std::int64_t dy = -1; dy <= 1; ++dy) {
+      const auto it = voxels_.find(key(ix + dx, iy + dy));
+      if (it != voxels_.end() &&
+          (points_[it->second].p_world - p_world).norm() < params_.voxel_size_m)
+        return true;
+    }
+  return false;
 }
 
 std::size_t LocalSubmap::insert(const Points2& points, const SE2& T_world_sensor, double travel_m) {
   std::size_t added = 0;
   for (const auto& p : points) {
     const Eigen::Vector2d p_world = T_world_sensor * p;
+    // Only where the map has no point yet: a wall seen again, slightly misplaced by the drift,
+    // would otherwise become a double wall whose neighbourhoods fit no line.
+    if (hasPointNear(p_world)) continue;
     if (voxels_.emplace(voxelKey(p_world), points_.size()).second) {
       points_.push_back({p_world, travel_m});
       ++added;

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "core/laser_scan.hpp"
@@ -52,7 +53,11 @@ class LocalSubmap {
   std::size_t size() const { return points_.size(); }
 
  private:
+  std::pair<std::int64_t, std::int64_t> cell(const Eigen::Vector2d& p_world) const;
+  static std::int64_t key(std::int64_t ix, std::int64_t iy);
   std::int64_t voxelKey(const Eigen::Vector2d& p_world) const;
+  /// A map point closer than voxel_size_m (searched in the 3 x 3 voxels around it).
+  bool hasPointNear(const Eigen::Vector2d& p_world) const;
 
   LocalSubmapParams params_;
   std::vector<SubmapPoint> points_;                        ///< insertion order: deterministic
