@@ -151,7 +151,8 @@ Command addMatchCommand(CLI::App& app) {
   auto* cli = app.add_subcommand(
       "match", "Lidar odometry: each scan matched against a local map of keyframes.");
   cli->footer(
-      "Matches every scan (point-to-line ICP) against a voxel map of the keyframes of the last metres of travel, the odometry as\n"
+      "Matches every scan (point-to-line ICP) against a voxel map of the keyframes of the last "
+      "metres of travel, the odometry as\n"
       "the guess; a failed match takes the odometry step and is counted (docs/matching.md).\n"
       "--trajectory FILE writes the base poses as TUM, --out FILE one JSON line per scan, --json\n"
       "FILE the summary. Exit 3 when no scan matched, or with --strict when any fell back.");

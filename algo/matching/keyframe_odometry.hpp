@@ -52,7 +52,7 @@ struct KeyframeOdometryParams {
     // Every point from the first round: a 180-beam scan's every 4th point leaves too few pairs.
     p.coarse_stride = 1;
     // The submap's walls, seen from several keyframes, are thicker than one scan's.
-    p.line_max_thickness = 0.35;
+    p.line_max_thickness = 0.5;
     // Converged at 0.5 mm / 0.1 mrad steps: 1 degree beams at 5-10 m resolve no finer, and
     // tighter steps end in the slow limit cycles of nearest-neighbour correspondences.
     p.translation_tolerance_m = 5e-4;

@@ -18,14 +18,14 @@
 namespace slamprep::algo {
 
 struct LocalSubmapParams {
-  /// Edge of the square voxels: one point is kept per voxel (finer than the beam spacing at a
-  /// few metres, 1 degree at 5 m = 0.09 m, so walls keep their shape).
+  /// Spacing: a point enters only where the map has none closer than this (searched in square
+  /// voxels of this edge); finer than the beam spacing at a few metres (1 degree at 5 m = 0.09 m).
   double voxel_size_m = 0.05;
   /// Points farther than this from the robot are dropped.
-  double max_distance_m = 20.0;
+  double max_distance_m = 30.0;
   /// Points inserted more than this many metres of travel ago are dropped (a map older than
-  /// the odometry's drift allows would pull the scan onto misplaced walls).
-  double max_travel_m = 20.0;
+  /// the matcher's drift allows would pull the scan onto misplaced walls).
+  double max_travel_m = 40.0;
 };
 
 /// One point of the map: where it is (world frame) and the travel distance when it was inserted.
@@ -60,7 +60,7 @@ class LocalSubmap {
   bool hasPointNear(const Eigen::Vector2d& p_world) const;
 
   LocalSubmapParams params_;
-  std::vector<SubmapPoint> points_;                        ///< insertion order: deterministic
+  std::vector<SubmapPoint> points_;                       ///< insertion order: deterministic
   std::unordered_map<std::int64_t, std::size_t> voxels_;  ///< voxel -> index in points_
 };
 
