@@ -58,18 +58,6 @@ SE2 fuseWithGuess(const SE2& T_kf_match, const Eigen::Matrix3d& match_covariance
              normalizeAngle(T_kf_guess.yaw + step.z()));
 }
 
-Points2 localMap(const std::vector<SE2>& keyframe_poses, const std::vector<const Points2*>& points,
-                 const SE2& T_world_ref) {
-  assert(keyframe_poses.size() == points.size());
-  Points2 map;
-  // Oldest first, so a point's index neighbours are its scan neighbours (the line fit uses them).
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const SE2 T_ref_kf = between(T_world_ref, keyframe_poses[i]);
-    for (const auto& p : *points[i]) map.push_back(T_ref_kf * p);
-  }
-  return map;
-}
-
 KeyframeOdometry trackKeyframes(const std::vector<Points2>& all_points,
                                 const std::vector<std::optional<SE2>>& increments,
                                 const KeyframeOdometryParams& params,

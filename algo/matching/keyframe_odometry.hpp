@@ -86,11 +86,6 @@ struct KeyframeOdometry {
 SE2 fuseWithGuess(const SE2& T_kf_match, const Eigen::Matrix3d& match_covariance,
                   const SE2& T_kf_guess, double odometry_sigma_m, double odometry_sigma_rad);
 
-/// The local map of `keyframe_poses` (T_world_kf) and their points (each in its own frame),
-/// expressed in the frame T_world_ref.
-Points2 localMap(const std::vector<SE2>& keyframe_poses, const std::vector<const Points2*>& points,
-                 const SE2& T_world_ref);
-
 /// Tracks `points` (each scan in its own lidar frame, in time order). `increments[k]` is the
 /// guessed motion T_{k-1}_k of the lidar from scan k-1 to scan k (index 0 unused); nullopt: the
 /// last accepted step is repeated (constant velocity, all a lidar-only log has). The first scan

@@ -1,16 +1,20 @@
 #include "algo/matching/local_submap.hpp"
 
 #include <cmath>
+#include <numbers>
 
 namespace slamprep::algo {
 
 std::pair<std::int64_t, std::int64_t> LocalSubmap::cell(const Eigen::Vector2d& p_world) const {
-  return {static_cast<std::int64_t>(std::floor(p_world.x() / params_.voxel_size_m)),
-          static_cast<std::int64_t>(std::floor(p_world.y() / params_.voxel_size_m))};
+  // Cells of edge spacing / sqrt(2): two points in one cell are closer than the spacing, so a
+  // point the spacing rule admits always finds its cell empty.
+  const double edge = params_.voxel_size_m / std::numbers::sqrt2;
+  return {static_cast<std::int64_t>(std::floor(p_world.x() / edge)),
+          static_cast<std::int64_t>(std::floor(p_world.y() / edge))};
 }
 
 std::int64_t LocalSubmap::key(std::int64_t ix, std::int64_t iy) {
-  // Two 32-bit cell indices in one key: +-2^31 voxels of 5 cm span 10^8 m, more than any log.
+  // Two 32-bit cell indices in one key: +-2^31 cells of 3.5 cm span 10^8 m, more than any log.
   return (ix << 32) ^ (iy & 0xffffffffLL);
 }
 
@@ -21,8 +25,9 @@ std::int64_t LocalSubmap::voxelKey(const Eigen::Vector2d& p_world) const {
 
 bool LocalSubmap::hasPointNear(const Eigen::Vector2d& p_world) const {
   const auto [ix, iy] = cell(p_world);
-  for (std::int64_t dx = -1; dx <= 1; ++dx)
-    for (std::int64_t dy = -1; dy <= 1; ++dy) {
+  // A point within the spacing lies at most two cells of edge spacing / sqrt(2) away.
+  for (std::int64_t dx = -2; dx <= 2; ++dx)
+    for (std::int64_t dy = -2; dy <= 2; ++dy) {
       const auto it = voxels_.find(key(ix + dx, iy + dy));
       if (it != voxels_.end() &&
           (points_[it->second].p_world - p_world).norm() < params_.voxel_size_m)
@@ -38,10 +43,9 @@ std::size_t LocalSubmap::insert(const Points2& points, const SE2& T_world_sensor
     // Only where the map has no point yet: a wall seen again, slightly misplaced by the drift,
     // would otherwise become a double wall whose neighbourhoods fit no line.
     if (hasPointNear(p_world)) continue;
-    if (voxels_.emplace(voxelKey(p_world), points_.size()).second) {
-      points_.push_back({p_world, travel_m});
-      ++added;
-    }
+    voxels_.emplace(voxelKey(p_world), points_.size());
+    points_.push_back({p_world, travel_m});
+    ++added;
   }
   return added;
 }

@@ -18,8 +18,9 @@
 namespace slamprep::algo {
 
 struct LocalSubmapParams {
-  /// Spacing: a point enters only where the map has none closer than this (searched in square
-  /// voxels of this edge); finer than the beam spacing at a few metres (1 degree at 5 m = 0.09 m).
+  /// Spacing: a point enters only where the map has none closer than this (searched in a grid of
+  /// square cells, one point each); finer than the beam spacing at a few metres (1 degree at 5 m =
+  /// 0.09 m).
   double voxel_size_m = 0.05;
   /// Points farther than this from the robot are dropped.
   double max_distance_m = 30.0;
@@ -56,12 +57,12 @@ class LocalSubmap {
   std::pair<std::int64_t, std::int64_t> cell(const Eigen::Vector2d& p_world) const;
   static std::int64_t key(std::int64_t ix, std::int64_t iy);
   std::int64_t voxelKey(const Eigen::Vector2d& p_world) const;
-  /// A map point closer than voxel_size_m (searched in the 3 x 3 voxels around it).
+  /// A map point closer than voxel_size_m (searched in the 5 x 5 cells around it).
   bool hasPointNear(const Eigen::Vector2d& p_world) const;
 
   LocalSubmapParams params_;
   std::vector<SubmapPoint> points_;                       ///< insertion order: deterministic
-  std::unordered_map<std::int64_t, std::size_t> voxels_;  ///< voxel -> index in points_
+  std::unordered_map<std::int64_t, std::size_t> voxels_;  ///< cell -> index in points_
 };
 
 }  // namespace slamprep::algo
