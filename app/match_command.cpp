@@ -151,9 +151,9 @@ Command addMatchCommand(CLI::App& app) {
   auto* cli = app.add_subcommand(
       "match", "Lidar odometry: each scan matched against a local map of keyframes.");
   cli->footer(
-      "Matches every scan (point-to-line ICP) against a voxel map of the keyframes of the last "
-      "metres of travel, the odometry as\n"
-      "the guess; a failed match takes the odometry step and is counted (docs/matching.md).\n"
+      "Matches every scan (point-to-line ICP) against a point map of the keyframes of the last\n"
+      "40 m of travel, the odometry as the guess; a failed match takes the odometry step and\n"
+      "is counted (docs/matching.md).\n"
       "--trajectory FILE writes the base poses as TUM, --out FILE one JSON line per scan, --json\n"
       "FILE the summary. Exit 3 when no scan matched, or with --strict when any fell back.");
   cli->add_option("DATASET", flags->dataset, "dataset directory (read only)")->required();
@@ -183,8 +183,9 @@ Command addMatchCommand(CLI::App& app) {
                   "ICP trimming: this fraction of the gated pairs, the worst, is dropped")
       ->check(CLI::Range(0.0, 0.9))
       ->capture_default_str();
-  cli->add_option("--line-thickness", icp.line_max_thickness,
-                  "a map point's neighbours are a line when sqrt(lambda_min / lambda_max) is below")
+  cli->add_option(
+         "--line-thickness", icp.line_max_thickness,
+         "a map point's neighbours are a line when sqrt(lambda_min / lambda_max) is below this")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   cli->add_option("--keyframe-distance", flags->params.keyframe_distance_m,
@@ -196,8 +197,9 @@ Command addMatchCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   algo::LocalSubmapParams& submap = flags->params.submap;
-  cli->add_option("--voxel-size", submap.voxel_size_m,
-                  "the local map keeps one keyframe point per voxel of this edge (m)")
+  cli->add_option(
+         "--voxel-size", submap.voxel_size_m,
+         "no two local map points closer than this (m): keyframe points enter where there are none")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cli->add_option("--submap-radius", submap.max_distance_m,
