@@ -81,9 +81,12 @@ nlohmann::ordered_json summaryJson(const MatchFlags& f, const eval::MatchTraject
        {{"max_iterations", icp.max_iterations},
         {"max_correspondence_distance_m", icp.max_correspondence_distance_m},
         {"trim_fraction", icp.trim_fraction},
+        {"line_max_thickness", icp.line_max_thickness},
         {"keyframe_distance_m", f.params.keyframe_distance_m},
         {"keyframe_angle_deg", f.keyframe_angle_deg},
-        {"local_map_keyframes", f.params.local_map_keyframes},
+        {"voxel_size_m", f.params.submap.voxel_size_m},
+        {"submap_radius_m", f.params.submap.max_distance_m},
+        {"submap_travel_m", f.params.submap.max_travel_m},
         {"max_range_m", f.params.max_range_m},
         {"max_correction_m", f.params.max_correction_m},
         {"max_correction_deg", f.params.max_correction_rad * kDegPerRad}}},
@@ -148,8 +151,9 @@ Command addMatchCommand(CLI::App& app) {
   auto* cli = app.add_subcommand(
       "match", "Lidar odometry: each scan matched against a local map of keyframes.");
   cli->footer(
-      "Matches every scan (point-to-line ICP) against the last keyframes' points, the odometry as\n"
-      "the guess; a failed match takes the odometry step and is counted (docs/matching.md).\n"
+      "Matches every scan (point-to-line ICP) against a point map of the keyframes of the last\n"
+      "40 m of travel, the odometry as the guess; a failed match takes the odometry step and\n"
+      "is counted (docs/matching.md).\n"
       "--trajectory FILE writes the base poses as TUM, --out FILE one JSON line per scan, --json\n"
       "FILE the summary. Exit 3 when no scan matched, or with --strict when any fell back.");
   cli->add_option("DATASET", flags->dataset, "dataset directory (read only)")->required();
@@ -179,6 +183,11 @@ Command addMatchCommand(CLI::App& app) {
                   "ICP trimming: this fraction of the gated pairs, the worst, is dropped")
       ->check(CLI::Range(0.0, 0.9))
       ->capture_default_str();
+  cli->add_option(
+         "--line-thickness", icp.line_max_thickness,
+         "a map point's neighbours are a line when sqrt(lambda_min / lambda_max) is below this")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   cli->add_option("--keyframe-distance", flags->params.keyframe_distance_m,
                   "a scan this far (m) from the keyframe becomes a keyframe")
       ->check(positive())
@@ -187,9 +196,19 @@ Command addMatchCommand(CLI::App& app) {
                   "... or one turned this much (deg)")
       ->check(positive())
       ->capture_default_str();
-  cli->add_option("--local-map-keyframes", flags->params.local_map_keyframes,
-                  "keyframes whose points form the local map (1: scan-to-keyframe)")
+  algo::LocalSubmapParams& submap = flags->params.submap;
+  cli->add_option(
+         "--voxel-size", submap.voxel_size_m,
+         "no two local map points closer than this (m): keyframe points enter where there are none")
       ->check(positive())
+      ->capture_default_str();
+  cli->add_option("--submap-radius", submap.max_distance_m,
+                  "map points farther than this (m) from the robot are dropped")
+      ->check(positive())
+      ->capture_default_str();
+  cli->add_option("--submap-travel", submap.max_travel_m,
+                  "map points inserted more than this many metres of travel ago are dropped")
+      ->check(nonNegative())
       ->capture_default_str();
   cli->add_option("--max-range", flags->params.max_range_m,
                   "points farther than this (m) from the sensor are not matched")

@@ -3,32 +3,31 @@
 #include <Eigen/Dense>
 #include <cassert>
 #include <cmath>
-#include <deque>
 #include <string>
 
 namespace slamprep::algo {
 namespace {
 
-/// The most recent keyframes: their poses and their scans' points (owned by the caller).
-struct KeyframeWindow {
-  std::deque<SE2> poses;
-  std::deque<const Points2*> points;
-  std::size_t newest = 0;  ///< scan index of the newest keyframe
+/// The newest keyframe and the submap its points went into.
+struct KeyframeMap {
+  LocalSubmap submap;
+  SE2 T_world_kf;          ///< the newest keyframe's pose: the frame the reference is in
+  std::size_t newest = 0;  ///< its scan index
+  double travel_m = 0.0;   ///< distance between keyframes summed up to the newest
 
-  void add(std::size_t scan, const SE2& T_world_kf, const Points2* p, std::size_t capacity) {
-    poses.push_back(T_world_kf);
-    points.push_back(p);
+  void add(std::size_t scan, const SE2& T_world_scan, const Points2& points) {
+    if (scan > 0) travel_m += between(T_world_kf, T_world_scan).translation().norm();
+    T_world_kf = T_world_scan;
     newest = scan;
-    while (poses.size() > std::max<std::size_t>(1, capacity)) poses.pop_front(), points.pop_front();
+    submap.insert(points, T_world_scan, travel_m);
+    submap.prune(T_world_scan.translation(), travel_m);
+  }
+
+  /// The submap in the newest keyframe's frame, prepared for point-to-line ICP.
+  IcpReference reference(const IcpParams& icp) const {
+    return IcpReference(submap.pointsIn(T_world_kf), icp, true);
   }
 };
-
-/// The local map in the newest keyframe's frame, prepared for point-to-line ICP.
-IcpReference buildReference(const KeyframeWindow& window, const IcpParams& icp) {
-  return IcpReference(localMap({window.poses.begin(), window.poses.end()},
-                               {window.points.begin(), window.points.end()}, window.poses.back()),
-                      icp, true);
-}
 
 Points2 withinRange(const Points2& points, double max_range_m) {
   Points2 out;
@@ -59,18 +58,6 @@ SE2 fuseWithGuess(const SE2& T_kf_match, const Eigen::Matrix3d& match_covariance
              normalizeAngle(T_kf_guess.yaw + step.z()));
 }
 
-Points2 localMap(const std::vector<SE2>& keyframe_poses, const std::vector<const Points2*>& points,
-                 const SE2& T_world_ref) {
-  assert(keyframe_poses.size() == points.size());
-  Points2 map;
-  // Oldest first, so a point's index neighbours are its scan neighbours (the line fit uses them).
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const SE2 T_ref_kf = between(T_world_ref, keyframe_poses[i]);
-    for (const auto& p : *points[i]) map.push_back(T_ref_kf * p);
-  }
-  return map;
-}
-
 KeyframeOdometry trackKeyframes(const std::vector<Points2>& all_points,
                                 const std::vector<std::optional<SE2>>& increments,
                                 const KeyframeOdometryParams& params,
@@ -81,9 +68,9 @@ KeyframeOdometry trackKeyframes(const std::vector<Points2>& all_points,
   for (const Points2& p : all_points) points.push_back(withinRange(p, params.max_range_m));
   KeyframeOdometry out;
   if (points.empty()) return out;
-  KeyframeWindow window;
-  window.add(0, T_world_lidar_start, &points[0], params.local_map_keyframes);
-  IcpReference reference = buildReference(window, params.icp);
+  KeyframeMap map{LocalSubmap(params.submap), T_world_lidar_start};
+  map.add(0, T_world_lidar_start, points[0]);
+  IcpReference reference = map.reference(params.icp);
   TrackedScan first;
   first.T_world_lidar = T_world_lidar_start;
   first.is_keyframe = true;
@@ -94,10 +81,10 @@ KeyframeOdometry trackKeyframes(const std::vector<Points2>& all_points,
   for (std::size_t k = 1; k < points.size(); ++k) {
     const SE2 T_world_prev = out.scans.back().T_world_lidar;
     const SE2 T_world_guess = T_world_prev * increments[k].value_or(last_step);
-    const SE2 T_world_kf = window.poses.back();  // a copy: add() may drop it
+    const SE2 T_world_kf = map.T_world_kf;  // a copy: add() moves it
     TrackedScan scan;
     scan.T_world_lidar = T_world_guess;
-    scan.keyframe = window.newest;
+    scan.keyframe = map.newest;
     scan.fallback = true;
     scan.map_points = reference.points().size();
     const SE2 T_kf_guess = between(T_world_kf, T_world_guess);
@@ -125,8 +112,8 @@ KeyframeOdometry trackKeyframes(const std::vector<Points2>& all_points,
     // left would make every later match fail.
     if (beyond(between(T_world_kf, scan.T_world_lidar), params.keyframe_distance_m,
                params.keyframe_angle_rad)) {
-      window.add(k, scan.T_world_lidar, &points[k], params.local_map_keyframes);
-      reference = buildReference(window, params.icp);
+      map.add(k, scan.T_world_lidar, points[k]);
+      reference = map.reference(params.icp);
       scan.is_keyframe = true;
       ++out.keyframes;
     }

@@ -1,10 +1,11 @@
 #pragma once
 // Lidar odometry by scan-to-local-map matching (docs/matching.md): each scan is matched
-// (point-to-line ICP) against the points of the last few keyframes, expressed in the newest
+// (point-to-line ICP) against a local submap (algo/matching/local_submap.hpp: the voxel-
+// downsampled points of the keyframes of the last metres of travel), expressed in the newest
 // keyframe's frame; the guess is the previous pose composed with the odometry increment. A scan
-// becomes a keyframe once it has moved far enough from the current one. Matching a map that stays
-// put while the robot moves within it adds no drift between keyframes, where chaining
-// scan-to-scan matches adds the error of every pair.
+// becomes a keyframe, and its points enter the submap, once it has moved far enough from the
+// current one. Matching a map that stays put while the robot moves within it adds no drift, where
+// chaining scan-to-scan matches adds the error of every pair.
 //
 // Failed matches: the scan's pose is the guess (previous pose o odometry increment), counted as
 // a fallback. Nothing else changes, so one failed scan costs the odometry's error over one step.
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "algo/matching/icp.hpp"
+#include "algo/matching/local_submap.hpp"
 #include "core/laser_scan.hpp"
 #include "core/se2.hpp"
 
@@ -27,8 +29,8 @@ struct KeyframeOdometryParams {
   double keyframe_distance_m = 0.3;
   /// ... or turned more than this.
   double keyframe_angle_rad = 10.0 * std::numbers::pi / 180.0;
-  /// The local map: points of this many most recent keyframes (1 = scan-to-keyframe).
-  std::size_t local_map_keyframes = 5;
+  /// The local map: every keyframe's points, voxel-downsampled, forgotten by distance and travel.
+  LocalSubmapParams submap;
   /// Points farther than this from the sensor are left out: some logs write "no return" as a
   /// reading at the sensor's range limit (ACES: 50 m), which would be a phantom wall.
   double max_range_m = 40.0;
@@ -49,6 +51,8 @@ struct KeyframeOdometryParams {
     p.trim_fraction = 0.1;
     // Every point from the first round: a 180-beam scan's every 4th point leaves too few pairs.
     p.coarse_stride = 1;
+    // The submap's walls, seen from several keyframes, are thicker than one scan's.
+    p.line_max_thickness = 0.5;
     // Converged at 0.5 mm / 0.1 mrad steps: 1 degree beams at 5-10 m resolve no finer, and
     // tighter steps end in the slow limit cycles of nearest-neighbour correspondences.
     p.translation_tolerance_m = 5e-4;
@@ -81,11 +85,6 @@ struct KeyframeOdometry {
 /// enough).
 SE2 fuseWithGuess(const SE2& T_kf_match, const Eigen::Matrix3d& match_covariance,
                   const SE2& T_kf_guess, double odometry_sigma_m, double odometry_sigma_rad);
-
-/// The local map of `keyframe_poses` (T_world_kf) and their points (each in its own frame),
-/// expressed in the frame T_world_ref.
-Points2 localMap(const std::vector<SE2>& keyframe_poses, const std::vector<const Points2*>& points,
-                 const SE2& T_world_ref);
 
 /// Tracks `points` (each scan in its own lidar frame, in time order). `increments[k]` is the
 /// guessed motion T_{k-1}_k of the lidar from scan k-1 to scan k (index 0 unused); nullopt: the
