@@ -19,10 +19,12 @@ struct Parameter {
   const char* key;    // key in the trial results
   const char* title;  // panel title
 };
-constexpr Parameter kParameters[] = {
-    {"r_L_pct", "left wheel radius"}, {"r_R_pct", "right wheel radius"},
-    {"b_pct", "wheel base"},          {"lidar_x_mm", "lidar mount x"},
-    {"lidar_y_mm", "lidar mount y"},  {"lidar_yaw_deg", "lidar mount yaw"}};
+constexpr Parameter kParameters[] = {{"r_L_pct", "Left wheel radius r_{L}"},
+                                     {"r_R_pct", "Right wheel radius r_{R}"},
+                                     {"b_pct", "Wheel base b"},
+                                     {"lidar_x_mm", "Lidar mount x"},
+                                     {"lidar_y_mm", "Lidar mount y"},
+                                     {"lidar_yaw_deg", "Lidar mount yaw"}};
 
 // error / sigma of one method and parameter over the trials that did not refuse.
 std::vector<double> normalizedErrors(const std::vector<std::map<std::string, double>>& rows,
@@ -120,13 +122,14 @@ std::optional<plot::Figure> consistencyFigure(
     }
   if (methods.empty()) return std::nullopt;
   std::set<std::string> off_scale;
-  plot::Figure fig{.width_px = 1500, .height_px = 950, .rows = 2, .cols = 3};
+  // Legends beside each panel, never over a histogram: the figure is wide enough for three.
+  plot::Figure fig{.width_px = 2100, .height_px = 950, .rows = 2, .cols = 3};
   for (const auto& param : kParameters) {
     plot::Axes axes{.title = param.title,
                     .x_label = "error / reported σ",
                     .y_label = "density",
                     .x_range = plot::Range{-kRange, kRange},
-                    .legend = plot::LegendPosition::Auto};
+                    .legend = plot::LegendPosition::Outside};
     std::size_t index = 0;
     for (const auto& method : methods) {
       const std::size_t colour = index++;  // one colour per method in every panel

@@ -66,7 +66,17 @@ std::string conditionLabel(const json& group, const json& groups) {
 }
 
 std::string seedsNote(int seeds) {
-  return seeds <= 1 ? "1 seed" : "mean ± 1σ over " + std::to_string(seeds) + " seeds";
+  return seeds <= 1 ? "1 seed" : "mean, min to max over " + std::to_string(seeds) + " seeds";
+}
+
+void pushMeanWithSpread(plot::Series& s, double x, const json& metrics, const std::string& path,
+                        int seeds, double scale) {
+  const double mean = scale * statOf(metrics, path, "mean");
+  const bool spread = seeds >= 2 && std::isfinite(mean);
+  s.x.push_back(x);
+  s.y.push_back(mean);
+  s.y_err.push_back(spread ? scale * statOf(metrics, path, "max") - mean : 0.0);
+  s.y_err_low.push_back(spread ? mean - scale * statOf(metrics, path, "min") : 0.0);
 }
 
 double statOf(const json& metrics, const std::string& path, const char* stat) {

@@ -16,8 +16,14 @@ namespace slamprep::eval {
 /// the others of `groups` (its scenario when they differ, its sweep values), in words.
 std::string conditionLabel(const nlohmann::json& group, const nlohmann::json& groups);
 
-/// ", 1 seed" / ", mean ± 1σ over 5 seeds": what the dots and error bars of a group show.
+/// "1 seed" / "mean, min to max over 5 seeds": what the dots and whiskers of a group show.
 std::string seedsNote(int seeds);
+
+/// Appends metrics[path]'s mean (times `scale`) to `s` with a whisker from the smallest to the
+/// largest seed's value when `seeds` >= 2 (a 1σ bar would cross zero on the log axes), none
+/// with one seed.
+void pushMeanWithSpread(plot::Series& s, double x, const nlohmann::json& metrics,
+                        const std::string& path, int seeds, double scale = 1.0);
 
 /// A statistic of a metrics object; NaN when absent.
 double statOf(const nlohmann::json& metrics, const std::string& path, const char* stat);
@@ -30,7 +36,7 @@ std::vector<std::string> methodsIn(const nlohmann::json& groups, const std::stri
 plot::Color methodColor(const std::vector<std::string>& all, const std::string& method);
 plot::Marker methodMarker(const std::vector<std::string>& all, const std::string& method);
 
-/// Dots (with 1σ bars when seeds >= 2) of one method, at categorical x positions.
+/// Dots (with min..max whiskers when seeds >= 2) of one method, at categorical x positions.
 plot::Series methodDots(const std::vector<std::string>& all, const std::string& method);
 
 /// When every group's scenario is one file of a series, `<stem><number>.yaml` with one stem
@@ -41,7 +47,7 @@ std::optional<std::vector<double>> scenarioSeries(const nlohmann::json& groups);
 /// "lidar 5 Hz" before "lidar 10 Hz": numbers inside the labels compare by value.
 bool naturalLess(const std::string& a, const std::string& b);
 
-/// The seeds behind every group when they are equal ("mean ± 1σ over 5 seeds"), else "".
+/// The seeds behind every group when they are equal ("mean, min to max over 5 seeds"), else "".
 std::string commonSeedsNote(const nlohmann::json& groups);
 
 /// Sweep values of a group other than `axis`, as a label ("lidar 5 Hz"); "" when none.

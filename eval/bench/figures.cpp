@@ -52,7 +52,8 @@ std::vector<std::string> renderSuitePlots(const Suite& suite, const json& summar
       figures.emplace_back("calibration_error.png", calibrationFigure(groups));
   }
   // error/sigma histograms need many seeds of one experiment to say anything (the seeds suite).
-  if (suite.seeds >= kMinSeedsForConsistency)
+  // It pools every trial of trials.csv, so only where they share one condition (one group).
+  if (suite.seeds >= kMinSeedsForConsistency && groups.size() == 1)
     if (auto fig = consistencyFigure(readTrialRows(out_dir / "trials.csv")))
       figures.emplace_back("consistency.png", std::move(*fig));
   if (const auto artifacts = firstArtifacts(suite, out_dir)) {

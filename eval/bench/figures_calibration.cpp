@@ -48,9 +48,7 @@ plot::Axes calibrationPanel(const json& group, const PanelSpec& spec,
       const std::string path = "calibration/" + method + "/abs_error/" + spec.params[i].key;
       const double v = statOf(m, path, "mean");
       any = any || std::isfinite(v);
-      dots.x.push_back(static_cast<double>(i));
-      dots.y.push_back(v);
-      dots.y_err.push_back(seeds >= 2 ? statOf(m, path, "std") : 0.0);
+      pushMeanWithSpread(dots, static_cast<double>(i), m, path, seeds);
     }
     if (any) axes.series.push_back(dots);
   }
@@ -136,10 +134,7 @@ plot::Figure calibrationVsTimeFigure(const json& groups) {
                   [](const auto& a, const auto& b) { return a.first < b.first; });
         for (const auto& [t, g] : points) {
           const std::string path = "calibration/" + method + "/abs_error/" + key;
-          line.x.push_back(t);
-          line.y.push_back(statOf((*g)["metrics"], path, "mean"));
-          line.y_err.push_back(g->value("trials", 1) >= 2 ? statOf((*g)["metrics"], path, "std")
-                                                          : 0.0);
+          pushMeanWithSpread(line, t, (*g)["metrics"], path, g->value("trials", 1));
         }
         if (std::any_of(line.y.begin(), line.y.end(), [](double v) { return std::isfinite(v); }))
           axes.series.push_back(line);

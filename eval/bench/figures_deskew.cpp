@@ -27,10 +27,6 @@ std::vector<std::string> plottedDeskewMethods(const json& groups) {
   return out;
 }
 
-double meanMm(const json& group, const std::string& method, const char* stat) {
-  return 1e3 * statOf(group["metrics"], "deskew/" + method + "/mean_m", stat);
-}
-
 }  // namespace
 
 plot::Figure deskewFigure(const json& groups) {
@@ -57,9 +53,8 @@ plot::Figure deskewFigure(const json& groups) {
     for (std::size_t i = 0; i < methods.size(); ++i) {
       plot::Series dot = methodDots(methods, methods[i]);
       dot.label.clear();  // the category names it
-      dot.x = {static_cast<double>(i)};
-      dot.y = {meanMm(g, methods[i], "mean")};
-      dot.y_err = {seeds >= 2 ? meanMm(g, methods[i], "std") : 0.0};
+      pushMeanWithSpread(dot, static_cast<double>(i), g["metrics"],
+                         "deskew/" + methods[i] + "/mean_m", seeds, 1e3);
       axes.series.push_back(dot);
     }
     fig.axes.push_back(axes);
@@ -99,9 +94,8 @@ std::optional<plot::Figure> deskewVsSpeedFigure(const json& groups) {
       line.dashed = method == "odom-quadratic";
       if (method == "odom-linear") line.marker_size_px = 14.0;
       for (const auto& [speed, g] : points) {
-        line.x.push_back(speed);
-        line.y.push_back(meanMm(*g, method, "mean"));
-        line.y_err.push_back(g->value("trials", 1) >= 2 ? meanMm(*g, method, "std") : 0.0);
+        pushMeanWithSpread(line, speed, (*g)["metrics"], "deskew/" + method + "/mean_m",
+                           g->value("trials", 1), 1e3);
       }
       axes.series.push_back(line);
     }

@@ -10,14 +10,15 @@
 namespace slamprep::eval {
 
 // figures_calibration.cpp
-/// Absolute error of every method and parameter, one row of panels per group, dots with 1σ over
-/// the group's seeds.
+/// Absolute error of every method and parameter, one row of panels per group, dots with min..max
+/// whiskers over the group's seeds.
 plot::Figure calibrationFigure(const nlohmann::json& groups);
 /// Error against driving time (the duration_s sweep axis), one column per other sweep value.
 plot::Figure calibrationVsTimeFigure(const nlohmann::json& groups);
 
 // figures_deskew.cpp
-/// Mean point error of every method, one panel per group, dots with 1σ over its seeds.
+/// Mean point error of every method, one panel per group, dots with min..max whiskers over its
+/// seeds.
 plot::Figure deskewFigure(const nlohmann::json& groups);
 /// Mean point error against the measured speed of a scenario series, one panel per other sweep
 /// value; nullopt when the scenarios are not a series (scenarioSeries).

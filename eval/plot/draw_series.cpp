@@ -47,11 +47,14 @@ void drawErrorBars(GlCanvas& canvas, const Axes& axes, std::size_t i, const Pane
   std::vector<std::vector<Vec2>> runs;
   for (std::size_t k = 0; k < s.x.size(); ++k) {
     const double x = s.x[k] + offset, y = s.y[k], e = std::abs(s.y_err[k]);
-    if (!usable(x, axes.log_x) || !usable(y, axes.log_y) || !std::isfinite(e) || e == 0.0) continue;
+    const double e_low = s.y_err_low.empty() ? e : std::abs(s.y_err_low[k]);
+    if (!usable(x, axes.log_x) || !usable(y, axes.log_y) || !std::isfinite(e) ||
+        !std::isfinite(e_low) || (e == 0.0 && e_low == 0.0))
+      continue;
     const double px = L.toPixelX(x);
     const double top = L.toPixelY(y + e);
-    const bool low_ok = usable(y - e, axes.log_y);
-    const double bottom = low_ok ? L.toPixelY(y - e) : L.bottom_px + 2.0 * width;
+    const bool low_ok = usable(y - e_low, axes.log_y);
+    const double bottom = low_ok ? L.toPixelY(y - e_low) : L.bottom_px + 2.0 * width;
     if (!usable(y + e, axes.log_y)) continue;
     runs.push_back({{px, top}, {px, bottom}});
     runs.push_back({{px - cap, top}, {px + cap, top}});

@@ -41,7 +41,8 @@ Extents dataExtents(const Axes& axes) {
       }
       e.y.add(y);
       if (!s.y_err.empty() && std::isfinite(s.y_err[k])) {
-        for (const double ye : {y - std::abs(s.y_err[k]), y + std::abs(s.y_err[k])}) {
+        const double low = s.y_err_low.empty() ? s.y_err[k] : s.y_err_low[k];
+        for (const double ye : {y - std::abs(low), y + std::abs(s.y_err[k])}) {
           if (usable(ye, axes.log_y)) e.y.add(ye);
         }
       }
@@ -149,6 +150,10 @@ void validateSeries(const Series& s, const std::string& where) {
   if (s.x.size() != s.y.size()) {
     throw InputError(where, "x has " + std::to_string(s.x.size()) + " values but y has " +
                                 std::to_string(s.y.size()));
+  }
+  if (!s.y_err_low.empty() && s.y_err_low.size() != s.y_err.size()) {
+    throw InputError(where, "y_err_low has " + std::to_string(s.y_err_low.size()) +
+                                " entries, y_err " + std::to_string(s.y_err.size()));
   }
   if (!s.y_err.empty() && s.y_err.size() != s.y.size()) {
     throw InputError(where, "y_err has " + std::to_string(s.y_err.size()) +

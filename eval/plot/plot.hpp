@@ -59,13 +59,14 @@ enum class LegendPosition { Auto, UpperRight, UpperLeft, LowerLeft, LowerRight, 
 /// One data series. x and y have equal length; non-finite points (and y <= 0 on a log y axis,
 /// x <= 0 on a log x axis) are skipped and break a line.
 struct Series {
-  std::string label{};           ///< legend text; empty: not in the legend
-  std::vector<double> x{};       ///< abscissae (category index on categorical axes)
-  std::vector<double> y{};       ///< ordinates
-  std::vector<double> y_err{};   ///< empty, or one symmetric error (e.g. 1 sigma) per point
-  Style style = Style::Line;     ///< how the points are drawn
-  std::optional<Color> color{};  ///< unset: next palette colour
-  double line_width_px = 2.0;    ///< stroke width of lines and error bars
+  std::string label{};              ///< legend text; empty: not in the legend
+  std::vector<double> x{};          ///< abscissae (category index on categorical axes)
+  std::vector<double> y{};          ///< ordinates
+  std::vector<double> y_err{};      ///< empty, or one error (e.g. 1 sigma) per point, above it
+  std::vector<double> y_err_low{};  ///< empty: y_err below too; else the error below each point
+  Style style = Style::Line;        ///< how the points are drawn
+  std::optional<Color> color{};     ///< unset: next palette colour
+  double line_width_px = 2.0;       ///< stroke width of lines and error bars
   std::optional<double> marker_size_px{};  ///< marker extent; unset: 8 px (Points: 3 px dots)
   Marker marker = Marker::Auto;            ///< marker shape for Markers / LineMarkers
   bool dashed = false;                     ///< dashed line

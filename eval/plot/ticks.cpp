@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 namespace slamprep::eval::plot {
 namespace {
@@ -172,6 +173,11 @@ std::vector<Tick> logTicks(const Range& range, int max_major) {
   auto ticks = mantissaTicks(range, [](int m) { return m == 1 || m == 2 || m == 5; });
   if (fits(ticks)) return ticks;
   if (decades == 2) return decadeTicks(k0, k1, lo, hi, max_major);
+  // Sparser mantissas before linear steps: linear labels on a log axis bunch up at the top.
+  for (const auto& pair : {std::pair{1, 3}, std::pair{1, 5}, std::pair{2, 5}}) {
+    ticks = mantissaTicks(range, [&](int m) { return m == pair.first || m == pair.second; });
+    if (fits(ticks)) return ticks;
+  }
   ticks = mantissaTicks(range, [](int) { return true; });
   if (fits(ticks)) return ticks;
   return linearTicks(range, max_major);

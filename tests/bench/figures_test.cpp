@@ -15,7 +15,8 @@ namespace {
 using nlohmann::json;
 
 json stat(double mean, double std) {
-  return {{"mean", mean}, {"std", std}, {"min", mean}, {"max", mean}, {"n", 1}};
+  // An uneven spread, so a whisker from min to max differs from ±1σ.
+  return {{"mean", mean}, {"std", std}, {"min", mean - std}, {"max", mean + 2 * std}, {"n", 1}};
 }
 
 // A group of `seeds` trials: calibration errors for joint (with mount) and model (without),
@@ -47,12 +48,19 @@ TEST(Figures, CalibrationHasARowPerConditionAndBarsOfSigmaOnlyFromSeeds) {
   ASSERT_EQ(f.axes.size(), 6u);  // two rows of three panels: nothing pooled
   EXPECT_FALSE(anyBars(f));
   EXPECT_EQ(f.axes[0].title, "Calibration drive (1 seed)");
-  EXPECT_EQ(f.axes[3].title, "Circle arc, 1 m/s (mean ± 1σ over 5 seeds)");
+  EXPECT_EQ(f.axes[3].title, "Circle arc, 1 m/s (mean, min to max over 5 seeds)");
   EXPECT_EQ(f.axes[0].legend, plot::LegendPosition::Outside);
   for (const auto& s : f.axes[0].series)
     for (double e : s.y_err) EXPECT_EQ(e, 0.0);  // one seed: no spread to show
-  for (const auto& s : f.axes[3].series)
+  for (const auto& s : f.axes[3].series) {
     for (double e : s.y_err) EXPECT_GT(e, 0.0);
+    // Whiskers span min..max of the seeds: never below zero on the log axis.
+    ASSERT_EQ(s.y_err_low.size(), s.y.size());
+    for (std::size_t k = 0; k < s.y.size(); ++k) {
+      EXPECT_NEAR(s.y_err[k], 2 * s.y_err_low[k], 1e-12);
+      EXPECT_GT(s.y[k] - s.y_err_low[k], 0.0);
+    }
+  }
   // Each row shows its own condition's values, not a mean over both.
   EXPECT_DOUBLE_EQ(f.axes[0].series[0].y[0], 0.05);
   EXPECT_DOUBLE_EQ(f.axes[3].series[0].y[0], 0.10);

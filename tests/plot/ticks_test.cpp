@@ -152,6 +152,15 @@ TEST(LogTicks, TwoDecadesGetOneTwoFiveLabelsWhenTheyFit) {
   EXPECT_NEAR(std::log10(decades[1]), -3.0, 1e-12);
 }
 
+TEST(LogTicks, ADecadeAndABitGetsSparseMantissasNotLinearSteps) {
+  // 0.006 .. 0.095 with room for two labels: 1-2-5 gives three (0.01, 0.02, 0.05); linear steps
+  // (0.02, 0.04, ...) would bunch at the top of a log axis and leave its bottom bare.
+  const std::vector<double> majors = majorValues(logTicks({0.006, 0.095}, 2));
+  ASSERT_EQ(majors.size(), 2u);
+  EXPECT_NEAR(majors[0], 0.01, 1e-15);
+  EXPECT_NEAR(majors[1], 0.03, 1e-15);
+}
+
 TEST(LogTicks, VeryNarrowRangeFallsBackToLinear) {
   const auto majors = majorValues(logTicks({1.1, 1.9}, 6));
   ASSERT_GE(majors.size(), 2u);
