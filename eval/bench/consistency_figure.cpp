@@ -9,6 +9,8 @@
 #include <set>
 #include <string>
 
+#include "algo/calibration/calibration_method.hpp"
+
 namespace slamprep::eval {
 namespace {
 
@@ -130,9 +132,13 @@ std::optional<plot::Figure> consistencyFigure(
                     .y_label = "density",
                     .x_range = plot::Range{-kRange, kRange},
                     .legend = plot::LegendPosition::Outside};
-    std::size_t index = 0;
     for (const auto& method : methods) {
-      const std::size_t colour = index++;  // one colour per method in every panel
+      // The method's colour in every figure: its place in the library's list of methods.
+      const auto& all = algo::allCalibrationMethods();
+      const auto colour = static_cast<std::size_t>(
+          std::find_if(all.begin(), all.end(),
+                       [&](auto m) { return algo::calibrationMethodName(m) == method; }) -
+          all.begin());
       const auto z = normalizedErrors(trial_rows, method, param.key);
       if (z.empty()) continue;
       if (offScale(z)) {

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <map>
 
+#include "algo/calibration/calibration_method.hpp"
 #include "eval/bench/figure_groups.hpp"
 #include "eval/bench/figures_internal.hpp"
 
@@ -9,6 +10,18 @@ namespace slamprep::eval {
 namespace {
 
 using nlohmann::json;
+
+// Every calibration method, in the library's order: a method's colour and marker come from its
+// place here, the same in every suite whichever methods it ran.
+const std::vector<std::string>& calibrationPalette() {
+  static const std::vector<std::string> kAll = [] {
+    std::vector<std::string> all;
+    for (const auto method : algo::allCalibrationMethods())
+      all.emplace_back(algo::calibrationMethodName(method));
+    return all;
+  }();
+  return kAll;
+}
 
 struct Param {
   const char* key;    // abs_error/<key>
@@ -42,7 +55,7 @@ plot::Axes calibrationPanel(const json& group, const PanelSpec& spec,
   for (const Param& p : spec.params) axes.categories.push_back(p.label);
   const json& m = group["metrics"];
   for (const std::string& method : methods) {
-    plot::Series dots = methodDots(methods, method);
+    plot::Series dots = methodDots(calibrationPalette(), method);
     bool any = false;
     for (std::size_t i = 0; i < spec.params.size(); ++i) {
       const std::string path = "calibration/" + method + "/abs_error/" + spec.params[i].key;
@@ -125,7 +138,7 @@ plot::Figure calibrationVsTimeFigure(const json& groups) {
       if (&column == &columns.rbegin()->first && key == params.front().first)
         axes.legend = plot::LegendPosition::Outside;
       for (const std::string& method : methods) {
-        plot::Series line = methodDots(methods, method);
+        plot::Series line = methodDots(calibrationPalette(), method);
         line.style = plot::Style::LineMarkers;
         std::vector<std::pair<double, const json*>> points;
         for (const json* g : members)

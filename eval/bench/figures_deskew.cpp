@@ -27,6 +27,18 @@ std::vector<std::string> plottedDeskewMethods(const json& groups) {
   return out;
 }
 
+// Every de-skew method but the oracle: a method's colour and marker come from its place here,
+// the same in every suite whichever methods it ran.
+const std::vector<std::string>& deskewPalette() {
+  static const std::vector<std::string> kAll = [] {
+    std::vector<std::string> all;
+    for (const auto method : algo::allDeskewMethods())
+      if (method != algo::DeskewMethod::kOracle) all.emplace_back(algo::deskewMethodName(method));
+    return all;
+  }();
+  return kAll;
+}
+
 }  // namespace
 
 plot::Figure deskewFigure(const json& groups) {
@@ -51,7 +63,7 @@ plot::Figure deskewFigure(const json& groups) {
     axes.dodge = false;  // one series per category
     // One series per method at its own category: its colour and marker, no dodging.
     for (std::size_t i = 0; i < methods.size(); ++i) {
-      plot::Series dot = methodDots(methods, methods[i]);
+      plot::Series dot = methodDots(deskewPalette(), methods[i]);
       dot.label.clear();  // the category names it
       pushMeanWithSpread(dot, static_cast<double>(i), g["metrics"],
                          "deskew/" + methods[i] + "/mean_m", seeds, 1e3);
@@ -88,7 +100,7 @@ std::optional<plot::Figure> deskewVsSpeedFigure(const json& groups) {
     std::sort(points.begin(), points.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
     for (const std::string& method : methods) {
-      plot::Series line = methodDots(methods, method);
+      plot::Series line = methodDots(deskewPalette(), method);
       line.style = plot::Style::LineMarkers;
       // odom-quadratic lies on odom-linear at 100 Hz odometry: dashed over larger markers.
       line.dashed = method == "odom-quadratic";
