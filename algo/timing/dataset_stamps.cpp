@@ -71,9 +71,10 @@ std::vector<StreamStamps> regularizeStamps(Dataset& d, const StampGridParams& pa
     out.push_back(report(f.stream, f.stamps.size(), f.grid));
   }
   if (!moved.empty()) d.odom_nominal = std::move(moved);
-  for (ScanRecord& r : d.scans)  // the nominal pose at each (moved) scan stamp
-    if (r.T_odom_base_nominal && anyApplied(out))
-      r.T_odom_base_nominal = d.odom_nominal.at(r.scan.stamp_s).value_or(*r.T_odom_base_nominal);
+  if (anyApplied(out))
+    for (ScanRecord& r : d.scans)  // the nominal pose at each (moved) scan stamp
+      if (r.T_odom_base_nominal)
+        r.T_odom_base_nominal = d.odom_nominal.at(r.scan.stamp_s).value_or(*r.T_odom_base_nominal);
   return out;
 }
 

@@ -39,39 +39,41 @@ std::vector<long> gridIndices(std::span<const double> t, double period, std::siz
   return k;
 }
 
-// The grid time of sample i: a least-squares line t = a + b k through the samples around i.
+// Least-squares line t = t[ref] + mt + slope (k - k[ref] - mk) through samples [lo, hi), in
+// offsets from sample ref so that large stamps and indices lose no digits.
+struct Line {
+  double mk = 0.0, mt = 0.0, slope = 0.0;
+};
+Line fitLine(std::span<const double> t, const std::vector<long>& k, std::size_t lo, std::size_t hi,
+             std::size_t ref) {
+  Line line;
+  for (std::size_t j = lo; j < hi; ++j) line.mk += k[j] - k[ref], line.mt += t[j] - t[ref];
+  line.mk /= static_cast<double>(hi - lo), line.mt /= static_cast<double>(hi - lo);
+  double skk = 0, skt = 0;
+  for (std::size_t j = lo; j < hi; ++j) {
+    const double dk = k[j] - k[ref] - line.mk;
+    skk += dk * dk;
+    skt += dk * (t[j] - t[ref] - line.mt);
+  }
+  line.slope = skk > 0 ? skt / skk : 0.0;
+  return line;
+}
+
+// The grid time of sample i: the line through the samples around i, at k[i].
 std::vector<double> localLineFit(std::span<const double> t, const std::vector<long>& k,
                                  std::size_t window) {
   const std::size_t n = t.size(), h = window / 2;
   std::vector<double> grid(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t lo = i > h ? i - h : 0, hi = std::min(n, i + h + 1);
-    double sk = 0, st = 0;
-    for (std::size_t j = lo; j < hi; ++j) sk += k[j] - k[i], st += t[j] - t[i];
-    const double mk = sk / (hi - lo), mt = st / (hi - lo);
-    double skk = 0, skt = 0;
-    for (std::size_t j = lo; j < hi; ++j) {
-      const double dk = k[j] - k[i] - mk;
-      skk += dk * dk;
-      skt += dk * (t[j] - t[i] - mt);
-    }
-    grid[i] = t[i] + mt - (skk > 0 ? skt / skk : 0.0) * mk;  // the line at k[i]
+    const Line line = fitLine(t, k, i > h ? i - h : 0, std::min(n, i + h + 1), i);
+    grid[i] = t[i] + line.mt - line.slope * line.mk;
   }
   return grid;
 }
 
-// Least-squares slope of t on k: the mean period once the indices are known.
+// The slope of the line through all samples: the mean period once the indices are known.
 double fittedPeriod(std::span<const double> t, const std::vector<long>& k) {
-  const double n = t.size();
-  double mk = 0, mt = 0;
-  for (std::size_t i = 0; i < t.size(); ++i) mk += (k[i] - k[0]) / n, mt += (t[i] - t[0]) / n;
-  double skk = 0, skt = 0;
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    const double dk = k[i] - k[0] - mk;
-    skk += dk * dk;
-    skt += dk * (t[i] - t[0] - mt);
-  }
-  return skt / skk;
+  return fitLine(t, k, 0, t.size(), 0).slope;
 }
 
 // Indices moved to the nearest point of the local line through the samples (a sharper phase

@@ -21,9 +21,6 @@ struct StampGridParams {
   double max_rms_fraction = 0.25;
   /// Samples in each local line fit: the grid's period may drift with the sensor's clock.
   std::size_t window = 201;
-  /// Loop gains of the index tracker (a second-order phase-locked loop on the stamps).
-  double phase_gain = 0.02;
-  double period_gain = 1e-4;
 };
 
 /// What fitStampGrid found and did.

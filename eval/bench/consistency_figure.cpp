@@ -9,7 +9,7 @@
 #include <set>
 #include <string>
 
-#include "algo/calibration/calibration_method.hpp"
+#include "eval/bench/figure_groups.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -133,12 +133,6 @@ std::optional<plot::Figure> consistencyFigure(
                     .x_range = plot::Range{-kRange, kRange},
                     .legend = plot::LegendPosition::Outside};
     for (const auto& method : methods) {
-      // The method's colour in every figure: its place in the library's list of methods.
-      const auto& all = algo::allCalibrationMethods();
-      const auto colour = static_cast<std::size_t>(
-          std::find_if(all.begin(), all.end(),
-                       [&](auto m) { return algo::calibrationMethodName(m) == method; }) -
-          all.begin());
       const auto z = normalizedErrors(trial_rows, method, param.key);
       if (z.empty()) continue;
       if (offScale(z)) {
@@ -147,7 +141,7 @@ std::optional<plot::Figure> consistencyFigure(
       }
       plot::Series s = stepHistogram(z);
       s.label = method + " (n = " + std::to_string(z.size()) + ")";
-      s.color = plot::paletteColor(colour);
+      s.color = methodColor(calibrationPalette(), method);  // as in every figure
       axes.series.push_back(std::move(s));
     }
     axes.series.push_back(normalDensity());

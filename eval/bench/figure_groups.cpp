@@ -7,6 +7,9 @@
 #include <map>
 #include <regex>
 
+#include "algo/calibration/calibration_method.hpp"
+#include "algo/deskew/deskew.hpp"
+
 namespace slamprep::eval {
 namespace {
 
@@ -99,6 +102,26 @@ std::vector<std::string> methodsIn(const json& groups, const std::string& sectio
         out.push_back(method);
     }
   return out;
+}
+
+const std::vector<std::string>& calibrationPalette() {
+  static const std::vector<std::string> kAll = [] {
+    std::vector<std::string> all;
+    for (const auto method : algo::allCalibrationMethods())
+      all.emplace_back(algo::calibrationMethodName(method));
+    return all;
+  }();
+  return kAll;
+}
+
+const std::vector<std::string>& deskewPalette() {
+  static const std::vector<std::string> kAll = [] {
+    std::vector<std::string> all;
+    for (const auto method : algo::allDeskewMethods())
+      if (method != algo::DeskewMethod::kOracle) all.emplace_back(algo::deskewMethodName(method));
+    return all;
+  }();
+  return kAll;
 }
 
 plot::Color methodColor(const std::vector<std::string>& all, const std::string& method) {

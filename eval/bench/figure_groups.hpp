@@ -32,6 +32,11 @@ double statOf(const nlohmann::json& metrics, const std::string& path, const char
 std::vector<std::string> methodsIn(const nlohmann::json& groups, const std::string& section,
                                    const std::string& leaf);
 
+/// Every calibration method / every de-skew method but the oracle, in the library's order: the
+/// `all` a method's colour and marker come from, the same in every suite whichever methods it ran.
+const std::vector<std::string>& calibrationPalette();
+const std::vector<std::string>& deskewPalette();
+
 /// The same colour and marker for a method in every figure: its place in `all`.
 plot::Color methodColor(const std::vector<std::string>& all, const std::string& method);
 plot::Marker methodMarker(const std::vector<std::string>& all, const std::string& method);

@@ -11,18 +11,6 @@ namespace {
 
 using nlohmann::json;
 
-// Every calibration method, in the library's order: a method's colour and marker come from its
-// place here, the same in every suite whichever methods it ran.
-const std::vector<std::string>& calibrationPalette() {
-  static const std::vector<std::string> kAll = [] {
-    std::vector<std::string> all;
-    for (const auto method : algo::allCalibrationMethods())
-      all.emplace_back(algo::calibrationMethodName(method));
-    return all;
-  }();
-  return kAll;
-}
-
 struct Param {
   const char* key;    // abs_error/<key>
   const char* label;  // category label
@@ -121,6 +109,12 @@ plot::Figure calibrationVsTimeFigure(const json& groups) {
   const auto methods = methodsIn(groups, "calibration", "ok");
   std::map<std::string, std::vector<const json*>, decltype(&naturalLess)> columns(naturalLess);
   for (const auto& g : groups) columns[otherSweepLabel(g, "duration_s")].push_back(&g);
+  const auto duration = [](const json* g) {
+    return std::stod((*g)["sweep"]["duration_s"].get<std::string>());
+  };
+  for (auto& [_, members] : columns)  // along the driving time
+    std::sort(members.begin(), members.end(),
+              [&](const json* a, const json* b) { return duration(a) < duration(b); });
   const int cols = static_cast<int>(columns.size());
   plot::Figure fig{.width_px = 560 * cols + 200,
                    .height_px = 1300,
@@ -140,14 +134,9 @@ plot::Figure calibrationVsTimeFigure(const json& groups) {
       for (const std::string& method : methods) {
         plot::Series line = methodDots(calibrationPalette(), method);
         line.style = plot::Style::LineMarkers;
-        std::vector<std::pair<double, const json*>> points;
-        for (const json* g : members)
-          points.push_back({std::stod((*g)["sweep"]["duration_s"].get<std::string>()), g});
-        std::sort(points.begin(), points.end(),
-                  [](const auto& a, const auto& b) { return a.first < b.first; });
-        for (const auto& [t, g] : points) {
+        for (const json* g : members) {
           const std::string path = "calibration/" + method + "/abs_error/" + key;
-          pushMeanWithSpread(line, t, (*g)["metrics"], path, g->value("trials", 1));
+          pushMeanWithSpread(line, duration(g), (*g)["metrics"], path, g->value("trials", 1));
         }
         if (std::any_of(line.y.begin(), line.y.end(), [](double v) { return std::isfinite(v); }))
           axes.series.push_back(line);

@@ -27,18 +27,6 @@ std::vector<std::string> plottedDeskewMethods(const json& groups) {
   return out;
 }
 
-// Every de-skew method but the oracle: a method's colour and marker come from its place here,
-// the same in every suite whichever methods it ran.
-const std::vector<std::string>& deskewPalette() {
-  static const std::vector<std::string> kAll = [] {
-    std::vector<std::string> all;
-    for (const auto method : algo::allDeskewMethods())
-      if (method != algo::DeskewMethod::kOracle) all.emplace_back(algo::deskewMethodName(method));
-    return all;
-  }();
-  return kAll;
-}
-
 }  // namespace
 
 plot::Figure deskewFigure(const json& groups) {

@@ -49,10 +49,6 @@ void checkWritable(const std::string& file, std::size_t index, double stamp_s,
   if (previous_stamp_s) requireIncreasing(*previous_stamp_s, stamp_s, where, "stamp_s");
 }
 
-}  // namespace
-
-namespace {
-
 void appendEncoderRow(std::string& out, const EncoderLog& encoders, std::size_t k,
                       const std::string& file) {
   const EncoderSample& e = encoders[k];

@@ -372,35 +372,39 @@ std::string formatScans(const std::vector<ScanRecord>& scans, const std::string&
   return out;
 }
 
-void writeScans(const std::filesystem::path& path, const std::vector<ScanRecord>& scans,
-                const std::string& file) {
+namespace {
+
+// scans.jsonl a few scans at a time, from `next` (nullptr after the last); stamps must increase.
+void writeScanPieces(const std::filesystem::path& path, const std::string& file,
+                     const std::function<const ScanRecord*()>& next) {
   std::size_t k = 0;
+  double last_stamp = 0.0;
   writeTextFile(path, [&](std::string& out) {
     // About 1 MB per piece: a 720-beam scan is ~60 KB of text.
-    for (std::size_t end = std::min(scans.size(), k + 16); k < end; ++k) {
+    for (const std::size_t end = k + 16; k < end; ++k) {
+      const ScanRecord* record = next();
+      if (!record) break;
       const TextLocation where{file, k + 1};
-      if (k > 0)
-        requireIncreasing(scans[k - 1].scan.stamp_s, scans[k].scan.stamp_s, where, "stamp_s");
-      appendScanLine(out, scans[k], where);
+      if (k > 0) requireIncreasing(last_stamp, record->scan.stamp_s, where, "stamp_s");
+      last_stamp = record->scan.stamp_s;
+      appendScanLine(out, *record, where);
     }
     return !out.empty();
   });
 }
 
+}  // namespace
+
+void writeScans(const std::filesystem::path& path, const std::vector<ScanRecord>& scans,
+                const std::string& file) {
+  std::size_t i = 0;
+  writeScanPieces(path, file, [&] { return i < scans.size() ? &scans[i++] : nullptr; });
+}
+
 void writeScans(const std::filesystem::path& path, const ScanSource& next,
                 const std::string& file) {
-  std::size_t k = 0;
   ScanRecord record;
-  double last_stamp = 0.0;
-  writeTextFile(path, [&](std::string& out) {
-    for (std::size_t end = k + 16; k < end && next(record); ++k) {
-      const TextLocation where{file, k + 1};
-      if (k > 0) requireIncreasing(last_stamp, record.scan.stamp_s, where, "stamp_s");
-      last_stamp = record.scan.stamp_s;
-      appendScanLine(out, record, where);
-    }
-    return !out.empty();
-  });
+  writeScanPieces(path, file, [&] { return next(record) ? &record : nullptr; });
 }
 
 std::vector<ScanRecord> parseScans(std::string_view text, const std::string& file,
