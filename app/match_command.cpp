@@ -80,6 +80,7 @@ nlohmann::ordered_json summaryJson(const MatchFlags& f, const eval::MatchTraject
       {"params",
        {{"max_iterations", icp.max_iterations},
         {"max_correspondence_distance_m", icp.max_correspondence_distance_m},
+        {"outlier_sigmas", icp.outlier_sigmas},
         {"trim_fraction", icp.trim_fraction},
         {"line_max_thickness", icp.line_max_thickness},
         {"keyframe_distance_m", f.params.keyframe_distance_m},
@@ -179,8 +180,13 @@ Command addMatchCommand(CLI::App& app) {
                   "ICP gating: farther pairs (m) are no correspondence")
       ->check(positive())
       ->capture_default_str();
+  cli->add_option("--outlier-sigmas", icp.outlier_sigmas,
+                  "ICP robust gate: pairs beyond this many robust sigmas (1.4826 x median "
+                  "residual) are dropped each round; 0 = off")
+      ->check(nonNegative())
+      ->capture_default_str();
   cli->add_option("--trim", icp.trim_fraction,
-                  "ICP trimming: this fraction of the gated pairs, the worst, is dropped")
+                  "ICP trimming: this fraction of the remaining pairs, the worst, is dropped")
       ->check(CLI::Range(0.0, 0.9))
       ->capture_default_str();
   cli->add_option(

@@ -89,6 +89,29 @@ Neighbor cachedNearest(const KdTree2& tree, const Eigen::Vector2d& query, Neares
   return two[0];
 }
 
+/// Drops the pairs whose residual exceeds `sigmas` robust sigmas (1.4826 MAD of |residual|).
+void gateOutliers(std::vector<Pair>& pairs, double sigmas) {
+  if (sigmas <= 0.0 || pairs.empty()) return;
+  std::vector<double> error_sq(pairs.size());
+  std::transform(pairs.begin(), pairs.end(), error_sq.begin(),
+                 [](const Pair& p) { return p.error_sq; });
+  const auto mid = error_sq.begin() + static_cast<std::ptrdiff_t>(error_sq.size() / 2);
+  std::nth_element(error_sq.begin(), mid, error_sq.end());
+  const double gate = sigmas * 1.4826 * std::sqrt(*mid);
+  if (gate <= 0.0) return;  // more than half exact: keep everything rather than the exact ones
+  std::erase_if(pairs, [&](const Pair& p) { return p.error_sq > gate * gate; });
+}
+
+/// Trimmed ICP: keeps the best (1 - fraction) of the pairs.
+void trimWorst(std::vector<Pair>& pairs, double fraction) {
+  const auto keep = static_cast<std::size_t>(
+      std::ceil((1.0 - std::clamp(fraction, 0.0, 1.0)) * static_cast<double>(pairs.size())));
+  if (keep >= pairs.size()) return;
+  std::nth_element(pairs.begin(), pairs.begin() + static_cast<std::ptrdiff_t>(keep), pairs.end(),
+                   [](const Pair& a, const Pair& b) { return a.error_sq < b.error_sq; });
+  pairs.resize(keep);
+}
+
 /// Every `stride`-th current point takes part; `cache` holds one entry per current point.
 std::vector<Pair> findPairs(const IcpReference& ref, const Points2& cur, std::size_t stride,
                             const SE2& T, bool point_to_line, const IcpParams& params,
@@ -115,14 +138,8 @@ std::vector<Pair> findPairs(const IcpReference& ref, const Points2& cur, std::si
     }
     pairs.push_back(pair);
   }
-  // Trimmed ICP: keep the best (1 - trim_fraction) of the gated pairs.
-  const auto keep = static_cast<std::size_t>(
-      std::ceil((1.0 - std::clamp(params.trim_fraction, 0.0, 1.0)) * pairs.size()));
-  if (keep < pairs.size()) {
-    std::nth_element(pairs.begin(), pairs.begin() + keep, pairs.end(),
-                     [](const Pair& a, const Pair& b) { return a.error_sq < b.error_sq; });
-    pairs.resize(keep);
-  }
+  gateOutliers(pairs, params.outlier_sigmas);
+  trimWorst(pairs, params.trim_fraction);
   return pairs;
 }
 
@@ -220,6 +237,13 @@ double trimmedVarianceFactor(double trim) {
   return 1.0 - 2.0 * z * phi / (1.0 - trim);
 }
 
+/// The fraction of Gaussian residuals the gate and the trim drop together.
+double droppedFraction(const IcpParams& params) {
+  const double gated =
+      params.outlier_sigmas > 0.0 ? std::erfc(params.outlier_sigmas / std::sqrt(2.0)) : 0.0;
+  return gated + (1.0 - gated) * std::clamp(params.trim_fraction, 0.0, 1.0);
+}
+
 /// sigma^2 (J^T J)^-1 with J the residual Jacobian w.r.t. (x, y, yaw) at T; sigma^2 from residuals.
 Eigen::Matrix3d covarianceAt(const std::vector<Pair>& pairs, const SE2& T, bool point_to_line,
                              const IcpParams& params, double* rms) {
@@ -242,9 +266,9 @@ Eigen::Matrix3d covarianceAt(const std::vector<Pair>& pairs, const SE2& T, bool 
   }
   const double n_res = static_cast<double>(pairs.size()) * (point_to_line ? 1.0 : 2.0);
   *rms = pairs.empty() ? 0.0 : std::sqrt(sum_sq / n_res);
-  const double sigma_sq = n_res > 3.0
-                              ? sum_sq / (n_res - 3.0) / trimmedVarianceFactor(params.trim_fraction)
-                              : params.max_variance;
+  const double sigma_sq =
+      n_res > 3.0 ? sum_sq / (n_res - 3.0) / trimmedVarianceFactor(droppedFraction(params))
+                  : params.max_variance;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(info);
   Eigen::Vector3d variances;
   for (int i = 0; i < 3; ++i) {

@@ -1,8 +1,8 @@
 #pragma once
 // 2D scan matching: point-to-point ICP with the closed-form SVD step and point-to-line ICP
 // (Censi 2008, PL-ICP) with its exact closed-form step (docs/design.md#scan-matching). Nearest
-// neighbours come from a kd-tree; correspondences are gated by distance and the worst fraction
-// trimmed.
+// neighbours come from a kd-tree; correspondences are gated by distance, then by a robust
+// threshold on their residual (optionally also the worst fraction trimmed).
 //
 // Frames: `ref` points are in the reference lidar frame, `cur` points in the current lidar frame;
 // the result T_ref_cur maps current points into the reference frame (p_ref = T_ref_cur * p_cur).
@@ -24,7 +24,12 @@ struct IcpParams {
   int max_iterations = 50;
   /// Gating: a pair farther apart than this (after applying the estimate) is no correspondence.
   double max_correspondence_distance_m = 0.5;
-  /// Trimming: this fraction of the gated pairs, the worst ones, is dropped each round.
+  /// Robust gate: each round drops the pairs whose residual exceeds this many robust sigmas,
+  /// sigma = 1.4826 * median |residual| of the gated pairs (0 = off). It drops almost no Gaussian
+  /// residual and every gross outlier, where a fixed fraction (below) also drops good pairs that
+  /// disagree with the current estimate and so pulls the result toward the first guess.
+  double outlier_sigmas = 0.0;
+  /// Trimming: this fraction of the remaining pairs, the worst ones, is dropped each round.
   double trim_fraction = 0.1;
   /// Converged when a round moves the estimate by less than this translation (0.1 mm: ten
   /// times below what 1 cm range noise lets a 720-beam match resolve) ...
