@@ -13,6 +13,7 @@
 #include "app/choices.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
+#include "app/icp_options.hpp"
 #include "app/outputs.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -42,6 +43,7 @@ struct CalibrateFlags {
   double keyframe_cm = algo::IntervalParams{}.keyframe_translation_m * 100.0;
   double keyframe_deg = algo::IntervalParams{}.keyframe_rotation_rad * 180.0 / std::numbers::pi;
   double side_m = algo::UmbmarkParams{}.side_m;  // the shipped umbmark_cw/ccw.yaml squares
+  algo::IcpParams icp;                           // the scan matcher between consecutive scans
   bool time_offset = false;
   bool stamp_is_last_beam = false;
   bool strict = false;
@@ -116,6 +118,7 @@ eval::DatasetCalibrationParams paramsOf(const CalibrateFlags& flags) {
   p.motion.stamp_is_last_beam = flags.stamp_is_last_beam;
   p.motion.intervals.keyframe_translation_m = flags.keyframe_cm / 100.0;
   p.motion.intervals.keyframe_rotation_rad = flags.keyframe_deg * std::numbers::pi / 180.0;
+  p.motion.icp = flags.icp;
   p.params.umbmark.side_m = flags.side_m;
   p.params.ceres.estimate_time_offset = flags.time_offset;
   p.params.trim.enabled = flags.trim_sigmas > 0.0;
@@ -278,6 +281,7 @@ Command addCalibrateCommand(CLI::App& app) {
   cli->add_option("--keyframe-deg", flags->keyframe_deg, "... or every N degrees")
       ->check(nonNegative())
       ->capture_default_str();
+  addIcpOptions(cli, flags->icp);
   cli->add_option("--square", flags->squares, "UMBmark square-run dataset (repeatable)");
   cli->add_option("--side", flags->side_m, "UMBmark square side (m)")
       ->check(positive())

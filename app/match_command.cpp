@@ -13,6 +13,7 @@
 #include "app/choices.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
+#include "app/icp_options.hpp"
 #include "app/outputs.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -173,27 +174,7 @@ Command addMatchCommand(CLI::App& app) {
   cli->add_flag("--stamp-is-last-beam", flags->stamp_is_last_beam,
                 "the scans' stamps mark their last beam, not their first");
   algo::IcpParams& icp = flags->params.icp;
-  cli->add_option("--max-iterations", icp.max_iterations, "ICP rounds per match")
-      ->check(positive())
-      ->capture_default_str();
-  cli->add_option("--max-correspondence-distance", icp.max_correspondence_distance_m,
-                  "ICP gating: farther pairs (m) are no correspondence")
-      ->check(positive())
-      ->capture_default_str();
-  cli->add_option("--outlier-sigmas", icp.outlier_sigmas,
-                  "ICP robust gate: pairs beyond this many robust sigmas (1.4826 x median "
-                  "residual) are dropped each round; 0 = off")
-      ->check(nonNegative())
-      ->capture_default_str();
-  cli->add_option("--trim", icp.trim_fraction,
-                  "ICP trimming: this fraction of the remaining pairs, the worst, is dropped")
-      ->check(CLI::Range(0.0, 0.9))
-      ->capture_default_str();
-  cli->add_option(
-         "--line-thickness", icp.line_max_thickness,
-         "a map point's neighbours are a line when sqrt(lambda_min / lambda_max) is below this")
-      ->check(CLI::Range(0.0, 1.0))
-      ->capture_default_str();
+  addIcpOptions(cli, icp);
   cli->add_option("--keyframe-distance", flags->params.keyframe_distance_m,
                   "a scan this far (m) from the keyframe becomes a keyframe")
       ->check(positive())

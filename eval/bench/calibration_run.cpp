@@ -72,6 +72,7 @@ CalibrationMotion calibrationMotion(const Dataset& dataset,
       points = correctedPoints(deskewDataset(dataset, *method, deskew));
     algo::ScanMotionParams matching;
     matching.stamp_is_last_beam = options.stamp_is_last_beam;
+    matching.deskew.icp = options.icp;
     motion.matches = algo::matchConsecutiveScans(dataset, matching, points);
     algo::MatchChains chained = algo::chainMatches(motion.matches);
     motion.chains = std::move(chained.chains);

@@ -27,6 +27,8 @@ struct CalibrationMotionOptions {
   /// How intervals are cut; `slamprep calibrate` and the bench both keep the defaults (one
   /// interval per scan match), so the same log gives them the same intervals.
   algo::IntervalParams intervals;
+  /// The scan matcher between consecutive scans (the library's defaults unless overridden).
+  algo::IcpParams icp;
 };
 
 struct CalibrationMotion {
