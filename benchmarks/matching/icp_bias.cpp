@@ -56,10 +56,17 @@ SE2 randomBase(std::mt19937_64& rng) {
 /// Error of the match (x, y, yaw) in the true current frame, nullopt when it did not converge.
 std::optional<Eigen::Vector3d> matchError(const Points2& ref, const Points2& cur,
                                           const SE2& truth) {
-  const auto r = slamprep::algo::matchPointToLine(ref, cur, truth * SE2(0.005, -0.003, 0.002), {});
+  slamprep::algo::IcpParams params;
+  if (const char* g = std::getenv("GATE")) params.outlier_sigmas = std::atof(g);
+  if (const char* t = std::getenv("TRIM")) params.trim_fraction = std::atof(t);
+  const auto r = slamprep::algo::matchPointToLine(ref, cur, truth * SE2(0.005, -0.003, 0.002), params);
   if (!r.converged) return std::nullopt;
   const SE2 e = between(truth, r.T_ref_cur);
-  return Eigen::Vector3d(e.x, e.y, e.yaw);
+  if (!std::getenv("SYM")) return Eigen::Vector3d(e.x, e.y, e.yaw);
+  const auto b = slamprep::algo::matchPointToLine(cur, ref, (truth * SE2(0.005, -0.003, 0.002)).inverse(), params);
+  if (!b.converged) return std::nullopt;
+  const SE2 eb = between(truth, b.T_ref_cur.inverse());
+  return 0.5 * (Eigen::Vector3d(e.x, e.y, e.yaw) + Eigen::Vector3d(eb.x, eb.y, eb.yaw));
 }
 
 /// Running mean and covariance of pairs of 3-vectors.
