@@ -7,6 +7,9 @@
 // Run: icp_bias [draws=40000] [yaw_per_scan_rad=0.1] [forward_per_scan_m=0] [noisy=both]
 //   noisy: both | ref (reference scan only) | cur (current scan only) | chain (three scans,
 //   consecutive-match correlation).
+// The matcher's settings from the environment (the library's defaults otherwise): GATE=k sets
+// IcpParams::outlier_sigmas, TRIM=f trim_fraction; SYM=1 averages each match with the inverse
+// of the backward match (cur onto ref).
 
 #include <Eigen/Core>
 #include <cmath>
@@ -53,20 +56,30 @@ SE2 randomBase(std::mt19937_64& rng) {
   return SE2(x, y, yaw(rng));
 }
 
+slamprep::algo::IcpParams paramsFromEnvironment() {
+  slamprep::algo::IcpParams params;
+  if (const char* gate = std::getenv("GATE")) params.outlier_sigmas = std::atof(gate);
+  if (const char* trim = std::getenv("TRIM")) params.trim_fraction = std::atof(trim);
+  return params;
+}
+
+Eigen::Vector3d vec(const SE2& e) {
+  return Eigen::Vector3d(e.x, e.y, e.yaw);
+}
+
 /// Error of the match (x, y, yaw) in the true current frame, nullopt when it did not converge.
 std::optional<Eigen::Vector3d> matchError(const Points2& ref, const Points2& cur,
                                           const SE2& truth) {
-  slamprep::algo::IcpParams params;
-  if (const char* g = std::getenv("GATE")) params.outlier_sigmas = std::atof(g);
-  if (const char* t = std::getenv("TRIM")) params.trim_fraction = std::atof(t);
-  const auto r = slamprep::algo::matchPointToLine(ref, cur, truth * SE2(0.005, -0.003, 0.002), params);
-  if (!r.converged) return std::nullopt;
-  const SE2 e = between(truth, r.T_ref_cur);
-  if (!std::getenv("SYM")) return Eigen::Vector3d(e.x, e.y, e.yaw);
-  const auto b = slamprep::algo::matchPointToLine(cur, ref, (truth * SE2(0.005, -0.003, 0.002)).inverse(), params);
-  if (!b.converged) return std::nullopt;
-  const SE2 eb = between(truth, b.T_ref_cur.inverse());
-  return 0.5 * (Eigen::Vector3d(e.x, e.y, e.yaw) + Eigen::Vector3d(eb.x, eb.y, eb.yaw));
+  static const slamprep::algo::IcpParams params = paramsFromEnvironment();
+  static const bool symmetric = std::getenv("SYM") != nullptr;
+  const SE2 guess = truth * SE2(0.005, -0.003, 0.002);
+  const auto forward = slamprep::algo::matchPointToLine(ref, cur, guess, params);
+  if (!forward.converged) return std::nullopt;
+  const Eigen::Vector3d e = vec(between(truth, forward.T_ref_cur));
+  if (!symmetric) return e;
+  const auto backward = slamprep::algo::matchPointToLine(cur, ref, guess.inverse(), params);
+  if (!backward.converged) return std::nullopt;
+  return 0.5 * (e + vec(between(truth, backward.T_ref_cur.inverse())));
 }
 
 /// Running mean and covariance of pairs of 3-vectors.
