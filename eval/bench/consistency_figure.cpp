@@ -113,6 +113,15 @@ std::vector<std::map<std::string, double>> readTrialRows(const std::filesystem::
   return rows;
 }
 
+std::vector<std::string> readTrialIds(const std::filesystem::path& trials_csv) {
+  std::vector<std::string> ids;
+  std::ifstream in(trials_csv);
+  std::string line;
+  if (!std::getline(in, line)) return ids;  // the header
+  while (std::getline(in, line)) ids.push_back(line.substr(0, line.find(',')));
+  return ids;
+}
+
 std::optional<plot::Figure> consistencyFigure(
     const std::vector<std::map<std::string, double>>& trial_rows) {
   std::set<std::string> methods;

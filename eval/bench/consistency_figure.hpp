@@ -16,6 +16,10 @@ namespace slamprep::eval {
 /// and the id, world and scenario columns left out. Empty when the file does not exist.
 std::vector<std::map<std::string, double>> readTrialRows(const std::filesystem::path& trials_csv);
 
+/// The id column of a trials.csv, one per row of readTrialRows; empty when the file does not
+/// exist.
+std::vector<std::string> readTrialIds(const std::filesystem::path& trials_csv);
+
 /// One panel per calibration parameter, one step histogram (a density) per method that reports
 /// a sigma, and the standard normal density an honest sigma would give. Methods with most runs
 /// beyond +-5 sigma are named as off scale instead of drawn. nullopt when no method has a sigma.

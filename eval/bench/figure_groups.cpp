@@ -72,6 +72,11 @@ std::string seedsNote(int seeds) {
   return seeds <= 1 ? "1 seed" : "mean, min to max over " + std::to_string(seeds) + " seeds";
 }
 
+std::string boxSeedsNote(int seeds) {
+  return "boxes: quartiles and median of " + std::to_string(seeds) +
+         " seeds; whiskers: 1.5 IQR; dots: beyond";
+}
+
 void pushMeanWithSpread(plot::Series& s, double x, const json& metrics, const std::string& path,
                         int seeds, double scale) {
   const double mean = scale * statOf(metrics, path, "mean");

@@ -3,6 +3,7 @@
 // sweep values, over its seeds) named in words, one colour and marker per method in every
 // figure, and a statistic with the number of seeds behind it. Figures never pool groups.
 
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -15,6 +16,17 @@ namespace slamprep::eval {
 /// "Circle arc", "Circle at 0.5 m/s, lidar 5 Hz", "every fault": what sets the group apart from
 /// the others of `groups` (its scenario when they differ, its sweep values), in words.
 std::string conditionLabel(const nlohmann::json& group, const nlohmann::json& groups);
+
+/// The trials of one group, one metric path -> value map per seed (rows of trials.csv).
+using TrialRows = std::vector<std::map<std::string, double>>;
+
+/// From this many seeds on, a group's spread is drawn as box plots of the per-seed values
+/// (quartiles, median, Tukey whiskers) instead of a mean with min..max whiskers, which with many
+/// seeds span the rare extremes and hide the distribution.
+inline constexpr int kMinSeedsForBoxes = 10;
+
+/// "quartiles, median, whiskers to 1.5 IQR over 100 seeds": what a box plot of a group shows.
+std::string boxSeedsNote(int seeds);
 
 /// "1 seed" / "mean, min to max over 5 seeds": what the dots and whiskers of a group show.
 std::string seedsNote(int seeds);

@@ -1,12 +1,14 @@
 #include "eval/bench/figures.hpp"
 
 #include <algorithm>
+#include <map>
 
 #include "core/atomic_file.hpp"
 #include "core/paths.hpp"
 #include "eval/bench/consistency_figure.hpp"
 #include "eval/bench/figure_groups.hpp"
 #include "eval/bench/figures_internal.hpp"
+#include "eval/bench/runner.hpp"
 #include "eval/plot/plot.hpp"
 
 namespace slamprep::eval {
@@ -25,6 +27,33 @@ std::optional<json> firstArtifacts(const Suite& suite, const fs::path& out_dir) 
   json trial = json::parse(readFile(file));
   if (!trial.contains("artifacts")) return std::nullopt;
   return trial["artifacts"];
+}
+
+// Each group's rows of trials.csv (its seeds): a trial's id names its spec in the suite, whose
+// world, scenario and sweep values make the group (summarize). Empty without a trials.csv.
+std::vector<TrialRows> trialRowsByGroup(const Suite& suite, const json& groups,
+                                        const fs::path& trials_csv) {
+  std::map<std::string, json> group_of_id;
+  for (const TrialSpec& spec : expandTrials(suite)) {
+    const json trial = specJson(spec);
+    group_of_id[spec.id] = {
+        {"world", trial["world"]}, {"scenario", trial["scenario"]}, {"sweep", trial["sweep"]}};
+  }
+  const auto rows = readTrialRows(trials_csv);
+  const auto ids = readTrialIds(trials_csv);
+  std::vector<TrialRows> by_group(groups.size());
+  for (std::size_t r = 0; r < rows.size() && r < ids.size(); ++r) {
+    const auto it = group_of_id.find(ids[r]);
+    if (it == group_of_id.end()) continue;  // a trial the suite no longer has
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      const json& group = groups[g];
+      if (group.value("world", json()) == it->second["world"] &&
+          group.value("scenario", json()) == it->second["scenario"] &&
+          group.value("sweep", json()) == it->second["sweep"])
+        by_group[g].push_back(rows[r]);
+    }
+  }
+  return by_group;
 }
 
 bool sweeps(const Suite& suite, const std::string& key) {
@@ -49,7 +78,9 @@ std::vector<std::string> renderSuitePlots(const Suite& suite, const json& summar
     if (sweeps(suite, "duration_s"))
       figures.emplace_back("calibration_vs_time.png", calibrationVsTimeFigure(groups));
     else
-      figures.emplace_back("calibration_error.png", calibrationFigure(groups));
+      figures.emplace_back(
+          "calibration_error.png",
+          calibrationFigure(groups, trialRowsByGroup(suite, groups, out_dir / "trials.csv")));
   }
   // error/sigma histograms need many seeds of one experiment to say anything (the seeds suite).
   // It pools every trial of trials.csv, so only where they share one condition (one group).

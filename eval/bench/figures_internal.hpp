@@ -4,15 +4,19 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "eval/bench/figure_groups.hpp"
 #include "eval/bench/suite.hpp"
 #include "eval/plot/plot.hpp"
 
 namespace slamprep::eval {
 
 // figures_calibration.cpp
-/// Absolute error of every method and parameter, one row of panels per group, dots with min..max
-/// whiskers over the group's seeds.
-plot::Figure calibrationFigure(const nlohmann::json& groups);
+/// Error of every method and parameter, one row of panels per group. When every group has at
+/// least kMinSeedsForBoxes seeds in `trials_by_group` (one entry per group, its rows of
+/// trials.csv): box plots of the signed error on linear axes, boxes far off the others' scale on
+/// a panel of their own. Else dots of the mean absolute error with min..max whiskers on log axes.
+plot::Figure calibrationFigure(const nlohmann::json& groups,
+                               const std::vector<TrialRows>& trials_by_group = {});
 /// Error against driving time (the duration_s sweep axis), one column per other sweep value.
 plot::Figure calibrationVsTimeFigure(const nlohmann::json& groups);
 

@@ -96,6 +96,16 @@ void drawLegendSample(GlCanvas& canvas, const LegendEntry& e, double x0, double 
   } else if (s.style == Style::Bars) {
     const double half = 0.35 * (x1 - x0) / 2 + 3.0;
     appendRect(shape, {mid - half, y - half * 0.8, mid + half, y + half * 0.8});
+  } else if (s.style == Style::Box) {  // a small box with its median line
+    const double half = 0.35 * (x1 - x0) / 2 + 3.0;
+    const PixelRect box{mid - half, y - half * 0.8, mid + half, y + half * 0.8};
+    Triangles fill, median;
+    appendRect(fill, box);
+    const Color c = e.look.color;
+    canvas.fill(fill, {c.r, c.g, c.b, 0.3 * c.a}, false);
+    appendRectOutline(shape, box, std::max(1.0, 0.75 * s.line_width_px));
+    appendStroke(median, {{box.left, y}, {box.right, y}}, 1.5 * s.line_width_px);
+    canvas.fill(median, kInk, false);
   }
   canvas.fill(shape, e.look.color, false);
 }

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "eval/plot/draw.hpp"
 
@@ -29,6 +30,48 @@ void drawBars(GlCanvas& canvas, const Axes& axes, std::size_t i, const PanelLayo
     if (r.left < r.right && r.top < r.bottom) appendRect(bars, r);
   }
   canvas.fill(bars, look.color, false);
+}
+
+// The sample of every distinct usable x of a Box series, in ascending x.
+std::map<double, std::vector<double>> boxSamples(const Axes& axes, const Series& s) {
+  std::map<double, std::vector<double>> samples;
+  for (std::size_t k = 0; k < s.x.size(); ++k)
+    if (usable(s.x[k], axes.log_x) && usable(s.y[k], axes.log_y)) samples[s.x[k]].push_back(s.y[k]);
+  return samples;
+}
+
+// Box (quartiles, translucent fill and outline), median line, whiskers with caps, outliers.
+void drawBoxes(GlCanvas& canvas, const Axes& axes, std::size_t i, const PanelLayout& L,
+               const Look& look) {
+  const Series& s = axes.series[i];
+  const double offset = dodgeOffset(axes, i), half = barWidth(axes, i) / 2;
+  const double width = std::max(1.0, 0.75 * s.line_width_px);
+  Triangles fill, outline, dots;
+  std::vector<std::vector<Vec2>> whiskers, medians;
+  for (const auto& [x, sample] : boxSamples(axes, s)) {
+    const double cx = x + offset;
+    if (!usable(cx - half, axes.log_x) || !usable(cx + half, axes.log_x)) continue;
+    const BoxStats b = boxStats(sample);
+    const double left = L.toPixelX(cx - half), right = L.toPixelX(cx + half);
+    const double mid = L.toPixelX(cx), cap = (right - left) / 4;
+    const PixelRect box{left, L.toPixelY(b.q3), right, L.toPixelY(b.q1)};
+    appendRect(fill, box);
+    appendRectOutline(outline, box, width);
+    using Whisker = std::pair<double, double>;  // from the box edge to the tip
+    for (const auto& [edge, tip] : {Whisker{b.q3, b.whisker_high}, Whisker{b.q1, b.whisker_low}}) {
+      if (tip == edge) continue;
+      whiskers.push_back({{mid, L.toPixelY(edge)}, {mid, L.toPixelY(tip)}});
+      whiskers.push_back({{mid - cap, L.toPixelY(tip)}, {mid + cap, L.toPixelY(tip)}});
+    }
+    medians.push_back({{left, L.toPixelY(b.median)}, {right, L.toPixelY(b.median)}});
+    for (const double v : b.outliers) appendDisc(dots, {mid, L.toPixelY(v)}, look.marker_size / 2);
+  }
+  const PixelRect clip = plotRect(L).grown(2 * width);
+  canvas.fill(fill, {look.color.r, look.color.g, look.color.b, 0.3 * look.color.a}, false);
+  canvas.fill(outline, look.color, false);
+  canvas.fill(strokeRuns(whiskers, clip, width, false), look.color);
+  canvas.fill(strokeRuns(medians, clip, 2 * width, false), kInk);
+  canvas.fill(dots, look.color, false);
 }
 
 void drawErrorBars(GlCanvas& canvas, const Axes& axes, std::size_t i, const PanelLayout& L,
@@ -90,7 +133,8 @@ std::vector<Look> resolveLooks(const Axes& axes) {
     Look look;
     look.color = s.color ? *s.color : paletteColor(automatic++);
     look.marker = s.marker != Marker::Auto ? s.marker : kMarkerCycle[i % std::size(kMarkerCycle)];
-    look.marker_size = s.marker_size_px.value_or(s.style == Style::Points ? 3.0 : 8.0);
+    const double size = s.style == Style::Points ? 3.0 : s.style == Style::Box ? 4.0 : 8.0;
+    look.marker_size = s.marker_size_px.value_or(size);
     looks.push_back(look);
   }
   return looks;
@@ -149,6 +193,7 @@ void drawSegments(GlCanvas& canvas, const Axes& axes, const PanelLayout& L) {
 void drawSeries(GlCanvas& canvas, const Axes& axes, std::size_t i, const PanelLayout& L,
                 const Look& look) {
   const Series& s = axes.series[i];
+  if (s.style == Style::Box) return drawBoxes(canvas, axes, i, L, look);
   if (s.style == Style::Bars) drawBars(canvas, axes, i, L, look);
   drawErrorBars(canvas, axes, i, L, look);
   const auto runs = pixelRuns(axes, i, L);

@@ -32,7 +32,8 @@ Extents dataExtents(const Axes& axes) {
     const Series& s = axes.series[i];
     const bool bars = s.style == Style::Bars;
     const double offset = dodgeOffset(axes, i);
-    const double half_bar = bars ? barWidth(axes, i) / 2 : 0.0;
+    const bool wide = bars || s.style == Style::Box;
+    const double half_bar = wide ? barWidth(axes, i) / 2 : 0.0;
     for (std::size_t k = 0; k < s.x.size(); ++k) {
       const double x = s.x[k] + offset, y = s.y[k];
       if (!usable(x, axes.log_x) || !usable(y, axes.log_y)) continue;
@@ -170,6 +171,9 @@ void validateSeries(const Series& s, const std::string& where) {
   if (s.bar_width && (!std::isfinite(*s.bar_width) || *s.bar_width <= 0.0)) {
     throw InputError(where, "bar_width must be positive");
   }
+  if (s.style == Style::Box && !s.y_err.empty()) {
+    throw InputError(where, "a box plot draws its own whiskers; y_err must be empty");
+  }
 }
 
 }  // namespace
@@ -196,9 +200,11 @@ bool usable(double value, bool log_axis) {
 double dodgeOffset(const Axes& axes, std::size_t index) {
   const std::size_t n = axes.series.size();
   if (axes.categories.empty() || !axes.dodge || n < 2) return 0.0;
-  // Bars share 80 % of a category; markers with error bars read better closer together (50 %).
-  const bool bars = std::any_of(axes.series.begin(), axes.series.end(),
-                                [](const Series& s) { return s.style == Style::Bars; });
+  // Bars and boxes share 80 % of a category; markers with error bars read better closer
+  // together (50 %).
+  const bool bars = std::any_of(axes.series.begin(), axes.series.end(), [](const Series& s) {
+    return s.style == Style::Bars || s.style == Style::Box;
+  });
   const double slot = (bars ? 0.8 : 0.5) / static_cast<double>(n);
   return (static_cast<double>(index) - (static_cast<double>(n) - 1.0) / 2.0) * slot;
 }

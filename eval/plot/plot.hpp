@@ -47,6 +47,10 @@ enum class Style {
   LineMarkers,  ///< both
   Points,       ///< small dots (point clouds, scans); marker_size_px is the dot diameter
   Bars,         ///< bars from 0 (linear y) or the axis bottom (log y); dodged on categorical axes
+  /// A box plot per distinct x: the points sharing an x are one sample (boxStats); box from the
+  /// first to the third quartile, a line at the median, Tukey whiskers, the points beyond them
+  /// as dots (marker_size_px, default 4 px); dodged like bars on categorical axes.
+  Box,
 };
 
 /// Marker shape; Auto picks by series index so series differ in shape as well as colour.
@@ -81,6 +85,22 @@ struct Segments {
   double line_width_px = 1.5;                 ///< stroke width
   bool dashed = false;                        ///< dashed stroke
 };
+
+/// What a Style::Box draws of a sample.
+struct BoxStats {
+  std::size_t n = 0;               ///< sample size (finite values)
+  double q1 = 0.0;                 ///< first quartile
+  double median = 0.0;             ///< second quartile
+  double q3 = 0.0;                 ///< third quartile
+  double whisker_low = 0.0;        ///< smallest value >= q1 - 1.5 IQR (Tukey)
+  double whisker_high = 0.0;       ///< largest value <= q3 + 1.5 IQR
+  std::vector<double> outliers{};  ///< the values beyond the whiskers, ascending
+};
+
+/// Quartiles by linear interpolation between order statistics (position (n - 1) p of the sorted
+/// sample, Hyndman and Fan type 7, as numpy and R default to), Tukey whiskers and outliers of
+/// the finite values of `sample`; all zero with n = 0 when there are none.
+BoxStats boxStats(std::vector<double> sample);
 
 /// A closed interval of data values, min < max.
 struct Range {

@@ -69,6 +69,82 @@ TEST(Figures, CalibrationHasARowPerConditionAndBarsOfSigmaOnlyFromSeeds) {
   EXPECT_EQ(f.axes[1].series[0].label, "joint");
 }
 
+// `n` seeds of signed errors, spread evenly: joint near zero, model biased by -0.16 %, direct's
+// wheel radii 7 % off (its track width is not).
+TrialRows seedRows(int n) {
+  TrialRows rows;
+  for (int k = 0; k < n; ++k) {
+    const double u = (k - (n - 1) / 2.0) / n;  // within (-0.5, 0.5)
+    auto& row = rows.emplace_back();
+    for (const char* p :
+         {"r_L_pct", "r_R_pct", "b_pct", "lidar_x_mm", "lidar_y_mm", "lidar_yaw_deg"})
+      row[std::string("calibration/joint/signed_error/") + p] = 0.05 * u;
+    for (const char* p : {"r_L_pct", "r_R_pct", "b_pct"})
+      row[std::string("calibration/model/signed_error/") + p] = -0.16 + 0.02 * u;
+    row["calibration/direct/signed_error/r_L_pct"] = 6.9 + 0.1 * u;
+    row["calibration/direct/signed_error/r_R_pct"] = -7.8 + 0.1 * u;
+    row["calibration/direct/signed_error/b_pct"] = 0.1 + 0.05 * u;
+  }
+  return rows;
+}
+
+json groupWithDirect(int seeds) {
+  json g = group("worlds/scenarios/calibration_3min.yaml", json::object(), seeds, 1.0);
+  g["metrics"]["calibration/direct/ok"] = stat(1, 0);
+  g["metrics"]["calibration/direct/abs_error/b_pct"] = stat(0.1, 0.02);
+  return g;
+}
+
+const plot::Series* seriesOf(const plot::Axes& axes, const std::string& method) {
+  for (const auto& s : axes.series)
+    if (s.label == method) return &s;
+  return nullptr;
+}
+
+TEST(Figures, ManySeedsGiveBoxPlotsOfTheSignedErrorAndOffScaleBoxesTheirOwnPanel) {
+  const int seeds = kMinSeedsForBoxes;
+  const plot::Figure f =
+      calibrationFigure(json::array({groupWithDirect(seeds)}), {seedRows(seeds)});
+  EXPECT_NE(f.title.find("10 seeds"), std::string::npos) << f.title;
+  ASSERT_EQ(f.axes.size(), 4u);  // wheel geometry, direct's radii, mount position, mount yaw
+  EXPECT_EQ(f.cols, 4);
+  for (const auto& a : f.axes) {
+    EXPECT_FALSE(a.log_y);  // signed values: linear
+    ASSERT_EQ(a.segments.size(), 1u);
+    EXPECT_EQ(a.segments[0].xyxy[0][1], 0.0);  // the zero line
+    EXPECT_EQ(a.segments[0].xyxy[0][3], 0.0);
+    for (const auto& s : a.series) EXPECT_EQ(s.style, plot::Style::Box);
+  }
+  EXPECT_EQ(f.axes[0].y_label, "error [%]");
+  EXPECT_EQ(f.axes[0].legend, plot::LegendPosition::Outside);
+  // direct's track width stays with the others; its radii, 7 % off, are on their own panel.
+  const plot::Series* direct = seriesOf(f.axes[0], "direct");
+  ASSERT_TRUE(direct);
+  EXPECT_EQ(direct->x, std::vector<double>(seeds, 2.0));
+  ASSERT_TRUE(seriesOf(f.axes[0], "model"));
+  EXPECT_EQ(seriesOf(f.axes[0], "model")->y.size(), 3u * seeds);  // every seed, every parameter
+  EXPECT_EQ(f.axes[1].title, "direct, off the others' scale");
+  // Its own scale spans both radii, too coarse to read each box: the median is written out.
+  EXPECT_EQ(f.axes[1].categories, (std::vector<std::string>{"r_{L} (median +6.9 %)",
+                                                            "r_{R} (median \xE2\x88\x92"
+                                                            "7.8 %)"}));
+  ASSERT_EQ(f.axes[1].series.size(), 1u);
+  EXPECT_NEAR(f.axes[1].series[0].y.front(), 6.9 - 0.05 * (seeds - 1) / seeds, 1e-12);
+  EXPECT_EQ(f.axes[2].title, "lidar mount position");
+  ASSERT_EQ(f.axes[2].series.size(), 1u);  // only joint has a mount
+}
+
+TEST(Figures, FewSeedsKeepTheMeanWithMinToMaxOnLogAxes) {
+  const int seeds = kMinSeedsForBoxes - 1;
+  const plot::Figure f =
+      calibrationFigure(json::array({groupWithDirect(seeds)}), {seedRows(seeds)});
+  ASSERT_EQ(f.axes.size(), 3u);
+  for (const auto& a : f.axes) {
+    EXPECT_TRUE(a.log_y);
+    for (const auto& s : a.series) EXPECT_EQ(s.style, plot::Style::Markers);
+  }
+}
+
 TEST(Figures, UnrelatedScenariosAreNotJoinedByLines) {
   const json groups =
       json::array({group("worlds/scenarios/default.yaml", json::object(), 1, 1.0),

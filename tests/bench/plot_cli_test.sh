@@ -35,6 +35,26 @@ for png in deskew_by_method.png trajectory.png scan.png; do
 done
 cmp -s "$results/summary.json" "$dir/summary.before" || fail "plot changed summary.json"
 
+# Box plots (10+ seeds) read trials.csv: bench and plot must still write the same bytes.
+cat >"$dir/plot-seeds.yaml" <<YAML
+name: plot-seeds
+description: Ten seeds of a short calibration drive, enough for box plots.
+worlds: [worlds/room.yaml]
+scenarios: [worlds/scenarios/default.yaml]
+seeds: 10
+mode: kinematic
+duration_s: 20
+calibration_methods: [model, joint]
+deskew_methods: []
+YAML
+"$slamprep" bench --suite "$dir/plot-seeds.yaml" --results "$dir" --quiet >/dev/null \
+  || fail "bench of 10 seeds"
+seeds=$dir/plot-seeds/plots
+cp "$seeds/calibration_error.png" "$dir/boxes.bench.png"
+"$slamprep" plot "$dir/plot-seeds" >/dev/null || fail "plot of 10 seeds exited $?"
+cmp -s "$seeds/calibration_error.png" "$dir/boxes.bench.png" \
+  || fail "plot re-rendered the box plots of bench differently"
+
 # Not a results folder: exit 2, the missing file named, nothing written.
 mkdir "$dir/empty"
 set +e

@@ -45,6 +45,30 @@ inline Axes calibrationAxes(Style style) {
   return axes;
 }
 
+/// Signed calibration error of 40 seeds per method and parameter as box plots (categorical x):
+/// one method biased, one wider, each with a few seeds far out.
+inline Axes calibrationBoxAxes() {
+  Axes axes{.title = "Signed calibration error, 40 seeds",
+            .y_label = "error [%]",
+            .legend = LegendPosition::Outside,
+            .categories = {"r_{L}", "r_{R}", "b"}};
+  const char* names[] = {"joint", "model", "ceres"};
+  const double bias[] = {0.0, -0.16, 0.01}, spread[] = {0.03, 0.02, 0.05};
+  axes.segments.push_back({.xyxy = {{-0.5, 0.0, 2.5, 0.0}}, .line_width_px = 1.2});
+  for (int m = 0; m < 3; ++m) {
+    Series s{.label = names[m], .style = Style::Box};
+    for (int p = 0; p < 3; ++p)
+      for (int k = 0; k < 40; ++k) {
+        const double u = std::sin(12.9898 * (k + 40 * p + 120 * m)) * 43758.5453;
+        const double z = 2.0 * (u - std::floor(u)) - 1.0;  // in [-1, 1), deterministic
+        s.x.push_back(p);
+        s.y.push_back(bias[m] + spread[m] * (k % 13 == 0 ? 4.0 * z : z));
+      }
+    axes.series.push_back(s);
+  }
+  return axes;
+}
+
 /// Ground truth vs nominal vs calibrated odometry, equal aspect.
 inline Axes trajectoryAxes() {
   Axes axes{.title = "Trajectories", .x_label = "x [m]", .y_label = "y [m]", .equal_aspect = true};

@@ -27,6 +27,7 @@ TEST(SampleFigures, SinglePanels) {
   writeAndCheck({.axes = {samples::deskewAxes()}}, "deskew_error.png");
   writeAndCheck({.axes = {samples::calibrationAxes(Style::Bars)}}, "calibration_bars.png");
   writeAndCheck({.axes = {samples::calibrationAxes(Style::Markers)}}, "calibration_markers.png");
+  writeAndCheck({.axes = {samples::calibrationBoxAxes()}}, "calibration_boxes.png");
   writeAndCheck({.axes = {samples::trajectoryAxes()}}, "trajectories.png");
   writeAndCheck({.axes = {samples::scanAxes()}}, "scan.png");
   writeAndCheck({.axes = {samples::errorVsTimeAxes()}}, "error_vs_time.png");
