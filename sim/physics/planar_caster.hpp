@@ -19,8 +19,10 @@ struct PlanarCasterParams {
   /// side face) unless the object's bounding box culls the ray first; the tests use 1e-4 to
   /// show that every disagreement with btCollisionWorld::rayTest lies in that band.
   double edge_tolerance = 0.0;
-  /// Grid cells per primitive (cell size = sqrt(bounding area / (this * primitives))).
-  double cells_per_primitive = 2.0;
+  /// Grid cells per primitive (cell size = sqrt(bounding area / (this * primitives))). One
+  /// cell per primitive walks fewer cells than two at the cost of a few more segment tests:
+  /// room.yaml's 720-beam scans 7 % faster (bench_raycast), the same hits.
+  double cells_per_primitive = 1.0;
 };
 
 /// Closest-hit ray caster over the static geometry of a World, exact to rounding: a wall, box or

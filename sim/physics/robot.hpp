@@ -18,7 +18,7 @@ struct RobotConfig {
   double max_wheel_torque_nm = 8.0;   ///< motor limit (impulse = torque * dt)
   double wheel_friction = 1.0;        ///< Coulomb friction coefficient, wheel tyre
   double caster_radius_m = 0.03;      ///< spheres front and back
-  double caster_friction = 0.0;       ///< low-friction casters
+  double caster_friction = 0.0;       ///< 0: frictionless casters, modelled as a level chassis
   double chassis_length_m = 0.40;     ///< along x
   double chassis_width_m = 0.36;      ///< along y; must leave the wheels outside: < b - width
   double chassis_height_m = 0.12;     ///< along z
@@ -26,7 +26,11 @@ struct RobotConfig {
   double caster_offset_m = 0.16;      ///< caster centres at +-this along x from the base origin
 };
 
-/// Chassis, two driven wheels on hinge joints with velocity motors, low-friction caster(s).
+/// Chassis, two driven wheels on hinge joints with velocity motors, casters front and back.
+/// Frictionless casters (caster_friction 0, the default) push only straight up, which keeps the
+/// chassis level; they are modelled as exactly that, a chassis locked in roll and pitch, with no
+/// caster bodies, ball joints or contacts (Bullet then solves 16 constraint rows a step instead
+/// of 26). Casters with friction are sphere bodies on ball joints that drag on the floor.
 /// The wheels are Bullet cylinders whose collision margin is half their width: a tyre of radius
 /// r with a round profile, touching the floor in its mid-plane (contacts exactly b apart).
 /// Base pose, velocity and yaw rate are read from the wheel axle. The motors' impulse limit
