@@ -1,4 +1,5 @@
 // `slamprep bench`: the main job. Runs a suite, writes results/<suite>/, compares to a baseline.
+#include <algorithm>
 #include <iostream>
 
 #include "app/choices.hpp"
@@ -23,6 +24,16 @@ struct BenchFlags {
   bool slurm = false;
   eval::SlurmParams slurm_params;
 };
+
+// Rendered plots on stdout; kept ones (inputs missing, left as they were) on stderr, so nobody
+// takes an old PNG for a fresh one.
+void printPlots(const std::filesystem::path& dir, const eval::SuitePlots& plots) {
+  for (const auto& name : plots.names)
+    if (std::find(plots.kept.begin(), plots.kept.end(), name) != plots.kept.end())
+      std::cerr << "plot: trials/ missing: kept plots/" << name << " as it was\n";
+    else
+      std::cout << "plot: " << (dir / "plots" / name).string() << "\n";
+}
 
 void printRegressions(const std::vector<eval::Regression>& regressions) {
   std::cerr << regressions.size() << " metric(s) regressed beyond tolerance:\n";
@@ -98,8 +109,7 @@ int runBenchCommand(BenchFlags& flags) {
   }
   std::cout << eval::renderConsoleSummary(outcome.summary)
             << "\nresults: " << (outcome.out_dir / "README.md").string() << "\n";
-  for (const auto& p : outcome.plots)
-    std::cout << "plot: " << (outcome.out_dir / "plots" / p).string() << "\n";
+  printPlots(outcome.out_dir, outcome.plots);
   if (!outcome.regressions.empty()) printRegressions(outcome.regressions);
   if (flags.options.compare && outcome.regressions.empty())
     std::cout << "no regression against " << flags.options.compare->string() << "\n";
@@ -188,15 +198,14 @@ Command addPlotCommand(CLI::App& app) {
   auto* cli = app.add_subcommand("plot", "Re-render a results folder's plots and README.");
   cli->footer(
       "Renders off-screen (OSMesa) into RESULTS_DIR/plots/ and rewrites its README.md around\n"
-      "them; `bench` and `merge` call this themselves.");
+      "them; `bench` and `merge` call this themselves. Without trials/ (git ignores it) the\n"
+      "first trial's figures cannot be redrawn: their PNGs are kept as they were.");
   cli->add_option("RESULTS_DIR", *dir,
                   "A finished results folder with suite.yaml and summary.json, e.g. "
                   "results/default")
       ->required();
   return {cli, [dir] {
-            const auto plots = eval::plotResults(*dir);
-            for (const auto& p : plots)
-              std::cout << "plot: " << (std::filesystem::path(*dir) / "plots" / p).string() << "\n";
+            printPlots(*dir, eval::plotResults(*dir));
             std::cout << "report: " << (std::filesystem::path(*dir) / "README.md").string() << "\n";
             return 0;
           }};

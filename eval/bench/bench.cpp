@@ -44,12 +44,12 @@ void invalidateStaleTrials(const fs::path& run_dir, bool fresh) {
 }
 
 // The plots (if asked) and the README that embeds them.
-std::vector<std::string> writeReport(const Suite& suite, const nlohmann::json& summary,
-                                     const fs::path& dir, bool plots) {
-  std::vector<std::string> names;
-  if (plots) names = renderSuitePlots(suite, summary, dir);
-  writeFileAtomic(dir / "README.md", renderReport(suite, summary, names));
-  return names;
+SuitePlots writeReport(const Suite& suite, const nlohmann::json& summary, const fs::path& dir,
+                       bool plots) {
+  SuitePlots written;
+  if (plots) written = renderSuitePlots(suite, summary, dir);
+  writeFileAtomic(dir / "README.md", renderReport(suite, summary, written.names));
+  return written;
 }
 
 }  // namespace
@@ -63,7 +63,7 @@ std::string binaryFingerprint() {
   return hex;
 }
 
-std::vector<std::string> plotResults(const fs::path& results_dir) {
+SuitePlots plotResults(const fs::path& results_dir) {
   for (const char* file : {"suite.yaml", "summary.json"})
     if (!fs::exists(results_dir / file))
       throw InputError((results_dir / file).string(),

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "eval/bench/figures.hpp"
 #include "eval/bench/runner.hpp"
 #include "eval/bench/summary.hpp"
 
@@ -32,7 +33,7 @@ struct BenchOutcome {
   bool complete = false;   ///< every trial of the suite has a result
   nlohmann::json summary;  ///< empty for a shard run
   std::vector<Regression> regressions;
-  std::vector<std::string> plots;  ///< file names under out_dir/plots
+  SuitePlots plots;  ///< file names under out_dir/plots
 };
 
 /// Runs the suite (or its shard) with `trial` and, when complete, writes the results folder.
@@ -47,8 +48,9 @@ BenchOutcome mergeShards(const std::filesystem::path& results_dir, bool plots);
 std::string binaryFingerprint();
 
 /// `slamprep plot`: renders the plots of a results folder (suite.yaml, summary.json, trials/)
-/// into plots/ and rewrites its README.md around them; returns the plot file names.
-std::vector<std::string> plotResults(const std::filesystem::path& results_dir);
+/// into plots/ and rewrites its README.md around them; returns the plots it names. Without
+/// trials/ the figures drawn from it keep their existing PNGs (renderSuitePlots).
+SuitePlots plotResults(const std::filesystem::path& results_dir);
 
 /// Writes trials.csv, summary.json, timing.json, README.md and plots/ for a complete suite run.
 void writeResults(BenchOutcome& outcome, const std::vector<TrialSpec>& trials, bool plots);

@@ -1,6 +1,7 @@
 #include "eval/bench/figures.hpp"
 
 #include <algorithm>
+#include <array>
 #include <map>
 
 #include "core/atomic_file.hpp"
@@ -18,6 +19,10 @@ using nlohmann::json;
 namespace fs = std::filesystem;
 
 constexpr int kMinSeedsForConsistency = 20;
+
+// The figures drawn from the first trial's artifacts under trials/, in README order.
+constexpr std::array<const char*, 3> kArtifactPlots = {"trajectory.png", "odometry_error.png",
+                                                       "scan.png"};
 
 // The first trial's artifacts (trajectories, one scan, odometry error), if recorded.
 std::optional<json> firstArtifacts(const Suite& suite, const fs::path& out_dir) {
@@ -56,6 +61,16 @@ std::vector<TrialRows> trialRowsByGroup(const Suite& suite, const json& groups,
   return by_group;
 }
 
+// Without trials/ nothing can redraw the artifact figures: keep the PNGs already there (never
+// lose a user's data) rather than drop them from the README.
+void keepArtifactPlots(const fs::path& plots_dir, SuitePlots& plots) {
+  for (const char* name : kArtifactPlots)
+    if (fs::exists(plots_dir / name)) {
+      plots.names.emplace_back(name);
+      plots.kept.emplace_back(name);
+    }
+}
+
 bool sweeps(const Suite& suite, const std::string& key) {
   return std::any_of(suite.sweep.begin(), suite.sweep.end(),
                      [&](const SweepAxis& a) { return a.key == key; });
@@ -63,8 +78,7 @@ bool sweeps(const Suite& suite, const std::string& key) {
 
 }  // namespace
 
-std::vector<std::string> renderSuitePlots(const Suite& suite, const json& summary,
-                                          const fs::path& out_dir) {
+SuitePlots renderSuitePlots(const Suite& suite, const json& summary, const fs::path& out_dir) {
   std::vector<std::pair<std::string, plot::Figure>> figures;
   const json& groups = summary["groups"];
   if (!methodsIn(groups, "deskew", "mean_m").empty()) {
@@ -96,13 +110,14 @@ std::vector<std::string> renderSuitePlots(const Suite& suite, const json& summar
     if (artifacts->contains("scan"))
       figures.emplace_back("scan.png", scanFigure(suite, (*artifacts)["scan"]));
   }
-  std::vector<std::string> written;
+  SuitePlots plots;
   fs::create_directories(out_dir / "plots");
   for (const auto& [name, figure] : figures) {
     plot::renderPng(figure, out_dir / "plots" / name);
-    written.push_back(name);
+    plots.names.push_back(name);
   }
-  return written;
+  if (!fs::exists(out_dir / "trials")) keepArtifactPlots(out_dir / "plots", plots);
+  return plots;
 }
 
 }  // namespace slamprep::eval

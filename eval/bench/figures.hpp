@@ -10,8 +10,16 @@
 
 namespace slamprep::eval {
 
-/// Renders every plot the data supports into out_dir/plots/; returns the file names written.
-std::vector<std::string> renderSuitePlots(const Suite& suite, const nlohmann::json& summary,
-                                          const std::filesystem::path& out_dir);
+/// The plots a README embeds, in its order.
+struct SuitePlots {
+  std::vector<std::string> names;  ///< file names under plots/, rendered or kept
+  std::vector<std::string> kept;   ///< of those, the ones left as they were (inputs missing)
+};
+
+/// Renders every plot the data supports into out_dir/plots/. Without trials/ (a committed
+/// results folder: git ignores it) the first trial's figures cannot be rendered, so an existing
+/// trajectory.png, odometry_error.png or scan.png is kept untouched and still named.
+SuitePlots renderSuitePlots(const Suite& suite, const nlohmann::json& summary,
+                            const std::filesystem::path& out_dir);
 
 }  // namespace slamprep::eval

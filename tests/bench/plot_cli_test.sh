@@ -1,6 +1,7 @@
 #!/bin/bash
-# `slamprep plot RESULTS_DIR`: re-renders a finished results folder's plots and README, and
-# refuses a folder that is not one (exit 2, naming the missing file).
+# `slamprep plot RESULTS_DIR`: re-renders a finished results folder's plots and README, keeps
+# the PNGs it cannot redraw (no trials/), and refuses a folder that is not one (exit 2, naming
+# the missing file).
 set -euo pipefail
 slamprep=${1:?usage: plot_cli_test.sh SLAMPREP_BINARY SOURCE_DIR}
 source_dir=${2:?usage: plot_cli_test.sh SLAMPREP_BINARY SOURCE_DIR}
@@ -34,6 +35,29 @@ for png in deskew_by_method.png trajectory.png scan.png; do
   grep -q "plot: $results/plots/$png" "$dir/out.txt" || fail "plot did not print $png"
 done
 cmp -s "$results/summary.json" "$dir/summary.before" || fail "plot changed summary.json"
+
+# A committed folder has no trials/ (git ignores it): plot cannot redraw the first trial's
+# figures, so it keeps their PNGs byte for byte and their README lines, and says so on stderr.
+kept=$dir/kept
+cp -r "$results" "$kept"
+rm -r "$kept/trials"
+"$slamprep" plot "$kept" >"$dir/kept.out" 2>"$dir/kept.err" || fail "plot without trials/ exited $?"
+cmp -s "$results/README.md" "$kept/README.md" \
+  || fail "README changed without trials/: $(diff "$results/README.md" "$kept/README.md")"
+for png in trajectory.png odometry_error.png scan.png; do
+  cmp -s "$results/plots/$png" "$kept/plots/$png" || fail "$png changed without trials/"
+  grep -qx "plot: trials/ missing: kept plots/$png as it was" "$dir/kept.err" \
+    || fail "no note that $png was kept: $(cat "$dir/kept.err")"
+  grep -q "plots/$png" "$dir/kept.out" && fail "stdout lists the kept $png as rendered"
+done
+cmp -s "$results/plots/deskew_by_method.png" "$kept/plots/deskew_by_method.png" \
+  || fail "deskew_by_method.png rendered differently without trials/"
+# Neither trials/ nor the PNG: nothing to keep, the README leaves it out.
+rm "$kept/plots/scan.png"
+"$slamprep" plot "$kept" >/dev/null 2>&1 || fail "plot without trials/ and scan.png exited $?"
+[ ! -e "$kept/plots/scan.png" ] || fail "plot made a scan.png without trials/"
+grep -q "](plots/scan.png)" "$kept/README.md" && fail "README embeds a scan.png that is gone"
+grep -q "](plots/trajectory.png)" "$kept/README.md" || fail "README lost the kept trajectory.png"
 
 # Box plots (10+ seeds) read trials.csv: bench and plot must still write the same bytes.
 cat >"$dir/plot-seeds.yaml" <<YAML
