@@ -62,16 +62,19 @@ Extents dataExtents(const Axes& axes) {
   return e;
 }
 
-/// Data extent plus margins; a single value gets a symmetric range around it.
+/// Data extent plus margins; a single value gets a symmetric range around it, a log axis at
+/// least one decade.
 Range autoRange(const Span& span, bool log_axis, bool bars) {
   if (span.empty()) return log_axis ? Range{1.0, 10.0} : Range{0.0, 1.0};
   if (log_axis) {
     double lo = std::log10(span.min), hi = std::log10(span.max);
-    if (hi - lo < 1e-12) {
-      lo -= 0.5, hi += 0.5;  // half a decade either side
-    } else {
-      const double m = kMargin * (hi - lo);
-      lo -= m, hi += m;
+    const double m = kMargin * (hi - lo);
+    lo -= m, hi += m;
+    // At least one decade: on a log axis a narrower range (0.0255 to 0.0262) makes values
+    // that differ by 3 % look as far apart as ones that differ tenfold.
+    if (hi - lo < 1.0) {
+      const double centre = (lo + hi) / 2;
+      lo = centre - 0.5, hi = centre + 0.5;
     }
     return {std::pow(10.0, lo), std::pow(10.0, hi)};
   }
