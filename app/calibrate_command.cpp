@@ -45,6 +45,7 @@ struct CalibrateFlags {
   double side_m = algo::UmbmarkParams{}.side_m;  // the shipped umbmark_cw/ccw.yaml squares
   algo::IcpParams icp;                           // the scan matcher between consecutive scans
   bool time_offset = false;
+  bool sideslip = false;
   bool stamp_is_last_beam = false;
   bool strict = false;
   bool force = false;
@@ -121,6 +122,7 @@ eval::DatasetCalibrationParams paramsOf(const CalibrateFlags& flags) {
   p.motion.icp = flags.icp;
   p.params.umbmark.side_m = flags.side_m;
   p.params.ceres.estimate_time_offset = flags.time_offset;
+  p.params.ceres.estimate_sideslip = flags.sideslip;
   p.params.trim.enabled = flags.trim_sigmas > 0.0;
   if (p.params.trim.enabled) p.params.trim.threshold_sigmas = flags.trim_sigmas;
   if (!flags.nominal.empty()) {
@@ -196,6 +198,10 @@ int runCalibrate(const CalibrateFlags& flags) {
     if (run.time_offset_s)
       std::cerr << "calibrate: ceres time offset " << *run.time_offset_s * 1e3 << " ms +- "
                 << run.time_offset_sigma_s * 1e3 << " ms\n";
+  for (const algo::CalibrationRun& run : c.runs)
+    if (run.sideslip_s)
+      std::cerr << "calibrate: ceres sideslip k " << *run.sideslip_s * 1e3 << " ms +- "
+                << run.sideslip_sigma_s * 1e3 << " ms (sideways speed k v w)\n";
   printTable(c.runs, c.truth);
   for (const eval::NotApplicable& n : c.not_applicable)
     std::cout << "\n"
@@ -288,6 +294,10 @@ Command addCalibrateCommand(CLI::App& app) {
       ->capture_default_str();
   cli->add_flag("--time-offset", flags->time_offset,
                 "ceres: also estimate a constant encoder-to-lidar clock offset");
+  cli->add_flag("--sideslip", flags->sideslip,
+                "ceres: also estimate a sideslip k, the base moving sideways at k v w in turns "
+                "(not with --time-offset)")
+      ->excludes("--time-offset");
   return {cli, [flags] { return runCalibrate(*flags); }};
 }
 

@@ -50,18 +50,29 @@ CalibrationRun robustFit(const std::vector<CalibrationInterval>& all, const Trim
   return run;
 }
 
+CalibrationRun makeRun(CalibrationMethod method, CalibrationResult result) {
+  CalibrationRun run;
+  run.method = method;
+  run.result = std::move(result);
+  return run;
+}
+
 CalibrationRun refused(CalibrationMethod method, std::string reason) {
-  CalibrationRun run{method, {}, std::nullopt, 0.0, std::nullopt};
+  CalibrationRun run = makeRun(method, {});
   run.result.estimates_mount = estimatesMount(method);
   run.result.reason = std::move(reason);
   return run;
 }
 
 CalibrationRun fromCeres(const CeresResult& r, const CeresParams& params) {
-  CalibrationRun run{CalibrationMethod::kCeres, r, std::nullopt, 0.0, std::nullopt};
+  CalibrationRun run = makeRun(CalibrationMethod::kCeres, r);
   if (params.estimate_time_offset && r.ok) {
     run.time_offset_s = r.time_offset_s;
     run.time_offset_sigma_s = r.time_offset_sigma_s;
+  }
+  if (params.estimate_sideslip && r.ok) {
+    run.sideslip_s = r.sideslip_s;
+    run.sideslip_sigma_s = r.sideslip_sigma_s;
   }
   return run;
 }
@@ -75,8 +86,7 @@ CeresParams ceresParams(const CalibrationParams& params) {
 CalibrationRun calibrateUmbmarkRuns(const CalibrationInput& input, const CalibrationParams& p) {
   UmbmarkParams params = p.umbmark;
   if (input.nominal) params.nominal = *input.nominal;
-  return {CalibrationMethod::kUmbmark, calibrateUmbmark(input.umbmark_runs, params), std::nullopt,
-          0.0, std::nullopt};
+  return makeRun(CalibrationMethod::kUmbmark, calibrateUmbmark(input.umbmark_runs, params));
 }
 
 // The fit of one interval method on a subset of the intervals.
@@ -87,12 +97,12 @@ CalibrationRun fitMethod(CalibrationMethod method, const std::vector<Calibration
     case CalibrationMethod::kDirect: {
       DirectLinearParams direct = params.direct;
       direct.nominal = *input.nominal;
-      return {method, calibrateDirectLinear(subset, direct), std::nullopt, 0.0, std::nullopt};
+      return makeRun(method, calibrateDirectLinear(subset, direct));
     }
     case CalibrationMethod::kModel:
-      return {method, calibrateModelBased(subset, params.model), std::nullopt, 0.0, std::nullopt};
+      return makeRun(method, calibrateModelBased(subset, params.model));
     case CalibrationMethod::kJoint:
-      return {method, jointOn(joints, subset, kept, params.joint), std::nullopt, 0.0, std::nullopt};
+      return makeRun(method, jointOn(joints, subset, kept, params.joint));
     case CalibrationMethod::kCeres: {
       const JointResult& start = jointOn(joints, subset, kept, params.joint);
       return fromCeres(calibrateCeres(subset, start, ceresParams(params)), params.ceres);

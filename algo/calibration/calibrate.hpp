@@ -50,6 +50,9 @@ struct CalibrationRun {
   /// odometry geometry corrected: estimate / nominal is the factor to apply to whatever geometry
   /// the robot's odometry used (docs/calibration.md, "Logs without encoder ticks").
   std::optional<DiffDriveParams> relative_to_odometry;
+  /// ceres with estimate_sideslip, when ok: the sideslip k (s) and its 1-sigma.
+  std::optional<double> sideslip_s;
+  double sideslip_sigma_s = 0.0;
 };
 
 /// Why `method` does not apply to `input` (umbmark without square runs, direct without the

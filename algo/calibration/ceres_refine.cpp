@@ -16,15 +16,19 @@ namespace {
 // The translation error is taken in the lidar frame at the interval's start, where the scan
 // matcher's noise lives (and where joint's residuals are): log(pred^-1 * sm) would express it
 // in the predicted end frame, rotated by the interval's turn, and mix the per-axis sigmas.
-// p = (r_L, r_R, b, l_x, l_y, l_th); offset a separate one-element block (constant unless
-// estimated).
+// p = (r_L, r_R, b, l_x, l_y, l_th); offset and the sideslip k separate one-element blocks
+// (constant unless estimated). With the sideslip, o = integrateStepsWithSideslip(steps; r_L,
+// r_R, b, k): every step also moves the base sideways by k ds dth / dt.
 struct IntervalResidual {
   const CalibrationInterval* interval;
   Eigen::Vector3d inv_sigma;
+  bool sideslip;
 
   template <typename T>
-  bool operator()(const T* p, const T* offset, T* residual) const {
-    const SE2T<T> o = integrateStepsShifted(interval->steps, p[0], p[1], p[2], offset[0]);
+  bool operator()(const T* p, const T* offset, const T* k, T* residual) const {
+    const SE2T<T> o = sideslip
+                          ? integrateStepsWithSideslip(interval->steps, p[0], p[1], p[2], k[0])
+                          : integrateStepsShifted(interval->steps, p[0], p[1], p[2], offset[0]);
     const SE2T<T> pred = lidarMotion(o, SE2T<T>(p[3], p[4], p[5]));
     const SE2T<T> sm = interval->T_lidarStart_lidarEnd.template cast<T>();
     residual[0] = (sm.x - pred.x) * inv_sigma(0);
@@ -35,14 +39,16 @@ struct IntervalResidual {
 };
 
 void buildProblem(const std::vector<CalibrationInterval>& intervals, const Eigen::Vector3d& sigma,
-                  const CeresParams& params, double* p, double* offset, ceres::Problem& problem) {
+                  const CeresParams& params, double* p, double* offset, double* sideslip,
+                  ceres::Problem& problem) {
   const Eigen::Vector3d inv_sigma = sigma.cwiseInverse();
   for (const CalibrationInterval& interval : intervals) {
-    auto* cost = new ceres::AutoDiffCostFunction<IntervalResidual, 3, 6, 1>(
-        new IntervalResidual{&interval, inv_sigma});
-    problem.AddResidualBlock(cost, new ceres::HuberLoss(params.huber_sigmas), p, offset);
+    auto* cost = new ceres::AutoDiffCostFunction<IntervalResidual, 3, 6, 1, 1>(
+        new IntervalResidual{&interval, inv_sigma, params.estimate_sideslip});
+    problem.AddResidualBlock(cost, new ceres::HuberLoss(params.huber_sigmas), p, offset, sideslip);
   }
   if (!params.estimate_time_offset) problem.SetParameterBlockConstant(offset);
+  if (!params.estimate_sideslip) problem.SetParameterBlockConstant(sideslip);
 }
 
 // Unrobustified residual noise per axis, with 3n - m degrees of freedom spread over 3 axes.
@@ -112,12 +118,16 @@ CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
     result.condition_number = start.condition_number;
     return result;
   }
+  if (params.estimate_time_offset && params.estimate_sideslip) {
+    result.reason = "the time offset and the sideslip cannot be estimated together";
+    return result;
+  }
   const int n = static_cast<int>(intervals.size());
-  const int m = params.estimate_time_offset ? 7 : 6;
+  const int m = 6 + (params.estimate_time_offset ? 1 : 0) + (params.estimate_sideslip ? 1 : 0);
   double p[6] = {start.geometry.radius_left_m, start.geometry.radius_right_m,
                  start.geometry.wheel_base_m,  start.T_base_lidar.x,
                  start.T_base_lidar.y,         start.T_base_lidar.yaw};
-  double offset = 0.0;
+  double offset = 0.0, sideslip = 0.0;
   const double sigma_t =
       std::sqrt(0.5 * (start.sigma_x_m * start.sigma_x_m + start.sigma_y_m * start.sigma_y_m));
   Eigen::Vector3d sigma(sigma_t, sigma_t, start.sigma_theta_rad);
@@ -127,7 +137,7 @@ CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
   ceres::Solver::Summary summary;
   for (int pass = 0; pass < 2; ++pass) {
     ceres::Problem problem;
-    buildProblem(intervals, sigma, params, p, &offset, problem);
+    buildProblem(intervals, sigma, params, p, &offset, &sideslip, problem);
     ceres::Solver::Options options;
     options.linear_solver_type = ceres::DENSE_QR;
     options.max_num_iterations = params.max_iterations;
@@ -145,8 +155,12 @@ CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
     result.sigma_residual = refined;
     result.termination = ceres::TerminationTypeToString(summary.termination_type);
     result.cost = 2.0 * summary.final_cost;
+    // The estimated scalars beside p: the time offset or the sideslip (never both).
+    double* extra = params.estimate_time_offset ? &offset
+                    : params.estimate_sideslip  ? &sideslip
+                                                : nullptr;
     std::vector<double*> blocks = {p};
-    if (params.estimate_time_offset) blocks.push_back(&offset);
+    if (extra) blocks.push_back(extra);
     std::vector<double> residuals;
     const Eigen::MatrixXd J = whitenedJacobian(problem, blocks, &residuals);
     result.condition_number = equilibratedConditionNumber(J);
@@ -168,7 +182,7 @@ CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
     cov_options.num_threads = 1;
     ceres::Covariance covariance(cov_options);
     std::vector<std::pair<const double*, const double*>> pairs = {{p, p}};
-    if (params.estimate_time_offset) pairs.insert(pairs.end(), {{p, &offset}, {&offset, &offset}});
+    if (extra) pairs.insert(pairs.end(), {{p, extra}, {extra, extra}});
     if (!covariance.Compute(pairs, &problem)) {
       result.reason = "covariance rank deficient: parameters not identifiable from these intervals";
       return result;
@@ -178,21 +192,23 @@ CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
     Eigen::Matrix<double, 6, 6, Eigen::RowMajor> cov_pp;
     covariance.GetCovarianceBlock(p, p, cov_pp.data());
     C.topLeftCorner<6, 6>() = cov_pp;
-    if (params.estimate_time_offset) {
-      Eigen::Matrix<double, 6, 1> cov_po;
-      covariance.GetCovarianceBlock(p, &offset, cov_po.data());
-      covariance.GetCovarianceBlock(&offset, &offset, &C(6, 6));
-      C.block<6, 1>(0, 6) = cov_po;
-      C.block<1, 6>(6, 0) = cov_po.transpose();
+    if (extra) {
+      Eigen::Matrix<double, 6, 1> cov_pe;
+      covariance.GetCovarianceBlock(p, extra, cov_pe.data());
+      covariance.GetCovarianceBlock(extra, extra, &C(6, 6));
+      C.block<6, 1>(0, 6) = cov_pe;
+      C.block<1, 6>(6, 0) = cov_pe.transpose();
     }
     const Eigen::MatrixXd cov = longRunCovariance(C, J, residuals, intervals, sigma, refined);
     result.covariance = cov.topLeftCorner<6, 6>();
-    if (params.estimate_time_offset)
-      result.time_offset_sigma_s = std::sqrt(std::max(0.0, cov(6, 6)));
+    const double extra_sigma = extra ? std::sqrt(std::max(0.0, cov(6, 6))) : 0.0;
+    if (params.estimate_time_offset) result.time_offset_sigma_s = extra_sigma;
+    if (params.estimate_sideslip) result.sideslip_sigma_s = extra_sigma;
   }
   result.geometry = {p[0], p[1], p[2]};
   result.T_base_lidar = SE2(p[3], p[4], p[5]);
   result.time_offset_s = offset;
+  result.sideslip_s = sideslip;
   result.intervals_used = n;
   if (!(p[0] > 0.0 && p[1] > 0.0 && p[2] > 0.0)) {
     result.reason = "refinement left the feasible region (a radius or b <= 0)";

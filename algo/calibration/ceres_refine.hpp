@@ -1,6 +1,7 @@
 #pragma once
 // Nonlinear refinement of all six parameters (r_L, r_R, b, l_x, l_y, l_yaw), optionally plus a
-// constant clock offset between encoders and lidar, with Ceres; starts from the joint closed form.
+// constant clock offset between encoders and lidar or a sideslip in turns, with Ceres; starts
+// from the joint closed form.
 
 #include <vector>
 
@@ -11,6 +12,9 @@ namespace slamprep::algo {
 struct CeresParams {
   /// Also estimate offset_s = t_lidar - t_encoder (the encoder window is shifted by -offset).
   bool estimate_time_offset = false;
+  /// Also estimate a sideslip k (s): the base moves sideways at v_y = k v w, as tyres do in
+  /// turns (docs/calibration.md, "Sideslip"). Not together with the time offset.
+  bool estimate_sideslip = false;
   /// Huber loss threshold on the whitened residual, in standard deviations.
   double huber_sigmas = 3.0;
   /// Solver iteration limit.
@@ -28,6 +32,8 @@ struct CeresParams {
 struct CeresResult : CalibrationResult {
   double time_offset_s = 0.0;        ///< estimated offset (0 when not estimated)
   double time_offset_sigma_s = 0.0;  ///< its 1-sigma
+  double sideslip_s = 0.0;           ///< estimated sideslip k (0 when not estimated)
+  double sideslip_sigma_s = 0.0;     ///< its 1-sigma
   /// Residual noise per axis of the SE(2) log residual (x m, y m, theta rad), re-estimated.
   Eigen::Vector3d sigma_residual = Eigen::Vector3d::Zero();
   std::string termination;  ///< Ceres termination type

@@ -33,6 +33,26 @@ SE2T<T> stepMotion(const EncoderStep& step, const T& r_L, const T& r_R, const T&
   return arc(T(0.5) * (r_L * dl + r_R * dr), (r_R * dr - r_L * dl) / b);
 }
 
+/// The same with a sideslip: the base also moves sideways at v_y = k v w (k in seconds; tyres
+/// pushed outwards by the centripetal load in turns), over the step exp((ds, k ds dth / dt, dth)).
+template <typename T>
+SE2T<T> stepMotionWithSideslip(const EncoderStep& step, const T& r_L, const T& r_R, const T& b,
+                               const T& sideslip_s) {
+  const T dl = T(step.dphi_left_rad), dr = T(step.dphi_right_rad);
+  const T ds = T(0.5) * (r_L * dl + r_R * dr), dth = (r_R * dr - r_L * dl) / b;
+  return SE2T<T>::exp({ds, sideslip_s * ds * dth / T(step.dt_s), dth});
+}
+
+/// T_baseStart_baseEnd over all steps with a sideslip coefficient k (stepMotionWithSideslip).
+template <typename T>
+SE2T<T> integrateStepsWithSideslip(const std::vector<EncoderStep>& steps, const T& r_L,
+                                   const T& r_R, const T& b, const T& sideslip_s) {
+  SE2T<T> T_start_end;
+  for (const EncoderStep& step : steps)
+    T_start_end = T_start_end * stepMotionWithSideslip(step, r_L, r_R, b, sideslip_s);
+  return T_start_end;
+}
+
 /// T_baseStart_baseEnd over all steps: the product of the exact arcs.
 template <typename T>
 SE2T<T> integrateSteps(const std::vector<EncoderStep>& steps, const T& r_L, const T& r_R,

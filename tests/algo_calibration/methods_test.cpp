@@ -85,6 +85,43 @@ TEST(Ceres, RefinesFromAPerturbedStart) {
   expectMount(r, spec.T_base_lidar);
 }
 
+// A base that slides sideways in turns (v_y = k v w, k = -0.66 ms as the simulated robot's tyres
+// at 0.5 m/s): with the sideslip term Ceres recovers k and all six parameters exactly; without
+// it (the joint closed form) the sideslip leaks into the mount.
+TEST(Ceres, EstimatesASideslip) {
+  SyntheticSpec spec;
+  spec.sideslip_s = -6.6e-4;
+  const auto intervals = makeIntervals(spec);
+  CeresParams params;
+  params.estimate_sideslip = true;
+  const CeresResult r = calibrateCeres(intervals, params);
+  expectGeometry(r, spec.truth);
+  expectMount(r, spec.T_base_lidar);
+  EXPECT_LT(rel(r.sideslip_s, spec.sideslip_s), kExact);
+  EXPECT_GT(r.sideslip_sigma_s, 0.0);
+  const JointResult without = calibrateJoint(intervals);  // no sideslip term
+  ASSERT_TRUE(without.ok) << without.reason;
+  EXPECT_GT(std::abs(without.T_base_lidar.x - spec.T_base_lidar.x), 3e-5);  // measured 8.6e-5 m
+}
+
+TEST(Ceres, EstimatesNoSideslipWhereThereIsNone) {
+  const SyntheticSpec spec;
+  CeresParams params;
+  params.estimate_sideslip = true;
+  const CeresResult r = calibrateCeres(makeIntervals(spec), params);
+  expectGeometry(r, spec.truth);
+  expectMount(r, spec.T_base_lidar);
+  EXPECT_LT(std::abs(r.sideslip_s), 1e-12);
+}
+
+TEST(Ceres, RefusesTheSideslipTogetherWithTheTimeOffset) {
+  CeresParams params;
+  params.estimate_sideslip = params.estimate_time_offset = true;
+  const CeresResult r = calibrateCeres(makeIntervals(SyntheticSpec{}), params);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.reason.find("together"), std::string::npos) << r.reason;
+}
+
 TEST(Ceres, EstimatesAConstantClockOffset) {
   // Wheel rates are piecewise constant per 10 ms step and vary inside each interval; the lidar
   // window is the encoder window shifted by the offset.

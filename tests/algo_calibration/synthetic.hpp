@@ -34,8 +34,23 @@ struct SyntheticSpec {
   /// Consecutive intervals driving the same manoeuvre (scan matches are short: the motion changes
   /// slowly from one to the next).
   int intervals_per_manoeuvre = 1;
+  /// Sideslip k (s): the base also moves sideways at v_y = k v w.
+  double sideslip_s = 0.0;
   unsigned seed = 1;
 };
+
+/// The true base motion of one step: the exact arc, plus the sideslip k ds dth / dt sideways.
+inline SE2 trueStep(const SyntheticSpec& spec, const EncoderStep& step) {
+  if (spec.sideslip_s == 0.0)
+    return wheelIncrement(spec.truth, step.dphi_left_rad, step.dphi_right_rad);
+  const DiffDriveParams& g = spec.truth;
+  const double ds =
+      0.5 * (g.radius_left_m * step.dphi_left_rad + g.radius_right_m * step.dphi_right_rad);
+  const double dth =
+      (g.radius_right_m * step.dphi_right_rad - g.radius_left_m * step.dphi_left_rad) /
+      g.wheel_base_m;
+  return SE2::exp({ds, spec.sideslip_s * ds * dth / step.dt_s, dth});
+}
 
 /// Wheel rates (rad/s) of interval k at step j: curves both ways, spins, near-straight driving,
 /// with the speed varying inside the interval so constant-speed shortcuts would be wrong.
@@ -88,7 +103,7 @@ inline std::vector<CalibrationInterval> makeIntervals(const SyntheticSpec& spec)
       const Eigen::Vector2d w = wheelRates(spec, k, j);
       EncoderStep step{spec.dt_s, w.x() * spec.dt_s, w.y() * spec.dt_s};
       interval.steps.push_back(step);
-      o = o * wheelIncrement(spec.truth, step.dphi_left_rad, step.dphi_right_rad);
+      o = o * trueStep(spec, step);
       t += spec.dt_s;
     }
     interval.t_end_s = t;
