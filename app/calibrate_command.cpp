@@ -194,14 +194,14 @@ int runCalibrate(const CalibrateFlags& flags) {
               << c.intervals.dropped_uncovered << " without encoder data dropped)\n";
   if (!flags.intervals_out.empty())
     algo::writeIntervalRecords(flags.intervals_out, c.intervals.intervals);
-  for (const algo::CalibrationRun& run : c.runs)
+  for (const algo::CalibrationRun& run : c.runs) {
     if (run.time_offset_s)
       std::cerr << "calibrate: ceres time offset " << *run.time_offset_s * 1e3 << " ms +- "
                 << run.time_offset_sigma_s * 1e3 << " ms\n";
-  for (const algo::CalibrationRun& run : c.runs)
     if (run.sideslip_s)
       std::cerr << "calibrate: ceres sideslip k " << *run.sideslip_s * 1e3 << " ms +- "
                 << run.sideslip_sigma_s * 1e3 << " ms (sideways speed k v w)\n";
+  }
   printTable(c.runs, c.truth);
   for (const eval::NotApplicable& n : c.not_applicable)
     std::cout << "\n"

@@ -6,6 +6,7 @@
 // and an interval's motion is the product of its steps' arcs: no constant-speed assumption.
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "core/se2.hpp"
@@ -25,12 +26,20 @@ SE2T<T> arc(const T& ds, const T& dth) {
   return SE2T<T>::exp({ds, T(0.0), dth});
 }
 
+/// Distance ds and turn dth of the base over `fraction` of one step with geometry (r_L, r_R, b).
+template <typename T>
+std::pair<T, T> stepDistanceAndTurn(const EncoderStep& step, const T& r_L, const T& r_R, const T& b,
+                                    const T& fraction) {
+  const T dl = fraction * step.dphi_left_rad, dr = fraction * step.dphi_right_rad;
+  return {T(0.5) * (r_L * dl + r_R * dr), (r_R * dr - r_L * dl) / b};
+}
+
 /// Base motion over one step with geometry (r_L, r_R, b); `fraction` of the step is used.
 template <typename T>
 SE2T<T> stepMotion(const EncoderStep& step, const T& r_L, const T& r_R, const T& b,
                    const T& fraction) {
-  const T dl = fraction * step.dphi_left_rad, dr = fraction * step.dphi_right_rad;
-  return arc(T(0.5) * (r_L * dl + r_R * dr), (r_R * dr - r_L * dl) / b);
+  const auto [ds, dth] = stepDistanceAndTurn(step, r_L, r_R, b, fraction);
+  return arc(ds, dth);
 }
 
 /// The same with a sideslip: the base also moves sideways at v_y = k v w (k in seconds; tyres
@@ -38,8 +47,7 @@ SE2T<T> stepMotion(const EncoderStep& step, const T& r_L, const T& r_R, const T&
 template <typename T>
 SE2T<T> stepMotionWithSideslip(const EncoderStep& step, const T& r_L, const T& r_R, const T& b,
                                const T& sideslip_s) {
-  const T dl = T(step.dphi_left_rad), dr = T(step.dphi_right_rad);
-  const T ds = T(0.5) * (r_L * dl + r_R * dr), dth = (r_R * dr - r_L * dl) / b;
+  const auto [ds, dth] = stepDistanceAndTurn(step, r_L, r_R, b, T(1.0));
   return SE2T<T>::exp({ds, sideslip_s * ds * dth / T(step.dt_s), dth});
 }
 
