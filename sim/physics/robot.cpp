@@ -72,9 +72,7 @@ struct Robot::Impl {
   ~Impl();
   void setMotorLimit(double dt_s);
   /// Caster spheres on ball joints, for casters with friction.
-  void addCasters(int collision_mask);
-  /// The base pose from the wheel centres (see Robot::T_world_base).
-  SE2 T_world_base() const;
+  void addCasters(const SE2& T_world_base0, int collision_mask);
   /// Wheel rotation relative to the chassis, positive forward: the encoder reading.
   double hingeAngle(btHingeConstraint& hinge) const { return -hinge.getHingeAngle(); }
 };
@@ -123,7 +121,7 @@ Robot::Impl::Impl(Scene& s, const RobotConfig& c, const SE2& T0) : scene(s), con
   hinge_left = hinge(wheel_left, g.radius_left_m, g.wheel_base_m / 2);
   hinge_right = hinge(wheel_right, g.radius_right_m, -g.wheel_base_m / 2);
   if (config.caster_friction > 0)
-    addCasters(mask);
+    addCasters(T0, mask);
   else
     chassis.body->setAngularFactor(btVector3(0, 0, 1));  // frictionless casters: level chassis
   setMotorLimit(motor_dt_s);
@@ -140,10 +138,9 @@ Robot::Impl::~Impl() {
     if (b->body) scene.dynamics().removeRigidBody(b->body.get());
 }
 
-void Robot::Impl::addCasters(int collision_mask) {
+void Robot::Impl::addCasters(const SE2& T0, int collision_mask) {
   // Spheres on ball joints under the front and back of the chassis.
   const double rc = config.caster_radius_m;
-  const SE2 T0 = T_world_base();
   auto caster = [&](double x_m) {
     Body b = makeBody(std::make_unique<btSphereShape>(rc), 0.1, pose3d(T0, btVector3(x_m, 0, rc)),
                       config.caster_friction);
@@ -202,15 +199,11 @@ void Robot::update() {
 }
 
 SE2 Robot::T_world_base() const {
-  return impl_->T_world_base();
-}
-
-SE2 Robot::Impl::T_world_base() const {
   // From the wheel centres, not the chassis: the hinges let the chassis trail the wheels by
   // about v * dt while accelerating (measured 0.9 mm at 1 m/s, 1 kHz), and the base frame is
   // defined by the wheels.
-  const btVector3 left = wheel_left.body->getWorldTransform().getOrigin();
-  const btVector3 right = wheel_right.body->getWorldTransform().getOrigin();
+  const btVector3 left = impl_->wheel_left.body->getWorldTransform().getOrigin();
+  const btVector3 right = impl_->wheel_right.body->getWorldTransform().getOrigin();
   const btVector3 mid = (left + right) / 2;
   const btVector3 y_axis = left - right;  // base y axis: from the right wheel to the left wheel
   return {mid.x(), mid.y(), std::atan2(-y_axis.x(), y_axis.y())};
