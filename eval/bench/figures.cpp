@@ -10,6 +10,7 @@
 #include "eval/bench/figure_groups.hpp"
 #include "eval/bench/figures_internal.hpp"
 #include "eval/bench/runner.hpp"
+#include "eval/bench/summary.hpp"
 #include "eval/plot/plot.hpp"
 
 namespace slamprep::eval {
@@ -35,28 +36,19 @@ std::optional<json> firstArtifacts(const Suite& suite, const fs::path& out_dir) 
 }
 
 // Each group's rows of trials.csv (its seeds): a trial's id names its spec in the suite, whose
-// world, scenario and sweep values make the group (summarize). Empty without a trials.csv.
+// groupKey makes the group (summarize). Empty without a trials.csv.
 std::vector<TrialRows> trialRowsByGroup(const Suite& suite, const json& groups,
                                         const fs::path& trials_csv) {
   std::map<std::string, json> group_of_id;
-  for (const TrialSpec& spec : expandTrials(suite)) {
-    const json trial = specJson(spec);
-    group_of_id[spec.id] = {
-        {"world", trial["world"]}, {"scenario", trial["scenario"]}, {"sweep", trial["sweep"]}};
-  }
+  for (const TrialSpec& spec : expandTrials(suite)) group_of_id[spec.id] = groupKey(specJson(spec));
   const auto rows = readTrialRows(trials_csv);
   const auto ids = readTrialIds(trials_csv);
   std::vector<TrialRows> by_group(groups.size());
   for (std::size_t r = 0; r < rows.size() && r < ids.size(); ++r) {
     const auto it = group_of_id.find(ids[r]);
     if (it == group_of_id.end()) continue;  // a trial the suite no longer has
-    for (std::size_t g = 0; g < groups.size(); ++g) {
-      const json& group = groups[g];
-      if (group.value("world", json()) == it->second["world"] &&
-          group.value("scenario", json()) == it->second["scenario"] &&
-          group.value("sweep", json()) == it->second["sweep"])
-        by_group[g].push_back(rows[r]);
-    }
+    for (std::size_t g = 0; g < groups.size(); ++g)
+      if (groupKey(groups[g]) == it->second) by_group[g].push_back(rows[r]);
   }
   return by_group;
 }

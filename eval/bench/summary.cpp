@@ -128,16 +128,19 @@ std::map<std::string, double> flattenMetrics(const nlohmann::json& result) {
   return out;
 }
 
+nlohmann::json groupKey(const nlohmann::json& trial_or_group) {
+  return {{"world", trial_or_group.value("world", nlohmann::json())},
+          {"scenario", trial_or_group.value("scenario", nlohmann::json())},
+          {"sweep", trial_or_group.value("sweep", nlohmann::json())}};
+}
+
 nlohmann::json summarize(const Suite& suite, const TrialSet& set) {
   std::vector<const nlohmann::json*> all;
   std::map<std::string, std::vector<const nlohmann::json*>> by_group;
   std::map<std::string, nlohmann::json> group_keys;
   for (const auto& r : set.results) {
     all.push_back(&r);
-    // A group is one sweep point in one world and scenario: everything but the seed.
-    nlohmann::json key = {{"world", r["trial"]["world"]},
-                          {"scenario", r["trial"]["scenario"]},
-                          {"sweep", r["trial"]["sweep"]}};
+    const nlohmann::json key = groupKey(r["trial"]);
     by_group[key.dump()].push_back(&r);
     group_keys[key.dump()] = key;
   }

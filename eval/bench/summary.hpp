@@ -24,6 +24,10 @@ TrialSet loadTrials(const std::vector<TrialSpec>& trials, const std::filesystem:
 /// Numeric leaves of a result (bools as 0/1) by '/'-joined path, skipping the "trial" spec.
 std::map<std::string, double> flattenMetrics(const nlohmann::json& result);
 
+/// What makes a group: one sweep point in one world and scenario, everything but the seed.
+/// {world, scenario, sweep} of a trial spec (specJson) or of a summary.json group.
+nlohmann::json groupKey(const nlohmann::json& trial_or_group);
+
 /// summary.json: for every metric path, {n, mean, std, min, max} over all trials, and the same
 /// per sweep point ("groups"); per group also the calibration consistency over its seeds
 /// ("consistency": calibration/<method>/consistency/<param>/<stat>, docs/results.md). Depends only
