@@ -36,13 +36,12 @@ std::optional<json> firstArtifacts(const Suite& suite, const fs::path& out_dir) 
 }
 
 // Each group's rows of trials.csv (its seeds): a trial's id names its spec in the suite, whose
-// groupKey makes the group (summarize). Empty without a trials.csv.
+// groupKey makes the group (summarize). `rows` and `ids` are trials.csv's, in its order.
 std::vector<TrialRows> trialRowsByGroup(const Suite& suite, const json& groups,
-                                        const fs::path& trials_csv) {
+                                        const TrialRows& rows,
+                                        const std::vector<std::string>& ids) {
   std::map<std::string, json> group_of_id;
   for (const TrialSpec& spec : expandTrials(suite)) group_of_id[spec.id] = groupKey(specJson(spec));
-  const auto rows = readTrialRows(trials_csv);
-  const auto ids = readTrialIds(trials_csv);
   std::vector<TrialRows> by_group(groups.size());
   for (std::size_t r = 0; r < rows.size() && r < ids.size(); ++r) {
     const auto it = group_of_id.find(ids[r]);
@@ -73,6 +72,7 @@ bool sweeps(const Suite& suite, const std::string& key) {
 SuitePlots renderSuitePlots(const Suite& suite, const json& summary, const fs::path& out_dir) {
   std::vector<std::pair<std::string, plot::Figure>> figures;
   const json& groups = summary["groups"];
+  const TrialRows trial_rows = readTrialRows(out_dir / "trials.csv");  // empty without the file
   if (!methodsIn(groups, "deskew", "mean_m").empty()) {
     // A scenario series (speeds) is a sweep: lines along it. Otherwise one panel per condition.
     if (auto fig = deskewVsSpeedFigure(groups))
@@ -86,12 +86,13 @@ SuitePlots renderSuitePlots(const Suite& suite, const json& summary, const fs::p
     else
       figures.emplace_back(
           "calibration_error.png",
-          calibrationFigure(groups, trialRowsByGroup(suite, groups, out_dir / "trials.csv")));
+          calibrationFigure(groups, trialRowsByGroup(suite, groups, trial_rows,
+                                                     readTrialIds(out_dir / "trials.csv"))));
   }
   // error/sigma histograms need many seeds of one experiment to say anything (the seeds suite).
   // It pools every trial of trials.csv, so only where they share one condition (one group).
   if (suite.seeds >= kMinSeedsForConsistency && groups.size() == 1)
-    if (auto fig = consistencyFigure(readTrialRows(out_dir / "trials.csv")))
+    if (auto fig = consistencyFigure(trial_rows))
       figures.emplace_back("consistency.png", std::move(*fig));
   if (const auto artifacts = firstArtifacts(suite, out_dir)) {
     if (artifacts->contains("trajectory"))
