@@ -13,6 +13,8 @@
 #include <sstream>
 #include <string>
 
+#include "tests/support/scratch_dir.hpp"
+
 namespace slamprep::test {
 
 inline std::filesystem::path nodeToolDir() {
@@ -53,8 +55,8 @@ inline bool runningInCi() {
 
 /// Runs `node mcap_tool.mjs args`; returns its exit code, stderr in `log`.
 inline int runNodeTool(const std::string& args, std::string* log = nullptr) {
-  const auto err =
-      std::filesystem::temp_directory_path() / ("mcap_tool_" + std::to_string(::getpid()) + ".err");
+  const ScratchDir scratch("mcap_tool");
+  const auto err = scratch / "stderr";
   const int rc = runShell("node '" + (nodeToolDir() / "mcap_tool.mjs").string() + "' " + args +
                           " 2> '" + err.string() + "'");
   if (log) {
@@ -63,7 +65,6 @@ inline int runNodeTool(const std::string& args, std::string* log = nullptr) {
     s << in.rdbuf();
     *log = s.str();
   }
-  std::filesystem::remove(err);
   return rc;
 }
 
