@@ -3,8 +3,6 @@
 // ctest replay of the corpus and regressions (tests/formats/fuzz_regression_test.cpp). A reader
 // passes an input when it returns or throws InputError.
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -25,6 +23,7 @@
 #include "eval/formats/tum.hpp"
 #include "sim/drive/scenario.hpp"
 #include "sim/physics/world.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::fuzz {
 
@@ -35,14 +34,10 @@ inline const std::vector<std::string>& readerNames() {
   return names;
 }
 
-/// A per-process scratch file for the readers that only take a path (world, suite).
+/// A per-process scratch file for the readers that only take a path (world, suite); its folder
+/// is removed when the process exits.
 inline std::filesystem::path scratchFile(const char* name) {
-  static const std::filesystem::path dir = [] {
-    auto d =
-        std::filesystem::temp_directory_path() / ("slamprep_fuzz_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    return d;
-  }();
+  static const test::ScratchDir dir("fuzz");
   return dir / name;
 }
 

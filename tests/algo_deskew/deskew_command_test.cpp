@@ -2,13 +2,15 @@
 // files written, JSON keys, exit codes and messages for bad input.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
+
+#include "tests/support/scratch_dir.hpp"
 
 namespace {
 
@@ -30,12 +32,10 @@ class DeskewCommand : public ::testing::Test {
  protected:
   // One folder per process: ctest runs these tests in parallel processes, each with its own
   // SetUpTestSuite, and a shared folder let one process wipe another's dataset.
-  static fs::path dir() {
-    return fs::temp_directory_path() / ("slamprep_deskew_cli-" + std::to_string(::getpid()));
-  }
+  static inline std::optional<slamprep::test::ScratchDir> scratch_;
+  static const fs::path& dir() { return scratch_->path(); }
   static void SetUpTestSuite() {
-    fs::remove_all(dir());
-    fs::create_directories(dir());
+    scratch_.emplace("deskew_cli");
     // 3 s of the arc (ramp included), kinematic: fast and exact.
     const CliRun r =
         cli("simulate --scenario worlds/scenarios/arc.yaml --duration 3 --mode "
@@ -43,7 +43,7 @@ class DeskewCommand : public ::testing::Test {
             (dir() / "data").string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
-  static void TearDownTestSuite() { fs::remove_all(dir()); }
+  static void TearDownTestSuite() { scratch_.reset(); }
 
   static CliRun cli(const std::string& args) {
     const fs::path binary = fs::path(SLAMPREP_BINARY_DIR) / "slamprep";

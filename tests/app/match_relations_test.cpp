@@ -3,7 +3,6 @@
 // method measured on them (docs/matching.md "Measured"), and match's JSON summary.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -11,18 +10,16 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "tests/support/scratch_dir.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
+// One folder per process, removed at exit: the tests of a process share it.
 fs::path dir() {
-  static const fs::path d = [] {
-    const fs::path p =
-        fs::temp_directory_path() / ("slamprep_match_relations-" + std::to_string(::getpid()));
-    fs::create_directories(p);
-    return p;
-  }();
-  return d;
+  static const slamprep::test::ScratchDir d("match_relations");
+  return d.path();
 }
 
 std::string slurp(const fs::path& file) {
@@ -54,10 +51,7 @@ struct Excerpt {
   double all_mean_m, all_max_m, short_mean_m;  // bounds: 3-5x the measured figures
 };
 
-class MatchRelations : public ::testing::Test {
- protected:
-  static void TearDownTestSuite() { fs::remove_all(dir()); }
-};
+class MatchRelations : public ::testing::Test {};
 
 // Measured (Release, defaults: the submap matcher, --deskew none), translation [m] over all
 // relations mean / max, short mean; converged %:

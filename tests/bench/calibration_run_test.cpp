@@ -8,6 +8,7 @@
 
 #include "eval/formats/dataset_io.hpp"
 #include "sim/drive/simulator.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -16,8 +17,8 @@ TEST(CalibrationRun, CalibrateAndBenchCutTheSameIntervals) {
   sim::SimConfig config;  // default world and scenario: figure eight first
   config.mode = sim::SimMode::kinematic;
   config.duration_s = 4.0;
-  const auto dir = std::filesystem::temp_directory_path() / "slamprep_calibration_run_test";
-  std::filesystem::remove_all(dir);
+  const test::ScratchDir scratch("calibration_run");
+  const auto dir = scratch / "data";
   writeDataset(dir, sim::simulate(config).dataset);
 
   DatasetCalibrationParams params;  // what `slamprep calibrate DIR --method joint` runs
@@ -38,7 +39,6 @@ TEST(CalibrationRun, CalibrateAndBenchCutTheSameIntervals) {
                 bench.intervals.dropped_standstill + bench.intervals.dropped_uncovered,
             converged);
   EXPECT_GT(bench.intervals.intervals.size(), 30u);
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -11,22 +11,24 @@
 #include "eval/bench/ros2_params.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "eval/formats/import.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {
 
 namespace fs = std::filesystem;
 
-// The excerpt imported as `slamprep import --format carmen` would, without a nominal geometry.
-fs::path importExcerpt(const std::string& name, const std::string& odometry) {
+// The excerpt imported as `slamprep import --format carmen` would, without a nominal geometry,
+// into a folder of `scratch`.
+fs::path importExcerpt(const test::ScratchDir& scratch, const std::string& name,
+                       const std::string& odometry) {
   const std::string file = std::string(SLAMPREP_SOURCE_DIR) + "/tests/data/" + name;
   ImportParams params;
   params.odometry = odometry;
   params.reorder_tolerance_s = 1.0;
   const ImportResult imported = importCarmen(readFile(file), file, params);
   EXPECT_TRUE(imported.dataset.encoders.empty());
-  const fs::path dir = fs::temp_directory_path() / ("slamprep_no_ticks_" + odometry);
-  fs::remove_all(dir);
+  const fs::path dir = scratch / ("no_ticks_" + odometry);
   writeDataset(dir, imported.dataset);
   return dir;
 }
@@ -34,7 +36,8 @@ fs::path importExcerpt(const std::string& name, const std::string& odometry) {
 class NoTicks : public ::testing::TestWithParam<std::pair<const char*, const char*>> {};
 
 TEST_P(NoTicks, CalibratesRelativeToTheLogsOdometry) {
-  const fs::path dir = importExcerpt(GetParam().first, GetParam().second);
+  const test::ScratchDir scratch("no_ticks");
+  const fs::path dir = importExcerpt(scratch, GetParam().first, GetParam().second);
   DatasetCalibrationParams params;
   params.dataset = dir.string();
   params.methods = algo::intervalMethods();
@@ -68,14 +71,14 @@ TEST_P(NoTicks, CalibratesRelativeToTheLogsOdometry) {
     worst = std::max(worst,
                      (again[i].value.translation() - d.odom_nominal[i].value.translation()).norm());
   EXPECT_LT(worst, 0.1);
-  fs::remove_all(dir);
 }
 
 // The calibration's scan matcher takes the same ICP settings as `match` (`calibrate
 // --line-thickness` ...): on ACES' 180-beam scans the library's 0.2-thick line fits leave most
 // consecutive matches failed, 0.5 few of them (measured: 467 and 73 of the 739 matches).
 TEST(NoTicksIcp, LineThicknessReachesTheCalibrationsScanMatcher) {
-  const fs::path dir = importExcerpt("carmen_aces/aces_first120s.clf", "odom");
+  const test::ScratchDir scratch("no_ticks");
+  const fs::path dir = importExcerpt(scratch, "carmen_aces/aces_first120s.clf", "odom");
   const Dataset dataset = readDataset(dir);
   CalibrationMotionOptions options;
   const int failed_thin = calibrationMotion(dataset, options).failed_matches;
@@ -83,7 +86,6 @@ TEST(NoTicksIcp, LineThicknessReachesTheCalibrationsScanMatcher) {
   const int failed_thick = calibrationMotion(dataset, options).failed_matches;
   EXPECT_GT(failed_thin, 300);
   EXPECT_LT(failed_thick, 150);
-  fs::remove_all(dir);
 }
 
 INSTANTIATE_TEST_SUITE_P(CarmenExcerpts, NoTicks,

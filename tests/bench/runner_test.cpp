@@ -8,6 +8,7 @@
 #include "core/atomic_file.hpp"
 #include "eval/bench/stage_report.hpp"
 #include "eval/bench/summary.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -37,12 +38,6 @@ Suite fakeSuite() {
   return suite;
 }
 
-fs::path freshDir(const std::string& name) {
-  const auto dir = fs::temp_directory_path() / "slamprep_runner_test" / name;
-  fs::remove_all(dir);
-  return dir;
-}
-
 std::string runToSummary(const Suite& suite, const fs::path& dir, int jobs, Shard shard = {}) {
   const auto trials = expandTrials(suite);
   runTrials(trials, fakeTrial, {jobs, shard, dir / "trials", dir / "timing", false});
@@ -51,13 +46,14 @@ std::string runToSummary(const Suite& suite, const fs::path& dir, int jobs, Shar
 
 TEST(Runner, SameBytesWhateverTheJobCount) {
   const Suite suite = fakeSuite();
-  const std::string one = runToSummary(suite, freshDir("jobs1"), 1);
-  const std::string two = runToSummary(suite, freshDir("jobs2"), 2);
+  const test::ScratchDir scratch("runner");
+  const std::string one = runToSummary(suite, scratch / "jobs1", 1);
+  const std::string two = runToSummary(suite, scratch / "jobs2", 2);
   EXPECT_EQ(one, two);
   const auto trials = expandTrials(suite);
   for (const auto& t : trials)
-    EXPECT_EQ(readFile(freshDir("x").parent_path() / "jobs1" / "trials" / (t.id + ".json")),
-              readFile(freshDir("x").parent_path() / "jobs2" / "trials" / (t.id + ".json")));
+    EXPECT_EQ(readFile(scratch / "jobs1" / "trials" / (t.id + ".json")),
+              readFile(scratch / "jobs2" / "trials" / (t.id + ".json")));
 }
 
 // Stage reports travel to the parent (on stderr here) and never into the result files.
@@ -71,7 +67,8 @@ TEST(Runner, StageReportsLeaveTheResultsAlone) {
     stages.begin("deskew");
     return fakeTrial(spec);
   };
-  const fs::path shown = freshDir("progress_shown"), quiet = freshDir("progress_quiet");
+  const test::ScratchDir scratch("runner");
+  const fs::path shown = scratch / "progress_shown", quiet = scratch / "progress_quiet";
   const RunReport a =
       runTrials(trials, reporting, {2, {}, shown / "trials", shown / "timing", true});
   runTrials(trials, fakeTrial, {1, {}, quiet / "trials", quiet / "timing", false});
@@ -84,8 +81,9 @@ TEST(Runner, StageReportsLeaveTheResultsAlone) {
 TEST(Runner, ShardsMergeToTheSingleRun) {
   const Suite suite = fakeSuite();
   const auto trials = expandTrials(suite);
-  const std::string single = runToSummary(suite, freshDir("single"), 2);
-  const fs::path base = freshDir("sharded");
+  const test::ScratchDir scratch("runner");
+  const std::string single = runToSummary(suite, scratch / "single", 2);
+  const fs::path base = scratch / "sharded";
   std::vector<fs::path> shard_dirs;
   std::size_t selected = 0;
   for (int k = 1; k <= 3; ++k) {
@@ -103,7 +101,8 @@ TEST(Runner, ShardsMergeToTheSingleRun) {
 TEST(Runner, ResumesWithoutRecomputingFinishedTrials) {
   const Suite suite = fakeSuite();
   const auto trials = expandTrials(suite);
-  const fs::path dir = freshDir("resume");
+  const test::ScratchDir scratch("runner");
+  const fs::path dir = scratch / "resume";
   RunOptions options{2, {}, dir / "trials", dir / "timing", false};
   EXPECT_EQ(runTrials(trials, fakeTrial, options).computed, trials.size());
   fs::remove(dir / "trials" / (trials[3].id + ".json"));
@@ -118,7 +117,8 @@ TEST(Runner, ReportsFailedTrialsAndWritesNoResultForThem) {
   suite.sweep.clear();
   suite.seeds = 1;
   const auto trials = expandTrials(suite);
-  const fs::path dir = freshDir("failing");
+  const test::ScratchDir scratch("runner");
+  const fs::path dir = scratch / "failing";
   const auto report = runTrials(trials, fakeTrial, {2, {}, dir / "trials", dir / "timing", false});
   ASSERT_EQ(report.failed.size(), 1u);
   EXPECT_EQ(report.failed[0], trials[1].id);

@@ -5,13 +5,14 @@
 #include <fstream>
 
 #include "core/error.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {
 
+// Into one folder per process, removed at exit.
 std::filesystem::path writeTemp(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / "slamprep_suite_test";
-  std::filesystem::create_directories(dir);
+  static const test::ScratchDir dir("suite");
   std::ofstream(dir / name) << text;
   return dir / name;
 }

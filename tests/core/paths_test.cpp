@@ -1,12 +1,13 @@
 #include "core/paths.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <fstream>
 #include <optional>
 #include <string>
+
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep {
 namespace {
@@ -19,7 +20,6 @@ class DataDirTest : public ::testing::Test {
  protected:
   void SetUp() override {
     if (const char* env = std::getenv("SLAMPREP_DATA_DIR")) saved_ = env;
-    root_ = fs::temp_directory_path() / ("slamprep-paths-" + std::to_string(::getpid()));
     fs::create_directories(root_ / "data" / "worlds");
     std::ofstream(root_ / "data" / "worlds" / "room.yaml") << "name: room\n";
     ::setenv("SLAMPREP_DATA_DIR", (root_ / "data").c_str(), 1);
@@ -29,9 +29,9 @@ class DataDirTest : public ::testing::Test {
       ::setenv("SLAMPREP_DATA_DIR", saved_->c_str(), 1);
     else
       ::unsetenv("SLAMPREP_DATA_DIR");
-    fs::remove_all(root_);
   }
-  fs::path root_;
+  const test::ScratchDir scratch_{"paths"};
+  const fs::path root_ = scratch_.path();
   std::optional<std::string> saved_;
 };
 

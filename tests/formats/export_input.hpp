@@ -1,22 +1,10 @@
 #pragma once
-// What the export tests share: a synthetic ExportInput and a scratch path per test process.
-
-#include <unistd.h>
-
-#include <filesystem>
-#include <string>
+// What the export tests share: a synthetic ExportInput.
 
 #include "eval/formats/export.hpp"
 #include "synthetic_dataset.hpp"
 
 namespace slamprep::test {
-
-inline std::filesystem::path scratch(const std::string& name) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("slamprep_formats_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return dir / name;
-}
 
 inline eval::ExportInput syntheticInput() {
   eval::ExportInput in;

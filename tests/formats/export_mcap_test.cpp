@@ -15,11 +15,12 @@
 #include "export_input.hpp"
 #include "node_tool.hpp"
 #include "synthetic_dataset.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {
 namespace fs = std::filesystem;
-using test::scratch;
+using test::ScratchDir;
 using test::syntheticInput;
 
 struct Decoded {
@@ -199,7 +200,8 @@ TEST(ExportMcap, IndependentReaderDecodesEveryMessageChunkedWithZstd) {
   const ExportInput in = syntheticInput();
   ExportParams p;                       // zstd by default
   p.mcap_chunk_size_bytes = 64 * 1024;  // several chunks
-  const fs::path bag = scratch("chunked.mcap");
+  const ScratchDir scratch("export_mcap");
+  const fs::path bag = scratch / "chunked.mcap";
   const ExportResult r = exportDataset(in, ExportFormat::kMcap, bag, p);
   EXPECT_EQ(r.counts.at("/scan"), in.dataset.scans.size());
   checkBag(in, bag, true, "zstd");
@@ -208,11 +210,12 @@ TEST(ExportMcap, IndependentReaderDecodesEveryMessageChunkedWithZstd) {
 TEST(ExportMcap, IndependentReaderDecodesLz4AndUncompressedChunks) {
   SLAMPREP_REQUIRE_NODE_TOOL();
   const ExportInput in = syntheticInput();
+  const ScratchDir scratch("export_mcap");
   for (const Compression c : {Compression::kLz4, Compression::kNone}) {
     ExportParams p;
     p.mcap_chunk_size_bytes = 64 * 1024;
     p.mcap_compression = c;
-    const fs::path bag = scratch("chunked_" + std::string(mcapCompressionName(c)) + ".mcap");
+    const fs::path bag = scratch / ("chunked_" + std::string(mcapCompressionName(c)) + ".mcap");
     exportDataset(in, ExportFormat::kMcap, bag, p);
     checkBag(in, bag, true, std::string(mcapCompressionName(c)));
   }
@@ -223,7 +226,8 @@ TEST(ExportMcap, IndependentReaderDecodesEveryMessageUnchunked) {
   const ExportInput in = syntheticInput();
   ExportParams p;
   p.mcap_chunk_size_bytes = 0;
-  const fs::path bag = scratch("plain.mcap");
+  const ScratchDir scratch("export_mcap");
+  const fs::path bag = scratch / "plain.mcap";
   exportDataset(in, ExportFormat::kMcap, bag, p);
   checkBag(in, bag, false, "");
 }
@@ -232,7 +236,8 @@ TEST(ExportMcap, IsDeterministicAndLeavesNoPartialFile) {
   const ExportInput in = syntheticInput();
   const std::string a = formatMcap(in, {});
   EXPECT_EQ(a, formatMcap(in, {}));
-  const fs::path bag = scratch("det.mcap");
+  const ScratchDir scratch("export_mcap");
+  const fs::path bag = scratch / "det.mcap";
   exportDataset(in, ExportFormat::kMcap, bag);
   EXPECT_EQ(readFile(bag), a);
   for (const auto& e : fs::directory_iterator(bag.parent_path()))

@@ -16,11 +16,12 @@
 #include "eval/formats/tum.hpp"
 #include "export_input.hpp"
 #include "synthetic_dataset.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {
 namespace fs = std::filesystem;
-using test::scratch;
+using test::ScratchDir;
 using test::syntheticInput;
 
 std::vector<std::string> tokens(const std::string& line) {
@@ -101,7 +102,8 @@ TEST(ExportCarmen, ClockwiseScansAreWrittenLastBeamFirst) {
 
 TEST(ExportTum, TrajectoriesReadBackAndOdometryStartsOnTheTruth) {
   const ExportInput in = syntheticInput();
-  const fs::path dir = scratch("tum");
+  const ScratchDir scratch("export_tum");
+  const fs::path dir = scratch / "tum";
   exportDataset(in, ExportFormat::kTum, dir);
   const PoseSeries gt = slamprep::eval::readTum(dir / "groundtruth.tum");
   const PoseSeries nominal = slamprep::eval::readTum(dir / "odom_nominal.tum");
@@ -122,7 +124,8 @@ TEST(ExportTum, TrajectoriesReadBackAndOdometryStartsOnTheTruth) {
 
 TEST(ExportKitti, OneRowMajor3x4PosePerScanStartingAtIdentity) {
   const ExportInput in = syntheticInput();
-  const fs::path dir = scratch("kitti");
+  const ScratchDir scratch("export_kitti");
+  const fs::path dir = scratch / "kitti";
   exportDataset(in, ExportFormat::kKitti, dir);
   for (const char* name : {"groundtruth.txt", "odom_nominal.txt", "odom_calibrated.txt"}) {
     std::ifstream f(dir / name);

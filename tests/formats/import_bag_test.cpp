@@ -14,6 +14,7 @@
 #include "eval/formats/import.hpp"
 #include "export_input.hpp"
 #include "synthetic_dataset.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -60,7 +61,8 @@ TEST(ImportBag, FolderWithSplitFilesIsReadInTheOrderOfMetadataYaml) {
   first.dataset = slice(d, 0.0, 1.0);
   second.dataset = slice(d, 1.0, 10.0);
   second.deskewed["linear"] = second.dataset.scans;
-  const fs::path dir = test::scratch("split_bag");
+  const test::ScratchDir scratch("import_bag");
+  const fs::path dir = scratch / "split_bag";
   fs::create_directories(dir);
   writeFileAtomic(dir / "split_bag_0.mcap", formatMcap(first, {}));
   writeFileAtomic(dir / "split_bag_1.mcap", formatMcap(second, {}));
@@ -94,7 +96,8 @@ std::string errorOf(const fs::path& bag) {
 }
 
 TEST(ImportBag, FoldersThatAreNotMcapBagsAreRefusedSayingWhy) {
-  const fs::path dir = test::scratch("not_a_bag");
+  const test::ScratchDir scratch("import_bag");
+  const fs::path dir = scratch / "not_a_bag";
   fs::create_directories(dir);
   EXPECT_NE(errorOf(dir).find("ros2 bag reindex"), std::string::npos) << errorOf(dir);
   writeFileAtomic(dir / "metadata.yaml",
@@ -164,11 +167,12 @@ TEST(ImportBag, TheReaderPullsOneChunkAtATime) {
 TEST(ImportBag, ExportedBagsRoundTripFromDiskWithEveryCompression) {
   const ExportInput in = test::syntheticInput();
   const Dataset& d = in.dataset;
+  const test::ScratchDir scratch("import_bag");
   for (const Compression c : {Compression::kZstd, Compression::kLz4, Compression::kNone}) {
     ExportParams ep;
     ep.mcap_compression = c;
     ep.mcap_chunk_size_bytes = 64 * 1024;
-    const fs::path file = test::scratch("rt_" + std::string(mcapCompressionName(c)) + ".mcap");
+    const fs::path file = scratch / ("rt_" + std::string(mcapCompressionName(c)) + ".mcap");
     exportDataset(in, ExportFormat::kMcap, file, ep);
     ImportParams p;  // no geometry: the bag's slamprep Metadata record carries it
     p.ticks_per_revolution = d.info.ticks_per_revolution;
@@ -271,9 +275,10 @@ TEST(ImportBag, SpilledScansAreTheScansOfTheInMemoryImport) {
   b.tf_static = {test::transform("base_link", "laser",
                                  test::pose3(0.2, -0.1, 0.3, std::numbers::pi, 0.0, 0.4))};
   b.time_increment_s = 0.0f;
-  const fs::path file = test::scratch("spill.mcap");
+  const test::ScratchDir scratch("import_bag");
+  const fs::path file = scratch / "spill.mcap";
   writeFileAtomic(file, test::robotBag(b));
-  const fs::path spill_dir = test::scratch("spill_dir");
+  const fs::path spill_dir = scratch / "spill_dir";
   fs::create_directories(spill_dir);
   ImportParams p;
   p.nominal_geometry = DiffDriveParams{0.1, 0.1, 0.5};

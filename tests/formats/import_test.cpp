@@ -15,17 +15,11 @@
 #include "eval/formats/export.hpp"
 #include "node_tool.hpp"
 #include "synthetic_dataset.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {
 namespace fs = std::filesystem;
-
-fs::path scratch(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("slamprep_eval_import_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
 
 // 4 ODOM lines along x with a turn, 2 scans inside them; laser 0.15 m ahead of the base.
 const char* kLog =
@@ -64,7 +58,8 @@ TEST(ImportCarmen, HandWrittenLogBecomesADatasetThatReadsBack) {
     EXPECT_NEAR(again[k].value.x, d.odom_nominal[k].value.x, 1e-3) << k;
     EXPECT_NEAR(again[k].value.yaw, d.odom_nominal[k].value.yaw, 1e-5) << k;
   }
-  const fs::path dir = scratch("carmen_ds");
+  const test::ScratchDir scratch("import");
+  const fs::path dir = scratch / "carmen_ds";
   writeDataset(dir, d);
   const Dataset back = readDataset(dir);
   EXPECT_EQ(back.scans.size(), 2u);
@@ -199,7 +194,8 @@ TEST(ImportMcap, BagWrittenByTheIndependentWriterBecomesADataset) {
     return a["log_time"].template get<std::int64_t>() < b["log_time"].template get<std::int64_t>();
   });
   spec["messages"] = messages;
-  const fs::path spec_file = scratch("spec.json"), bag = scratch("node.mcap");
+  const test::ScratchDir scratch("import");
+  const fs::path spec_file = scratch / "spec.json", bag = scratch / "node.mcap";
   writeFileAtomic(spec_file, spec.dump());
   std::string log;
   ASSERT_EQ(test::runNodeTool("write '" + spec_file.string() + "' '" + bag.string() + "'", &log), 0)
@@ -228,7 +224,7 @@ TEST(ImportMcap, BagWrittenByTheIndependentWriterBecomesADataset) {
   EXPECT_NEAR(d.encoders[12].ticks_right * rad_per_tick, 1.2, rad_per_tick / 2);
   // The odometry starts where the logged one is at the first joint sample.
   EXPECT_NEAR(d.odom_nominal[0].value.x, 9.9, 1e-9);
-  const fs::path dir = scratch("mcap_ds");
+  const fs::path dir = scratch / "mcap_ds";
   writeDataset(dir, d);
   EXPECT_EQ(readDataset(dir).scans.size(), 3u);
 }

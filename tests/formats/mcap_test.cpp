@@ -2,7 +2,6 @@
 #include "eval/formats/mcap.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <cstring>
@@ -11,6 +10,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -151,9 +151,8 @@ std::string recompressed(const std::string& file, const std::string& tool,
   std::uint64_t records_len;
   std::memcpy(&records_len, file.data() + body + 32, 8);
   const std::string records = file.substr(body + 40, records_len);
-  const auto dir = std::filesystem::temp_directory_path();
-  const auto in = dir / ("chunk_" + std::to_string(::getpid())),
-             out = dir / ("chunk_" + std::to_string(::getpid()) + "." + compression);
+  const test::ScratchDir scratch("mcap_chunk");
+  const auto in = scratch / "chunk", out = scratch / ("chunk." + compression);
   writeFileAtomic(in, records);
   if (std::system((tool + " -q -c '" + in.string() + "' > '" + out.string() + "'").c_str()) != 0)
     return {};

@@ -3,6 +3,7 @@
 // When node or the npm packages are missing, nodeToolUnavailable() says why, and the test skips,
 // except under CI=true, where a missing tool fails the test: CI must not pass by skipping.
 
+#include <fcntl.h>
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -12,6 +13,8 @@
 #include <optional>
 #include <sstream>
 #include <string>
+
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::test {
 
@@ -25,14 +28,13 @@ inline int runShell(const std::string& command) {
 }
 
 /// Empty when the tool can run; otherwise the reason. Installs the locked npm packages with
-/// `npm ci` once (under a file lock, as ctest runs tests in parallel) when they are missing.
+/// `npm ci` once (under a lock on the tool's folder, as ctest runs tests in parallel) when they
+/// are missing. Locking the folder itself leaves no lock file behind.
 inline std::string nodeToolUnavailable() {
   const auto dir = nodeToolDir();
   if (runShell("node --version > /dev/null 2>&1") != 0) return "node is not installed";
   if (!std::filesystem::exists(dir / "node_modules" / "@mcap" / "core")) {
-    const std::string lock =
-        (std::filesystem::temp_directory_path() / "slamprep_npm_ci.lock").string();
-    const int fd = ::open(lock.c_str(), O_CREAT | O_RDWR, 0666);
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
     if (fd >= 0) ::flock(fd, LOCK_EX);
     if (!std::filesystem::exists(dir / "node_modules" / "@mcap" / "core"))
       runShell("cd '" + dir.string() +
@@ -53,8 +55,8 @@ inline bool runningInCi() {
 
 /// Runs `node mcap_tool.mjs args`; returns its exit code, stderr in `log`.
 inline int runNodeTool(const std::string& args, std::string* log = nullptr) {
-  const auto err =
-      std::filesystem::temp_directory_path() / ("mcap_tool_" + std::to_string(::getpid()) + ".err");
+  const ScratchDir scratch("mcap_tool");
+  const auto err = scratch / "stderr";
   const int rc = runShell("node '" + (nodeToolDir() / "mcap_tool.mjs").string() + "' " + args +
                           " 2> '" + err.string() + "'");
   if (log) {
@@ -63,7 +65,6 @@ inline int runNodeTool(const std::string& args, std::string* log = nullptr) {
     s << in.rdbuf();
     *log = s.str();
   }
-  std::filesystem::remove(err);
   return rc;
 }
 

@@ -3,7 +3,6 @@
 // raise InputError naming the file and the line or field (never crash, hang or accept).
 // The table in docs/export.md lists these cases per reader.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -20,17 +19,11 @@
 #include "sim/drive/scenario.hpp"
 #include "sim/physics/world.hpp"
 #include "synthetic_dataset.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep {
 namespace {
 namespace fs = std::filesystem;
-
-fs::path scratchDir() {
-  const fs::path dir =
-      fs::temp_directory_path() / ("slamprep_readers_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
 
 struct Case {
   std::string name;
@@ -64,7 +57,8 @@ const char* kWorld =
     "cylinders:\n  - {center: [1, 1], radius: 0.5, height: 1}\n";
 
 TEST(ReaderHardening, WorldYaml) {
-  const fs::path file = scratchDir() / "world.yaml";
+  const test::ScratchDir scratch("readers");
+  const fs::path file = scratch / "world.yaml";
   writeFileAtomic(file, kWorld);
   EXPECT_NO_THROW(sim::loadWorld(file));
   const std::string w = kWorld;
@@ -88,7 +82,8 @@ TEST(ReaderHardening, WorldYaml) {
 // Was accepted by the reader (simulate's start check happened to refuse it); sizes and
 // coordinates are now bounded by 10 km.
 TEST(ReaderHardening, WorldYamlAbsurdSize) {
-  const fs::path file = scratchDir() / "world.yaml";
+  const test::ScratchDir scratch("readers");
+  const fs::path file = scratch / "world.yaml";
   std::string w = kWorld;
   w.replace(w.find("radius: 0.5"), 11, "radius: 1e300");
   expectRejected(file, {{"absurd size", w, {"radius"}}},
@@ -100,7 +95,8 @@ const char* kScenario =
     "  - {type: stop, duration_s: 0.5}\n";
 
 TEST(ReaderHardening, ScenarioYaml) {
-  const fs::path file = scratchDir() / "scenario.yaml";
+  const test::ScratchDir scratch("readers");
+  const fs::path file = scratch / "scenario.yaml";
   writeFileAtomic(file, kScenario);
   EXPECT_NO_THROW(sim::loadScenario(file));
   const std::string s = kScenario;
@@ -122,7 +118,8 @@ TEST(ReaderHardening, ScenarioYaml) {
 
 TEST(ReaderHardening, ScenarioYamlAbsurdDuration) {
   // Was accepted by the reader; `slamprep simulate --scenario` then simulated 0 s and exited 0.
-  const fs::path file = scratchDir() / "scenario.yaml";
+  const test::ScratchDir scratch("readers");
+  const fs::path file = scratch / "scenario.yaml";
   std::string s = kScenario;
   s.replace(s.find("duration_s: 0.5"), 15, "duration_s: 1e300");
   expectRejected(file, {{"absurd duration", s, {"duration_s"}}},
@@ -134,7 +131,8 @@ const char* kSuite =
     "seeds: 2\nmode: kinematic\ncalibration_methods: [joint]\ndeskew_methods: [odom-linear]\n";
 
 TEST(ReaderHardening, SuiteYaml) {
-  const fs::path file = scratchDir() / "suite.yaml";
+  const test::ScratchDir scratch("readers");
+  const fs::path file = scratch / "suite.yaml";
   writeFileAtomic(file, kSuite);
   EXPECT_NO_THROW(eval::loadSuite(file));
   const std::string s = kSuite;
@@ -155,7 +153,8 @@ TEST(ReaderHardening, SuiteYaml) {
 }
 
 TEST(ReaderHardening, SuiteYamlNonFiniteDurationAndAbsurdSeeds) {
-  const fs::path file = scratchDir() / "suite.yaml";
+  const test::ScratchDir scratch("readers");
+  const fs::path file = scratch / "suite.yaml";
   const std::string s = kSuite;
   std::string seeds = s;
   seeds.replace(seeds.find("seeds: 2"), 8, "seeds: 1000000000");
@@ -210,7 +209,7 @@ TEST(ReaderHardening, CensiRecordsNumberOverflowIsAnInputError) {
 class DatasetHardening : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = scratchDir() / ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    dir_ = scratch_ / ::testing::UnitTest::GetInstance()->current_test_info()->name();
     test::SyntheticParams p;
     p.duration_s = 0.5;
     p.beams = 8;
@@ -241,6 +240,7 @@ class DatasetHardening : public ::testing::Test {
     }
     writeFileAtomic(dir_ / file, original);
   }
+  const test::ScratchDir scratch_{"readers"};
   fs::path dir_;
 };
 

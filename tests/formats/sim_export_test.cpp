@@ -2,7 +2,6 @@
 // room) exported to MCAP and decoded message by message by the independent @mcap/core reader;
 // also imported back and checked against the original. Label `sim`.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,6 +13,7 @@
 #include "eval/formats/ros2_messages.hpp"
 #include "node_tool.hpp"
 #include "sim/drive/simulator.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -36,10 +36,8 @@ TEST(SimExport, IndependentReaderDecodesEveryMessageOfASimulatedRun) {
   ASSERT_GT(d.scans.size(), 20u);
   ExportInput in;
   in.dataset = d;
-  const fs::path dir =
-      fs::temp_directory_path() / ("slamprep_sim_export_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const fs::path bag = dir / "sim.mcap", out = dir / "sim.jsonl";
+  const test::ScratchDir scratch("sim_export");
+  const fs::path bag = scratch / "sim.mcap", out = scratch / "sim.jsonl";
   const ExportResult r = exportDataset(in, ExportFormat::kMcap, bag);
   std::string log;
   ASSERT_EQ(test::runNodeTool("read '" + bag.string() + "' '" + out.string() + "'", &log), 0)

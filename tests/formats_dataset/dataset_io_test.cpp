@@ -1,7 +1,6 @@
 #include "eval/formats/dataset_io.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,6 +13,7 @@
 #include "eval/formats/text_io.hpp"
 #include "tests/formats_dataset/dataset_compare.hpp"
 #include "tests/formats_dataset/synthetic_dataset.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep {
 namespace {
@@ -24,15 +24,6 @@ using synthetic::SyntheticDatasetParams;
 
 class DatasetIo : public ::testing::Test {
  protected:
-  void SetUp() override {
-    root_ = fs::path(::testing::TempDir()) /
-            ("slamprep_formats_" + std::to_string(::getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
-  void TearDown() override { fs::remove_all(root_); }
-
   // Only the target's own directory (and none of its .partial-/.old- siblings) may exist.
   std::vector<std::string> entries() const {
     std::vector<std::string> names;
@@ -41,7 +32,8 @@ class DatasetIo : public ::testing::Test {
     return names;
   }
 
-  fs::path root_;
+  const test::ScratchDir scratch_{"dataset_io"};
+  const fs::path root_ = scratch_.path();
 };
 
 std::string slurp(const fs::path& p) {

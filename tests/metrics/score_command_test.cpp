@@ -2,7 +2,6 @@
 // and exit status 2 with file and line for bad input.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -10,6 +9,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+
+#include "tests/support/scratch_dir.hpp"
 
 namespace {
 
@@ -20,14 +21,10 @@ struct CliRun {
   std::string out, err;
 };
 
+// One folder per process, removed at exit: the tests of a process share it.
 fs::path dir() {
-  static const fs::path d = [] {
-    const fs::path p =
-        fs::temp_directory_path() / ("slamprep_score_cli-" + std::to_string(::getpid()));
-    fs::create_directories(p);
-    return p;
-  }();
-  return d;
+  static const slamprep::test::ScratchDir d("score_cli");
+  return d.path();
 }
 
 std::string slurp(const fs::path& file) {
@@ -59,10 +56,7 @@ std::string straightTum(double x_offset) {
   return text;
 }
 
-class ScoreCommand : public ::testing::Test {
- protected:
-  static void TearDownTestSuite() { fs::remove_all(dir()); }
-};
+class ScoreCommand : public ::testing::Test {};
 
 TEST_F(ScoreCommand, RelationsOfTheTrajectoryItselfScoreZeroAndAShortfallShows) {
   const std::string traj = write("traj.tum", straightTum(0.0));

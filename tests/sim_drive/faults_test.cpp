@@ -13,6 +13,7 @@
 #include "sim/drive/fault_injection.hpp"
 #include "sim/drive/simulator.hpp"
 #include "sim/physics/planar_caster.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::sim {
 namespace {
@@ -78,8 +79,7 @@ TEST(Faults, OffLeavesTheConfigurationAndTheBytesAsBefore) {
   SimConfig plain = longRun("none", 5.0), strong = plain;
   applyOverride(strong, "faults.clock_offset.offset_s=0.1");
   applyOverride(strong, "faults.dropped_beams.probability=0.5");
-  const auto root = std::filesystem::temp_directory_path() / "slamprep_faults_off";
-  std::filesystem::remove_all(root);
+  const test::ScratchDir root("faults_off");
   eval::writeDataset(root / "a", run(plain).dataset);
   eval::writeDataset(root / "b", run(strong).dataset);
   for (const auto& entry : std::filesystem::directory_iterator(root / "a")) {
@@ -90,7 +90,6 @@ TEST(Faults, OffLeavesTheConfigurationAndTheBytesAsBefore) {
     EXPECT_EQ(sa.str(), sb.str()) << entry.path().filename();
     EXPECT_EQ(sa.str().find("\"faults\""), std::string::npos);
   }
-  std::filesystem::remove_all(root);
 }
 
 TEST(Faults, EncoderSpikesHaveTheirRateAndSize) {
@@ -227,8 +226,7 @@ TEST(Faults, ImuBiasDriftIsARandomWalkOfItsStrength) {
 TEST(Faults, SameSeedSameBytesAndOneFaultLeavesAnothersEvents) {
   const SimResult all_a = run(longRun("all", 60.0)), all_b = run(longRun("all", 60.0));
   EXPECT_EQ(all_a.dataset.info.faults.dump(), all_b.dataset.info.faults.dump());
-  const auto root = std::filesystem::temp_directory_path() / "slamprep_faults_bytes";
-  std::filesystem::remove_all(root);
+  const test::ScratchDir root("faults_bytes");
   eval::writeDataset(root / "a", all_a.dataset);
   eval::writeDataset(root / "b", all_b.dataset);
   for (const auto& entry : std::filesystem::directory_iterator(root / "a")) {
@@ -238,7 +236,6 @@ TEST(Faults, SameSeedSameBytesAndOneFaultLeavesAnothersEvents) {
     sb << b.rdbuf();
     EXPECT_EQ(sa.str(), sb.str()) << entry.path().filename();
   }
-  std::filesystem::remove_all(root);
   for (const auto& [fault, name] : kFaultNames) {
     if (fault == Fault::floor_patches || fault == Fault::glass) continue;  // world faults
     const SimResult alone = run(longRun(std::string(name), 60.0));

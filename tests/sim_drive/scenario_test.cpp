@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "core/error.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::sim {
 namespace {
@@ -202,8 +203,7 @@ TEST(Scenario, ErrorsNameFileLineAndKey) {
 }
 
 TEST(Scenario, IncludeCyclesAreRejected) {
-  const auto dir = std::filesystem::temp_directory_path() / "slamprep_scenario_include_test";
-  std::filesystem::create_directories(dir);
+  const test::ScratchDir dir("scenario_include");
   std::ofstream(dir / "a.yaml") << "segments:\n  - {type: include, file: b.yaml}\n";
   std::ofstream(dir / "b.yaml") << "segments:\n  - {type: include, file: a.yaml}\n";
   try {
@@ -219,7 +219,6 @@ TEST(Scenario, IncludeCyclesAreRejected) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("cannot open"), std::string::npos) << e.what();
   }
-  std::filesystem::remove_all(dir);
 }
 
 // yaml-cpp's own exceptions used to escape for keys and values of the wrong kind ("{}:", found by

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "tests/support/scratch_dir.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -27,15 +29,6 @@ std::string slurp(const fs::path& file) {
 
 class SimulateCommand : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("slamprep_simulate_cli_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   CommandRun simulate(const std::string& args) {
     const fs::path binary = fs::path(SLAMPREP_BINARY_DIR) / "slamprep";
     const std::string command = binary.string() + " simulate " + args + " >" +
@@ -57,7 +50,8 @@ class SimulateCommand : public ::testing::Test {
   }
   std::string out() const { return "--quiet --out " + (dir_ / "data").string(); }
 
-  fs::path dir_;
+  const slamprep::test::ScratchDir scratch_{"simulate_cli"};
+  const fs::path dir_ = scratch_.path();
 };
 
 TEST_F(SimulateCommand, DefaultsRunAndPrintASummary) {

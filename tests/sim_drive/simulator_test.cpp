@@ -13,6 +13,7 @@
 #include "core/odometry.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "sim/drive/controller.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::sim {
 namespace {
@@ -291,16 +292,14 @@ TEST(Simulator, DropsAFinalScanTheEncodersDoNotCover) {
   ASSERT_NEAR(d.encoders.back().stamp_s, 1.09, 1e-12);
   ASSERT_EQ(d.scans.size(), 10u);  // stamps 0 .. 0.9 s; 1.0 s would end at 1.0989 s
   EXPECT_LE(d.scans.back().scan.endTime(), d.encoders.back().stamp_s);
-  const auto dir = std::filesystem::temp_directory_path() / "slamprep_sim_last_scan";
-  std::filesystem::remove_all(dir);
+  const test::ScratchDir scratch("sim_last_scan");
+  const auto dir = scratch / "data";
   eval::writeDataset(dir, d);
   EXPECT_EQ(eval::readDataset(dir).scans.size(), 10u);
-  std::filesystem::remove_all(dir);
 }
 
 TEST(Simulator, SameSeedGivesIdenticalBytes) {
-  const auto root = std::filesystem::temp_directory_path() / "slamprep_sim_determinism";
-  std::filesystem::remove_all(root);
+  const test::ScratchDir root("sim_determinism");
   SimConfig c = config(SimMode::physics, 180);
   c.duration_s = 1.5;
   const Scenario s = scenario("  - {type: figure_eight, radius_m: 0.5, speed_mps: 0.5}\n");
@@ -322,7 +321,6 @@ TEST(Simulator, SameSeedGivesIdenticalBytes) {
   EXPECT_NE(slurp(root / "a" / "imu.csv"), slurp(root / "c" / "imu.csv"));
   EXPECT_EQ(slurp(root / "a" / "groundtruth.tum"), slurp(root / "c" / "groundtruth.tum"));
   EXPECT_EQ(slurp(root / "a" / "encoders.csv"), slurp(root / "c" / "encoders.csv"));
-  std::filesystem::remove_all(root);
 }
 
 // ---- Refusals ----------------------------------------------------------------------------------

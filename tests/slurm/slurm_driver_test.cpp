@@ -6,6 +6,7 @@
 
 #include "core/atomic_file.hpp"
 #include "eval/bench/slurm.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -51,8 +52,8 @@ TEST(SlurmDriver, QuotesForBash) {
 }
 
 TEST(SlurmDriver, ScriptsAreBashWithAbsolutePaths) {
-  const fs::path dir = fs::temp_directory_path() / "slamprep_slurm_driver_test";
-  fs::remove_all(dir);
+  const test::ScratchDir scratch("slurm_driver");
+  const fs::path dir = scratch / "results";
   SlurmParams params;
   params.shards = 3;
   params.suite_arg = "regression";
@@ -67,7 +68,6 @@ TEST(SlurmDriver, ScriptsAreBashWithAbsolutePaths) {
   EXPECT_NE(shard.find("--results " + shellQuote(dir.string())), std::string::npos);
   EXPECT_NE(merge.find(" merge " + shellQuote((dir / "regression").string())), std::string::npos);
   EXPECT_NE(shard.find("exec '/"), std::string::npos);  // absolute binary path
-  fs::remove_all(dir);
 }
 
 TEST(SlurmDriver, EmptyResultsNeedEveryShard) {
@@ -76,8 +76,8 @@ TEST(SlurmDriver, EmptyResultsNeedEveryShard) {
   suite.worlds = {"worlds/room.yaml"};
   suite.scenarios = {"worlds/scenarios/arc.yaml"};
   suite.seeds = 5;
-  const fs::path dir = fs::temp_directory_path() / "slamprep_slurm_missing_test";
-  fs::remove_all(dir);
+  const test::ScratchDir scratch("slurm_missing");
+  const fs::path dir = scratch / "results";  // never written: no shard has run
   EXPECT_EQ(incompleteShards(suite, dir, 3), (std::vector<int>{1, 2, 3}));
 }
 
