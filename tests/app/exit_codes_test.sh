@@ -70,6 +70,8 @@ expect 3 calibrate "$sim" --motion groundtruth --strict
 expect 2 calibrate "$fig8" --method cerse
 expect 2 calibrate "$fig8" --methd joint
 expect 2 calibrate "$fig8" --deskew foo
+expect 2 calibrate "$fig8" --sideslip --time-offset
+err_has "excludes"
 expect 2 calibrate "$dir/nowhere"
 internal calibrate "$fig8"
 
