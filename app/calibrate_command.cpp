@@ -48,6 +48,7 @@ struct CalibrateFlags {
   bool sideslip = false;
   bool stamp_is_last_beam = false;
   bool strict = false;
+  bool quiet = false;
   bool force = false;
 };
 
@@ -180,7 +181,7 @@ void writeBestOutputs(const CalibrateFlags& flags, const eval::DatasetCalibratio
 int runCalibrate(const CalibrateFlags& flags) {
   checkPaths(flags);
   const eval::DatasetCalibration c = [&] {
-    eval::CommandProgress progress(1, "runs", "calibrate");
+    eval::CommandProgress progress(1, "runs", "calibrate", !flags.quiet);
     eval::StageReporter stages(flags.dataset.empty() ? "calibrate" : flags.dataset, 1);
     stages.begin("calibrate");
     return eval::calibrateDataset(paramsOf(flags));
@@ -280,6 +281,7 @@ Command addCalibrateCommand(CLI::App& app) {
   cli->add_flag("--force", flags->force,
                 "replace existing output files; the old ones stay until the new are complete");
   cli->add_flag("--strict", flags->strict, "exit 3 when any method refused, not only all");
+  cli->add_flag("-q,--quiet", flags->quiet, "No progress output");
   cli->add_option("--keyframe-cm", flags->keyframe_cm,
                   "new interval every N cm of lidar motion (0: every scan match, as the bench)")
       ->check(nonNegative())

@@ -41,6 +41,7 @@ struct DeskewFlags {
   bool stamp_is_last_beam = false;
   bool no_write = false;  // deprecated: nothing is written without --out anyway
   bool strict = false;
+  bool quiet = false;
   bool force = false;
   int quadratic_pieces = 4;
 };
@@ -282,7 +283,7 @@ int runDeskew(const DeskewFlags& given) {
   std::vector<std::string> written;
   // Every method in turn; with --out its scans go into the folder being published.
   auto runAll = [&](const fs::path* partial) {
-    eval::CommandProgress progress(methods.run.size(), "methods", "deskew");
+    eval::CommandProgress progress(methods.run.size(), "methods", "deskew", !flags.quiet);
     for (const auto m : methods.run) {
       const MethodRun run = runMethod(m, d, odometry, geometry, flags);
       progress.advance(std::string(algo::deskewMethodName(m)));
@@ -378,6 +379,7 @@ Command addDeskewCommand(CLI::App& app) {
   cli->add_flag("--stamp-is-last-beam", flags->stamp_is_last_beam,
                 "the scans' stamps mark their last beam, not their first");
   cli->add_flag("--strict", flags->strict, "exit 3 when any scan was refused, not only all");
+  cli->add_flag("-q,--quiet", flags->quiet, "No progress output");
   cli->add_flag("--no-write", flags->no_write,
                 "deprecated: nothing is written without --out; this drops --out");
   return {cli, [flags] { return runDeskew(*flags); }};

@@ -39,6 +39,7 @@ struct MatchFlags {
   double odometry_sigma_deg = params.odometry_sigma_rad * kDegPerRad;
   bool stamp_is_last_beam = false;
   bool strict = false;
+  bool quiet = false;
   bool force = false;
 };
 
@@ -114,7 +115,7 @@ int runMatch(MatchFlags flags) {
   const std::vector<Points2> points = scanPoints(d, flags, &refused);
   eval::MatchTrajectoryOptions options{flags.params, flags.stamp_is_last_beam};
   const eval::MatchTrajectory run = [&] {
-    eval::CommandProgress progress(1, "runs", "match");
+    eval::CommandProgress progress(1, "runs", "match", !flags.quiet);
     eval::StageReporter stages(flags.dataset, 1);
     stages.begin("match");
     return eval::matchTrajectory(d, points, options);
@@ -166,6 +167,7 @@ Command addMatchCommand(CLI::App& app) {
   cli->add_flag("--force", flags->force,
                 "replace existing output files; the old ones stay until the new are complete");
   cli->add_flag("--strict", flags->strict, "exit 3 when any scan fell back, not only all");
+  cli->add_flag("-q,--quiet", flags->quiet, "No progress output");
   cli->add_option("--deskew", flags->deskew,
                   "vicp: de-skew each scan with VICP first (scans it refuses are matched as "
                   "measured); none: match the scans as measured")
