@@ -123,6 +123,7 @@ eval::DatasetCalibrationParams paramsOf(const CalibrateFlags& flags) {
   p.motion.icp = flags.icp;
   p.params.umbmark.side_m = flags.side_m;
   p.params.ceres.estimate_time_offset = flags.time_offset;
+  p.params.joint.estimate_sideslip = flags.sideslip;  // ceres starts from joint's k
   p.params.ceres.estimate_sideslip = flags.sideslip;
   p.params.trim.enabled = flags.trim_sigmas > 0.0;
   if (p.params.trim.enabled) p.params.trim.threshold_sigmas = flags.trim_sigmas;
@@ -200,8 +201,9 @@ int runCalibrate(const CalibrateFlags& flags) {
       std::cerr << "calibrate: ceres time offset " << *run.time_offset_s * 1e3 << " ms +- "
                 << run.time_offset_sigma_s * 1e3 << " ms\n";
     if (run.sideslip_s)
-      std::cerr << "calibrate: ceres sideslip k " << *run.sideslip_s * 1e3 << " ms +- "
-                << run.sideslip_sigma_s * 1e3 << " ms (sideways speed k v w)\n";
+      std::cerr << "calibrate: " << algo::calibrationMethodName(run.method) << " sideslip k "
+                << *run.sideslip_s * 1e3 << " ms +- " << run.sideslip_sigma_s * 1e3
+                << " ms (sideways speed k v w)\n";
   }
   printTable(c.runs, c.truth);
   for (const eval::NotApplicable& n : c.not_applicable)
@@ -297,7 +299,8 @@ Command addCalibrateCommand(CLI::App& app) {
   cli->add_flag("--time-offset", flags->time_offset,
                 "ceres: also estimate a constant encoder-to-lidar clock offset");
   cli->add_flag("--sideslip", flags->sideslip,
-                "ceres: also estimate a sideslip k, the base moving sideways at k v w in turns "
+                "joint and ceres: also estimate a sideslip k, the base moving sideways at k v w in "
+                "turns "
                 "(not with --time-offset)")
       ->excludes("--time-offset");
   return {cli, [flags] { return runCalibrate(*flags); }};

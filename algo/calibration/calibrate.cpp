@@ -101,8 +101,15 @@ CalibrationRun fitMethod(CalibrationMethod method, const std::vector<Calibration
     }
     case CalibrationMethod::kModel:
       return makeRun(method, calibrateModelBased(subset, params.model));
-    case CalibrationMethod::kJoint:
-      return makeRun(method, jointOn(joints, subset, kept, params.joint));
+    case CalibrationMethod::kJoint: {
+      const JointResult& r = jointOn(joints, subset, kept, params.joint);
+      CalibrationRun run = makeRun(method, r);
+      if (params.joint.estimate_sideslip && r.ok) {
+        run.sideslip_s = r.sideslip_s;
+        run.sideslip_sigma_s = r.sideslip_sigma_s;
+      }
+      return run;
+    }
     case CalibrationMethod::kCeres: {
       const JointResult& start = jointOn(joints, subset, kept, params.joint);
       return fromCeres(calibrateCeres(subset, start, ceresParams(params)), params.ceres);

@@ -50,7 +50,7 @@ struct CalibrationRun {
   /// odometry geometry corrected: estimate / nominal is the factor to apply to whatever geometry
   /// the robot's odometry used (docs/calibration.md, "Logs without encoder ticks").
   std::optional<DiffDriveParams> relative_to_odometry;
-  /// ceres with estimate_sideslip, when ok: the sideslip k (s) and its 1-sigma.
+  /// joint or ceres with estimate_sideslip, when ok: the sideslip k (s) and its 1-sigma.
   std::optional<double> sideslip_s;
   double sideslip_sigma_s = 0.0;
 };

@@ -124,6 +124,11 @@ UnitOdometry unitOdometry(const CalibrationInterval& interval, double J21, doubl
     const double c = std::cos(out.o_th), s = std::sin(out.o_th);
     const Eigen::Vector2d local(ds_per_b * sinc(dth), ds_per_b * cosc(dth));
     out.c += Eigen::Vector2d(c * local.x() - s * local.y(), s * local.x() + c * local.y());
+    if (step.dt_s > 0.0) {  // the sideways step exp((0, w, dth)) per unit m, w = ds dth / dt
+      const double w = ds_per_b * dth / step.dt_s;
+      const Eigen::Vector2d side(-w * cosc(dth), w * sinc(dth));
+      out.d += Eigen::Vector2d(c * side.x() - s * side.y(), s * side.x() + c * side.y());
+    }
     out.o_th += dth;
   }
   return out;

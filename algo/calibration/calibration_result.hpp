@@ -81,9 +81,12 @@ RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, doubl
 
 /// Heading and unit-b translation of an interval given J21, J22: the odometry displacement is
 /// exactly b * c with c = sum_j R(theta_j) (sinc dth_j, cosc dth_j) (-J21 dphi_L + J22 dphi_R)/2
-/// (exact arcs over the encoder steps), and the rotation o_th = sum_j dth_j.
+/// (exact arcs over the encoder steps), and the rotation o_th = sum_j dth_j. A sideslip k
+/// (motion_model.hpp) adds m * d with m = k b, d = sum_j R(theta_j) (-cosc dth_j, sinc dth_j)
+/// ds_j dth_j / dt_j, ds_j the step's distance per unit b: also linear in the unknown.
 struct UnitOdometry {
   Eigen::Vector2d c = Eigen::Vector2d::Zero();
+  Eigen::Vector2d d = Eigen::Vector2d::Zero();
   double o_th = 0.0;
 };
 UnitOdometry unitOdometry(const CalibrationInterval& interval, double J21, double J22);

@@ -127,7 +127,8 @@ CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
   double p[6] = {start.geometry.radius_left_m, start.geometry.radius_right_m,
                  start.geometry.wheel_base_m,  start.T_base_lidar.x,
                  start.T_base_lidar.y,         start.T_base_lidar.yaw};
-  double offset = 0.0, sideslip = 0.0;
+  double offset = 0.0;
+  double sideslip = params.estimate_sideslip ? start.sideslip_s : 0.0;  // 0 unless joint had it
   const double sigma_t =
       std::sqrt(0.5 * (start.sigma_x_m * start.sigma_x_m + start.sigma_y_m * start.sigma_y_m));
   Eigen::Vector3d sigma(sigma_t, sigma_t, start.sigma_theta_rad);

@@ -16,19 +16,41 @@ Eigen::Matrix2d rot(double a) {
 // From T_base_lidar * sm_k = o_k * T_base_lidar, translation part:
 //   t_l + R(l_th) s_t = b c_k + R(o_th) t_l
 //   =>  -c_k b + (I - R(o_th)) t_l + [[s_x, -s_y], [s_y, s_x]] (cos l_th, sin l_th) = 0.   (Eq. 1)
-// (The rotation part, l_th + s_th = o_th + l_th, is stage 1.)
-Eigen::Matrix<double, 2, 5> residualRows(const CalibrationInterval& interval, double J21,
-                                         double J22) {
+// (The rotation part, l_th + s_th = o_th + l_th, is stage 1.) With a sideslip k (kLinear = 4)
+// the odometry translation gains m d_k, m = k b (unitOdometry), one more linear unknown:
+// x = [b, l_x, l_y, m, cos l_th, sin l_th] and the row gains -d_k m.
+template <int kLinear>
+Eigen::Matrix<double, 2, kLinear + 2> residualRows(const CalibrationInterval& interval, double J21,
+                                                   double J22) {
   const UnitOdometry u = unitOdometry(interval, J21, J22);
   const SE2& s = interval.T_lidarStart_lidarEnd;
-  Eigen::Matrix<double, 2, 5> L;
+  Eigen::Matrix<double, 2, kLinear + 2> L;
   L.col(0) = -u.c;
-  L.block<2, 2>(0, 1) = Eigen::Matrix2d::Identity() - rot(u.o_th);
-  L.block<2, 2>(0, 3) << s.x, -s.y, s.y, s.x;
+  L.template block<2, 2>(0, 1) = Eigen::Matrix2d::Identity() - rot(u.o_th);
+  if constexpr (kLinear == 4) L.col(3) = -u.d;
+  L.template block<2, 2>(0, kLinear) << s.x, -s.y, s.y, s.x;
   return L;
 }
 
+// With the sideslip: k = m / b and its 1-sigma from the covariance over (J21, J22, b, l_x, l_y,
+// m, l_th); returns that covariance without m, i.e. marginalised over it.
+Eigen::MatrixXd sideslipOut(const Eigen::MatrixXd& cov, double m, double b, JointResult& result) {
+  constexpr int kB = 2, kM = 5;
+  Eigen::RowVectorXd dk = Eigen::RowVectorXd::Zero(cov.cols());
+  dk(kB) = -m / (b * b);
+  dk(kM) = 1.0 / b;
+  result.sideslip_s = m / b;
+  result.sideslip_sigma_s = std::sqrt(std::max(0.0, (dk * cov * dk.transpose())(0, 0)));
+  std::vector<int> keep = {0, 1, 2, 3, 4, 6};
+  Eigen::MatrixXd out(6, 6);
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) out(i, j) = cov(keep[i], keep[j]);
+  return out;
+}
+
 // One fit on a fixed set of intervals; `scores` gets each interval's normalised squared residual.
+// kLinear: the unknowns of Eq. 1 besides (cos, sin): 3 (b, l_x, l_y), 4 with the sideslip.
+template <int kLinear>
 JointResult fitOnce(const std::vector<CalibrationInterval>& intervals, const JointParams& params,
                     std::vector<double>* scores) {
   JointResult result;
@@ -42,10 +64,11 @@ JointResult fitOnce(const std::vector<CalibrationInterval>& intervals, const Joi
     result.reason = stage1.reason;
     return result;
   }
-  Eigen::MatrixXd L(2 * n, 5);
+  constexpr int kX = kLinear + 2;  // x = [linear unknowns, cos l_th, sin l_th]
+  Eigen::MatrixXd L(2 * n, kX);
   for (Eigen::Index k = 0; k < n; ++k)
-    L.middleRows<2>(2 * k) = residualRows(intervals[k], stage1.J21, stage1.J22);
-  const double cond_bl = equilibratedConditionNumber(L.leftCols(3));
+    L.middleRows<2>(2 * k) = residualRows<kLinear>(intervals[k], stage1.J21, stage1.J22);
+  const double cond_bl = equilibratedConditionNumber(L.leftCols(kLinear));
   result.condition_number = std::max(result.condition_number, cond_bl);
   if (!(cond_bl <= params.max_condition_number)) {
     result.reason = "b and the mount position are not determined (condition number " +
@@ -65,14 +88,16 @@ JointResult fitOnce(const std::vector<CalibrationInterval>& intervals, const Joi
   // stationary point is -lambda = z^T S z = mu_i (|z| = 1), so the minimum is the smallest
   // eigenvalue mu_0 (lambda = -mu_0) with z its unit eigenvector; -z is the same stationary point
   // with y negated, and the sign is fixed by b > 0.
-  const Eigen::Matrix<double, 5, 5> M = L.transpose() * L;
-  const Eigen::Matrix3d A = M.topLeftCorner<3, 3>();
-  const Eigen::Matrix<double, 3, 2> B = M.topRightCorner<3, 2>();
-  const Eigen::LDLT<Eigen::Matrix3d> A_ldlt(A);
-  const Eigen::Matrix2d S = M.bottomRightCorner<2, 2>() - B.transpose() * A_ldlt.solve(B);
+  using MatrixA = Eigen::Matrix<double, kLinear, kLinear>;
+  using VectorY = Eigen::Matrix<double, kLinear, 1>;
+  const Eigen::Matrix<double, kX, kX> M = L.transpose() * L;
+  const MatrixA A = M.template topLeftCorner<kLinear, kLinear>();
+  const Eigen::Matrix<double, kLinear, 2> B = M.template topRightCorner<kLinear, 2>();
+  const Eigen::LDLT<MatrixA> A_ldlt(A);
+  const Eigen::Matrix2d S = M.template bottomRightCorner<2, 2>() - B.transpose() * A_ldlt.solve(B);
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(S);
   Eigen::Vector2d z = eig.eigenvectors().col(0).normalized();
-  Eigen::Vector3d y = -A_ldlt.solve(B * z);
+  VectorY y = -A_ldlt.solve(B * z);
   if (y.x() < 0.0) {
     y = -y;
     z = -z;
@@ -84,17 +109,17 @@ JointResult fitOnce(const std::vector<CalibrationInterval>& intervals, const Joi
     return result;
   }
   result.geometry = {-stage1.J21 * b, stage1.J22 * b, b};
-  result.T_base_lidar = SE2(y.y(), y.z(), l_th);
+  result.T_base_lidar = SE2(y(1), y(2), l_th);
 
-  // Stage-2 Jacobian G (w.r.t. b, l_x, l_y, l_th) and residuals at the solution.
-  Eigen::Matrix<double, 5, 1> x;
+  // Stage-2 Jacobian G (w.r.t. b, l_x, l_y, [m,] l_th) and residuals at the solution.
+  Eigen::Matrix<double, kX, 1> x;
   x << y, z;
   const Eigen::Matrix2d dR = (Eigen::Matrix2d() << -z.y(), -z.x(), z.x(), -z.y()).finished();
-  Eigen::MatrixXd G(2 * n, 4);
+  Eigen::MatrixXd G(2 * n, kLinear + 1);
   Eigen::VectorXd e = L * x;
   for (Eigen::Index k = 0; k < n; ++k) {
-    G.block(2 * k, 0, 2, 3) = L.block(2 * k, 0, 2, 3);
-    G.block(2 * k, 3, 2, 1) = dR * intervals[k].T_lidarStart_lidarEnd.translation();
+    G.block(2 * k, 0, 2, kLinear) = L.block(2 * k, 0, 2, kLinear);
+    G.block(2 * k, kLinear, 2, 1) = dR * intervals[k].T_lidarStart_lidarEnd.translation();
   }
   result.condition_number = std::max(result.condition_number, equilibratedConditionNumber(G));
   if (!(result.condition_number <= params.max_condition_number)) {
@@ -108,7 +133,7 @@ JointResult fitOnce(const std::vector<CalibrationInterval>& intervals, const Joi
   const Eigen::Matrix2d R_l = rot(l_th);
   Eigen::Vector2d var = Eigen::Vector2d::Zero();
   for (Eigen::Index k = 0; k < n; ++k) var += (R_l.transpose() * e.segment<2>(2 * k)).cwiseAbs2();
-  var /= std::max<double>(1.0, static_cast<double>(n - 2));  // 2n - 4 dof over two axes
+  var /= std::max(1.0, (2.0 * static_cast<double>(n) - (kLinear + 1)) / 2.0);  // dof, two axes
   result.sigma_x_m = std::sqrt(var.x());
   result.sigma_y_m = std::sqrt(var.y());
   // Consecutive scan matches share a scan: their errors partly cancel along the chain.
@@ -124,23 +149,25 @@ JointResult fitOnce(const std::vector<CalibrationInterval>& intervals, const Joi
 
   // Fisher information of stage 2 (sandwich for the unweighted fit) and dependence on stage 1.
   const double h = 1e-6 * std::max(std::abs(stage1.J21), std::abs(stage1.J22));
-  Eigen::Matrix4d N = Eigen::Matrix4d::Zero();
-  Eigen::MatrixXd sumGtF = Eigen::MatrixXd::Zero(4, 2);
+  Eigen::Matrix<double, kLinear + 1, kLinear + 1> N;
+  N.setZero();
+  Eigen::MatrixXd sumGtF = Eigen::MatrixXd::Zero(kLinear + 1, 2);
   for (Eigen::Index k = 0; k < n; ++k) {
     const auto Gk = G.middleRows<2>(2 * k);
     N += Gk.transpose() * cov_n * Gk;
     Eigen::Matrix2d F;
-    F.col(0) = (residualRows(intervals[k], stage1.J21 + h, stage1.J22) -
-                residualRows(intervals[k], stage1.J21 - h, stage1.J22)) *
+    F.col(0) = (residualRows<kLinear>(intervals[k], stage1.J21 + h, stage1.J22) -
+                residualRows<kLinear>(intervals[k], stage1.J21 - h, stage1.J22)) *
                x / (2 * h);
-    F.col(1) = (residualRows(intervals[k], stage1.J21, stage1.J22 + h) -
-                residualRows(intervals[k], stage1.J21, stage1.J22 - h)) *
+    F.col(1) = (residualRows<kLinear>(intervals[k], stage1.J21, stage1.J22 + h) -
+                residualRows<kLinear>(intervals[k], stage1.J21, stage1.J22 - h)) *
                x / (2 * h);
     sumGtF += Gk.transpose() * F;
   }
   const Eigen::MatrixXd H = G.transpose() * G;
-  result.covariance = radiiCovariance(twoStageCovariance(stage1.covariance, H, N, sumGtF),
-                                      stage1.J21, stage1.J22, b);
+  Eigen::MatrixXd cov_J = twoStageCovariance(stage1.covariance, H, N, sumGtF);
+  if constexpr (kLinear == 4) cov_J = sideslipOut(cov_J, y(3), b, result);
+  result.covariance = radiiCovariance(cov_J, stage1.J21, stage1.J22, b);
   result.estimates_mount = true;
   result.cost = e.squaredNorm();
   result.intervals_used = static_cast<int>(n);
@@ -176,7 +203,11 @@ JointResult calibrateJoint(const std::vector<CalibrationInterval>& intervals,
     return result;
   }
   std::vector<double> scores;
-  JointResult result = fitOnce(intervals, params, &scores);
+  auto fit = [&params](const std::vector<CalibrationInterval>& subset, std::vector<double>* out) {
+    return params.estimate_sideslip ? fitOnce<4>(subset, params, out)
+                                    : fitOnce<3>(subset, params, out);
+  };
+  JointResult result = fit(intervals, &scores);
   int round = 0;
   for (; round < params.trim_rounds && result.ok; ++round) {
     const int drop = static_cast<int>(params.trim_fraction * static_cast<double>(used.size()));
@@ -190,7 +221,7 @@ JointResult calibrateJoint(const std::vector<CalibrationInterval>& intervals,
     std::vector<int> kept;
     for (int i : order) kept.push_back(used[i]);
     used = std::move(kept);
-    result = fitOnce(subset(), params, &scores);
+    result = fit(subset(), &scores);
   }
   result.iterations = round;
   result.intervals_trimmed = static_cast<int>(intervals.size() - used.size());

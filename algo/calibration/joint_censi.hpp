@@ -20,16 +20,21 @@ struct JointParams {
   int trim_rounds = 3;
   /// Fraction of the remaining intervals dropped per round, worst normalised residual first.
   double trim_fraction = 0.01;
+  /// Also estimate a sideslip k (s), the base moving sideways at k v w in turns
+  /// (docs/calibration.md, "Sideslip"): one more linear unknown m = k b in stage 2.
+  bool estimate_sideslip = false;
 };
 
 struct JointResult : CalibrationResult {
-  double J21 = 0.0;              ///< -r_L / b
-  double J22 = 0.0;              ///< r_R / b
-  double lambda = 0.0;           ///< Lagrange multiplier of the unit-circle constraint
-  double sigma_theta_rad = 0.0;  ///< scan-match rotation noise, from the residuals
-  double sigma_x_m = 0.0;        ///< scan-match translation noise along lidar x
-  double sigma_y_m = 0.0;        ///< ... along lidar y
-  std::vector<int> used;         ///< indices of the intervals in the final fit
+  double J21 = 0.0;               ///< -r_L / b
+  double J22 = 0.0;               ///< r_R / b
+  double lambda = 0.0;            ///< Lagrange multiplier of the unit-circle constraint
+  double sigma_theta_rad = 0.0;   ///< scan-match rotation noise, from the residuals
+  double sigma_x_m = 0.0;         ///< scan-match translation noise along lidar x
+  double sigma_y_m = 0.0;         ///< ... along lidar y
+  std::vector<int> used;          ///< indices of the intervals in the final fit
+  double sideslip_s = 0.0;        ///< estimated sideslip k (0 when not estimated)
+  double sideslip_sigma_s = 0.0;  ///< its 1-sigma
 };
 
 /// Stage 1: J21, J22 by least squares on the rotations (fitRotation). Stage 2: b and the mount

@@ -104,6 +104,30 @@ TEST(Ceres, EstimatesASideslip) {
   EXPECT_GT(std::abs(without.T_base_lidar.x - spec.T_base_lidar.x), 3e-5);  // measured 8.6e-5 m
 }
 
+// The joint closed form with the sideslip's linear unknown m = k b: exact as well, and Ceres
+// starts from its k.
+TEST(Joint, EstimatesASideslip) {
+  SyntheticSpec spec;
+  spec.sideslip_s = -6.6e-4;
+  JointParams params;
+  params.estimate_sideslip = true;
+  const JointResult r = calibrateJoint(makeIntervals(spec), params);
+  expectGeometry(r, spec.truth);
+  expectMount(r, spec.T_base_lidar);
+  EXPECT_LT(rel(r.sideslip_s, spec.sideslip_s), kExact);
+  EXPECT_NEAR(r.lambda, 0.0, 1e-12);
+}
+
+TEST(Joint, EstimatesNoSideslipWhereThereIsNone) {
+  const SyntheticSpec spec;
+  JointParams params;
+  params.estimate_sideslip = true;
+  const JointResult r = calibrateJoint(makeIntervals(spec), params);
+  expectGeometry(r, spec.truth);
+  expectMount(r, spec.T_base_lidar);
+  EXPECT_LT(std::abs(r.sideslip_s), 1e-12);
+}
+
 TEST(Ceres, EstimatesNoSideslipWhereThereIsNone) {
   const SyntheticSpec spec;
   CeresParams params;

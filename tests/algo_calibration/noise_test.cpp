@@ -83,6 +83,20 @@ TEST(Noise, JointIsUnbiasedAndCalibrated) {
   checkCalibrated("joint", noisy(), [](const auto& in) { return calibrateJoint(in); });
 }
 
+// With the sideslip term the six parameters are marginalised over k (the truth has k = -0.66 ms):
+// still unbiased and calibrated, for the closed form and for Ceres.
+TEST(Noise, JointAndCeresWithASideslipAreUnbiasedAndCalibrated) {
+  SyntheticSpec spec = noisy();
+  spec.sideslip_s = -6.6e-4;
+  JointParams joint;
+  joint.estimate_sideslip = true;
+  checkCalibrated("joint+k", spec, [&](const auto& in) { return calibrateJoint(in, joint); });
+  CeresParams ceres;
+  ceres.estimate_sideslip = true;
+  ceres.start = joint;
+  checkCalibrated("ceres+k", spec, [&](const auto& in) { return calibrateCeres(in, ceres); });
+}
+
 // Each axis' noise is estimated in its own frame: with 3 / 1 mm and 2 mrad per interval the refined
 // residual sigmas come back per axis. 400 intervals give a sample std with a 3.5 % standard
 // error; 12 % is a 3.4-sigma bound. Whitening one axis with another's sigma makes y's 3x off.
