@@ -92,6 +92,8 @@ void parseKey(const YamlDoc& doc, const std::string& key, const YAML::Node& valu
     suite.motion = doc.string(value, key);
   else if (key == "calibration_methods")
     suite.calibration_methods = parseCalibrationMethods(doc, value);
+  else if (key == "calibration_sideslip")
+    suite.calibration_sideslip = doc.boolean(value, key);
   else if (key == "deskew_methods")
     suite.deskew_methods = doc.stringList(value, key);
   else if (key == "deskew_geometry")
@@ -168,8 +170,8 @@ Suite loadSuite(const std::filesystem::path& file) {
   doc.guard([&] {
     doc.checkKeys(root, "",
                   {"name", "description", "worlds", "scenarios", "seeds", "base_seed", "duration_s",
-                   "mode", "motion", "calibration_methods", "deskew_methods", "deskew_geometry",
-                   "sweep", "tolerances", "set"});
+                   "mode", "motion", "calibration_methods", "calibration_sideslip",
+                   "deskew_methods", "deskew_geometry", "sweep", "tolerances", "set"});
     for (const auto& entry : root) parseKey(doc, doc.keyName(entry.first, ""), entry.second, suite);
   });
   validate(suite);

@@ -41,6 +41,8 @@ struct Suite {
   std::string mode = "physics";            ///< physics | kinematic
   std::string motion = "icp";              ///< calibration motion source: icp | groundtruth
   std::vector<algo::CalibrationMethod> calibration_methods;  ///< interval methods only
+  /// joint and ceres also estimate a sideslip k (calibrate --sideslip, docs/calibration.md).
+  bool calibration_sideslip = false;
   std::vector<std::string> deskew_methods;
   /// Wheel geometry the odometry-based de-skew methods use: nominal | true | calibrated.
   std::string deskew_geometry = "nominal";

@@ -270,6 +270,13 @@ json artifactsJson(const Dataset& dataset, const DiffDriveParams* calibrated,
   return out;
 }
 
+// The methods' parameters: the defaults, plus the sideslip term when the suite asks for it.
+algo::CalibrationParams calibrationParams(const Suite& suite) {
+  algo::CalibrationParams params;
+  params.joint.estimate_sideslip = params.ceres.estimate_sideslip = suite.calibration_sideslip;
+  return params;
+}
+
 TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
   TrialOutput out;
   const bool calibrates = !suite.calibration_methods.empty();
@@ -311,9 +318,12 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
       stages.update(static_cast<double>(calibrated.size()) / suite.calibration_methods.size());
       const std::string name(algo::calibrationMethodName(method));
       start = Clock::now();
-      calibrated.push_back(algo::calibrate(method, input));
+      calibrated.push_back(algo::calibrate(method, input, calibrationParams(suite)));
       out.timing["calibration"][name] = secondsSince(start);
       out.result["calibration"][name] = calibrationJson(dataset, calibrated.back().result);
+      if (const auto& k = calibrated.back().sideslip_s)  // with calibration_sideslip
+        out.result["calibration"][name]["sideslip_ms"] = {
+            {"value", *k * 1e3}, {"sigma", calibrated.back().sideslip_sigma_s * 1e3}};
     }
   }
   const algo::CalibrationRun* best = algo::bestRun(calibrated);

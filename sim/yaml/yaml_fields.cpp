@@ -155,6 +155,13 @@ std::string YamlDoc::string(const YAML::Node& node, std::string_view key) const 
   return node.Scalar();
 }
 
+bool YamlDoc::boolean(const YAML::Node& node, std::string_view key) const {
+  bool value = false;
+  if (!node.IsScalar() || !YAML::convert<bool>::decode(node, value))
+    fail(node, key, "expected true or false, got " + got(node));
+  return value;
+}
+
 std::vector<std::string> YamlDoc::stringList(const YAML::Node& node, std::string_view key) const {
   if (node.IsScalar()) return {node.Scalar()};
   if (!node.IsSequence()) fail(node, key, "expected a list of strings, got " + got(node));

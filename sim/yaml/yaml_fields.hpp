@@ -72,6 +72,8 @@ class YamlDoc {
                        std::int64_t max) const;
   /// A scalar as text.
   std::string string(const YAML::Node& node, std::string_view key) const;
+  /// true or false (YAML's spellings: true/false, yes/no, on/off); anything else is an error.
+  bool boolean(const YAML::Node& node, std::string_view key) const;
   /// A scalar or a list of scalars as text.
   std::vector<std::string> stringList(const YAML::Node& node, std::string_view key) const;
   /// [x, y] with both coordinates inside `bounds`.

@@ -52,6 +52,21 @@ TEST(Suite, RejectsUnknownKeyWithFileAndLine) {
   }
 }
 
+TEST(Suite, ReadsTheSideslipSwitchAndRefusesANonBoolean) {
+  const std::string base = "worlds: [a]\nscenarios: [b]\n";
+  EXPECT_FALSE(loadSuite(writeTemp("k0.yaml", base)).calibration_sideslip);
+  EXPECT_TRUE(loadSuite(writeTemp("k1.yaml", base + "calibration_sideslip: true\n"))
+                  .calibration_sideslip);
+  try {
+    loadSuite(writeTemp("k2.yaml", base + "calibration_sideslip: maybe\n"));
+    FAIL() << "accepted 'maybe'";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("k2.yaml:3"), std::string::npos) << what;
+    EXPECT_NE(what.find("calibration_sideslip"), std::string::npos) << what;
+  }
+}
+
 TEST(Suite, ReadsTolerancesWithTheirDirection) {
   const auto file = writeTemp("tol.yaml", R"(
 worlds: [a.yaml]
