@@ -118,24 +118,19 @@ TEST(Joint, EstimatesASideslip) {
   EXPECT_NEAR(r.lambda, 0.0, 1e-12);
 }
 
-TEST(Joint, EstimatesNoSideslipWhereThereIsNone) {
+TEST(Sideslip, JointAndCeresEstimateNoneWhereThereIsNone) {
   const SyntheticSpec spec;
-  JointParams params;
-  params.estimate_sideslip = true;
-  const JointResult r = calibrateJoint(makeIntervals(spec), params);
-  expectGeometry(r, spec.truth);
-  expectMount(r, spec.T_base_lidar);
-  EXPECT_LT(std::abs(r.sideslip_s), 1e-12);
-}
-
-TEST(Ceres, EstimatesNoSideslipWhereThereIsNone) {
-  const SyntheticSpec spec;
+  const auto intervals = makeIntervals(spec);
   CeresParams params;
-  params.estimate_sideslip = true;
-  const CeresResult r = calibrateCeres(makeIntervals(spec), params);
-  expectGeometry(r, spec.truth);
-  expectMount(r, spec.T_base_lidar);
-  EXPECT_LT(std::abs(r.sideslip_s), 1e-12);
+  params.start.estimate_sideslip = params.estimate_sideslip = true;
+  const JointResult joint = calibrateJoint(intervals, params.start);
+  const CeresResult ceres = calibrateCeres(intervals, params);
+  for (const auto& [r, k] : {std::pair<const CalibrationResult&, double>{joint, joint.sideslip_s},
+                             {ceres, ceres.sideslip_s}}) {
+    expectGeometry(r, spec.truth);
+    expectMount(r, spec.T_base_lidar);
+    EXPECT_LT(std::abs(k), 1e-12);
+  }
 }
 
 TEST(Ceres, RefusesTheSideslipTogetherWithTheTimeOffset) {
