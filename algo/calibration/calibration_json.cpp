@@ -3,6 +3,9 @@
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <tuple>
+#include <utility>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -39,6 +42,10 @@ json toJson(const CalibrationRun& run, const std::optional<Eigen::VectorXd>& tru
     worst.push_back(
         {{"t0", t.t0_s}, {"t1", t.t1_s}, {"reason", t.reason}, {"residual", t.residual_sigmas}});
   j["trimmed_worst"] = worst;
+  if (run.time_offset_s)
+    j["time_offset_s"] = {{"value", *run.time_offset_s}, {"sigma", run.time_offset_sigma_s}};
+  if (run.sideslip_s)
+    j["sideslip_s"] = {{"value", *run.sideslip_s}, {"sigma", run.sideslip_sigma_s}};
   if (const auto& nominal = run.relative_to_odometry) {
     j["relative_to_odometry"] = geometryJson(*nominal);
     if (r.ok)
@@ -135,6 +142,14 @@ class EntryReader {
     return DiffDriveParams{item.positive("r_L"), item.positive("r_R"), item.positive("b")};
   }
 
+  // {"value", "sigma"} of an extra estimate (time_offset_s, sideslip_s), when written.
+  std::optional<std::pair<double, double>> extra(const char* key) const {
+    if (!e_.contains(key)) return std::nullopt;
+    const EntryReader item(e_[key], where_ + "." + key);
+    if (!e_[key].is_object()) item.fail("", "not an object");
+    return std::pair{item.finite("value"), item.finite("sigma")};
+  }
+
   CalibrationRun run() const {
     CalibrationRun run;
     run.method = method();
@@ -156,6 +171,9 @@ class EntryReader {
                                        : std::numeric_limits<double>::infinity();
     if (e_.contains("intervals") && e_["intervals"].is_number_integer())
       r.intervals_used = e_["intervals"].get<int>();
+    if (const auto offset = extra("time_offset_s"))
+      std::tie(run.time_offset_s, run.time_offset_sigma_s) = *offset;
+    if (const auto k = extra("sideslip_s")) std::tie(run.sideslip_s, run.sideslip_sigma_s) = *k;
     return run;
   }
 

@@ -40,9 +40,11 @@ TEST(CalibrationJson, RoundTripsEveryRunAndPicksTheBest) {
   CalibrationRun refused;
   refused.method = CalibrationMethod::kUmbmark;
   refused.result.reason = "no UMBmark square runs";
-  const std::vector<CalibrationRun> runs = {okRun(CalibrationMethod::kModel, 1.0),
-                                            okRun(CalibrationMethod::kJoint, 1.01),
-                                            okRun(CalibrationMethod::kCeres, 1.02), refused};
+  std::vector<CalibrationRun> runs = {okRun(CalibrationMethod::kModel, 1.0),
+                                      okRun(CalibrationMethod::kJoint, 1.01),
+                                      okRun(CalibrationMethod::kCeres, 1.02), refused};
+  runs[2].sideslip_s = -6.6e-4;  // calibrate --sideslip
+  runs[2].sideslip_sigma_s = 1.8e-5;
   const CalibrationTruth truth{{0.1, 0.2, 0.5}, SE2(0.1, 0.0, 0.0)};
   const std::string text = formatCalibrationJson(runs, truth);
   const auto j = nlohmann::json::parse(text);
@@ -52,6 +54,10 @@ TEST(CalibrationJson, RoundTripsEveryRunAndPicksTheBest) {
   EXPECT_EQ(j[2]["lidar_y"].get<double>(), -0.02);
   EXPECT_NEAR(j[1]["error"]["b"].get<double>(), 0.005, 1e-15);
   EXPECT_TRUE(j[3]["r_L"].is_null());
+  EXPECT_EQ(j[2]["sideslip_s"]["value"].get<double>(), -6.6e-4);
+  EXPECT_EQ(j[2]["sideslip_s"]["sigma"].get<double>(), 1.8e-5);
+  EXPECT_FALSE(j[1].contains("sideslip_s"));  // not estimated
+  EXPECT_FALSE(j[2].contains("time_offset_s"));
 
   const CalibrationFile file = parseCalibrationJson(text, "cal.json");
   ASSERT_EQ(file.runs.size(), 4u);
@@ -66,6 +72,9 @@ TEST(CalibrationJson, RoundTripsEveryRunAndPicksTheBest) {
   EXPECT_EQ(file.runs[2].result.sigma()(5), std::sqrt(1e-6));  // sigma is written, not variance
   EXPECT_EQ(file.runs[1].result.intervals_used, 75);
   EXPECT_EQ(file.runs[0].result.condition_number, 4.5);
+  EXPECT_EQ(file.runs[2].sideslip_s, -6.6e-4);
+  EXPECT_EQ(file.runs[2].sideslip_sigma_s, 1.8e-5);
+  EXPECT_FALSE(file.runs[1].sideslip_s.has_value());
   ASSERT_NE(file.best(), nullptr);
   EXPECT_EQ(file.best()->method, CalibrationMethod::kCeres);
   EXPECT_EQ(file.requireBest().result.geometry.wheel_base_m,
