@@ -300,8 +300,7 @@ Command addCalibrateCommand(CLI::App& app) {
                 "ceres: also estimate a constant encoder-to-lidar clock offset");
   cli->add_flag("--sideslip", flags->sideslip,
                 "joint and ceres: also estimate a sideslip k, the base moving sideways at k v w in "
-                "turns "
-                "(not with --time-offset)")
+                "turns (not with --time-offset)")
       ->excludes("--time-offset");
   return {cli, [flags] { return runCalibrate(*flags); }};
 }

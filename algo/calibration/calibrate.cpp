@@ -64,15 +64,22 @@ CalibrationRun refused(CalibrationMethod method, std::string reason) {
   return run;
 }
 
+// The run of joint or ceres, with the sideslip when it was estimated (JointResult, CeresResult).
+template <typename Result>
+CalibrationRun withSideslip(CalibrationMethod method, const Result& r, bool estimated) {
+  CalibrationRun run = makeRun(method, r);
+  if (estimated && r.ok) {
+    run.sideslip_s = r.sideslip_s;
+    run.sideslip_sigma_s = r.sideslip_sigma_s;
+  }
+  return run;
+}
+
 CalibrationRun fromCeres(const CeresResult& r, const CeresParams& params) {
-  CalibrationRun run = makeRun(CalibrationMethod::kCeres, r);
+  CalibrationRun run = withSideslip(CalibrationMethod::kCeres, r, params.estimate_sideslip);
   if (params.estimate_time_offset && r.ok) {
     run.time_offset_s = r.time_offset_s;
     run.time_offset_sigma_s = r.time_offset_sigma_s;
-  }
-  if (params.estimate_sideslip && r.ok) {
-    run.sideslip_s = r.sideslip_s;
-    run.sideslip_sigma_s = r.sideslip_sigma_s;
   }
   return run;
 }
@@ -101,15 +108,9 @@ CalibrationRun fitMethod(CalibrationMethod method, const std::vector<Calibration
     }
     case CalibrationMethod::kModel:
       return makeRun(method, calibrateModelBased(subset, params.model));
-    case CalibrationMethod::kJoint: {
-      const JointResult& r = jointOn(joints, subset, kept, params.joint);
-      CalibrationRun run = makeRun(method, r);
-      if (params.joint.estimate_sideslip && r.ok) {
-        run.sideslip_s = r.sideslip_s;
-        run.sideslip_sigma_s = r.sideslip_sigma_s;
-      }
-      return run;
-    }
+    case CalibrationMethod::kJoint:
+      return withSideslip(method, jointOn(joints, subset, kept, params.joint),
+                          params.joint.estimate_sideslip);
     case CalibrationMethod::kCeres: {
       const JointResult& start = jointOn(joints, subset, kept, params.joint);
       return fromCeres(calibrateCeres(subset, start, ceresParams(params)), params.ceres);

@@ -137,7 +137,7 @@ UnitOdometry unitOdometry(const CalibrationInterval& interval, double J21, doubl
 Eigen::MatrixXd twoStageCovariance(const Eigen::Matrix2d& cov1, const Eigen::MatrixXd& H,
                                    const Eigen::MatrixXd& N, const Eigen::MatrixXd& sumGtF) {
   const Eigen::Index m = H.rows();
-  const Eigen::MatrixXd H_inv = H.inverse();  // m <= 4, checked well-conditioned by the caller
+  const Eigen::MatrixXd H_inv = H.inverse();  // m <= 5, checked well-conditioned by the caller
   const Eigen::MatrixXd K = -H_inv * sumGtF;
   Eigen::MatrixXd C(2 + m, 2 + m);
   C.topLeftCorner(2, 2) = cov1;

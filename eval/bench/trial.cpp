@@ -314,11 +314,12 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
     input.intervals = std::move(motion.intervals.intervals);
     input.nominal = dataset.info.nominal_geometry;
     stages.begin("calibrate");
+    const algo::CalibrationParams params = calibrationParams(suite);
     for (const algo::CalibrationMethod method : suite.calibration_methods) {
       stages.update(static_cast<double>(calibrated.size()) / suite.calibration_methods.size());
       const std::string name(algo::calibrationMethodName(method));
       start = Clock::now();
-      calibrated.push_back(algo::calibrate(method, input, calibrationParams(suite)));
+      calibrated.push_back(algo::calibrate(method, input, params));
       out.timing["calibration"][name] = secondsSince(start);
       out.result["calibration"][name] = calibrationJson(dataset, calibrated.back().result);
       if (const auto& k = calibrated.back().sideslip_s)  // with calibration_sideslip
