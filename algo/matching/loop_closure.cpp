@@ -1,6 +1,5 @@
 #include "algo/matching/loop_closure.hpp"
 
-#include <Eigen/Sparse>
 #include <cmath>
 #include <optional>
 
@@ -35,29 +34,38 @@ std::optional<std::size_t> loopPartner(const PoseSeries& chain, const std::vecto
 
 }  // namespace
 
-std::vector<double> headingCorrections(std::size_t poses, const std::vector<LoopClosure>& loops) {
-  std::vector<double> delta(poses, 0.0);
-  if (poses < 2 || loops.empty()) return delta;
-  // Normal equations of the edges delta_b - delta_a = c; delta_0 = 0 is dropped (index - 1).
+Eigen::SparseMatrix<double> headingGraphMatrix(
+    std::size_t poses, const std::vector<std::pair<std::size_t, std::size_t>>& loops) {
   const auto n = static_cast<Eigen::Index>(poses - 1);
   std::vector<Eigen::Triplet<double>> H;
-  Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
   auto add = [&](Eigen::Index row, Eigen::Index col, double value) {
     if (row >= 0 && col >= 0) H.emplace_back(row, col, value);
   };
-  auto edge = [&](std::size_t a, std::size_t b, double c) {
+  auto edge = [&](std::size_t a, std::size_t b) {  // unknown index = pose - 1
     const Eigen::Index ia = static_cast<Eigen::Index>(a) - 1, ib = static_cast<Eigen::Index>(b) - 1;
     add(ia, ia, 1.0), add(ib, ib, 1.0), add(ia, ib, -1.0), add(ib, ia, -1.0);
-    if (ia >= 0) g(ia) -= c;
-    g(ib) += c;
   };
-  for (std::size_t i = 0; i + 1 < poses; ++i) edge(i, i + 1, 0.0);
-  for (const LoopClosure& loop : loops) edge(loop.from, loop.to, loop.heading_correction_rad);
+  for (std::size_t i = 0; i + 1 < poses; ++i) edge(i, i + 1);
+  for (const auto& [from, to] : loops) edge(from, to);
   Eigen::SparseMatrix<double> A(n, n);
   A.setFromTriplets(H.begin(), H.end());
-  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+  return A;
+}
+
+std::vector<double> headingCorrections(std::size_t poses, const std::vector<LoopClosure>& loops) {
+  std::vector<double> delta(poses, 0.0);
+  if (poses < 2 || loops.empty()) return delta;
+  // Normal equations of the edges delta_to - delta_from = c (links: c = 0); delta_0 = 0.
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(poses - 1));
+  for (const LoopClosure& loop : loops) {
+    pairs.emplace_back(loop.from, loop.to);
+    if (loop.from > 0) g(static_cast<Eigen::Index>(loop.from) - 1) -= loop.heading_correction_rad;
+    g(static_cast<Eigen::Index>(loop.to) - 1) += loop.heading_correction_rad;
+  }
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(headingGraphMatrix(poses, pairs));
   const Eigen::VectorXd x = solver.solve(g);
-  for (Eigen::Index i = 0; i < n; ++i) delta[i + 1] = x(i);
+  for (Eigen::Index i = 0; i < x.size(); ++i) delta[i + 1] = x(i);
   return delta;
 }
 

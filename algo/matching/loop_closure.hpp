@@ -9,7 +9,9 @@
 // heading drift of the matches becomes a wheel-radius difference that no residual of the same
 // log can reveal (30 simulated seeds: the r_R - r_L error was 2.2 reported sigmas wide).
 
+#include <Eigen/Sparse>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include "algo/matching/icp.hpp"
@@ -56,6 +58,12 @@ struct LoopCorrection {
 LoopCorrection closeLoops(const PoseSeries& T_world_lidar,
                           const std::vector<const Points2*>& points,
                           const LoopClosureParams& params = {});
+
+/// Normal matrix of the heading graph over poses 1..poses-1 (pose 0 held): every link (i, i+1)
+/// and every loop (from, to) adds its incidence, each weighing one. Shared with the covariance
+/// that propagates a correction (algo/calibration/loop_covariance.hpp).
+Eigen::SparseMatrix<double> headingGraphMatrix(
+    std::size_t poses, const std::vector<std::pair<std::size_t, std::size_t>>& loops);
 
 /// The heading graph alone (Eq. in docs/calibration.md): corrections delta_i, delta_0 = 0, that
 /// minimise sum_i (delta_{i+1} - delta_i)^2 + sum_loops (delta_to - delta_from - c)^2, each link

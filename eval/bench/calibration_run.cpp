@@ -47,7 +47,8 @@ Dataset withDerivedEncoders(const Dataset& dataset, const DiffDriveParams& nomin
 // Each chain with the heading drift its loop closures reveal spread back (algo/matching/
 // loop_closure.hpp); `points` as matched (empty: the scans as measured).
 LoopClosureSummary closeLoops(const Dataset& dataset, const std::vector<Points2>& points,
-                              const algo::LoopClosureParams& params, algo::MatchChains& chained) {
+                              const algo::LoopClosureParams& params, algo::MatchChains& chained,
+                              std::vector<algo::LoopSpan>& spans) {
   std::vector<Points2> raw;
   if (points.empty())
     for (const ScanRecord& record : dataset.scans) raw.push_back(record.scan.points());
@@ -60,6 +61,8 @@ LoopClosureSummary closeLoops(const Dataset& dataset, const std::vector<Points2>
     summary.used += static_cast<int>(loops.loops.size());
     summary.candidates += loops.candidates;
     summary.max_link_change_rad = std::max(summary.max_link_change_rad, loops.max_link_change_rad);
+    for (const algo::LoopClosure& loop : loops.loops)
+      spans.push_back({chained.chains[c][loop.from].stamp_s, chained.chains[c][loop.to].stamp_s});
     chained.chains[c] = std::move(loops.T_world_lidar);
   }
   return summary;
@@ -96,7 +99,8 @@ CalibrationMotion calibrationMotion(const Dataset& dataset,
     matching.deskew.icp = options.icp;
     motion.matches = algo::matchConsecutiveScans(dataset, matching, points);
     algo::MatchChains chained = algo::chainMatches(motion.matches);
-    if (options.loop_closure) motion.loops = closeLoops(dataset, points, options.loops, chained);
+    if (options.loop_closure)
+      motion.loops = closeLoops(dataset, points, options.loops, chained, motion.heading_loops);
     motion.chains = std::move(chained.chains);
     motion.failed_matches = chained.failed_matches;
   }
@@ -148,6 +152,7 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params) {
       out.from_motion = true;
       out.failed_matches = motion.failed_matches;
       out.loops = motion.loops;
+      input.heading_loops = std::move(motion.heading_loops);
     }
   }
   input.intervals = out.intervals.intervals;

@@ -47,7 +47,8 @@ struct CalibrationMotion {
   std::vector<algo::ScanMatch> matches;  ///< consecutive scans (none for ground truth)
   std::vector<PoseSeries> chains;        ///< T_world_lidar chains (one for ground truth)
   int failed_matches = 0;
-  std::optional<LoopClosureSummary> loops;  ///< with loop_closure
+  std::optional<LoopClosureSummary> loops;    ///< with loop_closure
+  std::vector<algo::LoopSpan> heading_loops;  ///< the spans the loop closures corrected
   algo::IntervalSet intervals;
 };
 

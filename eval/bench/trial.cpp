@@ -318,6 +318,7 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
     if (motion_options.from_icp) out.result["matching"] = matchingJson(dataset, motion);
     algo::CalibrationInput input;
     input.intervals = std::move(motion.intervals.intervals);
+    input.heading_loops = std::move(motion.heading_loops);
     input.nominal = dataset.info.nominal_geometry;
     stages.begin("calibrate");
     const algo::CalibrationParams params = calibrationParams(suite);
