@@ -123,7 +123,6 @@ eval::DatasetCalibrationParams paramsOf(const CalibrateFlags& flags) {
   p.motion.intervals.keyframe_rotation_rad = flags.keyframe_deg * std::numbers::pi / 180.0;
   p.motion.icp = flags.icp;
   p.motion.loop_closure = flags.loop_closure;
-  p.motion.loops.icp = flags.icp;
   p.params.umbmark.side_m = flags.side_m;
   p.params.ceres.estimate_time_offset = flags.time_offset;
   p.params.joint.estimate_sideslip = flags.sideslip;  // ceres starts from joint's k
@@ -151,6 +150,9 @@ void checkPaths(const CalibrateFlags& flags) {
   if (!flags.ros2_out.empty()) checkOutputFile(flags.ros2_out, "--ros2-params", flags.force);
   if ((!flags.odometry_out.empty() || !flags.ros2_out.empty()) && flags.dataset.empty())
     throw InputError("--odometry-out/--ros2-params", "need DATASET (its encoders and mount)");
+  if (flags.loop_closure && (flags.motion != "icp" || !flags.tuples_in.empty()))
+    throw InputError("--loop-closure",
+                     "closes the loops of scan-matched motion: needs --motion icp, not --tuples");
   for (const std::string& out :
        {flags.json_out, flags.intervals_out, flags.odometry_out, flags.ros2_out})
     if (!out.empty() && !flags.dataset.empty()) checkNotInside(out, flags.dataset, "output");

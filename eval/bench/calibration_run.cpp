@@ -99,8 +99,11 @@ CalibrationMotion calibrationMotion(const Dataset& dataset,
     matching.deskew.icp = options.icp;
     motion.matches = algo::matchConsecutiveScans(dataset, matching, points);
     algo::MatchChains chained = algo::chainMatches(motion.matches);
-    if (options.loop_closure)
-      motion.loops = closeLoops(dataset, points, options.loops, chained, motion.heading_loops);
+    if (options.loop_closure) {
+      algo::LoopClosureParams loops = options.loops;
+      loops.icp = options.icp;  // the direct matches use the chain's matcher
+      motion.loops = closeLoops(dataset, points, loops, chained, motion.heading_loops);
+    }
     motion.chains = std::move(chained.chains);
     motion.failed_matches = chained.failed_matches;
   }

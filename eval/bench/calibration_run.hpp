@@ -33,7 +33,7 @@ struct CalibrationMotionOptions {
   /// Match scans where a chain revisits a place directly and spread the heading drift this
   /// reveals back over the chain (`calibrate --loop-closure`, docs/calibration.md).
   bool loop_closure = false;
-  algo::LoopClosureParams loops;
+  algo::LoopClosureParams loops;  ///< its `icp` is replaced by `icp` above
 };
 
 /// What loop closure did to the chains, summed over them.
