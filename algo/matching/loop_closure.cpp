@@ -1,5 +1,6 @@
 #include "algo/matching/loop_closure.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 

@@ -10,8 +10,8 @@
 namespace slamprep::algo {
 namespace {
 
-using slamprep::testing::castRay;
 using slamprep::testing::roomWorld;
+using slamprep::testing::standingScan;
 
 // One link and one loop weigh the same, so a loop over n links spreads its correction c as c /
 // (n + 1) per link: n d^2 + (n d - c)^2 is least at d = c / (n + 1).
@@ -28,14 +28,7 @@ TEST(HeadingCorrections, NoLoopsNoCorrection) {
 
 // A scan from a standing lidar: 720 beams over the full turn, exact ranges.
 Points2 scanAt(const SE2& T_world_lidar) {
-  const auto world = roomWorld();
-  Points2 points;
-  for (int i = 0; i < 720; ++i) {
-    const double a = -std::numbers::pi + i * 2.0 * std::numbers::pi / 720;
-    const double r = castRay(world, T_world_lidar.translation(), T_world_lidar.yaw + a, 30.0);
-    if (std::isfinite(r)) points.push_back(r * Eigen::Vector2d(std::cos(a), std::sin(a)));
-  }
-  return points;
+  return standingScan(roomWorld(), T_world_lidar, 720);
 }
 
 // Two laps of a 1 m circle, 100 poses a lap, 0.1 s apart; the chain is the truth with every
