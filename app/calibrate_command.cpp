@@ -46,6 +46,7 @@ struct CalibrateFlags {
   algo::IcpParams icp;                           // the scan matcher between consecutive scans
   bool time_offset = false;
   bool sideslip = false;
+  bool loop_closure = false;
   bool stamp_is_last_beam = false;
   bool strict = false;
   bool quiet = false;
@@ -121,6 +122,7 @@ eval::DatasetCalibrationParams paramsOf(const CalibrateFlags& flags) {
   p.motion.intervals.keyframe_translation_m = flags.keyframe_cm / 100.0;
   p.motion.intervals.keyframe_rotation_rad = flags.keyframe_deg * std::numbers::pi / 180.0;
   p.motion.icp = flags.icp;
+  p.motion.loop_closure = flags.loop_closure;
   p.params.umbmark.side_m = flags.side_m;
   p.params.ceres.estimate_time_offset = flags.time_offset;
   p.params.joint.estimate_sideslip = flags.sideslip;  // ceres starts from joint's k
@@ -148,6 +150,9 @@ void checkPaths(const CalibrateFlags& flags) {
   if (!flags.ros2_out.empty()) checkOutputFile(flags.ros2_out, "--ros2-params", flags.force);
   if ((!flags.odometry_out.empty() || !flags.ros2_out.empty()) && flags.dataset.empty())
     throw InputError("--odometry-out/--ros2-params", "need DATASET (its encoders and mount)");
+  if (flags.loop_closure && (flags.motion != "icp" || !flags.tuples_in.empty()))
+    throw InputError("--loop-closure",
+                     "closes the loops of scan-matched motion: needs --motion icp, not --tuples");
   for (const std::string& out :
        {flags.json_out, flags.intervals_out, flags.odometry_out, flags.ros2_out})
     if (!out.empty() && !flags.dataset.empty()) checkNotInside(out, flags.dataset, "output");
@@ -194,6 +199,10 @@ int runCalibrate(const CalibrateFlags& flags) {
     std::cerr << "calibrate: " << c.intervals.intervals.size() << " intervals ("
               << c.intervals.dropped_standstill << " standing still, "
               << c.intervals.dropped_uncovered << " without encoder data dropped)\n";
+  if (c.loops)
+    std::cerr << "calibrate: loop closure: " << c.loops->used << " of " << c.loops->candidates
+              << " direct matches used; largest heading change of one link "
+              << c.loops->max_link_change_rad * 180.0 / std::numbers::pi * 1e3 << " mdeg\n";
   if (!flags.intervals_out.empty())
     algo::writeIntervalRecords(flags.intervals_out, c.intervals.intervals);
   for (const algo::CalibrationRun& run : c.runs) {
@@ -302,6 +311,11 @@ Command addCalibrateCommand(CLI::App& app) {
                 "joint and ceres: also estimate a sideslip k, the base moving sideways at k v w in "
                 "turns (not with --time-offset)")
       ->excludes("--time-offset");
+  cli->add_flag("--loop-closure", flags->loop_closure,
+                "with --motion icp: where the matched path revisits a place (10 s or more later, "
+                "within 0.3 m and 20 deg) match the two scans directly and spread the heading "
+                "drift this reveals back over the matches. Chained matches drift in heading, which "
+                "reads as r_R != r_L and which no sigma of the same log can show");
   return {cli, [flags] { return runCalibrate(*flags); }};
 }
 

@@ -122,7 +122,8 @@ CalibrationRun fitMethod(CalibrationMethod method, const std::vector<Calibration
 }
 
 CalibrationRun calibrateWith(CalibrationMethod method, const CalibrationInput& input,
-                             const CalibrationParams& params, JointCache& joints) {
+                             CalibrationParams params, JointCache& joints) {
+  params.joint.heading_loops = params.ceres.heading_loops = input.heading_loops;
   if (auto reason = missingInput(method, input)) return refused(method, std::move(*reason));
   if (method == CalibrationMethod::kUmbmark) return calibrateUmbmarkRuns(input, params);
   return robustFit(

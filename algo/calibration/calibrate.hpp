@@ -24,6 +24,9 @@ struct CalibrationInput {
   /// Geometry the odometry was integrated with: direct's u_i, umbmark's corrected base.
   std::optional<DiffDriveParams> nominal;
   std::vector<UmbmarkRun> umbmark_runs;  ///< umbmark
+  /// Spans whose interval headings loop closures corrected (joint and ceres propagate it into
+  /// their covariance); empty when the intervals are as matched.
+  std::vector<LoopSpan> heading_loops;
 };
 
 /// Every method's parameters. ceres starts from `joint` (its `start` is ignored); direct and

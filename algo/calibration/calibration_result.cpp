@@ -74,7 +74,8 @@ double adjacentCorrelationFactor(const std::vector<CalibrationInterval>& interva
   return 1.0 + 2.0 * std::clamp(rho, -0.45, 0.5);
 }
 
-RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, double max_condition) {
+RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, double max_condition,
+                        const std::vector<LoopSpan>& heading_loops) {
   RotationFit fit;
   const auto n = static_cast<Eigen::Index>(intervals.size());
   Eigen::MatrixXd A(n, 2);
@@ -99,8 +100,16 @@ RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, doubl
   fit.residuals_rad.assign(res.data(), res.data() + n);
   const double dof = static_cast<double>(n - 2);
   fit.sigma_theta_rad = dof > 0 ? std::sqrt(res.squaredNorm() / dof) : 0.0;
-  fit.covariance = adjacentCorrelationFactor(intervals, fit.residuals_rad) * fit.sigma_theta_rad *
-                   fit.sigma_theta_rad * (A.transpose() * A).inverse();
+  const double f = adjacentCorrelationFactor(intervals, fit.residuals_rad);
+  const double var = fit.sigma_theta_rad * fit.sigma_theta_rad;
+  fit.covariance = f * fit.sigma_theta_rad * fit.sigma_theta_rad * (A.transpose() * A).inverse();
+  if (!heading_loops.empty() && var > 0.0) {  // the sandwich around the loop-corrected score
+    const Eigen::Matrix2d AtA_inv = (A.transpose() * A).inverse();
+    std::vector<double> normalized(fit.residuals_rad);
+    for (double& r : normalized) r /= fit.sigma_theta_rad;
+    fit.covariance =
+        var * AtA_inv * loopScoreCovariance(intervals, heading_loops, A, normalized, f) * AtA_inv;
+  }
   // r_L = -J21 b and r_R = J22 b must both be positive for b > 0.
   if (fit.J21 > 0.0 && fit.J22 < 0.0) {
     fit.reason = "left/right encoder channels swapped: " + formatJ(fit.J21, fit.J22) +

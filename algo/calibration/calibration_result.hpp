@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "algo/calibration/interval.hpp"
+#include "algo/calibration/loop_covariance.hpp"
 #include "core/diff_drive.hpp"
 #include "core/se2.hpp"
 
@@ -77,7 +78,10 @@ double adjacentCorrelationFactor(const std::vector<CalibrationInterval>& interva
 /// Refuses (with the reason naming the kind of driving) when the design is worse conditioned
 /// than max_condition, and detects swapped or sign-flipped encoder channels from the signs of
 /// J21 and J22.
-RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, double max_condition);
+/// `heading_loops`: spans whose headings loop closures corrected; the covariance propagates the
+/// correction (loop_covariance.hpp).
+RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, double max_condition,
+                        const std::vector<LoopSpan>& heading_loops = {});
 
 /// Heading and unit-b translation of an interval given J21, J22: the odometry displacement is
 /// exactly b * c with c = sum_j R(theta_j) (sinc dth_j, cosc dth_j) (-J21 dphi_L + J22 dphi_R)/2

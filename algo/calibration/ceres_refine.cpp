@@ -86,7 +86,8 @@ Eigen::MatrixXd longRunCovariance(const Eigen::MatrixXd& C, const Eigen::MatrixX
                                   const std::vector<double>& residuals,
                                   const std::vector<CalibrationInterval>& intervals,
                                   const Eigen::Vector3d& sigma_whitening,
-                                  const Eigen::Vector3d& sigma_residual) {
+                                  const Eigen::Vector3d& sigma_residual,
+                                  const std::vector<LoopSpan>& heading_loops) {
   const auto n = static_cast<Eigen::Index>(intervals.size());
   Eigen::MatrixXd B = Eigen::MatrixXd::Zero(J.cols(), J.cols());
   for (int axis = 0; axis < 3; ++axis) {
@@ -97,7 +98,13 @@ Eigen::MatrixXd longRunCovariance(const Eigen::MatrixXd& C, const Eigen::MatrixX
       J_axis.row(k) = J.row(3 * k + axis);
     }
     const double ratio = sigma_residual(axis) / sigma_whitening(axis);
-    B += adjacentCorrelationFactor(intervals, r) * ratio * ratio * J_axis.transpose() * J_axis;
+    const double f = adjacentCorrelationFactor(intervals, r);
+    if (axis == 2 && !heading_loops.empty()) {  // r over one match's heading sigma
+      for (double& r_k : r) r_k /= ratio;
+      B += ratio * ratio * loopScoreCovariance(intervals, heading_loops, J_axis, r, f);
+      continue;
+    }
+    B += f * ratio * ratio * J_axis.transpose() * J_axis;
   }
   return C * B * C;
 }
@@ -200,7 +207,8 @@ CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
       C.block<6, 1>(0, 6) = cov_pe;
       C.block<1, 6>(6, 0) = cov_pe.transpose();
     }
-    const Eigen::MatrixXd cov = longRunCovariance(C, J, residuals, intervals, sigma, refined);
+    const Eigen::MatrixXd cov =
+        longRunCovariance(C, J, residuals, intervals, sigma, refined, params.heading_loops);
     result.covariance = cov.topLeftCorner<6, 6>();
     const double extra_sigma = extra ? std::sqrt(std::max(0.0, cov(6, 6))) : 0.0;
     if (params.estimate_time_offset) result.time_offset_sigma_s = extra_sigma;

@@ -25,6 +25,9 @@ struct CeresParams {
   double max_condition_number = 1e3;
   /// Lower bound on the noise used for whitening (keeps noiseless data well scaled).
   double min_sigma = 1e-9;
+  /// Spans whose headings loop closures corrected: the heading rows' covariance propagates the
+  /// correction (loop_covariance.hpp). Empty: intervals as matched.
+  std::vector<LoopSpan> heading_loops;
   /// Closed-form start (method 3).
   JointParams start;
 };

@@ -77,17 +77,29 @@ std::vector<ScanMatch> matchConsecutiveScans(const Dataset& dataset, const ScanM
 MatchChains chainMatches(const std::vector<ScanMatch>& matches) {
   MatchChains out;
   PoseSeries chain;
+  std::vector<std::size_t> scans;
+  auto close = [&] {
+    if (chain.size() > 1) {
+      out.chains.push_back(std::move(chain));
+      out.scans.push_back(scans);
+    }
+    chain = PoseSeries();
+    scans.clear();
+  };
   for (const ScanMatch& m : matches) {
-    if (chain.empty()) chain.push_back(m.stamp_ref_s, SE2());
+    if (chain.empty()) {
+      chain.push_back(m.stamp_ref_s, SE2());
+      scans.push_back(m.ref);
+    }
     if (m.match.converged) {
       chain.push_back(m.stamp_cur_s, chain[chain.size() - 1].value * m.match.T_ref_cur);
+      scans.push_back(m.ref + 1);
       continue;
     }
     ++out.failed_matches;
-    if (chain.size() > 1) out.chains.push_back(std::move(chain));
-    chain = PoseSeries();
+    close();
   }
-  if (chain.size() > 1) out.chains.push_back(std::move(chain));
+  close();
   return out;
 }
 

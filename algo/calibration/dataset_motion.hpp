@@ -63,6 +63,7 @@ std::vector<ScanMatch> matchConsecutiveScans(const Dataset& dataset,
 /// next starts at its current scan. Chains of one pose are dropped.
 struct MatchChains {
   std::vector<PoseSeries> chains;
+  std::vector<std::vector<std::size_t>> scans;  ///< scans[c][i]: the scan of pose chains[c][i]
   int failed_matches = 0;
 };
 MatchChains chainMatches(const std::vector<ScanMatch>& matches);

@@ -55,7 +55,8 @@ JointResult fitOnce(const std::vector<CalibrationInterval>& intervals, const Joi
                     std::vector<double>* scores) {
   JointResult result;
   const auto n = static_cast<Eigen::Index>(intervals.size());
-  const RotationFit stage1 = fitRotation(intervals, params.max_condition_number);
+  const RotationFit stage1 =
+      fitRotation(intervals, params.max_condition_number, params.heading_loops);
   result.condition_number = stage1.condition_number;
   result.J21 = stage1.J21;
   result.J22 = stage1.J22;

@@ -23,6 +23,9 @@ struct JointParams {
   /// Also estimate a sideslip k (s), the base moving sideways at k v w in turns
   /// (docs/calibration.md, "Sideslip"): one more linear unknown m = k b in stage 2.
   bool estimate_sideslip = false;
+  /// Spans whose headings loop closures corrected (calibrate --loop-closure): stage 1's
+  /// covariance propagates the correction (loop_covariance.hpp). Empty: intervals as matched.
+  std::vector<LoopSpan> heading_loops;
 };
 
 struct JointResult : CalibrationResult {

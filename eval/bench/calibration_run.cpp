@@ -44,6 +44,30 @@ Dataset withDerivedEncoders(const Dataset& dataset, const DiffDriveParams& nomin
   return derived;
 }
 
+// Each chain with the heading drift its loop closures reveal spread back (algo/matching/
+// loop_closure.hpp); `points` as matched (empty: the scans as measured).
+LoopClosureSummary closeLoops(const Dataset& dataset, const std::vector<Points2>& points,
+                              const algo::LoopClosureParams& params, algo::MatchChains& chained,
+                              std::vector<algo::LoopSpan>& spans) {
+  std::vector<Points2> raw;
+  if (points.empty())
+    for (const ScanRecord& record : dataset.scans) raw.push_back(record.scan.points());
+  const std::vector<Points2>& scan_points = points.empty() ? raw : points;
+  LoopClosureSummary summary;
+  for (std::size_t c = 0; c < chained.chains.size(); ++c) {
+    std::vector<const Points2*> chain_points;
+    for (const std::size_t scan : chained.scans[c]) chain_points.push_back(&scan_points[scan]);
+    algo::LoopCorrection loops = algo::closeLoops(chained.chains[c], chain_points, params);
+    summary.used += static_cast<int>(loops.loops.size());
+    summary.candidates += loops.candidates;
+    summary.max_link_change_rad = std::max(summary.max_link_change_rad, loops.max_link_change_rad);
+    for (const algo::LoopClosure& loop : loops.loops)
+      spans.push_back({chained.chains[c][loop.from].stamp_s, chained.chains[c][loop.to].stamp_s});
+    chained.chains[c] = std::move(loops.T_world_lidar);
+  }
+  return summary;
+}
+
 }  // namespace
 
 PoseSeries calibratedOdometry(const DatasetCalibration& c, const DiffDriveParams& geometry) {
@@ -75,6 +99,11 @@ CalibrationMotion calibrationMotion(const Dataset& dataset,
     matching.deskew.icp = options.icp;
     motion.matches = algo::matchConsecutiveScans(dataset, matching, points);
     algo::MatchChains chained = algo::chainMatches(motion.matches);
+    if (options.loop_closure) {
+      algo::LoopClosureParams loops = options.loops;
+      loops.icp = options.icp;  // the direct matches use the chain's matcher
+      motion.loops = closeLoops(dataset, points, loops, chained, motion.heading_loops);
+    }
     motion.chains = std::move(chained.chains);
     motion.failed_matches = chained.failed_matches;
   }
@@ -125,6 +154,8 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params) {
       out.intervals = std::move(motion.intervals);
       out.from_motion = true;
       out.failed_matches = motion.failed_matches;
+      out.loops = motion.loops;
+      input.heading_loops = std::move(motion.heading_loops);
     }
   }
   input.intervals = out.intervals.intervals;

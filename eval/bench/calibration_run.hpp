@@ -9,6 +9,7 @@
 #include "algo/calibration/calibration.hpp"
 #include "algo/calibration/calibration_json.hpp"
 #include "algo/calibration/dataset_motion.hpp"
+#include "algo/matching/loop_closure.hpp"
 #include "algo/timing/dataset_stamps.hpp"
 #include "core/dataset.hpp"
 
@@ -29,12 +30,25 @@ struct CalibrationMotionOptions {
   algo::IntervalParams intervals;
   /// The scan matcher between consecutive scans (the library's defaults unless overridden).
   algo::IcpParams icp;
+  /// Match scans where a chain revisits a place directly and spread the heading drift this
+  /// reveals back over the chain (`calibrate --loop-closure`, docs/calibration.md).
+  bool loop_closure = false;
+  algo::LoopClosureParams loops;  ///< its `icp` is replaced by `icp` above
+};
+
+/// What loop closure did to the chains, summed over them.
+struct LoopClosureSummary {
+  int used = 0;                      ///< direct matches that corrected the chains
+  int candidates = 0;                ///< pairs matched directly (used + refused)
+  double max_link_change_rad = 0.0;  ///< the largest heading change of one link
 };
 
 struct CalibrationMotion {
   std::vector<algo::ScanMatch> matches;  ///< consecutive scans (none for ground truth)
   std::vector<PoseSeries> chains;        ///< T_world_lidar chains (one for ground truth)
   int failed_matches = 0;
+  std::optional<LoopClosureSummary> loops;    ///< with loop_closure
+  std::vector<algo::LoopSpan> heading_loops;  ///< the spans the loop closures corrected
   algo::IntervalSet intervals;
 };
 
@@ -76,6 +90,7 @@ struct DatasetCalibration {
   algo::IntervalSet intervals;                ///< what the interval methods used, what was dropped
   bool from_motion = false;  ///< the intervals were cut from the dataset's motion (no tuples)
   int failed_matches = 0;    ///< scan matches that broke a chain
+  std::optional<LoopClosureSummary> loops;      ///< with --loop-closure
   std::vector<algo::StreamStamps> stamps;       ///< what stamp regularisation found and did
   std::optional<algo::CalibrationTruth> truth;  ///< when the dataset knows its true geometry
   /// Set when the log had no encoder ticks: the geometry the wheel increments were derived from

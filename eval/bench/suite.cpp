@@ -94,6 +94,8 @@ void parseKey(const YamlDoc& doc, const std::string& key, const YAML::Node& valu
     suite.calibration_methods = parseCalibrationMethods(doc, value);
   else if (key == "calibration_sideslip")
     suite.calibration_sideslip = doc.boolean(value, key);
+  else if (key == "calibration_loop_closure")
+    suite.calibration_loop_closure = doc.boolean(value, key);
   else if (key == "deskew_methods")
     suite.deskew_methods = doc.stringList(value, key);
   else if (key == "deskew_geometry")
@@ -168,10 +170,11 @@ Suite loadSuite(const std::filesystem::path& file) {
   suite.source = file;
   suite.name = file.stem().string();
   doc.guard([&] {
-    doc.checkKeys(root, "",
-                  {"name", "description", "worlds", "scenarios", "seeds", "base_seed", "duration_s",
-                   "mode", "motion", "calibration_methods", "calibration_sideslip",
-                   "deskew_methods", "deskew_geometry", "sweep", "tolerances", "set"});
+    doc.checkKeys(
+        root, "",
+        {"name", "description", "worlds", "scenarios", "seeds", "base_seed", "duration_s", "mode",
+         "motion", "calibration_methods", "calibration_sideslip", "calibration_loop_closure",
+         "deskew_methods", "deskew_geometry", "sweep", "tolerances", "set"});
     for (const auto& entry : root) parseKey(doc, doc.keyName(entry.first, ""), entry.second, suite);
   });
   validate(suite);

@@ -43,6 +43,9 @@ struct Suite {
   std::vector<algo::CalibrationMethod> calibration_methods;  ///< interval methods only
   /// joint and ceres also estimate a sideslip k (calibrate --sideslip, docs/calibration.md).
   bool calibration_sideslip = false;
+  /// Scan-matched motion gets its heading drift removed by loop closures first (calibrate
+  /// --loop-closure, docs/calibration.md).
+  bool calibration_loop_closure = false;
   std::vector<std::string> deskew_methods;
   /// Wheel geometry the odometry-based de-skew methods use: nominal | true | calibrated.
   std::string deskew_geometry = "nominal";

@@ -57,13 +57,18 @@ json simJson(const sim::SimSummary& s) {
 json matchingJson(const Dataset& dataset, const CalibrationMotion& motion) {
   const ScanMatchError e = scanMatchError(motion.matches, algo::lidarPosesFromGroundTruth(dataset));
   const double converged_fraction = e.pairs > 0 ? static_cast<double>(e.converged) / e.pairs : 0.0;
-  if (!e.translation_m.ok) return {{"pairs", e.pairs}, {"converged_fraction", converged_fraction}};
-  return {{"pairs", e.pairs},
-          {"converged_fraction", converged_fraction},
-          {"trans_error_m_mean", e.translation_m.mean},
-          {"trans_error_m_rmse", e.translation_m.rmse},
-          {"rot_error_deg_mean", e.rotation_deg.mean},
-          {"rot_error_deg_rmse", e.rotation_deg.rmse}};
+  json out = {{"pairs", e.pairs}, {"converged_fraction", converged_fraction}};
+  if (e.translation_m.ok)
+    out.update({{"trans_error_m_mean", e.translation_m.mean},
+                {"trans_error_m_rmse", e.translation_m.rmse},
+                {"rot_error_deg_mean", e.rotation_deg.mean},
+                {"rot_error_deg_rmse", e.rotation_deg.rmse}});
+  if (motion.loops)
+    out["loop_closure"] = {
+        {"used", motion.loops->used},
+        {"candidates", motion.loops->candidates},
+        {"max_link_change_deg", motion.loops->max_link_change_rad * 180.0 / std::numbers::pi}};
+  return out;
 }
 
 // Dead-reckoning error against the truth, as evo computes it: APE after putting the first poses
@@ -307,11 +312,13 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
     start = Clock::now();
     CalibrationMotionOptions motion_options;
     motion_options.from_icp = suite.motion == "icp";
+    motion_options.loop_closure = suite.calibration_loop_closure;
     CalibrationMotion motion = calibrationMotion(dataset, motion_options);
     out.timing["motion_s"] = secondsSince(start);
     if (motion_options.from_icp) out.result["matching"] = matchingJson(dataset, motion);
     algo::CalibrationInput input;
     input.intervals = std::move(motion.intervals.intervals);
+    input.heading_loops = std::move(motion.heading_loops);
     input.nominal = dataset.info.nominal_geometry;
     stages.begin("calibrate");
     const algo::CalibrationParams params = calibrationParams(suite);

@@ -58,6 +58,18 @@ inline double castRay(const std::vector<Segment>& world, const Eigen::Vector2d& 
   return best <= range_max_m ? best : std::numeric_limits<double>::infinity();
 }
 
+/// A scan from a standing lidar in `room`: `beams` over the full turn from -pi, exact ranges.
+inline Points2 standingScan(const std::vector<Segment>& world, const SE2& T_world_lidar,
+                            int beams) {
+  Points2 points;
+  for (int i = 0; i < beams; ++i) {
+    const double a = -std::numbers::pi + i * 2.0 * std::numbers::pi / beams;
+    const double r = castRay(world, T_world_lidar.translation(), T_world_lidar.yaw + a, 30.0);
+    if (std::isfinite(r)) points.push_back(r * Eigen::Vector2d(std::cos(a), std::sin(a)));
+  }
+  return points;
+}
+
 /// Robot motion with constant linear and angular acceleration from T0 (body-frame twist rates).
 struct Motion {
   SE2 T_world_base0;

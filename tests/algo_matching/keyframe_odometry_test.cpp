@@ -13,19 +13,12 @@
 namespace slamprep::algo {
 namespace {
 
-using slamprep::testing::castRay;
 using slamprep::testing::roomWorld;
+using slamprep::testing::standingScan;
 
 /// A 360-beam scan over a full turn from one pose (no motion during the scan), noiseless.
 Points2 scanAt(const SE2& T_world_lidar) {
-  const auto world = roomWorld();
-  Points2 points;
-  for (int i = 0; i < 360; ++i) {
-    const double a = -std::numbers::pi + i * 2.0 * std::numbers::pi / 360;
-    const double r = castRay(world, T_world_lidar.translation(), T_world_lidar.yaw + a, 30.0);
-    if (std::isfinite(r)) points.push_back(r * Eigen::Vector2d(std::cos(a), std::sin(a)));
-  }
-  return points;
+  return standingScan(roomWorld(), T_world_lidar, 360);
 }
 
 /// n poses from (-1.5, -0.5, 0), each `step` after the last.

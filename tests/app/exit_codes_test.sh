@@ -72,6 +72,8 @@ expect 2 calibrate "$fig8" --methd joint
 expect 2 calibrate "$fig8" --deskew foo
 expect 2 calibrate "$fig8" --sideslip --time-offset
 err_has "excludes"
+expect 2 calibrate "$fig8" --loop-closure --motion groundtruth
+err_has "--loop-closure: closes the loops of scan-matched motion"
 expect 2 calibrate "$dir/nowhere"
 internal calibrate "$fig8"
 

@@ -52,18 +52,24 @@ TEST(Suite, RejectsUnknownKeyWithFileAndLine) {
   }
 }
 
-TEST(Suite, ReadsTheSideslipSwitchAndRefusesANonBoolean) {
+TEST(Suite, ReadsTheCalibrationSwitchesAndRefusesANonBoolean) {
   const std::string base = "worlds: [a]\nscenarios: [b]\n";
-  EXPECT_FALSE(loadSuite(writeTemp("k0.yaml", base)).calibration_sideslip);
-  EXPECT_TRUE(loadSuite(writeTemp("k1.yaml", base + "calibration_sideslip: true\n"))
-                  .calibration_sideslip);
-  try {
-    loadSuite(writeTemp("k2.yaml", base + "calibration_sideslip: maybe\n"));
-    FAIL() << "accepted 'maybe'";
-  } catch (const InputError& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("k2.yaml:3"), std::string::npos) << what;
-    EXPECT_NE(what.find("calibration_sideslip"), std::string::npos) << what;
+  const Suite defaults = loadSuite(writeTemp("k0.yaml", base));
+  EXPECT_FALSE(defaults.calibration_sideslip);
+  EXPECT_FALSE(defaults.calibration_loop_closure);
+  EXPECT_TRUE(
+      loadSuite(writeTemp("k1.yaml", base + "calibration_sideslip: true\n")).calibration_sideslip);
+  EXPECT_TRUE(loadSuite(writeTemp("k2.yaml", base + "calibration_loop_closure: true\n"))
+                  .calibration_loop_closure);
+  for (const std::string key : {"calibration_sideslip", "calibration_loop_closure"}) {
+    try {
+      loadSuite(writeTemp("k3.yaml", base + key + ": maybe\n"));
+      FAIL() << key << ": accepted 'maybe'";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("k3.yaml:3"), std::string::npos) << what;
+      EXPECT_NE(what.find(key), std::string::npos) << what;
+    }
   }
 }
 
