@@ -17,8 +17,7 @@ std::size_t boundaryAt(const std::vector<CalibrationInterval>& intervals, double
   return static_cast<std::size_t>(it - intervals.begin());
 }
 
-}  // namespace
-
+// Each loop as the interval boundaries it spans, from < to; loops spanning no interval dropped.
 std::vector<std::pair<std::size_t, std::size_t>> loopBoundaries(
     const std::vector<CalibrationInterval>& intervals, const std::vector<LoopSpan>& loops) {
   std::vector<std::pair<std::size_t, std::size_t>> spans;
@@ -29,6 +28,8 @@ std::vector<std::pair<std::size_t, std::size_t>> loopBoundaries(
   }
   return spans;
 }
+
+}  // namespace
 
 LoopCorrectedRows loopCorrectedRows(const std::vector<CalibrationInterval>& intervals,
                                     const std::vector<LoopSpan>& loops, const Eigen::MatrixXd& J) {
