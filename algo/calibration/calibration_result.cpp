@@ -101,14 +101,13 @@ RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, doubl
   const double dof = static_cast<double>(n - 2);
   fit.sigma_theta_rad = dof > 0 ? std::sqrt(res.squaredNorm() / dof) : 0.0;
   const double f = adjacentCorrelationFactor(intervals, fit.residuals_rad);
-  const double var = fit.sigma_theta_rad * fit.sigma_theta_rad;
-  fit.covariance = f * fit.sigma_theta_rad * fit.sigma_theta_rad * (A.transpose() * A).inverse();
-  if (!heading_loops.empty() && var > 0.0) {  // the sandwich around the loop-corrected score
-    const Eigen::Matrix2d AtA_inv = (A.transpose() * A).inverse();
+  const Eigen::Matrix2d AtA_inv = (A.transpose() * A).inverse();
+  fit.covariance = f * fit.sigma_theta_rad * fit.sigma_theta_rad * AtA_inv;
+  if (!heading_loops.empty() && fit.sigma_theta_rad > 0.0) {  // sandwich, loop-corrected score
     std::vector<double> normalized(fit.residuals_rad);
     for (double& r : normalized) r /= fit.sigma_theta_rad;
-    fit.covariance =
-        var * AtA_inv * loopScoreCovariance(intervals, heading_loops, A, normalized, f) * AtA_inv;
+    fit.covariance = fit.sigma_theta_rad * fit.sigma_theta_rad * AtA_inv *
+                     loopScoreCovariance(intervals, heading_loops, A, normalized, f) * AtA_inv;
   }
   // r_L = -J21 b and r_R = J22 b must both be positive for b > 0.
   if (fit.J21 > 0.0 && fit.J22 < 0.0) {

@@ -45,14 +45,10 @@ Dataset withDerivedEncoders(const Dataset& dataset, const DiffDriveParams& nomin
 }
 
 // Each chain with the heading drift its loop closures reveal spread back (algo/matching/
-// loop_closure.hpp); `points` as matched (empty: the scans as measured).
-LoopClosureSummary closeLoops(const Dataset& dataset, const std::vector<Points2>& points,
+// loop_closure.hpp); `scan_points`: every scan's points as matched.
+LoopClosureSummary closeLoops(const std::vector<Points2>& scan_points,
                               const algo::LoopClosureParams& params, algo::MatchChains& chained,
                               std::vector<algo::LoopSpan>& spans) {
-  std::vector<Points2> raw;
-  if (points.empty())
-    for (const ScanRecord& record : dataset.scans) raw.push_back(record.scan.points());
-  const std::vector<Points2>& scan_points = points.empty() ? raw : points;
   LoopClosureSummary summary;
   for (std::size_t c = 0; c < chained.chains.size(); ++c) {
     std::vector<const Points2*> chain_points;
@@ -94,6 +90,8 @@ CalibrationMotion calibrationMotion(const Dataset& dataset,
     deskew.stamp_is_last_beam = options.stamp_is_last_beam;
     if (*method != algo::DeskewMethod::kNone)
       points = correctedPoints(deskewDataset(dataset, *method, deskew));
+    else if (options.loop_closure)  // extracted once, for the chain's and the loops' matches
+      for (const ScanRecord& record : dataset.scans) points.push_back(record.scan.points());
     algo::ScanMotionParams matching;
     matching.stamp_is_last_beam = options.stamp_is_last_beam;
     matching.deskew.icp = options.icp;
@@ -102,7 +100,7 @@ CalibrationMotion calibrationMotion(const Dataset& dataset,
     if (options.loop_closure) {
       algo::LoopClosureParams loops = options.loops;
       loops.icp = options.icp;  // the direct matches use the chain's matcher
-      motion.loops = closeLoops(dataset, points, loops, chained, motion.heading_loops);
+      motion.loops = closeLoops(points, loops, chained, motion.heading_loops);
     }
     motion.chains = std::move(chained.chains);
     motion.failed_matches = chained.failed_matches;
