@@ -1,6 +1,8 @@
 #include "algo/agreement/agreement_report.hpp"
 
+#include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 
 namespace slamprep::algo {
@@ -25,6 +27,7 @@ nlohmann::ordered_json pairJson(const PairAgreement& p) {
                               {"model", p.model},
                               {"windows", p.windows},
                               {"kept", p.kept},
+                              {"lag_s", p.lag_s},
                               {"scale", p.scale},
                               {"bias_degps", p.bias_radps * kDeg},
                               {"rms_residual_deg", p.rms_residual_rad * kDeg},
@@ -42,18 +45,27 @@ std::string line(const char* format, auto... args) {
   return buffer;
 }
 
-std::string pairText(const PairAgreement& p) {
+/// Spans are printed in seconds from the recording's start (`t_start`); the JSON keeps stamps.
+std::string pairText(const PairAgreement& p, double t_start) {
   std::string s = line("  %s vs %s: %zu windows, %s turn %.3fx %s", p.a.c_str(), p.b.c_str(),
                        p.windows, p.a.c_str(), p.scale, p.b.c_str());
   if (p.effective_wheel_base_m)
     s += line(" (wheel base %.1f mm with the nominal radii)", *p.effective_wheel_base_m * 1e3);
+  if (p.lag_s != 0.0) s += line(", %s %.2f s late", p.b.c_str(), p.lag_s);
   s += line(", rms %.2f deg per window", p.rms_residual_rad * kDeg);
   if (p.disagreements.empty()) return s + ", agree\n";
   s += line(", DISAGREE in %zu span%s:\n", p.disagreements.size(),
             p.disagreements.size() == 1 ? "" : "s");
   for (const Disagreement& d : p.disagreements)
-    s += line("    %.1f-%.1f s: %s\n", d.t0_s, d.t1_s, d.likely_cause.c_str());
+    s += line("    +%.1f..+%.1f s: %s\n", d.t0_s - t_start, d.t1_s - t_start,
+              d.likely_cause.c_str());
   return s;
+}
+
+double startOf(const SensorAgreement& a) {
+  double t = std::numeric_limits<double>::infinity();
+  for (const SourceTurning& s : a.sources) t = std::min(t, s.from_s);
+  return t;
 }
 
 }  // namespace
@@ -86,7 +98,7 @@ std::string agreementText(const SensorAgreement& a) {
     s += line("%s %s net %.1f deg, absolute %.1f deg", i ? ";" : "", a.sources[i].name.c_str(),
               a.sources[i].net_rad * kDeg, a.sources[i].absolute_rad * kDeg);
   s += "\n";
-  for (const PairAgreement& p : a.pairs) s += pairText(p);
+  for (const PairAgreement& p : a.pairs) s += pairText(p, startOf(a));
   for (const std::string& f : a.findings) s += "  finding: " + f + "\n";
   return s;
 }
@@ -99,7 +111,8 @@ std::string wheelsGyroConflictText(const SensorAgreement& a) {
       "in %zu span%s:",
       p->disagreements.size(), p->disagreements.size() == 1 ? "" : "s");
   for (const Disagreement& d : p->disagreements)
-    s += line(" %.1f-%.1f s (%s);", d.t0_s, d.t1_s, d.likely_cause.c_str());
+    s += line(" +%.1f..+%.1f s from the start (%s);", d.t0_s - startOf(a), d.t1_s - startOf(a),
+              d.likely_cause.c_str());
   return s;
 }
 

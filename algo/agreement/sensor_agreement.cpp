@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -26,12 +27,16 @@ struct Source {
   std::vector<HeadingSeries> pieces;
   const WheelTrack* wheels = nullptr;
   bool is_gyro = false;
+  /// Poses and wheel angles keep what they turned across a gap between samples; rates do not.
+  double gapLimit(double max_gap_s) const {
+    return is_gyro ? max_gap_s : std::numeric_limits<double>::infinity();
+  }
 
   double from() const { return pieces.front().frontStamp(); }
   double to() const { return pieces.back().backStamp(); }
   std::optional<double> turn(double t0, double t1, double max_gap_s) const {
     for (const HeadingSeries& h : pieces)
-      if (h.covers(t0) && h.covers(t1)) return turned(h, t0, t1, max_gap_s);
+      if (h.covers(t0) && h.covers(t1)) return turned(h, t0, t1, gapLimit(max_gap_s));
     return std::nullopt;
   }
 };
@@ -47,15 +52,15 @@ std::optional<Eigen::Vector2d> wheelTurn(const WheelTrack& w, double t0, double 
 
 /// The equation of one window [t0, t1] (Eq. 1 where a is the wheels, else Eq. 2); nullopt where
 /// a source does not cover it.
-std::optional<Row> rowAt(const Source& a, const Source& b, double t0, double t1,
+std::optional<Row> rowAt(const Source& a, const Source& b, double t0, double t1, double lag_s,
                          const AgreementParams& p) {
   const auto da = a.turn(t0, t1, p.max_gap_s);
-  const auto db = b.turn(t0, t1, p.max_gap_s);
+  const auto db = b.turn(t0 + lag_s, t1 + lag_s, p.max_gap_s);
   if (!da || !db) return std::nullopt;
   const bool bias = a.is_gyro || b.is_gyro;
   Eigen::VectorXd x(bias ? 3 : 2);
   if (a.wheels) {
-    const auto dphi = wheelTurn(*a.wheels, t0, t1, p.max_gap_s);
+    const auto dphi = wheelTurn(*a.wheels, t0, t1, a.gapLimit(p.max_gap_s));
     if (!dphi) return std::nullopt;
     x.head<2>() << (*dphi)(1), -(*dphi)(0);  // Eq. 1: a dphi_R - c dphi_L
   } else {
@@ -65,15 +70,15 @@ std::optional<Row> rowAt(const Source& a, const Source& b, double t0, double t1,
   return Row{t0, t1, *db, x, *da, *db};
 }
 
-/// The rows of the pair (a, b) over every window both cover.
-std::vector<Row> rowsOf(const Source& a, const Source& b, const AgreementParams& p) {
+/// The rows of the pair (a, b) over every window both cover, b read `lag_s` later.
+std::vector<Row> rowsOf(const Source& a, const Source& b, double lag_s, const AgreementParams& p) {
   std::vector<Row> rows;
-  const double from = std::max(a.from(), b.from());
-  const double to = std::min(a.to(), b.to());
+  const double from = std::max(a.from(), b.from() - lag_s);
+  const double to = std::min(a.to(), b.to() - lag_s);
   const auto n = static_cast<long>(std::floor((to - from - p.window_s) / p.step_s + 1e-9));
   for (long i = 0; i <= n; ++i) {
     const double t0 = from + double(i) * p.step_s;
-    if (auto row = rowAt(a, b, t0, t0 + p.window_s, p)) rows.push_back(std::move(*row));
+    if (auto row = rowAt(a, b, t0, t0 + p.window_s, lag_s, p)) rows.push_back(std::move(*row));
   }
   return rows;
 }
@@ -168,9 +173,17 @@ std::string likelyCause(const Source& a, const Source& b, double predicted_b, do
   return told + "the wheels turned more than the robot: wheel slip";
 }
 
+/// A span whose turns agree as a whole but not window by window: the two disagree on when.
+std::string transientCause(const Source& a, const Source& b, double predicted_b, double turn_b) {
+  return a.name + (a.name == "wheels" || a.name == "scans" ? " say " : " says ") +
+         fmtDeg(predicted_b) + " deg and " + b.name + " turned " + fmtDeg(turn_b) +
+         " deg over the span, but not at the same times inside it: a varying delay between "
+         "them, or a turn one of them saw late (a slipping or blocked wheel that caught up)";
+}
+
 /// The flagged windows merged into spans, each with what the sources turned over it.
 std::vector<Disagreement> disagreements(const Source& a, const Source& b,
-                                        const std::vector<Row>& rows, const Fit& f,
+                                        const std::vector<Row>& rows, const Fit& f, double lag_s,
                                         const AgreementParams& p) {
   const double limit = std::max(p.disagreement_sigmas * f.sigma, p.disagreement_floor_rad);
   std::vector<Disagreement> spans;
@@ -185,12 +198,31 @@ std::vector<Disagreement> disagreements(const Source& a, const Source& b,
     }
   }
   for (Disagreement& d : spans)
-    if (const auto row = rowAt(a, b, d.t0_s, d.t1_s, p)) {
+    if (const auto row = rowAt(a, b, d.t0_s, d.t1_s, lag_s, p)) {
       d.turn_a_rad = row->turn_a;
       d.turn_b_rad = row->turn_b;
-      d.likely_cause = likelyCause(a, b, row->x.dot(f.coef), row->turn_b);
+      const double predicted = row->x.dot(f.coef);
+      d.likely_cause = std::abs(predicted - row->turn_b) < p.disagreement_floor_rad
+                           ? transientCause(a, b, predicted, row->turn_b)
+                           : likelyCause(a, b, predicted, row->turn_b);
     }
   return spans;
+}
+
+/// The delay of b's clock behind a's that fits best (lowest robust sigma over a grid of
+/// +-max_lag_s); of equally good ones (within 1 %), the smallest.
+double bestLag(const Source& a, const Source& b, const AgreementParams& p) {
+  double best = 0.0, best_sigma = std::numeric_limits<double>::infinity();
+  const auto steps = static_cast<int>(std::round(p.max_lag_s / p.lag_step_s));
+  for (int i = 0; i <= 2 * steps; ++i) {
+    const int k = (i % 2 == 0 ? 1 : -1) * ((i + 1) / 2);  // 0, -1, 1, -2, 2, ...
+    const double lag = k * p.lag_step_s;
+    const std::vector<Row> rows = rowsOf(a, b, lag, p);
+    if (rows.size() < 3) continue;
+    const double sigma = robustFit(rows, p).sigma;
+    if (sigma < 0.99 * best_sigma) best = lag, best_sigma = sigma;
+  }
+  return best;
 }
 
 PairAgreement comparePair(const Source& a, const Source& b, const AgreementParams& p) {
@@ -198,7 +230,8 @@ PairAgreement comparePair(const Source& a, const Source& b, const AgreementParam
   out.a = a.name;
   out.b = b.name;
   out.model = a.wheels ? "wheels" : "scale";
-  const std::vector<Row> rows = rowsOf(a, b, p);
+  out.lag_s = p.max_lag_s > 0.0 ? bestLag(a, b, p) : 0.0;
+  const std::vector<Row> rows = rowsOf(a, b, out.lag_s, p);
   out.windows = rows.size();
   if (rows.empty()) return out;
   const Fit f = robustFit(rows, p);
@@ -220,7 +253,7 @@ PairAgreement comparePair(const Source& a, const Source& b, const AgreementParam
     if (f.coef(0) + f.coef(1) > 0.0)
       out.effective_wheel_base_m = (g.radius_left_m + g.radius_right_m) / (f.coef(0) + f.coef(1));
   }
-  out.disagreements = disagreements(a, b, rows, f, p);
+  out.disagreements = disagreements(a, b, rows, f, out.lag_s, p);
   return out;
 }
 
@@ -229,7 +262,8 @@ SourceTurning turningOf(const Source& s, const AgreementParams& p) {
   for (const HeadingSeries& h : s.pieces) {
     t.net_rad += h[h.size() - 1].value - h[0].value;
     for (double t0 = h.frontStamp(); t0 < h.backStamp(); t0 += p.step_s)
-      if (const auto d = turned(h, t0, std::min(t0 + p.step_s, h.backStamp()), p.max_gap_s))
+      if (const auto d =
+              turned(h, t0, std::min(t0 + p.step_s, h.backStamp()), s.gapLimit(p.max_gap_s)))
         t.absolute_rad += std::abs(*d);
   }
   return t;

@@ -16,7 +16,8 @@
 //     dB_w = s dA_w  (+ g dt_w where one of them is the gyro).                           (Eq. 2)
 // Fit: least absolute deviations first (a block of faulty windows drags least squares, not it),
 // then the windows beyond outlier_sigmas robust sigmas (1.4826 MAD over all windows) dropped and
-// least squares on the rest, repeated until the kept set repeats. A window disagrees when
+// least squares on the rest, repeated until the kept set repeats; b's clock delay behind a's is
+// the one of a grid that fits best. A window disagrees when
 // its residual exceeds max(disagreement_sigmas sigma, disagreement_floor_rad); overlapping
 // disagreeing windows merge into one span.
 
@@ -52,7 +53,8 @@ struct RotationSources {
 struct AgreementParams {
   double window_s = 5.0;
   double step_s = 1.0;
-  /// A source with two samples farther apart than this inside a window says nothing of it.
+  /// A gyro with two samples farther apart than this inside a window says nothing of it (its
+  /// rate is unknown in between; poses and wheel angles keep what was turned across a gap).
   double max_gap_s = 0.5;
   double outlier_sigmas = 5.0;
   double disagreement_sigmas = 5.0;
@@ -61,6 +63,11 @@ struct AgreementParams {
   double disagreement_floor_rad = 5.0 * 3.14159265358979323846 / 180.0;
   /// Robust sigma floor (noise-free simulated data has MAD ~ 0).
   double min_sigma_rad = 1e-4;
+  /// The delay between two sources' clocks is searched over +-max_lag_s in lag_step_s (0: not
+  /// searched): a real robot's odometry and scans are stamped by different clocks and paths,
+  /// and a 0.1 s delay reads as 6 degrees per window in a 1 rad/s turn.
+  double max_lag_s = 0.5;
+  double lag_step_s = 0.01;
 };
 
 /// How much one source turned over the recording.
@@ -86,6 +93,7 @@ struct PairAgreement {
   std::string model;        ///< "wheels" (Eq. 1) or "scale" (Eq. 2)
   std::size_t windows = 0;  ///< windows both cover
   std::size_t kept = 0;     ///< windows the final fit kept
+  double lag_s = 0.0;       ///< b's stamps lag a's by this (b read at t + lag_s)
   double scale = 1.0;       ///< over the kept windows: sum |dA| / sum |dB| (wheels: nominal)
   double bias_radps = 0.0;  ///< g of Eq. 1 / Eq. 2 (0 without a gyro)
   /// Eq. 1: (a, c) = (r_R / b, r_L / b), and b with the nominal radii: (r_L + r_R) / (a + c).

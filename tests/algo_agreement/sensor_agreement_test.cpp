@@ -56,7 +56,8 @@ TEST(SensorAgreement, AWrongNominalWheelBaseIsAScaleNotADisagreement) {
   const SensorAgreement a = compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}});
   const PairAgreement* p = a.pair("wheels", "gyro");
   ASSERT_NE(p, nullptr);
-  EXPECT_EQ(p->windows, 116u);  // 5 s windows every 1 s over 120 s
+  EXPECT_NEAR(p->lag_s, 0.0, 0.02);  // the two clocks agree
+  EXPECT_GE(p->windows, 115u);       // 5 s windows every 1 s over 120 s (one lost to a lag)
   EXPECT_TRUE(p->disagreements.empty()) << agreementText(a);
   EXPECT_NEAR(p->scale, 0.178 / 0.160, 0.005);
   ASSERT_TRUE(p->effective_wheel_base_m);
@@ -99,9 +100,30 @@ TEST(SensorAgreement, ScanPiecesAreComparedWithinEachPieceOnly) {
   const PairAgreement* p = a.pair("gyro", "scans");
   ASSERT_NE(p, nullptr);
   EXPECT_EQ(p->model, "scale");
-  EXPECT_EQ(p->windows, 46u + 65u);  // no window straddles the break
+  EXPECT_NEAR(p->lag_s, 0.0, 0.02);
+  EXPECT_GE(p->windows, 46u + 65u - 2u);  // no window straddles the break
+  EXPECT_LE(p->windows, 46u + 65u);
   EXPECT_TRUE(p->disagreements.empty()) << agreementText(a);
   EXPECT_NEAR(p->scale, 1.0, 0.01);
+}
+
+// Stamps of one sensor 0.2 s late: the delay is found and the turns agree again (without it, a
+// 1 rad/s turn would read as 11 degrees of disagreement per window).
+TEST(SensorAgreement, AClockDelayBetweenTwoSensorsIsFound) {
+  Drive d = drive();
+  for (ImuSample& s : d.imu) s.stamp_s += 0.2;
+  const SensorAgreement a = compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}});
+  const PairAgreement* p = a.pair("wheels", "gyro");
+  ASSERT_NE(p, nullptr);
+  EXPECT_NEAR(p->lag_s, 0.2, 0.015);
+  EXPECT_TRUE(p->disagreements.empty()) << agreementText(a);
+  ASSERT_TRUE(p->effective_wheel_base_m);
+  EXPECT_NEAR(*p->effective_wheel_base_m, 0.178, 0.0005);
+  AgreementParams no_lag;
+  no_lag.max_lag_s = 0.0;
+  const PairAgreement* q = compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}}, no_lag)
+                               .pair("wheels", "gyro");
+  EXPECT_GT(q->rms_residual_rad, 5.0 * p->rms_residual_rad);
 }
 
 TEST(SensorAgreement, AnOdometryTopicThatFollowsTheGyroIsFound) {
