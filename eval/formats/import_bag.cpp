@@ -530,6 +530,10 @@ void summarizeScans(const BagData& d, const ImportParams& p, std::size_t message
   s.range = rangeReport(d.ranges, p.max_range_m, d.cut_by_max_range);
   Dataset& ds = r.dataset;
   if (p.max_range_m) ds.info.config["max_range_m"] = *p.max_range_m;
+  if (d.ranges.count() == 0)
+    r.notes.push_back(
+        "no scan has a valid reading (every range is non-finite or outside "
+        "[range_min, range_max]): the lidar saw nothing");
   if (s.range->suspect) {
     ds.info.config["range_max_suspect"] = s.range->text();
     r.notes.push_back(s.range->text());

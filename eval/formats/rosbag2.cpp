@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <optional>
+#include <set>
 
 #include "core/error.hpp"
 
@@ -52,9 +53,19 @@ fs::path listedFile(const fs::path& dir, const YAML::Node& p, const std::string&
   fs::path file = dir / relative;
   // Older rosbag2 versions wrote the bag folder's name in front of each file.
   if (!fs::exists(file) && relative.has_parent_path()) file = dir / relative.filename();
-  if (!fs::is_regular_file(file))
-    throw InputError(where,
-                     "relative_file_paths: " + relative.string() + " not found in " + dir.string());
+  if (!fs::is_regular_file(file)) {
+    std::set<std::string> names;  // a renamed bag: say what the folder holds
+    for (const auto& e : fs::directory_iterator(dir))
+      if (kindFromName(e.path().filename())) names.insert(e.path().filename().string());
+    std::string present;
+    for (const std::string& n : names) {
+      if (!present.empty()) present += ", ";
+      present += n;
+    }
+    throw InputError(where, "relative_file_paths: " + relative.string() + " not found in " +
+                                dir.string() +
+                                (present.empty() ? "" : " (it holds " + present + ")"));
+  }
   return file;
 }
 
