@@ -97,8 +97,9 @@ std::string StaleReport::text() const {
   const StaleRun& l = *longest();
   s += std::to_string(runs.size()) + " stale runs, " + std::to_string(dropped()) + " of " +
        std::to_string(samples) + " samples dropped (interpolated over); longest " +
-       number(l.span_s) + " s from " + number(l.start_s) + " s (" + std::to_string(l.repeats + 1) +
-       " equal samples, then a step of " + number(l.jump[0]) + " " + units[0] + ", " +
+       number(l.span_s) + " s from " + std::to_string(l.start_s) + " s (" +
+       std::to_string(l.repeats + 1) + " equal samples, then a step of " + number(l.jump[0]) + " " +
+       units[0] + ", " +
        number(units[1] == "rad" ? l.jump[1] * 180 / std::numbers::pi : l.jump[1]) + " " +
        (units[1] == "rad" ? "deg" : units[1]) + "; ordinary steps are under " +
        number(threshold[0]) + " " + units[0] + ", " + number(threshold[1]) + " " + units[1] + ")";
