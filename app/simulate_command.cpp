@@ -60,6 +60,8 @@ sim::SimConfig readConfigFile(const std::string& file) {
   if (json.is_discarded()) throw InputError(file, "malformed JSON");
   if (json.is_object() && json.contains("config") && json.contains("format_version")) {
     json = json["config"];
+    // Keys the dataset adds beside the simulator's configuration (docs/dataset.md).
+    for (const char* key : {"encoders_from", "odometry_heading"}) json.erase(key);
   }
   return sim::configFromJson(json, file);
 }

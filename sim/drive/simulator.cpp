@@ -334,6 +334,7 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   info.T_base_lidar = config.lidar.T_base_lidar;
   info.ticks_per_revolution = config.encoders.ticks_per_revolution;
   info.config = toJson(config);
+  info.config["encoders_from"] = "ticks";  // docs/dataset.md: simulated encoders count ticks
 
   const Controller controller(scenario.profile, info.nominal_geometry);
   std::unique_ptr<Motion> motion;
