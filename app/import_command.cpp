@@ -4,6 +4,8 @@
 #include <numbers>
 #include <sstream>
 
+#include "algo/agreement/agreement_report.hpp"
+#include "algo/agreement/dataset_sources.hpp"
 #include "app/choices.hpp"
 #include "app/commands.hpp"
 #include "app/outputs.hpp"
@@ -110,12 +112,15 @@ int runImport(ImportFlags flags) {
             << flags.out << "\n";
   printSummary(result.summary, carmen);
   for (const auto& note : result.notes) std::cerr << "import: note: " << note << "\n";
-  if (!flags.json_out.empty())
-    writeFileAtomic(flags.json_out,
-                    eval::importSummaryJson(flags.input, flags.format, flags.out, result.summary, d,
-                                            {scans}, result.notes)
-                            .dump(2) +
-                        "\n");
+  // Wheels, gyro and the odometry topic, whichever the log has (the scans: `match`).
+  const algo::SensorAgreement agreement = algo::compareSensors(algo::datasetSources(d));
+  std::cout << algo::agreementText(agreement);
+  if (!flags.json_out.empty()) {
+    auto json = eval::importSummaryJson(flags.input, flags.format, flags.out, result.summary, d,
+                                        {scans}, result.notes);
+    json["sensor_agreement"] = algo::agreementJson(agreement, algo::encodersFrom(d.info));
+    writeFileAtomic(flags.json_out, json.dump(2) + "\n");
+  }
   return 0;
 }
 
