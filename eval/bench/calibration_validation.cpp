@@ -59,6 +59,10 @@ HeldOutPart heldOutPart(const Dataset& held_out, const OdometryEncoders& odometr
       !held_out.scans.empty() && held_out.scans.front().scan.time_increment_s == 0.0;
   MatchTrajectoryOptions options;
   options.stamp_is_last_beam = params.stamp_is_last_beam;
+  // The match alone, not fused with the nominal odometry: the reference must not lean towards
+  // the raw geometry it is to judge.
+  options.params.odometry_sigma_m = 0.0;
+  options.params.odometry_sigma_rad = 0.0;
   const std::vector<Points2> points =
       matchScanPoints(held_out, !instantaneous, params.stamp_is_last_beam);
   const MatchTrajectory run = matchTrajectory(held_out, points, options);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -210,10 +211,11 @@ TEST(CalibrateJson, OneRecordingIsTodaysArraySeveralTheCombinedObject) {
   EXPECT_EQ(j["combined"][0]["method"], "model");
   EXPECT_DOUBLE_EQ(j["combined"][0]["b"].get<double>(), 0.55);
   EXPECT_DOUBLE_EQ(j["combined"][0]["validation"]["calibrated"]["trans_m"].get<double>(), 0.05);
-  EXPECT_DOUBLE_EQ(j["consistency"]["model"]["b"]["chi2_dof"].get<double>(), 5.0);
+  // b = 0.5 and 0.6, sigma 1 mm each: chi2/dof = 2 (0.05 / 0.001)^2 = 5000.
+  EXPECT_NEAR(j["consistency"]["model"]["b"]["chi2_dof"].get<double>(), 5000.0, 1e-9);
   EXPECT_EQ(j["consistency"]["model"]["b"]["n"], 2);
-  // sqrt(5) x the information's sigma sqrt(1e-6 / 2)
-  EXPECT_NEAR(j["combined"][0]["sigma"]["b"].get<double>(), std::sqrt(5.0 * 0.5e-6), 1e-15);
+  // sqrt(5000) x the information's sigma sqrt(1e-6 / 2): 0.05, the scatter itself.
+  EXPECT_NEAR(j["combined"][0]["sigma"]["b"].get<double>(), 0.05, 1e-15);
   const CalibrationFile file = parseCalibrationJson(formatCalibrateJson(report), "cal.json");
   ASSERT_EQ(file.runs.size(), 1u);
   EXPECT_DOUBLE_EQ(file.requireBest().result.geometry.wheel_base_m, 0.55);

@@ -70,10 +70,12 @@ TEST(ValidationSplit, HoldsOutTheLastFractionOfTheScansByTime) {
   EXPECT_THROW(splitForValidation(d, 1.0, "d"), InputError);
 }
 
+// The figure eight (25 s, both curvatures in the first 70 %), its last 30 % held out: 7.5 s of
+// the right-hand circle, where the wrong nominal geometry turns about 3.75 % too little.
 TEST(CalibrationValidation, CalibratedBeatsTheWrongNominalOnHeldOutScans) {
-  sim::SimConfig config;  // default scenario: figure eight first
+  sim::SimConfig config;
+  config.scenario = "worlds/scenarios/figure_eight.yaml";
   config.mode = sim::SimMode::kinematic;
-  config.duration_s = 12.0;
   const test::ScratchDir scratch("calibration_validation");
   const auto dir = scratch / "data";
   writeDataset(dir, sim::simulate(config).dataset);
@@ -81,23 +83,24 @@ TEST(CalibrationValidation, CalibratedBeatsTheWrongNominalOnHeldOutScans) {
   RecordingsCalibrationParams params;
   params.datasets = {dir.string()};
   params.base.methods = {algo::CalibrationMethod::kJoint};
-  params.validate_fraction = 0.4;
+  params.validate_fraction = 0.3;
   const RecordingsCalibration r = calibrateRecordings(params);
   ASSERT_EQ(r.report.recordings.size(), 1u);
   const algo::MethodReport& joint = r.report.recordings[0].methods.at(0);
   ASSERT_TRUE(joint.run.result.ok) << joint.run.result.reason;
   ASSERT_TRUE(joint.validation);
   const algo::ValidationFigures& v = *joint.validation;
-  EXPECT_EQ(v.fraction, 0.4);
-  // The wrong nominal geometry turns 4 % too little: measurable over 4.8 s of figure eight.
-  EXPECT_GT(v.raw.rot_deg, 1.0);
+  EXPECT_EQ(v.fraction, 0.3);
+  // Measured: raw 0.16 m, 8.0 deg; joint 0.013 m, 1.2 deg, which is also what the true
+  // geometry scores: the scan-to-map reference's own error over the part.
+  EXPECT_GT(v.raw.rot_deg, 4.0);
   EXPECT_LT(v.calibrated.rot_deg, 0.25 * v.raw.rot_deg);
-  EXPECT_LT(v.calibrated.trans_m, 0.5 * v.raw.trans_m);
+  EXPECT_LT(v.calibrated.trans_m, 0.25 * v.raw.trans_m);
   // The calibration saw none of the held-out scans.
   const Dataset d = readDataset(dir);
   const double t0 = d.scans.front().scan.stamp_s, t1 = d.scans.back().scan.stamp_s;
-  EXPECT_LT(r.recordings[0].calibration.intervals.intervals.back().t_end_s, t0 + 0.6 * (t1 - t0));
-  EXPECT_GT(r.recordings[0].held_out->stamps_s.size(), 30u);
+  EXPECT_LT(r.recordings[0].calibration.intervals.intervals.back().t_end_s, t0 + 0.7 * (t1 - t0));
+  EXPECT_GT(r.recordings[0].held_out->stamps_s.size(), 50u);
 }
 
 }  // namespace

