@@ -7,6 +7,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "algo/agreement/agreement_report.hpp"
 #include "algo/calibration/calibration_json.hpp"
 #include "algo/deskew/deskew.hpp"
 #include "algo/timing/dataset_stamps.hpp"
@@ -50,6 +51,7 @@ struct CalibrateFlags {
   bool time_offset = false;
   bool sideslip = false;
   bool loop_closure = false;
+  bool exclude_disagreement = false;  // --exclude-disagreement
   bool stamp_is_last_beam = false;
   bool strict = false;
   bool quiet = false;
@@ -82,6 +84,7 @@ eval::RecordingsCalibrationParams paramsOf(const CalibrateFlags& flags) {
   p.motion.intervals.keyframe_rotation_rad = flags.keyframe_deg * std::numbers::pi / 180.0;
   p.motion.icp = flags.icp;
   p.motion.loop_closure = flags.loop_closure;
+  p.exclude_disagreement = flags.exclude_disagreement;
   p.params.umbmark.side_m = flags.side_m;
   p.params.ceres.estimate_time_offset = flags.time_offset;
   p.params.joint.estimate_sideslip = flags.sideslip;  // ceres starts from joint's k
@@ -166,6 +169,19 @@ void writeBestOutputs(const CalibrateFlags& flags, const std::vector<algo::Calib
   }
 }
 
+// Every line of `text` with `who` before it.
+std::string prefixed(const std::string& text, const std::string& who) {
+  std::string out;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const std::size_t end = text.find('\n', start);
+    out += who + text.substr(start, end - start) + "\n";
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return out;
+}
+
 // What one recording's calibration found beside the estimates (stderr); `who` prefixes it.
 void printNotes(const eval::DatasetCalibration& c, const std::string& who) {
   std::cerr << algo::stampsSummary(c.stamps);
@@ -179,6 +195,11 @@ void printNotes(const eval::DatasetCalibration& c, const std::string& who) {
     std::cerr << who << "loop closure: " << c.loops->used << " of " << c.loops->candidates
               << " direct matches used; largest heading change of one link "
               << c.loops->max_link_change_rad * 180.0 / std::numbers::pi * 1e3 << " mdeg\n";
+  if (c.agreement) std::cerr << prefixed(algo::agreementText(*c.agreement), who);
+  if (c.intervals_excluded > 0)
+    std::cerr << who << c.intervals_excluded
+              << " intervals overlapping spans where the wheels and the gyro disagree left out "
+                 "(--exclude-disagreement)\n";
   for (const algo::CalibrationRun& run : c.runs) {
     if (run.time_offset_s)
       std::cerr << who << "ceres time offset " << *run.time_offset_s * 1e3 << " ms +- "
@@ -372,6 +393,10 @@ Command addCalibrateCommand(CLI::App& app) {
                 "within 0.3 m and 20 deg) match the two scans directly and spread the heading "
                 "drift this reveals back over the matches. Chained matches drift in heading, which "
                 "reads as r_R != r_L and which no sigma of the same log can show");
+  cli->add_flag("--exclude-disagreement", flags->exclude_disagreement,
+                "where the wheels and the gyro disagree beyond any wheel geometry (a lifted or "
+                "blocked robot, slip), calibrate on the intervals outside those spans instead of "
+                "refusing (exit 3); the spans are printed either way (docs/calibration.md)");
   return {cli, [flags] { return runCalibrate(*flags); }};
 }
 

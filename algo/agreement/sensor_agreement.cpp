@@ -187,25 +187,34 @@ std::vector<Disagreement> disagreements(const Source& a, const Source& b,
                                         const AgreementParams& p) {
   const double limit = std::max(p.disagreement_sigmas * f.sigma, p.disagreement_floor_rad);
   std::vector<Disagreement> spans;
+  std::vector<std::size_t> worst;  // per span: its worst window, whose turns name the cause
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (std::abs(f.residual[i]) <= limit) continue;
-    if (!spans.empty() && rows[i].t0_s <= spans.back().t1_s) {
-      spans.back().t1_s = rows[i].t1_s;
-      spans.back().max_residual_rad =
-          std::max(spans.back().max_residual_rad, std::abs(f.residual[i]));
-    } else {
-      spans.push_back({rows[i].t0_s, rows[i].t1_s, 0.0, 0.0, std::abs(f.residual[i]), ""});
+    const double r = std::abs(f.residual[i]);
+    if (r <= limit) continue;
+    if (spans.empty() || rows[i].t0_s > spans.back().t1_s) {
+      spans.push_back({rows[i].t0_s, rows[i].t1_s, 0.0, 0.0, r, ""});
+      worst.push_back(i);
+    }
+    spans.back().t1_s = rows[i].t1_s;
+    if (r >= spans.back().max_residual_rad) {
+      spans.back().max_residual_rad = r;
+      worst.back() = i;
     }
   }
-  for (Disagreement& d : spans)
-    if (const auto row = rowAt(a, b, d.t0_s, d.t1_s, lag_s, p)) {
-      d.turn_a_rad = row->turn_a;
-      d.turn_b_rad = row->turn_b;
-      const double predicted = row->x.dot(f.coef);
-      d.likely_cause = std::abs(predicted - row->turn_b) < p.disagreement_floor_rad
-                           ? transientCause(a, b, predicted, row->turn_b)
-                           : likelyCause(a, b, predicted, row->turn_b);
-    }
+  for (std::size_t k = 0; k < spans.size(); ++k) {
+    Disagreement& d = spans[k];
+    const Row& w = rows[worst[k]];
+    const auto whole = rowAt(a, b, d.t0_s, d.t1_s, lag_s, p);
+    if (!whole) continue;
+    d.turn_a_rad = whole->turn_a;
+    d.turn_b_rad = whole->turn_b;
+    // Over a span whose turns agree, the windows disagreed on when; otherwise the worst window
+    // (not the span, which the windows around it dilute) tells what happened.
+    const double predicted = whole->x.dot(f.coef);
+    d.likely_cause = std::abs(predicted - whole->turn_b) < p.disagreement_floor_rad
+                         ? transientCause(a, b, predicted, whole->turn_b)
+                         : likelyCause(a, b, w.x.dot(f.coef), w.turn_b);
+  }
   return spans;
 }
 

@@ -7,6 +7,7 @@
 #include <tuple>
 #include <utility>
 
+#include "algo/agreement/agreement_report.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 
@@ -85,6 +86,11 @@ json methodsJson(const std::vector<MethodReport>& methods,
   json out = json::array();
   for (const MethodReport& m : methods) out.push_back(methodJson(m, truth_values));
   return out;
+}
+
+json agreementOf(const RecordingReport& r) {
+  // agreementJson is an ordered_json; this file writes nlohmann::json.
+  return json::parse(agreementJson(*r.agreement, r.encoders_from).dump());
 }
 
 json consistencyJson(const std::vector<MethodConsistency>& consistency) {
@@ -258,11 +264,17 @@ std::string odometryRelativeMeaning(const DiffDriveParams& g) {
 std::string formatCalibrateJson(const CalibrateReport& report) {
   if (report.recordings.size() == 1) {
     const RecordingReport& only = report.recordings.front();
-    return methodsJson(only.methods, only.truth).dump(2) + "\n";
+    json methods = methodsJson(only.methods, only.truth);
+    if (only.agreement)
+      for (json& m : methods) m["sensor_agreement"] = agreementOf(only);
+    return methods.dump(2) + "\n";
   }
   json recordings = json::array();
-  for (const RecordingReport& r : report.recordings)
-    recordings.push_back({{"dataset", r.dataset}, {"methods", methodsJson(r.methods, r.truth)}});
+  for (const RecordingReport& r : report.recordings) {
+    json entry = {{"dataset", r.dataset}, {"methods", methodsJson(r.methods, r.truth)}};
+    if (r.agreement) entry["sensor_agreement"] = agreementOf(r);
+    recordings.push_back(entry);
+  }
   const json out = {{"recordings", recordings},
                     {"combined", methodsJson(report.combined, report.combined_truth)},
                     {"consistency", consistencyJson(report.consistency)}};
@@ -271,7 +283,7 @@ std::string formatCalibrateJson(const CalibrateReport& report) {
 
 std::string formatCalibrationJson(const std::vector<CalibrationRun>& runs,
                                   const std::optional<CalibrationTruth>& truth) {
-  RecordingReport recording{"", {}, truth};
+  RecordingReport recording{"", {}, truth, std::nullopt, ""};
   for (const CalibrationRun& run : runs) recording.methods.push_back({run, {}, std::nullopt});
   return formatCalibrateJson({{recording}, {}, std::nullopt, {}});
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "algo/agreement/sensor_agreement.hpp"
 #include "algo/calibration/calibrate.hpp"
 #include "algo/calibration/nominal_flags.hpp"
 #include "core/se2.hpp"
@@ -47,6 +48,9 @@ struct RecordingReport {
   std::string dataset;
   std::vector<MethodReport> methods;
   std::optional<CalibrationTruth> truth;  ///< for "error"
+  /// "sensor_agreement" (one recording: in every method object, the list staying a list).
+  std::optional<SensorAgreement> agreement;
+  std::string encoders_from;
 };
 
 /// chi2/dof of one parameter of one method over the recordings (combine_recordings.hpp).

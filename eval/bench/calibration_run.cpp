@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "algo/agreement/agreement_report.hpp"
+#include "algo/agreement/dataset_sources.hpp"
 #include "algo/calibration/dataset_motion.hpp"
 #include "core/error.hpp"
 #include "core/odometry.hpp"
@@ -10,6 +12,34 @@
 
 namespace slamprep::eval {
 namespace {
+
+/// Leaves out the intervals that overlap a span where the wheels and the gyro disagree; returns
+/// how many.
+std::size_t dropDisagreeing(std::vector<algo::CalibrationInterval>& intervals,
+                            const algo::PairAgreement& conflict) {
+  const std::size_t before = intervals.size();
+  std::erase_if(intervals, [&](const algo::CalibrationInterval& in) {
+    return std::any_of(
+        conflict.disagreements.begin(), conflict.disagreements.end(),
+        [&](const algo::Disagreement& d) { return in.t_start_s < d.t1_s && in.t_end_s > d.t0_s; });
+  });
+  return before - intervals.size();
+}
+
+/// Every method refused for the same reason: the data cannot calibrate (exit 3).
+std::vector<algo::CalibrationRun> refusedRuns(const std::vector<algo::CalibrationMethod>& methods,
+                                              const std::string& reason) {
+  std::vector<algo::CalibrationRun> runs;
+  for (const algo::CalibrationMethod m : methods) {
+    algo::CalibrationRun run;
+    run.method = m;
+    run.result.reason = reason +
+                        " No wheel geometry explains this; calibrating through it would return a "
+                        "confident wrong geometry (--exclude-disagreement leaves those spans out)";
+    runs.push_back(std::move(run));
+  }
+  return runs;
+}
 
 bool contains(const std::vector<algo::CalibrationMethod>& methods, algo::CalibrationMethod m) {
   return std::find(methods.begin(), methods.end(), m) != methods.end();
@@ -142,12 +172,19 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params,
           calibrationMotion(algo::anyApplied(out.stamps) ? *regular : *d, params.motion);
       out.intervals = std::move(motion.intervals);
       out.from_motion = true;
+      out.agreement =
+          algo::compareSensors(algo::datasetSources(*d, algo::scanPieces(motion.chains)));
+      out.encoders_from = algo::encodersFrom(d->info);
       out.failed_matches = motion.failed_matches;
       out.loops = motion.loops;
       input.heading_loops = std::move(motion.heading_loops);
     }
   }
   input.intervals = out.intervals.intervals;
+  const algo::PairAgreement* conflict =
+      out.agreement ? out.agreement->wheelsGyroConflict() : nullptr;
+  if (conflict && params.exclude_disagreement)
+    out.intervals_excluded = dropDisagreeing(input.intervals, *conflict);
   std::vector<algo::CalibrationMethod> applicable;
   for (const algo::CalibrationMethod m : methods) {
     const auto missing = params.only_applicable ? algo::missingInput(m, input) : std::nullopt;
@@ -155,6 +192,10 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params,
       out.not_applicable.push_back({m, *missing});
     else
       applicable.push_back(m);
+  }
+  if (conflict && params.refuse_on_disagreement && !params.exclude_disagreement) {
+    out.runs = refusedRuns(applicable, algo::wheelsGyroConflictText(*out.agreement));
+    return out;
   }
   out.runs = algo::calibrate(applicable, input, params.params);
   for (algo::CalibrationRun& run : out.runs)

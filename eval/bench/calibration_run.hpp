@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "algo/agreement/sensor_agreement.hpp"
 #include "algo/calibration/calibration.hpp"
 #include "algo/calibration/calibration_json.hpp"
 #include "algo/calibration/dataset_motion.hpp"
@@ -74,6 +75,11 @@ struct DatasetCalibrationParams {
   /// Put measurably jittered stamps of constant-rate streams back on their grids first
   /// (`--stamps auto`, algo/timing/dataset_stamps.hpp); false: the stamps as logged.
   bool regularize_stamps = true;
+  /// Compare the wheels, the gyro and the scan-matched motion first (algo/agreement) and refuse
+  /// every method where the wheels and the gyro disagree beyond any wheel geometry ...
+  bool refuse_on_disagreement = true;
+  /// ... or, instead, leave out the intervals that overlap the disagreeing spans.
+  bool exclude_disagreement = false;
   /// Run only the methods whose input is there (`--method all`); the others are listed in
   /// DatasetCalibration::not_applicable instead of refusing.
   bool only_applicable = false;
@@ -91,7 +97,12 @@ struct DatasetCalibration {
   algo::IntervalSet intervals;                ///< what the interval methods used, what was dropped
   bool from_motion = false;  ///< the intervals were cut from the dataset's motion (no tuples)
   int failed_matches = 0;    ///< scan matches that broke a chain
-  std::optional<LoopClosureSummary> loops;      ///< with --loop-closure
+  std::optional<LoopClosureSummary> loops;  ///< with --loop-closure
+  /// The wheels, gyro, odometry topic and scan-matched motion compared (from the dataset's
+  /// motion only, not --tuples), and where the wheels came from (algo::encodersFrom).
+  std::optional<algo::SensorAgreement> agreement;
+  std::string encoders_from;
+  std::size_t intervals_excluded = 0;           ///< with exclude_disagreement
   std::vector<algo::StreamStamps> stamps;       ///< what stamp regularisation found and did
   std::optional<algo::CalibrationTruth> truth;  ///< when the dataset knows its true geometry
   /// Set when the log had no encoder ticks: the geometry the wheel increments were derived from

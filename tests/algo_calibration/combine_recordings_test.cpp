@@ -186,14 +186,15 @@ TEST(CalibrateJson, OneRecordingIsTodaysArraySeveralTheCombinedObject) {
       run(CalibrationMethod::kModel, vec({0.1, 0.1, 0.5}), diag({1e-4, 1e-4, 1e-3}));
   const CalibrationRun b =
       run(CalibrationMethod::kModel, vec({0.1, 0.1, 0.6}), diag({1e-4, 1e-4, 1e-3}));
-  RecordingReport one{"a", {{a, {}, std::nullopt}}, std::nullopt};
+  RecordingReport one{"a", {{a, {}, std::nullopt}}, std::nullopt, std::nullopt, ""};
   EXPECT_EQ(formatCalibrateJson({{one}, {}, std::nullopt, {}}),
             formatCalibrationJson({a}, std::nullopt));
   EXPECT_EQ(formatCalibrationJson({a}, std::nullopt).front(), '[');
 
   const CombinedRun c = combineRuns(CalibrationMethod::kModel, {&a, &b});
   RecordingReport two{
-      "b", {{b, nominalFlags(b.result, {0.1, 0.1, 0.5}), std::nullopt}}, std::nullopt};
+      "b", {{b, nominalFlags(b.result, {0.1, 0.1, 0.5}), std::nullopt}}, std::nullopt,
+      std::nullopt, ""};
   MethodReport combined{c.run, {}, ValidationFigures{0.2, {0.5, 3.0}, {0.05, 0.3}}};
   const CalibrateReport report{
       {one, two},

@@ -77,6 +77,16 @@ err_has "--loop-closure: closes the loops of scan-matched motion"
 expect 2 calibrate "$dir/nowhere"
 internal calibrate "$fig8"
 
+# calibrate: 3 where the wheels turn and the gyro does not (a lifted robot: the gyro zeroed from
+# 20 to 24 s), naming the span and its cause; 0 with --exclude-disagreement.
+lifted=$dir/lifted
+cp -r "$fig8" "$lifted"
+awk -F, 'NR > 1 && $1 >= 20 && $1 < 24 { $2 = 0 } { print }' OFS=, "$fig8/imu.csv" >"$lifted/imu.csv"
+expect 3 calibrate "$lifted" --motion groundtruth --method joint
+out_has "lifted or blocked"
+expect 0 calibrate "$lifted" --motion groundtruth --method joint --exclude-disagreement
+err_has "left out (--exclude-disagreement)"
+
 # calibrate several recordings of one robot: 0 with the combined JSON object (one DATASET keeps
 # the list), 2 for the options of one recording and for nominal geometries that differ, 3 for a
 # flagged estimate (more than 15 % from the nominal) only with --strict.

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 
+#include "algo/agreement/agreement_report.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "sim/drive/simulator.hpp"
 #include "tests/support/scratch_dir.hpp"
@@ -39,6 +40,65 @@ TEST(CalibrationRun, CalibrateAndBenchCutTheSameIntervals) {
                 bench.intervals.dropped_standstill + bench.intervals.dropped_uncovered,
             converged);
   EXPECT_GT(bench.intervals.intervals.size(), 30u);
+}
+
+/// 40 s of the default drive (kinematic); `lift_from_s`..`lift_to_s`: the gyro reads zero, as on
+/// a robot lifted while its wheels turn.
+Dataset drive(double lift_from_s = 0.0, double lift_to_s = 0.0) {
+  sim::SimConfig config;
+  config.mode = sim::SimMode::kinematic;
+  config.duration_s = 40.0;
+  Dataset d = sim::simulate(config).dataset;
+  for (ImuSample& s : d.imu)
+    if (s.stamp_s >= lift_from_s && s.stamp_s < lift_to_s) s.gyro_z_radps = 0.0;
+  return d;
+}
+
+DatasetCalibrationParams jointAndCeres() {
+  DatasetCalibrationParams params;
+  params.methods = {algo::CalibrationMethod::kJoint, algo::CalibrationMethod::kCeres};
+  return params;
+}
+
+// The wheels and the gyro agree on a clean drive; their fit's wheel base is the true one, up to
+// the nominal radii it is expressed with.
+TEST(CalibrationRun, TheWheelsAndTheGyroAgreeOnACleanDrive) {
+  const Dataset d = drive();
+  const DatasetCalibration c = calibrateDataset(jointAndCeres(), d);
+  ASSERT_TRUE(c.agreement);
+  const algo::PairAgreement* p = c.agreement->pair("wheels", "gyro");
+  ASSERT_NE(p, nullptr);
+  EXPECT_TRUE(p->disagreements.empty());
+  const DiffDriveParams& t = *d.info.true_geometry;
+  const DiffDriveParams& n = d.info.nominal_geometry;
+  const double b =
+      t.wheel_base_m * (n.radius_left_m + n.radius_right_m) / (t.radius_left_m + t.radius_right_m);
+  ASSERT_TRUE(p->effective_wheel_base_m);
+  EXPECT_NEAR(*p->effective_wheel_base_m, b, 0.01 * b);
+  ASSERT_NE(c.agreement->pair("wheels", "scans"), nullptr);
+  for (const algo::CalibrationRun& run : c.runs) EXPECT_TRUE(run.result.ok);
+}
+
+// A span where the wheels turn and the gyro does not: every method refuses, naming it and its
+// cause; --exclude-disagreement calibrates on the rest.
+TEST(CalibrationRun, WheelsTurningWhileTheGyroDoesNotAreRefusedOrLeftOut) {
+  const Dataset d = drive(20.0, 24.0);
+  const DatasetCalibration refused = calibrateDataset(jointAndCeres(), d);
+  ASSERT_TRUE(refused.agreement);
+  ASSERT_TRUE(refused.agreement->wheelsGyroConflict()) << algo::agreementText(*refused.agreement);
+  ASSERT_EQ(refused.runs.size(), 2u);
+  for (const algo::CalibrationRun& run : refused.runs) {
+    EXPECT_FALSE(run.result.ok);
+    EXPECT_NE(run.result.reason.find("lifted or blocked"), std::string::npos) << run.result.reason;
+  }
+  DatasetCalibrationParams params = jointAndCeres();
+  params.exclude_disagreement = true;
+  const DatasetCalibration kept = calibrateDataset(params, d);
+  EXPECT_GT(kept.intervals_excluded, 20u);
+  for (const algo::CalibrationRun& run : kept.runs) {
+    ASSERT_TRUE(run.result.ok) << run.result.reason;
+    EXPECT_NEAR(run.result.geometry.wheel_base_m, d.info.true_geometry->wheel_base_m, 0.005);
+  }
 }
 
 }  // namespace
