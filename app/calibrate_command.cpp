@@ -76,7 +76,8 @@ eval::RecordingsCalibrationParams paramsOf(const CalibrateFlags& flags) {
   p.only_applicable = flags.method == "all";
   p.tuples = flags.tuples_in;
   p.squares = flags.squares;
-  p.motion.from_icp = flags.motion == "icp";
+  p.motion.from_icp = flags.motion != "groundtruth";
+  p.motion.from_map = flags.motion == "map";
   p.regularize_stamps = flags.stamps == "auto";
   p.motion.deskew = flags.deskew;
   p.motion.stamp_is_last_beam = flags.stamp_is_last_beam;
@@ -312,8 +313,9 @@ Command addCalibrateCommand(CLI::App& app) {
       ->check(oneOf("method", methods))
       ->capture_default_str();
   cli->add_option("--motion", flags->motion,
-                  "lidar motion from ICP scan matching or from ground truth (oracle)")
-      ->check(oneOf("motion", {"icp", "groundtruth"}))
+                  "lidar motion from chained scan-to-scan ICP, from scan-to-map matching (map: "
+                  "what `match` tracks, for sparse real scans), or from ground truth (oracle)")
+      ->check(oneOf("motion", {"icp", "map", "groundtruth"}))
       ->capture_default_str();
   cli->add_option("--stamps", flags->stamps,
                   "auto: match scans on stamps put back on their constant-rate grid where a "

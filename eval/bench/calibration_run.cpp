@@ -8,10 +8,53 @@
 #include "core/error.hpp"
 #include "core/odometry.hpp"
 #include "eval/bench/dataset_deskew.hpp"
+#include "eval/bench/match_trajectory.hpp"
 #include "eval/formats/dataset_io.hpp"
 
 namespace slamprep::eval {
 namespace {
+
+/// `--deskew` resolved: auto is none on instantaneous scans (time_increment 0, e.g. CARMEN),
+/// else imu where the log has one (independent of the geometry being calibrated), else
+/// odom-linear.
+algo::DeskewMethod deskewMethodFor(const Dataset& dataset, const std::string& deskew) {
+  const bool instantaneous =
+      !dataset.scans.empty() && dataset.scans.front().scan.time_increment_s == 0.0;
+  const std::string name = deskew != "auto"      ? deskew
+                           : instantaneous       ? "none"
+                           : dataset.imu.empty() ? "odom-linear"
+                                                 : "imu";
+  const auto method = algo::parseDeskewMethod(name);
+  if (!method) throw InputError("--deskew " + deskew, "unknown de-skew method");
+  return *method;
+}
+
+/// T_world_lidar of the scans `match` tracks against its map, fusion off; a chain ends at every
+/// fallback (its pose is a guess, not a measurement).
+std::vector<PoseSeries> mapChains(const Dataset& dataset, const CalibrationMotionOptions& options,
+                                  int& fallbacks) {
+  const algo::DeskewMethod method = deskewMethodFor(dataset, options.deskew);
+  MatchTrajectoryOptions match;
+  match.stamp_is_last_beam = options.stamp_is_last_beam;
+  match.params.odometry_sigma_m = 0.0;
+  match.params.odometry_sigma_rad = 0.0;
+  const MatchTrajectory run =
+      matchTrajectory(dataset,
+                      matchScanPoints(dataset, std::string(algo::deskewMethodName(method)),
+                                      options.stamp_is_last_beam),
+                      match);
+  std::vector<PoseSeries> chains(1);
+  for (std::size_t k = 0; k < run.tracked.scans.size(); ++k) {
+    if (run.tracked.scans[k].fallback) {
+      ++fallbacks;
+      if (!chains.back().empty()) chains.emplace_back();
+      continue;
+    }
+    chains.back().push_back(run.stamps_s[k], run.tracked.scans[k].T_world_lidar);
+  }
+  std::erase_if(chains, [](const PoseSeries& c) { return c.size() < 2; });
+  return chains;
+}
 
 /// Leaves out the intervals that overlap a span where the wheels and the gyro disagree; returns
 /// how many.
@@ -93,21 +136,15 @@ CalibrationMotion calibrationMotion(const Dataset& dataset,
   CalibrationMotion motion;
   if (!options.from_icp) {
     motion.chains.push_back(algo::lidarPosesFromGroundTruth(dataset, options.stamp_is_last_beam));
+  } else if (options.from_map) {
+    motion.chains = mapChains(dataset, options, motion.failed_matches);
   } else {
-    // auto on instantaneous scans (time_increment 0, e.g. CARMEN): nothing to de-skew.
-    const bool instantaneous =
-        !dataset.scans.empty() && dataset.scans.front().scan.time_increment_s == 0.0;
-    const std::string name = options.deskew != "auto" ? options.deskew
-                             : instantaneous          ? "none"
-                             : dataset.imu.empty()    ? "odom-linear"
-                                                      : "imu";
-    const auto method = algo::parseDeskewMethod(name);
-    if (!method) throw InputError("--deskew " + options.deskew, "unknown de-skew method");
+    const algo::DeskewMethod method = deskewMethodFor(dataset, options.deskew);
     std::vector<Points2> points;  // empty: the scans as measured
     DatasetDeskewOptions deskew = nominalDeskewOptions(dataset);
     deskew.stamp_is_last_beam = options.stamp_is_last_beam;
-    if (*method != algo::DeskewMethod::kNone)
-      points = correctedPoints(deskewDataset(dataset, *method, deskew));
+    if (method != algo::DeskewMethod::kNone)
+      points = correctedPoints(deskewDataset(dataset, method, deskew));
     else if (options.loop_closure)  // extracted once, for the chain's and the loops' matches
       for (const ScanRecord& record : dataset.scans) points.push_back(record.scan.points());
     algo::ScanMotionParams matching;

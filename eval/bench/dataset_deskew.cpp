@@ -1,5 +1,6 @@
 #include "eval/bench/dataset_deskew.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #include "algo/deskew/repack.hpp"
@@ -8,6 +9,26 @@
 
 namespace slamprep::eval {
 namespace {
+
+/// The median time between consecutive stamps (0 for fewer than two).
+template <typename Stamps>
+double medianPeriod(const Stamps& stamps) {
+  std::vector<double> dt;
+  for (std::size_t k = 1; k < stamps.size(); ++k) dt.push_back(stamps[k] - stamps[k - 1]);
+  if (dt.empty()) return 0.0;
+  std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
+  return dt[dt.size() / 2];
+}
+
+/// A gap is a dropout when it is long for the stream that has it: the configured limit, or 2.5
+/// of the slower stream's median periods where that is longer (a real robot's 5 Hz odometry
+/// has 0.2 s between samples, each of which the 0.1 s limit refused).
+double sampleGapLimit(const algo::DeskewInputs& in, double limit_s) {
+  std::vector<double> odometry, imu;
+  for (const auto& s : in.odometry.samples()) odometry.push_back(s.stamp_s);
+  for (const ImuSample& s : in.imu) imu.push_back(s.stamp_s);
+  return std::max({limit_s, 2.5 * medianPeriod(odometry), 2.5 * medianPeriod(imu)});
+}
 
 // The true undistorted points moved from the first-beam frame to the result's reference frame,
 // using the TRUE motion between the two instants (not the method's estimate).
@@ -100,7 +121,9 @@ DatasetDeskew deskewDataset(const Dataset& dataset, algo::DeskewMethod method,
       method == algo::DeskewMethod::kOracle ? dataset.info.T_base_lidar : options.T_base_lidar;
   inputs.stamp_is_last_beam = options.stamp_is_last_beam;
   inputs.reference = options.reference;
-  algo::DeskewSequence sequence(method, std::move(inputs), options.params);
+  algo::DeskewParams params = options.params;
+  params.max_sample_gap_s = sampleGapLimit(inputs, params.max_sample_gap_s);
+  algo::DeskewSequence sequence(method, std::move(inputs), params);
   DatasetDeskew out;
   PooledErrors pooled;
   for (std::size_t k = 0; k < dataset.scans.size(); ++k) {

@@ -101,5 +101,23 @@ TEST(CalibrationRun, WheelsTurningWhileTheGyroDoesNotAreRefusedOrLeftOut) {
   }
 }
 
+// --motion map: the intervals come from the scan-to-map trajectory (fusion off), chains broken
+// only at fallbacks; on the simulator's clean scans it calibrates like the chained matches.
+TEST(CalibrationRun, ScanToMapMotionCalibratesLikeChainedMatches) {
+  const Dataset d = drive();
+  DatasetCalibrationParams params = jointAndCeres();
+  params.motion.from_map = true;
+  const DatasetCalibration c = calibrateDataset(params, d);
+  EXPECT_GT(c.intervals.intervals.size(), 250u);
+  EXPECT_EQ(c.failed_matches, 0);
+  const DiffDriveParams& t = *d.info.true_geometry;
+  for (const algo::CalibrationRun& run : c.runs) {
+    ASSERT_TRUE(run.result.ok) << run.result.reason;
+    EXPECT_NEAR(run.result.geometry.radius_left_m / t.radius_left_m, 1.0, 0.005);
+    EXPECT_NEAR(run.result.geometry.radius_right_m / t.radius_right_m, 1.0, 0.005);
+    EXPECT_NEAR(run.result.geometry.wheel_base_m / t.wheel_base_m, 1.0, 0.005);
+  }
+}
+
 }  // namespace
 }  // namespace slamprep::eval
