@@ -52,6 +52,7 @@ struct CalibrateFlags {
   bool sideslip = false;
   bool loop_closure = false;
   bool exclude_disagreement = false;  // --exclude-disagreement
+  std::string sync = "auto";          // --sync
   bool stamp_is_last_beam = false;
   bool strict = false;
   bool quiet = false;
@@ -86,6 +87,7 @@ eval::RecordingsCalibrationParams paramsOf(const CalibrateFlags& flags) {
   p.motion.icp = flags.icp;
   p.motion.loop_closure = flags.loop_closure;
   p.exclude_disagreement = flags.exclude_disagreement;
+  p.sync_clocks = flags.sync == "auto";
   p.params.umbmark.side_m = flags.side_m;
   p.params.ceres.estimate_time_offset = flags.time_offset;
   p.params.joint.estimate_sideslip = flags.sideslip;  // ceres starts from joint's k
@@ -197,6 +199,10 @@ void printNotes(const eval::DatasetCalibration& c, const std::string& who) {
               << " direct matches used; largest heading change of one link "
               << c.loops->max_link_change_rad * 180.0 / std::numbers::pi * 1e3 << " mdeg\n";
   if (c.agreement) std::cerr << prefixed(algo::agreementText(*c.agreement), who);
+  if (c.clock_offset_s != 0.0)
+    std::cerr << who << "the scans lag the wheels by " << c.clock_offset_s
+              << " s (sensor agreement): the wheels' stamps moved onto the scans' clock before "
+                 "the intervals were cut (--sync none keeps them)\n";
   if (c.intervals_excluded > 0)
     std::cerr << who << c.intervals_excluded
               << " intervals overlapping spans where the wheels and the gyro disagree left out "
@@ -269,8 +275,11 @@ int runCalibrate(const CalibrateFlags& flags) {
                                      [&](const std::string& done) { progress.advance(done); });
   }();
   const bool several = r.recordings.size() > 1;
-  for (const eval::RecordingCalibration& rec : r.recordings)
-    printNotes(rec.calibration, several ? "calibrate: " + rec.dataset + ": " : "calibrate: ");
+  for (const eval::RecordingCalibration& rec : r.recordings) {
+    const std::string who = several ? "calibrate: " + rec.dataset + ": " : "calibrate: ";
+    printNotes(rec.calibration, who);
+    if (!rec.validation_note.empty()) std::cerr << who << rec.validation_note << "\n";
+  }
   const eval::DatasetCalibration& first = r.recordings.front().calibration;
   if (!flags.intervals_out.empty())
     algo::writeIntervalRecords(flags.intervals_out, first.intervals.intervals);
@@ -395,6 +404,12 @@ Command addCalibrateCommand(CLI::App& app) {
                 "within 0.3 m and 20 deg) match the two scans directly and spread the heading "
                 "drift this reveals back over the matches. Chained matches drift in heading, which "
                 "reads as r_R != r_L and which no sigma of the same log can show");
+  cli->add_option("--sync", flags->sync,
+                  "auto: where the sensor agreement finds the scans lagging the wheels by more "
+                  "than 20 ms, move the wheels' stamps onto the scans' clock before cutting "
+                  "intervals; none: the stamps as logged")
+      ->check(oneOf("sync", {"auto", "none"}))
+      ->capture_default_str();
   cli->add_flag("--exclude-disagreement", flags->exclude_disagreement,
                 "where the wheels and the gyro disagree beyond any wheel geometry (a lifted or "
                 "blocked robot, slip), calibrate on the intervals outside those spans instead of "

@@ -14,6 +14,19 @@
 namespace slamprep::eval {
 namespace {
 
+/// The wheels' stamps moved onto the scans' clock by the delay the sensor agreement measured
+/// between them (where over min_sync_lag_s), and the intervals cut again: a real robot's
+/// odometry reached the log 0.1-0.35 s before its scans, and an interval one scan period long
+/// then pairs the scans' motion with the wheels' motion of another moment.
+void syncClocks(Dataset& dataset, const std::vector<PoseSeries>& chains,
+                const DatasetCalibrationParams& params, DatasetCalibration& out) {
+  const algo::PairAgreement* ws = out.agreement->pair("wheels", "scans");
+  if (!ws || std::abs(ws->lag_s) <= params.min_sync_lag_s) return;
+  for (EncoderSample& e : dataset.encoders) e.stamp_s += ws->lag_s;
+  out.clock_offset_s = ws->lag_s;
+  out.intervals = algo::buildIntervals(dataset, chains, params.motion.intervals);
+}
+
 /// `--deskew` resolved: auto is none on instantaneous scans (time_increment 0, e.g. CARMEN),
 /// else imu where the log has one (independent of the geometry being calibrated), else
 /// odom-linear.
@@ -205,13 +218,14 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params,
         regular = *d;
         out.stamps = algo::regularizeStamps(*regular);
       }
-      CalibrationMotion motion =
-          calibrationMotion(algo::anyApplied(out.stamps) ? *regular : *d, params.motion);
+      Dataset& used = algo::anyApplied(out.stamps) ? *regular : *dataset;
+      CalibrationMotion motion = calibrationMotion(used, params.motion);
       out.intervals = std::move(motion.intervals);
       out.from_motion = true;
       out.agreement =
           algo::compareSensors(algo::datasetSources(*d, algo::scanPieces(motion.chains)));
       out.encoders_from = algo::encodersFrom(d->info);
+      if (params.sync_clocks) syncClocks(used, motion.chains, params, out);
       out.failed_matches = motion.failed_matches;
       out.loops = motion.loops;
       input.heading_loops = std::move(motion.heading_loops);

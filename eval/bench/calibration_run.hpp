@@ -85,6 +85,10 @@ struct DatasetCalibrationParams {
   bool refuse_on_disagreement = true;
   /// ... or, instead, leave out the intervals that overlap the disagreeing spans.
   bool exclude_disagreement = false;
+  /// Move the wheels' stamps onto the scans' clock by the delay the sensor agreement measures
+  /// between them, where it exceeds min_sync_lag_s (`--sync auto`; docs/calibration.md).
+  bool sync_clocks = true;
+  double min_sync_lag_s = 0.02;
   /// Run only the methods whose input is there (`--method all`); the others are listed in
   /// DatasetCalibration::not_applicable instead of refusing.
   bool only_applicable = false;
@@ -108,6 +112,7 @@ struct DatasetCalibration {
   std::optional<algo::SensorAgreement> agreement;
   std::string encoders_from;
   std::size_t intervals_excluded = 0;           ///< with exclude_disagreement
+  double clock_offset_s = 0.0;  ///< what sync_clocks added to the wheels' stamps (0: nothing)
   std::vector<algo::StreamStamps> stamps;       ///< what stamp regularisation found and did
   std::optional<algo::CalibrationTruth> truth;  ///< when the dataset knows its true geometry
   /// Set when the log had no encoder ticks: the geometry the wheel increments were derived from

@@ -34,7 +34,7 @@ RecordingCalibration calibrateRecording(const RecordingsCalibrationParams& p,
                                         const std::string& dataset) {
   DatasetCalibrationParams params = p.base;
   if (!dataset.empty()) params.dataset = dataset;
-  RecordingCalibration out{params.dataset, {}, std::nullopt};
+  RecordingCalibration out{params.dataset, {}, std::nullopt, ""};
   if (!(p.validate_fraction > 0.0)) {
     out.calibration = calibrateDataset(params);
     return out;
@@ -42,7 +42,16 @@ RecordingCalibration calibrateRecording(const RecordingsCalibrationParams& p,
   ValidationSplit split =
       splitForValidation(readDataset(params.dataset), p.validate_fraction, params.dataset);
   out.calibration = calibrateDataset(params, std::move(split.calibration));
-  out.held_out = heldOutPart(split.held_out, out.calibration.odometry, p.held_out);
+  // The held-out odometry on the scans' clock too, as the calibration part's was (--sync).
+  OdometryEncoders odometry = out.calibration.odometry;
+  for (EncoderSample& e : odometry.encoders) e.stamp_s += out.calibration.clock_offset_s;
+  out.held_out = heldOutPart(split.held_out, odometry, p.held_out);
+  try {  // a held-out part the matcher could not track is not scored; the calibration stands
+    heldOutError(*out.held_out, out.calibration.nominal, out.calibration.T_base_lidar);
+  } catch (const InputError& e) {
+    out.validation_note = std::string("not validated: ") + e.what();
+    out.held_out.reset();
+  }
   return out;
 }
 
@@ -167,8 +176,8 @@ RecordingsCalibration calibrateRecordings(const RecordingsCalibrationParams& par
   for (const std::string& dataset : datasets) {
     out.recordings.push_back(calibrateRecording(params, dataset));
     const RecordingCalibration& r = out.recordings.back();
-    algo::RecordingReport report{r.dataset, {}, r.calibration.truth, r.calibration.agreement,
-                                 r.calibration.encoders_from};
+    algo::RecordingReport report{
+        r.dataset, {}, r.calibration.truth, r.calibration.agreement, r.calibration.encoders_from};
     for (const algo::CalibrationRun& run : r.calibration.runs)
       report.methods.push_back(methodReport(run, r, params));
     out.report.recordings.push_back(std::move(report));

@@ -31,7 +31,8 @@ struct RecordingsCalibrationParams {
 struct RecordingCalibration {
   std::string dataset;
   DatasetCalibration calibration;       ///< of the calibration part with validation
-  std::optional<HeldOutPart> held_out;  ///< with validation
+  std::optional<HeldOutPart> held_out;  ///< with validation, where the part could be scored
+  std::string validation_note;          ///< why a held-out part was not scored
 };
 
 struct RecordingsCalibration {

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "algo/agreement/agreement_report.hpp"
@@ -117,6 +118,27 @@ TEST(CalibrationRun, ScanToMapMotionCalibratesLikeChainedMatches) {
     EXPECT_NEAR(run.result.geometry.radius_right_m / t.radius_right_m, 1.0, 0.005);
     EXPECT_NEAR(run.result.geometry.wheel_base_m / t.wheel_base_m, 1.0, 0.005);
   }
+}
+
+// Wheels logged 0.2 s ahead of the scans' clock (a real robot's odometry reaches the log sooner
+// than its scans): the sensor agreement measures the delay and --sync auto moves the wheels onto
+// the scans' clock; the wheel base stays right. (The simulator's smooth drive hardly suffers from
+// the delay, 0.6 mm of b kept as logged; the Neato recordings did: docs/calibration.md.)
+TEST(CalibrationRun, TheScansDelayBehindTheWheelsIsMeasuredAndRemoved) {
+  Dataset d = drive();
+  for (EncoderSample& e : d.encoders) e.stamp_s -= 0.2;
+  for (ImuSample& s : d.imu) s.stamp_s -= 0.2;  // the gyro on the wheels' clock
+  DatasetCalibrationParams params = jointAndCeres();
+  params.methods = {algo::CalibrationMethod::kJoint};
+  const DatasetCalibration synced = calibrateDataset(params, d);
+  EXPECT_NEAR(synced.clock_offset_s, 0.2, 0.02);
+  ASSERT_TRUE(synced.runs.front().result.ok);
+  EXPECT_NEAR(synced.runs.front().result.geometry.wheel_base_m, d.info.true_geometry->wheel_base_m,
+              0.002);
+  params.sync_clocks = false;
+  EXPECT_EQ(calibrateDataset(params, d).clock_offset_s, 0.0);
+  const DatasetCalibration clean = calibrateDataset(jointAndCeres(), drive());
+  EXPECT_EQ(clean.clock_offset_s, 0.0);  // no delay, nothing moved
 }
 
 }  // namespace
