@@ -39,13 +39,8 @@ std::string keysHelp() {
   out << "Configuration keys for --set KEY=VALUE (defaults shown; docs/simulate.md explains "
          "them):\n";
   const nlohmann::json flat = sim::toJson(sim::SimConfig{}, true).flatten();
-  for (const std::string& key : sim::configKeys()) {
-    std::string pointer = "/" + key;
-    for (char& ch : pointer) {
-      if (ch == '.') ch = '/';
-    }
-    out << "  " << key << " = " << flat.at(pointer).dump() << "\n";
-  }
+  for (const std::string& key : sim::configKeys())
+    out << "  " << key << " = " << flat.at(sim::configPointer(key).to_string()).dump() << "\n";
   out << "Example: slamprep simulate --scenario worlds/scenarios/figure_eight.yaml --seed 3 "
          "--set lidar.rate_hz=5 --set nominal.wheel_base_error=0.02 --out out/fig8\n";
   return out.str();
