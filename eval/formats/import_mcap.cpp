@@ -72,6 +72,7 @@ struct BagData {
   Samples<ImuSample> imu;
   TfTree tf;
   std::optional<DiffDriveParams> geometry;  ///< from slamprep's Metadata record
+  bool gyro_heading = false;  ///< the record says the Odometry's heading is the gyro's
 
   std::string where(const Place& p) const { return placeText(files, topics, p); }
   bool anyScan() const { return !scans.empty() || !spilled.empty(); }
@@ -141,7 +142,8 @@ void decode(const McapMessage& m, const Place& place, const ImportParams& p, Bag
 std::optional<DiffDriveParams> geometryFrom(const McapMetadata& meta, const std::string& file) {
   std::map<std::string, double, std::less<>> values;
   for (const auto& [key, text] : meta.entries)
-    values[key] = parseFiniteDouble(text, {file + ": Metadata " + meta.name, 0}, key);
+    if (key != kOdometryHeading)
+      values[key] = parseFiniteDouble(text, {file + ": Metadata " + meta.name, 0}, key);
   auto get = [&](std::string_view key) {
     const auto it = values.find(key);
     if (it == values.end())
@@ -174,8 +176,12 @@ void readFile(ByteSource& source, std::size_t file, const ImportParams& p, BagDa
     }
     if (it->second != Role::kNone) decode(m, {file, m.file_offset, m.sequence, it->second}, p, d);
   }
-  for (const McapMetadata& meta : reader.metadata())
-    if (meta.name == kSlamprepMetadata) d.geometry = geometryFrom(meta, source.name());
+  for (const McapMetadata& meta : reader.metadata()) {
+    if (meta.name != kSlamprepMetadata) continue;
+    d.geometry = geometryFrom(meta, source.name());
+    for (const auto& [key, text] : meta.entries)
+      if (key == kOdometryHeading) d.gyro_heading = text == "gyro";
+  }
 }
 
 /// Sorts by log time (file order for equal times) and checks the header stamps increase.
@@ -259,9 +265,17 @@ void attachEncoders(const BagData& d, const ImportParams& p, const std::string& 
     const DiffDriveParams nominal = nominalGeometry(d, p, false, bag);
     ds.encoders.reserve(d.joints.size());
     for (const auto& s : d.joints) ds.encoders.push_back(s.value);
+    ds.info = importedInfo(p, nominal, bag, "mcap", "JointState " + d.topics.at(Role::kJoint));
+    if (d.gyro_heading && odom.size() >= 2) {
+      // The Odometry's heading is the gyro's: no integration of the joints reproduces it.
+      ds.odom_nominal = std::move(odom);
+      ds.info.config[std::string(kOdometryHeading)] = "gyro";
+      r.notes.push_back("the odometry is " + d.topics.at(Role::kOdom) +
+                        " as logged: its heading is the integrated gyro (slamprep metadata)");
+      return;
+    }
     const SE2 start = odom.at(ds.encoders.front().stamp_s).value_or(SE2());
     ds.odom_nominal = integrateEncoders(ds.encoders, nominal, p.ticks_per_revolution, start);
-    ds.info = importedInfo(p, nominal, bag, "mcap", "JointState " + d.topics.at(Role::kJoint));
     return;
   }
   if (odom.size() < 2) throw InputError(bag, d.topics.at(Role::kOdom) + ": fewer than 2 messages");

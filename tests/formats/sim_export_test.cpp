@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "core/odometry.hpp"
 #include "eval/formats/export.hpp"
 #include "eval/formats/import.hpp"
 #include "eval/formats/ros2_messages.hpp"
@@ -98,6 +99,78 @@ TEST(SimExport, ImportedBagKeepsEncodersExactlyAndScansToFloat) {
     EXPECT_NEAR(r.dataset.scans[k].scan.stamp_s, d.scans[k].scan.stamp_s, 1e-9);
     EXPECT_NEAR(r.dataset.scans[k].T_odom_base_nominal->x, d.scans[k].T_odom_base_nominal->x, 1e-9);
   }
+}
+
+// Stale odometry, a held robot and the gyro's heading survive export + import: /joint_states
+// carries the held and the turning wheels, /odom the odometry, which the import integrates from
+// the joints (heading from the wheels) or keeps as logged (the slamprep metadata says its
+// heading is the gyro's).
+Dataset faultyRun(const std::string& heading_from) {
+  sim::SimConfig c;
+  c.scenario = "worlds/scenarios/spin.yaml";
+  c.mode = sim::SimMode::kinematic;
+  c.lidar.beams_per_revolution = 90;
+  c.duration_s = 12.0;
+  c.seed = 11;
+  sim::applyOverride(c, "faults.enable=stale_odometry,held_robot");
+  sim::applyOverride(c, "faults.stale_odometry.rate_hz=1");
+  sim::applyOverride(c, "faults.held_robot.rate_hz=0.2");
+  sim::applyOverride(c, "odometry.heading_from=" + heading_from);
+  Dataset d = sim::simulate(c).dataset;
+  EXPECT_FALSE(d.info.faults["stale_odometry"]["events"].empty());
+  EXPECT_FALSE(d.info.faults["held_robot"]["events"].empty());
+  return d;
+}
+
+/// Imports the dataset's MCAP export and checks the encoders are exact and the odometry is the
+/// original's, its position held exactly over every stale hold.
+Dataset expectReproduced(const Dataset& d) {
+  ExportInput in;
+  in.dataset = d;
+  ImportParams p;  // no --nominal: the bag's metadata has it
+  p.ticks_per_revolution = d.info.ticks_per_revolution;
+  Dataset back = importMcap(formatMcap(in, {}), "faults.mcap", p).dataset;
+  EXPECT_EQ(back.encoders.size(), d.encoders.size());
+  for (std::size_t k = 0; k < std::min(d.encoders.size(), back.encoders.size()); ++k) {
+    EXPECT_EQ(back.encoders[k].ticks_left, d.encoders[k].ticks_left);
+    EXPECT_EQ(back.encoders[k].ticks_right, d.encoders[k].ticks_right);
+  }
+  EXPECT_EQ(back.odom_nominal.size(), d.odom_nominal.size());
+  if (back.odom_nominal.size() != d.odom_nominal.size()) return back;
+  double worst = 0.0;
+  for (std::size_t k = 0; k < d.odom_nominal.size(); ++k) {
+    const SE2 &a = back.odom_nominal[k].value, &b = d.odom_nominal[k].value;
+    worst = std::max({worst, std::abs(a.x - b.x), std::abs(a.y - b.y),
+                      std::abs(normalizeAngle(a.yaw - b.yaw)),
+                      std::abs(back.odom_nominal[k].stamp_s - d.odom_nominal[k].stamp_s)});
+  }
+  EXPECT_LT(worst, 1e-9);
+  for (const auto& e : d.info.faults["stale_odometry"]["events"]) {
+    const auto k0 = e["sample"].get<std::size_t>(), n = e["samples"].get<std::size_t>();
+    for (std::size_t k = k0; k < k0 + n; ++k) {
+      EXPECT_EQ(back.odom_nominal[k].value.x, back.odom_nominal[k0 - 1].value.x);
+      EXPECT_EQ(back.odom_nominal[k].value.y, back.odom_nominal[k0 - 1].value.y);
+    }
+  }
+  return back;
+}
+
+TEST(SimExport, ImportOfTheExportReproducesStaleOdometryAndAHeldRobot) {
+  const Dataset back = expectReproduced(faultyRun("wheels"));
+  EXPECT_FALSE(back.info.config.contains("odometry_heading"));
+}
+
+TEST(SimExport, ImportOfTheExportKeepsTheGyroHeadedOdometry) {
+  const Dataset back = expectReproduced(faultyRun("gyro"));
+  EXPECT_EQ(back.info.config.value("odometry_heading", ""), "gyro");
+  // The wheels' integration would differ: the gyro's heading is what the import must keep.
+  const PoseSeries wheels =
+      integrateEncoders(back.encoders, back.info.nominal_geometry, back.info.ticks_per_revolution);
+  double largest = 0.0;
+  for (std::size_t k = 0; k < wheels.size(); ++k)
+    largest = std::max(
+        largest, std::abs(normalizeAngle(wheels[k].value.yaw - back.odom_nominal[k].value.yaw)));
+  EXPECT_GT(largest, 0.1);
 }
 
 }  // namespace
