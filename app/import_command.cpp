@@ -1,15 +1,19 @@
-// `slamprep import`: a CARMEN log or an MCAP ROS 2 bag into a dataset directory (no ground
-// truth) that calibrate and deskew read (docs/export.md).
+// `slamprep import`: a CARMEN log or a ROS 2 bag (sqlite3 or MCAP) into a dataset directory (no
+// ground truth) that calibrate and deskew read (docs/export.md).
 #include <iostream>
 #include <numbers>
 #include <sstream>
 
+#include "algo/agreement/agreement_report.hpp"
+#include "algo/agreement/dataset_sources.hpp"
 #include "app/choices.hpp"
 #include "app/commands.hpp"
 #include "app/outputs.hpp"
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "eval/formats/import.hpp"
+#include "eval/formats/import_json.hpp"
 #include "eval/formats/text_io.hpp"
 
 namespace slamprep::app {
@@ -19,6 +23,7 @@ struct ImportFlags {
   std::string format;
   std::string input;
   std::string out;
+  std::string json_out;
   double wheel_radius_m = 0.0;  // 0: use the left/right ones
   DiffDriveParams geometry;
   double time_increment_s = 0.0;
@@ -36,16 +41,21 @@ SE2 parseMount(const std::string& text) {
   return {v[0], v[1], v[2] * std::numbers::pi / 180};
 }
 
-void printSummary(const eval::ImportSummary& s) {
+void printSummary(const eval::ImportSummary& s, bool carmen) {
   const auto row = [](const char* what, const std::string& text) {
     if (!text.empty()) std::cout << "  " << what << text << "\n";
   };
+  row("storage:          ", s.storage);
+  for (const auto& [type, topic] : s.topics) row("topic:            ", topic + " (" + type + ")");
   row("scans:            ", s.scans);
   row("odometry:         ", s.odometry);
   row("lidar mount:      ", s.lidar_mount);
   row("nominal geometry: ", s.nominal_geometry);
   row("time increment:   ", s.time_increment);
-  if (s.scans.empty()) return;
+  if (s.range) row("max range:        ", s.range->text());
+  for (const auto& stale : s.stale) row("stale odometry:   ", stale.text());
+  if (s.twist_spikes) row("twist spikes:     ", s.twist_spikes->text());
+  if (!carmen || s.scans.empty()) return;
   std::string reordered;
   for (const auto& [what, n] : s.reordered)
     reordered += (reordered.empty() ? "" : ", ") + std::to_string(n) + " " + what;
@@ -56,10 +66,15 @@ void printSummary(const eval::ImportSummary& s) {
 }
 
 int runImport(ImportFlags flags) {
-  // A ROS 2 bag may be a folder (metadata.yaml + .mcap files); everything else is one file.
-  if (!(flags.format == "mcap" && std::filesystem::is_directory(flags.input)))
-    checkInputFile(flags.input, "PATH");
+  const bool carmen = flags.format == "carmen";
+  // A ROS 2 bag may be a folder (metadata.yaml + storage files); everything else is one file.
+  if (carmen || !std::filesystem::is_directory(flags.input)) checkInputFile(flags.input, "PATH");
   checkOutputDataset(flags.out, "--out", flags.force);
+  checkNotInside(flags.out, flags.input, "--out");
+  if (!flags.json_out.empty()) {
+    checkOutputFile(flags.json_out, "--json", flags.force);
+    checkNotInside(flags.json_out, flags.input, "--json");
+  }
   if (flags.wheel_radius_m > 0)
     flags.geometry.radius_left_m = flags.geometry.radius_right_m = flags.wheel_radius_m;
   if (flags.geometry_given) flags.params.nominal_geometry = flags.geometry;
@@ -76,14 +91,14 @@ int runImport(ImportFlags flags) {
   // memory holds the small streams, not the ranges.
   eval::ImportResult result;
   std::size_t scans = 0;
-  if (flags.format == "carmen") {
+  if (carmen) {
     result = eval::importCarmen(eval::readTextFile(flags.input), flags.input, flags.params);
     eval::writeDataset(flags.out, result.dataset);
     scans = result.dataset.scans.size();
   } else {
     eval::publishDirectoryAtomically(flags.out, [&](const std::filesystem::path& partial) {
       flags.params.spill_dir = partial;
-      result = eval::importMcap(std::filesystem::path(flags.input), flags.params);
+      result = eval::importRosbag2(std::filesystem::path(flags.input), flags.params);
       eval::writeDatasetFiles(partial, result.dataset, flags.out,
                               [&](ScanRecord& r) { return result.scans->next(r); });
       scans = result.scans->count();
@@ -95,8 +110,17 @@ int runImport(ImportFlags flags) {
   std::cout << "imported " << scans << " scans, " << d.encoders.size() << " encoder samples, "
             << d.odom_nominal.size() << " odometry poses, " << d.imu.size() << " IMU samples into "
             << flags.out << "\n";
-  printSummary(result.summary);
+  printSummary(result.summary, carmen);
   for (const auto& note : result.notes) std::cerr << "import: note: " << note << "\n";
+  // Wheels, gyro and the odometry topic, whichever the log has (the scans: `match`).
+  const algo::SensorAgreement agreement = algo::compareSensors(algo::datasetSources(d));
+  std::cout << algo::agreementText(agreement);
+  if (!flags.json_out.empty()) {
+    auto json = eval::importSummaryJson(flags.input, flags.format, flags.out, result.summary, d,
+                                        {scans}, result.notes);
+    json["sensor_agreement"] = algo::agreementJson(agreement, algo::encodersFrom(d.info));
+    writeFileAtomic(flags.json_out, json.dump(2) + "\n");
+  }
   return 0;
 }
 
@@ -106,21 +130,31 @@ Command addImportCommand(CLI::App& app) {
   auto flags = std::make_shared<ImportFlags>();
   auto* cli = app.add_subcommand(
       "import",
-      "Read a CARMEN log or a ROS 2 bag (MCAP: a bag folder or one .mcap file; LaserScan + "
-      "Odometry or JointState) into a dataset directory.");
+      "Read a CARMEN log or a ROS 2 bag (a bag folder, sqlite3 or MCAP storage, or one .db3 or "
+      ".mcap file; LaserScan + Odometry or JointState) into a dataset directory.");
   cli->footer(
-      "An MCAP bag needs a LaserScan topic plus Odometry or JointState (docs/export.md). The\n"
-      "dataset has no ground truth; calibrate, deskew, match and export read it.");
-  cli->add_option("--format", flags->format, "carmen|mcap")
+      "A bag needs a LaserScan topic plus Odometry or JointState (docs/export.md); --format mcap\n"
+      "and rosbag2 read the same (any storage). The dataset has no ground truth; calibrate,\n"
+      "deskew, match and export read it.");
+  cli->add_option("--format", flags->format, "carmen|mcap|rosbag2")
       ->required()
-      ->check(oneOf("format", {"carmen", "mcap"}));
-  cli->add_option("PATH", flags->input, "log file, bag folder (metadata.yaml) or .mcap file")
+      ->check(oneOf("format", {"carmen", "mcap", "rosbag2"}));
+  cli->add_option("PATH", flags->input,
+                  "log file, bag folder (metadata.yaml), or one .db3 or .mcap file")
       ->required();
   cli->add_option("--out", flags->out,
                   "dataset directory to write; an existing one is refused unless --force")
       ->required();
   cli->add_flag("--force", flags->force,
-                "replace an existing --out dataset; the old one stays until the new is complete");
+                "replace an existing --out dataset (and --json file); the old one stays until the "
+                "new is complete");
+  cli->add_option("--json", flags->json_out,
+                  "write what the import read and decided as JSON (docs/export.md)");
+  cli->add_option_function<double>(
+         "--max-range", [flags](double m) { flags->params.max_range_m = m; },
+         "readings beyond this (m) become no return and range_max is set to it (default: the "
+         "scans' range_max, with a note when it is over twice the 99.9th percentile reading)")
+      ->check(positive());
   // The nominal geometry: any of these flags replaces the log's (CARMEN PARAM lines) or the
   // default; the ones not given keep the default.
   auto& g = flags->geometry;
@@ -146,7 +180,7 @@ Command addImportCommand(CLI::App& app) {
       ->each(given)
       ->capture_default_str();
   cli->add_option("--nominal", flags->nominal,
-                  "nominal wheel geometry r_L,r_R,b (m); mcap: required unless the bag carries "
+                  "nominal wheel geometry r_L,r_R,b (m); bags: required unless the bag carries "
                   "it (slamprep exports do)");
   cli->add_option("--ticks-per-revolution", flags->params.ticks_per_revolution,
                   "resolution of the derived encoder ticks")
@@ -154,12 +188,12 @@ Command addImportCommand(CLI::App& app) {
       ->capture_default_str();
   cli->add_option("--time-increment", flags->time_increment_s,
                   "time between beams (s); carmen default: the log's PARAM, else 0 = unknown "
-                  "(de-skew refuses); mcap: replaces every LaserScan's")
+                  "(de-skew refuses); bags: replace every LaserScan's")
       ->check(nonNegative())
       ->each([flags](const std::string&) { flags->time_increment_given = true; });
   cli->add_option("--lidar-mount", flags->lidar_mount,
                   "x,y,yaw_deg of the lidar on the base: metres, metres, degrees (default: from "
-                  "the log (mcap: the tf tree), else 0,0,0)");
+                  "the log (bags: the tf tree), else 0,0,0)");
   cli->add_flag("--lidar-mount-from-poses", flags->params.lidar_mount_from_poses,
                 "carmen: without --lidar-mount or a mount PARAM, take robot_pose^-1 laser_pose");
   cli->add_option("--reorder-tolerance", flags->params.reorder_tolerance_s,
@@ -178,15 +212,15 @@ Command addImportCommand(CLI::App& app) {
                   "carmen: odom (ODOM lines) or laser (the laser lines' robot poses); default: "
                   "ODOM when present")
       ->check(oneOf("odometry source", {"odom", "laser"}));
-  cli->add_option("--base-frame", flags->params.base_frame, "mcap: the robot's base frame in tf")
+  cli->add_option("--base-frame", flags->params.base_frame, "bags: the robot's base frame in tf")
       ->capture_default_str();
   cli->add_flag("--trim", flags->params.trim, "drop scans the odometry does not cover");
-  cli->add_option("--scan-topic", flags->params.scan_topic, "mcap: LaserScan topic");
-  cli->add_option("--odom-topic", flags->params.odom_topic, "mcap: Odometry topic");
-  cli->add_option("--joint-topic", flags->params.joint_topic, "mcap: JointState topic");
-  cli->add_option("--imu-topic", flags->params.imu_topic, "mcap: Imu topic");
-  cli->add_option("--left-joint", flags->params.left_joint, "mcap: left wheel joint name");
-  cli->add_option("--right-joint", flags->params.right_joint, "mcap: right wheel joint name");
+  cli->add_option("--scan-topic", flags->params.scan_topic, "bags: LaserScan topic");
+  cli->add_option("--odom-topic", flags->params.odom_topic, "bags: Odometry topic");
+  cli->add_option("--joint-topic", flags->params.joint_topic, "bags: JointState topic");
+  cli->add_option("--imu-topic", flags->params.imu_topic, "bags: Imu topic");
+  cli->add_option("--left-joint", flags->params.left_joint, "bags: left wheel joint name");
+  cli->add_option("--right-joint", flags->params.right_joint, "bags: right wheel joint name");
   return {cli, [flags] { return runImport(*flags); }};
 }
 

@@ -6,9 +6,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
 
+#include "algo/agreement/agreement_report.hpp"
+#include "algo/agreement/dataset_sources.hpp"
 #include "algo/deskew/deskew.hpp"
 #include "app/choices.hpp"
 #include "app/commands.hpp"
@@ -22,6 +25,7 @@
 #include "eval/bench/match_trajectory.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "eval/formats/tum.hpp"
+#include "eval/metrics/error_stats.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -43,8 +47,9 @@ struct MatchFlags {
   bool force = false;
 };
 
-/// Every scan's points in its first-beam lidar frame: as measured, or de-skewed by VICP where it
-/// applies (a scan it refuses, e.g. time_increment 0, is matched as measured and counted).
+/// Every scan's points in its first-beam lidar frame: as measured, or de-skewed by `--deskew`
+/// where it applies (a scan the method refuses, e.g. time_increment 0, is matched as measured and
+/// counted).
 std::vector<Points2> scanPoints(const Dataset& d, const MatchFlags& flags, int* refused) {
   std::vector<Points2> points;
   if (flags.deskew == "none") {
@@ -54,7 +59,8 @@ std::vector<Points2> scanPoints(const Dataset& d, const MatchFlags& flags, int* 
   eval::DatasetDeskewOptions options = eval::nominalDeskewOptions(d);
   if (d.encoders.empty()) options.odometry = d.odom_nominal;  // an imported log: its poses
   options.stamp_is_last_beam = flags.stamp_is_last_beam;
-  const eval::DatasetDeskew deskewed = eval::deskewDataset(d, algo::DeskewMethod::kVicp, options);
+  const eval::DatasetDeskew deskewed =
+      eval::deskewDataset(d, *algo::parseDeskewMethod(flags.deskew), options);
   const std::vector<Points2> corrected = eval::correctedPoints(deskewed);
   for (std::size_t k = 0; k < d.scans.size(); ++k)
     points.push_back(deskewed.scans[k].ok ? corrected[k] : d.scans[k].scan.points());
@@ -62,8 +68,44 @@ std::vector<Points2> scanPoints(const Dataset& d, const MatchFlags& flags, int* 
   return points;
 }
 
+/// The point-to-line RMS residual of the accepted matches (docs/matching.md): how well the
+/// scans fit the map they were matched to, what de-skew lowers where the robot turns.
+eval::ErrorStats acceptedResiduals(const algo::KeyframeOdometry& t) {
+  std::vector<double> rms;
+  for (std::size_t k = 1; k < t.scans.size(); ++k)
+    if (!t.scans[k].fallback) rms.push_back(t.scans[k].match.rms_residual_m);
+  return eval::summarize(std::move(rms));
+}
+
+/// Which guess each scan's pose came from, and how often the guesses disagreed.
+nlohmann::ordered_json hypothesesJson(const eval::MatchTrajectory& run) {
+  const algo::KeyframeOdometry& t = run.tracked;
+  nlohmann::ordered_json won = nlohmann::ordered_json::object();
+  for (std::size_t i = 0; i < algo::kGuessSources; ++i)
+    won[algo::guessSourceName(static_cast<algo::GuessSource>(i))] = t.won_by[i];
+  return {{"odometry_guesses", run.odometry_guesses},
+          {"gyro_guesses", run.gyro_guesses},
+          {"multi_hypothesis", t.multi_hypothesis},
+          {"won_by", won}};
+}
+
+/// The heading of the accepted matches (a fallback's pose is a guess, not a measurement).
+PoseSeries acceptedPoses(const eval::MatchTrajectory& run) {
+  PoseSeries accepted;
+  for (std::size_t k = 0; k < run.tracked.scans.size(); ++k)
+    if (!run.tracked.scans[k].fallback)
+      accepted.push_back(run.T_world_base[k].stamp_s, run.T_world_base[k].value);
+  return accepted;
+}
+
+nlohmann::ordered_json residualJson(const eval::ErrorStats& s) {
+  if (!s.ok) return nullptr;
+  return {{"median", s.median}, {"p95", s.p95}};
+}
+
 nlohmann::ordered_json summaryJson(const MatchFlags& f, const eval::MatchTrajectory& run,
-                                   int deskew_refused, double seconds) {
+                                   int deskew_refused, double seconds,
+                                   nlohmann::ordered_json agreement) {
   const algo::KeyframeOdometry& t = run.tracked;
   const std::size_t attempted = t.scans.size() - 1;
   const algo::IcpParams& icp = f.params.icp;
@@ -75,9 +117,13 @@ nlohmann::ordered_json summaryJson(const MatchFlags& f, const eval::MatchTraject
       {"matched", t.matched},
       {"fallbacks", t.fallbacks},
       {"rejected", t.rejected},
+      {"unsupported", t.unsupported},
       {"converged_percent", 100.0 * double(t.matched) / double(attempted)},
       {"keyframes", t.keyframes},
       {"odometry_guesses", run.odometry_guesses},
+      {"hypotheses", hypothesesJson(run)},
+      {"residual_rms_m", residualJson(acceptedResiduals(t))},
+      {"sensor_agreement", std::move(agreement)},
       {"seconds", seconds},
       {"params",
        {{"max_iterations", icp.max_iterations},
@@ -91,10 +137,29 @@ nlohmann::ordered_json summaryJson(const MatchFlags& f, const eval::MatchTraject
         {"submap_radius_m", f.params.submap.max_distance_m},
         {"submap_travel_m", f.params.submap.max_travel_m},
         {"max_range_m", f.params.max_range_m},
+        {"odometry_sigma_m", f.params.odometry_sigma_m},
+        {"odometry_sigma_deg", f.odometry_sigma_deg},
         {"max_correction_m", f.params.max_correction_m},
-        {"max_correction_deg", f.params.max_correction_rad * kDegPerRad}}},
+        {"max_correction_deg", f.params.max_correction_rad * kDegPerRad},
+        {"hypothesis_separation_m", f.params.hypothesis_separation_m},
+        {"hypothesis_separation_deg", f.params.hypothesis_separation_rad * kDegPerRad},
+        {"support_distance_m", f.params.support_distance_m},
+        {"min_support_fraction", f.params.min_support_fraction},
+        {"preference_cost_ratio", f.params.preference_cost_ratio}}},
       {"trajectory_file", f.trajectory.empty() ? nullptr : nlohmann::ordered_json(f.trajectory)},
       {"matches_file", f.out.empty() ? nullptr : nlohmann::ordered_json(f.out)}};
+}
+
+void printGuesses(const eval::MatchTrajectory& run) {
+  const algo::KeyframeOdometry& t = run.tracked;
+  std::printf(
+      "guesses: odometry for %zu scans, gyro for %zu; they disagreed on %zu, matched from "
+      "each; poses taken from",
+      run.odometry_guesses, run.gyro_guesses, t.multi_hypothesis);
+  for (std::size_t i = 0; i < algo::kGuessSources; ++i)
+    std::printf("%s %s %zu", i == 0 ? "" : ",", algo::guessSourceName(algo::GuessSource(i)),
+                t.won_by[i]);
+  std::printf("\n");
 }
 
 int runMatch(MatchFlags flags) {
@@ -127,17 +192,26 @@ int runMatch(MatchFlags flags) {
   if (!flags.out.empty()) writeFileAtomic(flags.out, eval::formatTrackedMatches(run));
   if (!flags.trajectory.empty())
     writeFileAtomic(flags.trajectory, eval::formatTum(run.T_world_base, flags.trajectory));
-  const auto summary = summaryJson(flags, run, refused, seconds);
+  const algo::SensorAgreement agreement =
+      algo::compareSensors(algo::datasetSources(d, algo::scanPieces({acceptedPoses(run)})));
+  const auto summary = summaryJson(flags, run, refused, seconds,
+                                   algo::agreementJson(agreement, algo::encodersFrom(d.info)));
   if (!flags.json_out.empty()) writeFileAtomic(flags.json_out, summary.dump(2) + "\n");
   std::printf(
-      "matched %zu of %zu scans against the local map (%.2f %%), %zu fell back to the "
-      "odometry (%zu of them converged beyond the correction limit); %zu keyframes\n",
+      "matched %zu of %zu scans against the local map (%.2f %%), %zu fell back to a "
+      "guess (%zu converged beyond the correction limit, %zu without the map's support); %zu "
+      "keyframes\n",
       t.matched, attempted, summary["converged_percent"].get<double>(), t.fallbacks, t.rejected,
-      t.keyframes);
-  std::printf("guesses: %zu from the odometry, %zu from the last step; de-skew %s",
-              run.odometry_guesses, attempted - run.odometry_guesses, flags.deskew.c_str());
-  if (flags.deskew == "vicp") std::printf(" (%d scans refused, matched as measured)", refused);
+      t.unsupported, t.keyframes);
+  printGuesses(run);
+  const eval::ErrorStats residual = acceptedResiduals(t);
+  if (residual.ok)
+    std::printf("point-to-line residual of the accepted matches: median %.4f m, p95 %.4f m\n",
+                residual.median, residual.p95);
+  std::printf("de-skew %s", flags.deskew.c_str());
+  if (flags.deskew != "none") std::printf(" (%d scans refused, matched as measured)", refused);
   std::printf("; %.2f s\n", seconds);
+  std::printf("%s", algo::agreementText(agreement).c_str());
   for (const auto& [file, what] : {std::pair{flags.out, "matches"},
                                    {flags.trajectory, "trajectory"},
                                    {flags.json_out, "summary"}})
@@ -155,8 +229,10 @@ Command addMatchCommand(CLI::App& app) {
       "match", "Lidar odometry: each scan matched against a local map of keyframes.");
   cli->footer(
       "Matches every scan (point-to-line ICP) against a point map of the keyframes of the last\n"
-      "40 m of travel, the odometry as the guess; a failed match takes the odometry step and\n"
-      "is counted (docs/matching.md).\n"
+      "40 m of travel. Guesses: the odometry, the gyro's turn, the last step, standing still;\n"
+      "where they disagree each is matched and the pose the map explains best is kept. A match\n"
+      "is accepted when the map supports the scan, never for agreeing with a guess; otherwise\n"
+      "the best supported guess is taken and counted as a fallback (docs/matching.md).\n"
       "--trajectory FILE writes the base poses as TUM, --out FILE one JSON line per scan, --json\n"
       "FILE the summary. Exit 3 when no scan matched, or with --strict when any fell back.");
   cli->add_option("DATASET", flags->dataset, "dataset directory (read only)")->required();
@@ -168,10 +244,12 @@ Command addMatchCommand(CLI::App& app) {
                 "replace existing output files; the old ones stay until the new are complete");
   cli->add_flag("--strict", flags->strict, "exit 3 when any scan fell back, not only all");
   cli->add_flag("-q,--quiet", flags->quiet, "No progress output");
+  std::vector<std::string> deskews = {"none"};
+  for (auto m : algo::allDeskewMethods()) deskews.emplace_back(algo::deskewMethodName(m));
   cli->add_option("--deskew", flags->deskew,
-                  "vicp: de-skew each scan with VICP first (scans it refuses are matched as "
-                  "measured); none: match the scans as measured")
-      ->check(oneOf("de-skew", {"vicp", "none"}))
+                  "de-skew each scan with this method first (scans it refuses are matched as "
+                  "measured; docs/deskew.md); none: match the scans as measured")
+      ->check(oneOf("de-skew method", deskews))
       ->capture_default_str();
   cli->add_flag("--stamp-is-last-beam", flags->stamp_is_last_beam,
                 "the scans' stamps mark their last beam, not their first");
@@ -211,6 +289,24 @@ Command addMatchCommand(CLI::App& app) {
                   "... and its heading noise per scan step (deg)")
       ->check(nonNegative())
       ->capture_default_str();
+  cli->add_option("--min-support", flags->params.min_support_fraction,
+                  "a converged match is accepted when at least this fraction of the scan's "
+                  "points lies within 0.1 m of the map (scan support)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cli->add_option("--preference-ratio", flags->params.preference_cost_ratio,
+                  "where the guesses disagree, a later guess's match replaces the odometry's only "
+                  "when its scan-support cost is below 1/R of it")
+      ->check(CLI::Range(1.0, 1e9))
+      ->capture_default_str();
+  cli->add_flag_callback(
+      "--single-guess",
+      [flags] {
+        flags->params.hypothesis_separation_m = std::numeric_limits<double>::infinity();
+        flags->params.hypothesis_separation_rad = std::numeric_limits<double>::infinity();
+      },
+      "match from the first guess only (the odometry; the last step without one), not from "
+      "each where the guesses disagree: the matcher before hypotheses, for comparison");
   return {cli, [flags] { return runMatch(*flags); }};
 }
 

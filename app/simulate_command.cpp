@@ -39,8 +39,13 @@ std::string keysHelp() {
   out << "Configuration keys for --set KEY=VALUE (defaults shown; docs/simulate.md explains "
          "them):\n";
   const nlohmann::json flat = sim::toJson(sim::SimConfig{}, true).flatten();
-  for (const std::string& key : sim::configKeys())
-    out << "  " << key << " = " << flat.at(sim::configPointer(key).to_string()).dump() << "\n";
+  for (const std::string& key : sim::configKeys()) {
+    std::string pointer = "/" + key;
+    for (char& ch : pointer) {
+      if (ch == '.') ch = '/';
+    }
+    out << "  " << key << " = " << flat.at(pointer).dump() << "\n";
+  }
   out << "Example: slamprep simulate --scenario worlds/scenarios/figure_eight.yaml --seed 3 "
          "--set lidar.rate_hz=5 --set nominal.wheel_base_error=0.02 --out out/fig8\n";
   return out.str();
@@ -55,6 +60,8 @@ sim::SimConfig readConfigFile(const std::string& file) {
   if (json.is_discarded()) throw InputError(file, "malformed JSON");
   if (json.is_object() && json.contains("config") && json.contains("format_version")) {
     json = json["config"];
+    // Keys the dataset adds beside the simulator's configuration (docs/dataset.md).
+    for (const char* key : {"encoders_from", "odometry_heading"}) json.erase(key);
   }
   return sim::configFromJson(json, file);
 }

@@ -50,8 +50,11 @@ struct Dataset {
   DatasetInfo info;
   PoseSeries groundtruth;   ///< true T_world_base (groundtruth.tum); empty for real logs
   PoseSeries odom_nominal;  ///< T_odom_base integrated with the nominal geometry (odom_nominal.tum)
-  EncoderLog encoders;      ///< encoders.csv
-  ImuLog imu;               ///< imu.csv
+  /// The log's own odometry when the encoders are not derived from it (odometry_logged.tum,
+  /// optional): a bag's Odometry topic beside its JointState wheel angles. Empty otherwise.
+  PoseSeries odometry_logged;
+  EncoderLog encoders;            ///< encoders.csv
+  ImuLog imu;                     ///< imu.csv
   std::vector<ScanRecord> scans;  ///< scans.jsonl
 
   bool hasTruth() const { return info.true_geometry.has_value() && !groundtruth.empty(); }

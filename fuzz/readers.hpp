@@ -104,7 +104,7 @@ inline void readAs(const std::string& name, std::string_view bytes) {
       return dir;
     }();
     writeScratch(folder / "metadata.yaml", bytes);
-    eval::bagFiles(folder);
+    eval::readRosbag2(folder);
   }
 }
 

@@ -21,6 +21,7 @@ packages=(
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libnanoflann-dev
   libfreetype-dev fonts-dejavu-core libpng-dev
   libzstd-dev liblz4-dev  # MCAP chunk compression (eval/formats/compression.cpp)
+  libsqlite3-dev  # rosbag2's sqlite3 storage, .db3 (eval/formats/sqlite_storage.cpp)
 )
 
 missing=()

@@ -1,6 +1,7 @@
 #include "algo/matching/keyframe_odometry.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <string>
@@ -41,7 +42,169 @@ bool beyond(const SE2& T, double distance_m, double angle_rad) {
   return T.translation().norm() > distance_m || std::abs(T.yaw) > angle_rad;
 }
 
+/// One guess of the scan's pose and what matching from it gave.
+struct Hypothesis {
+  GuessSource source;
+  SE2 T_world_guess;
+  IcpResult match;          ///< T_kf_scan from this guess
+  SE2 T_world_pose;         ///< the pose it proposes: the match, fused with the odometry guess
+  bool believable = false;  ///< converged, its pose within max_correction of its own guess
+  ScanSupport support;      ///< of its pose (or of the guess, for a fallback)
+};
+
+bool near(const SE2& a, const SE2& b, double distance_m, double angle_rad) {
+  return !beyond(between(a, b), distance_m, angle_rad);
+}
+
+/// The guesses for the pose of a scan after `T_world_prev`, in tie-break order, those within
+/// the hypothesis separation of an earlier one left out.
+std::vector<Hypothesis> guessesFor(const SE2& T_world_prev, const StepPrior& prior,
+                                   const SE2& last_step, const KeyframeOdometryParams& params) {
+  std::vector<std::pair<GuessSource, SE2>> steps;
+  if (prior.odometry) steps.emplace_back(GuessSource::kOdometry, *prior.odometry);
+  if (prior.gyro_yaw_rad) {
+    const SE2 moved = prior.odometry.value_or(last_step);
+    steps.emplace_back(GuessSource::kGyro, SE2(moved.x, moved.y, *prior.gyro_yaw_rad));
+  }
+  steps.emplace_back(GuessSource::kConstantVelocity, last_step);
+  steps.emplace_back(GuessSource::kStill, SE2());
+  std::vector<Hypothesis> out;
+  for (const auto& [source, step] : steps) {
+    const SE2 T_world_guess = T_world_prev * step;
+    const bool seen = std::any_of(out.begin(), out.end(), [&](const Hypothesis& h) {
+      return near(h.T_world_guess, T_world_guess, params.hypothesis_separation_m,
+                  params.hypothesis_separation_rad);
+    });
+    if (!seen) out.push_back({source, T_world_guess, {}, T_world_guess, false, {}});
+  }
+  return out;
+}
+
+/// The match fused with the odometry guess, where the fused pose stays within the correction
+/// limit of that guess (a stale or jumping odometry is not averaged in); else the match alone.
+SE2 proposedPose(const IcpResult& match, const std::optional<SE2>& T_world_odometry,
+                 const KeyframeMap& map, const KeyframeOdometryParams& params) {
+  const SE2 T_world_match = map.T_world_kf * match.T_ref_cur;
+  if (!T_world_odometry) return T_world_match;
+  const SE2 T_world_fused =
+      map.T_world_kf * fuseWithGuess(match.T_ref_cur, match.covariance,
+                                     between(map.T_world_kf, *T_world_odometry),
+                                     params.odometry_sigma_m, params.odometry_sigma_rad);
+  return near(*T_world_odometry, T_world_fused, params.max_correction_m, params.max_correction_rad)
+             ? T_world_fused
+             : T_world_match;
+}
+
+void matchFrom(Hypothesis& h, const std::optional<SE2>& T_world_odometry, const KeyframeMap& map,
+               const IcpReference& reference, const Points2& points,
+               const KeyframeOdometryParams& params) {
+  h.match =
+      matchPointToLine(reference, points, between(map.T_world_kf, h.T_world_guess), params.icp);
+  h.T_world_pose = proposedPose(h.match, T_world_odometry, map, params);
+  h.believable = h.match.converged && near(h.T_world_guess, h.T_world_pose, params.max_correction_m,
+                                           params.max_correction_rad);
+  h.support = scanSupport(reference, points, between(map.T_world_kf, h.T_world_pose),
+                          params.support_distance_m);
+}
+
+/// Of the believable matches, in guess order: a later one replaces the one kept so far only
+/// where the map explains it clearly better (its Eq. 1 cost below 1 / preference_cost_ratio of
+/// the kept one's). Along a corridor every guess's match costs the same, and the odometry's,
+/// which knows how far the robot drove, stays. nullptr when none is believable.
+const Hypothesis* bestMatch(const std::vector<Hypothesis>& hs, const KeyframeOdometryParams& p) {
+  const Hypothesis* best = nullptr;
+  for (const Hypothesis& h : hs)
+    if (h.believable &&
+        (!best || h.support.cost_m2 * p.preference_cost_ratio < best->support.cost_m2))
+      best = &h;
+  return best;
+}
+
+/// Where no match is accepted: the first guess (the odometry where there is one), unless the map
+/// supports another guess's pose (min_support_fraction) clearly better; a scan the map explains
+/// nowhere says nothing against the odometry.
+const Hypothesis& bestGuess(std::vector<Hypothesis>& hs, const KeyframeMap& map,
+                            const IcpReference& reference, const Points2& points,
+                            const KeyframeOdometryParams& params) {
+  if (hs.size() == 1) return hs.front();
+  for (Hypothesis& h : hs)
+    h.support = scanSupport(reference, points, between(map.T_world_kf, h.T_world_guess),
+                            params.support_distance_m);
+  const Hypothesis* best = &hs.front();
+  for (const Hypothesis& h : hs)
+    if (h.support.fraction() >= params.min_support_fraction &&
+        h.support.cost_m2 * params.preference_cost_ratio < best->support.cost_m2)
+      best = &h;
+  return *best;
+}
+
+/// Why no match of the scan was accepted, for TrackedScan::match.reason and the counters.
+void explainFallback(const std::vector<Hypothesis>& hs, const KeyframeOdometryParams& params,
+                     TrackedScan& scan, KeyframeOdometry& out) {
+  ++out.fallbacks;
+  const bool converged =
+      std::any_of(hs.begin(), hs.end(), [](const Hypothesis& h) { return h.match.converged; });
+  const bool believable =
+      std::any_of(hs.begin(), hs.end(), [](const Hypothesis& h) { return h.believable; });
+  if (believable) {
+    ++out.unsupported;
+    scan.match.reason = "converged, but under " +
+                        std::to_string(int(100 * params.min_support_fraction)) +
+                        " % of the scan lies on the map: not supported";
+  } else if (converged) {
+    ++out.rejected;
+    scan.match.reason = "converged beyond max_correction from the guess: not believed";
+  }
+}
+
+/// Tracks scan k: its guesses, a match from each, the best supported, or a fallback.
+TrackedScan trackScan(const Points2& points, const StepPrior& prior, const SE2& T_world_prev,
+                      const SE2& last_step, const KeyframeMap& map, const IcpReference& reference,
+                      const KeyframeOdometryParams& params, KeyframeOdometry& out) {
+  const std::optional<SE2> T_world_odometry =
+      prior.odometry ? std::optional<SE2>(T_world_prev * *prior.odometry) : std::nullopt;
+  std::vector<Hypothesis> hs = guessesFor(T_world_prev, prior, last_step, params);
+  for (Hypothesis& h : hs) matchFrom(h, T_world_odometry, map, reference, points, params);
+  TrackedScan scan;
+  scan.keyframe = map.newest;
+  scan.map_points = reference.points().size();
+  scan.hypotheses = hs.size();
+  if (hs.size() > 1) ++out.multi_hypothesis;
+  const Hypothesis* best = bestMatch(hs, params);
+  if (best && best->support.fraction() >= params.min_support_fraction) {
+    scan.T_world_lidar = best->T_world_pose;
+    scan.match = best->match;
+    scan.guess = best->source;
+    scan.support = best->support;
+    ++out.matched;
+  } else {
+    scan.match = best ? best->match : hs.front().match;
+    const Hypothesis& fallback = bestGuess(hs, map, reference, points, params);
+    scan.T_world_lidar = fallback.T_world_guess;
+    scan.guess = fallback.source;
+    scan.support = fallback.support;
+    scan.fallback = true;
+    explainFallback(hs, params, scan, out);
+  }
+  ++out.won_by[static_cast<std::size_t>(scan.guess)];
+  return scan;
+}
+
 }  // namespace
+
+const char* guessSourceName(GuessSource source) {
+  switch (source) {
+    case GuessSource::kOdometry:
+      return "odometry";
+    case GuessSource::kGyro:
+      return "gyro";
+    case GuessSource::kConstantVelocity:
+      return "constant_velocity";
+    case GuessSource::kStill:
+      return "still";
+  }
+  return "?";
+}
 
 SE2 fuseWithGuess(const SE2& T_kf_match, const Eigen::Matrix3d& match_covariance,
                   const SE2& T_kf_guess, double odometry_sigma_m, double odometry_sigma_rad) {
@@ -59,10 +222,10 @@ SE2 fuseWithGuess(const SE2& T_kf_match, const Eigen::Matrix3d& match_covariance
 }
 
 KeyframeOdometry trackKeyframes(const std::vector<Points2>& all_points,
-                                const std::vector<std::optional<SE2>>& increments,
+                                const std::vector<StepPrior>& priors,
                                 const KeyframeOdometryParams& params,
                                 const SE2& T_world_lidar_start) {
-  assert(increments.size() == all_points.size());
+  assert(priors.size() == all_points.size());
   std::vector<Points2> points;
   points.reserve(all_points.size());
   for (const Points2& p : all_points) points.push_back(withinRange(p, params.max_range_m));
@@ -77,40 +240,15 @@ KeyframeOdometry trackKeyframes(const std::vector<Points2>& all_points,
   first.map_points = reference.points().size();
   out.scans.push_back(std::move(first));
   out.keyframes = 1;
-  SE2 last_step;  // the last accepted motion: the guess where there is no odometry
+  SE2 last_step;  // the last step taken: the constant-velocity guess
   for (std::size_t k = 1; k < points.size(); ++k) {
     const SE2 T_world_prev = out.scans.back().T_world_lidar;
-    const SE2 T_world_guess = T_world_prev * increments[k].value_or(last_step);
-    const SE2 T_world_kf = map.T_world_kf;  // a copy: add() moves it
-    TrackedScan scan;
-    scan.T_world_lidar = T_world_guess;
-    scan.keyframe = map.newest;
-    scan.fallback = true;
-    scan.map_points = reference.points().size();
-    const SE2 T_kf_guess = between(T_world_kf, T_world_guess);
-    scan.match = matchPointToLine(reference, points[k], T_kf_guess, params.icp);
-    SE2 T_kf_scan = scan.match.T_ref_cur;
-    if (increments[k])  // only an odometry guess carries information of its own
-      T_kf_scan = fuseWithGuess(T_kf_scan, scan.match.covariance, T_kf_guess,
-                                params.odometry_sigma_m, params.odometry_sigma_rad);
-    const SE2 T_world_match = T_world_kf * T_kf_scan;
-    const bool believable = !beyond(between(T_world_guess, T_world_match), params.max_correction_m,
-                                    params.max_correction_rad);
-    if (scan.match.converged && believable) {
-      scan.T_world_lidar = T_world_match;
-      scan.fallback = false;
-      ++out.matched;
-    } else {
-      ++out.fallbacks;
-      if (scan.match.converged) {
-        ++out.rejected;
-        scan.match.reason = "converged beyond max_correction from the guess: not believed";
-      }
-    }
+    TrackedScan scan =
+        trackScan(points[k], priors[k], T_world_prev, last_step, map, reference, params, out);
     last_step = between(T_world_prev, scan.T_world_lidar);
     // A new keyframe once the scan has left the current one, matched or not: a map the robot has
     // left would make every later match fail.
-    if (beyond(between(T_world_kf, scan.T_world_lidar), params.keyframe_distance_m,
+    if (beyond(between(map.T_world_kf, scan.T_world_lidar), params.keyframe_distance_m,
                params.keyframe_angle_rad)) {
       map.add(k, scan.T_world_lidar, points[k]);
       reference = map.reference(params.icp);
@@ -120,6 +258,15 @@ KeyframeOdometry trackKeyframes(const std::vector<Points2>& all_points,
     out.scans.push_back(std::move(scan));
   }
   return out;
+}
+
+KeyframeOdometry trackKeyframes(const std::vector<Points2>& points,
+                                const std::vector<std::optional<SE2>>& increments,
+                                const KeyframeOdometryParams& params,
+                                const SE2& T_world_lidar_start) {
+  std::vector<StepPrior> priors(increments.size());
+  for (std::size_t k = 0; k < increments.size(); ++k) priors[k].odometry = increments[k];
+  return trackKeyframes(points, priors, params, T_world_lidar_start);
 }
 
 }  // namespace slamprep::algo

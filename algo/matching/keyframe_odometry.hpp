@@ -7,9 +7,19 @@
 // current one. Matching a map that stays put while the robot moves within it adds no drift, where
 // chaining scan-to-scan matches adds the error of every pair.
 //
-// Failed matches: the scan's pose is the guess (previous pose o odometry increment), counted as
-// a fallback. Nothing else changes, so one failed scan costs the odometry's error over one step.
+// Guesses (docs/matching.md "Hypotheses"): the odometry's step, the gyro's turn (the odometry's
+// or the last step's translation with the yaw the gyro measured), the last accepted step
+// (constant velocity) and standing still. Where they disagree by more than the ICP's basin, the
+// scan is matched from each and the result the map explains best (scan_support.hpp, Eq. 1)
+// wins; a later guess of that list must be clearly better to replace an earlier one. A match is
+// accepted because the scan supports it (converged, and at least min_support_fraction of its points
+// lie on the map), never because it agrees with a guess: a stale odometry that jumps 85 degrees in
+// one step is one guess among four, not the answer the match must confirm.
+//
+// Failed matches: the scan's pose is the first guess (the odometry step), or another guess whose
+// pose the map supports clearly better; counted as a fallback.
 
+#include <array>
 #include <cstddef>
 #include <numbers>
 #include <optional>
@@ -17,6 +27,7 @@
 
 #include "algo/matching/icp.hpp"
 #include "algo/matching/local_submap.hpp"
+#include "algo/matching/scan_support.hpp"
 #include "core/laser_scan.hpp"
 #include "core/se2.hpp"
 
@@ -39,10 +50,28 @@ struct KeyframeOdometryParams {
   /// length), the odometry decides. 0: the match alone.
   double odometry_sigma_m = 0.01;
   double odometry_sigma_rad = 0.3 * std::numbers::pi / 180.0;
-  /// A converged match that moves the pose more than this from the guess is not believed (a
-  /// wrong local minimum): a fallback, as a failed match is.
+  /// A match that ends farther than this from the guess it started at has left the ICP's basin
+  /// (a wrong local minimum): that hypothesis is not believed. The odometry guess is fused with
+  /// the result only where it lies within this of it.
   double max_correction_m = 0.5;
   double max_correction_rad = 20.0 * std::numbers::pi / 180.0;
+  /// Guesses farther apart than this (translation or rotation) are matched each: closer ones
+  /// start in the same basin of the ICP and end in the same minimum.
+  double hypothesis_separation_m = 0.1;
+  double hypothesis_separation_rad = 3.0 * std::numbers::pi / 180.0;
+  /// Scan support (scan_support.hpp): a point within this of the map explains the scan there ...
+  double support_distance_m = 0.1;
+  /// ... and a converged match is accepted when at least this fraction of the points the map
+  /// overlaps does (0.1: the lowest accepted match of the three tuning logs, ACES, had 0.15 and
+  /// was right; a scan that fits nowhere has far less).
+  double min_support_fraction = 0.1;
+  /// A later guess's match (or pose) replaces an earlier one's only where its Eq. 1 cost is below
+  /// 1 / this of the earlier's: where the scan cannot tell them apart (a corridor's length), the
+  /// earlier guess (the odometry) decides.
+  /// 3: at 1.5 and 2 fr079 took four constant-velocity matches whose cost was 2-4x lower, each
+  /// as right locally as the odometry's (relations within 0.3 deg), and its drift later ran
+  /// 30 degrees off; 3 and 5 gave the same results on all three tuning logs.
+  double preference_cost_ratio = 3.0;
 
   static IcpParams defaultIcp() {
     IcpParams p;
@@ -63,6 +92,17 @@ struct KeyframeOdometryParams {
   }
 };
 
+/// Where a guess of the motion between two scans came from, in the order near-ties are broken.
+enum class GuessSource { kOdometry, kGyro, kConstantVelocity, kStill };
+inline constexpr std::size_t kGuessSources = 4;
+const char* guessSourceName(GuessSource source);
+
+/// What the log says of the motion from scan k-1 to scan k (lidar frame, first beams).
+struct StepPrior {
+  std::optional<SE2> odometry;         ///< T_prev_cur from the odometry
+  std::optional<double> gyro_yaw_rad;  ///< the yaw the gyro turned between the two scans
+};
+
 /// What happened to one scan.
 struct TrackedScan {
   SE2 T_world_lidar;           ///< pose of the scan's (first-beam) lidar frame
@@ -71,6 +111,9 @@ struct TrackedScan {
   bool fallback = false;       ///< pose taken from the guess (failed or rejected match)
   bool is_keyframe = false;    ///< this scan started a keyframe
   std::size_t map_points = 0;  ///< points of the local map it was matched against
+  GuessSource guess = GuessSource::kOdometry;  ///< the guess whose match (or pose) was taken
+  std::size_t hypotheses = 1;                  ///< distinct guesses matched
+  ScanSupport support;                         ///< of the pose taken
 };
 
 struct KeyframeOdometry {
@@ -79,6 +122,10 @@ struct KeyframeOdometry {
   std::size_t fallbacks = 0;       ///< scans 1..n-1 placed by the guess instead
   std::size_t rejected = 0;        ///< of the fallbacks: converged, but beyond max_correction
   std::size_t keyframes = 0;
+  std::size_t unsupported = 0;  ///< of the fallbacks: converged, but the map did not support it
+  std::size_t multi_hypothesis = 0;  ///< scans whose guesses disagreed, so each was matched
+  /// Scans 1..n-1 per GuessSource whose guess won (matched or fallen back to).
+  std::array<std::size_t, kGuessSources> won_by{};
 };
 
 /// The information-weighted mean of the match and the guess, both T_kf_scan, as (x, y, yaw)
@@ -88,10 +135,15 @@ struct KeyframeOdometry {
 SE2 fuseWithGuess(const SE2& T_kf_match, const Eigen::Matrix3d& match_covariance,
                   const SE2& T_kf_guess, double odometry_sigma_m, double odometry_sigma_rad);
 
-/// Tracks `points` (each scan in its own lidar frame, in time order). `increments[k]` is the
-/// guessed motion T_{k-1}_k of the lidar from scan k-1 to scan k (index 0 unused); nullopt: the
-/// last accepted step is repeated (constant velocity, all a lidar-only log has). The first scan
-/// sits at `T_world_lidar_start`.
+/// Tracks `points` (each scan in its own lidar frame, in time order). `priors[k]` is what the log
+/// says of the motion from scan k-1 to scan k (index 0 unused). The first scan sits at
+/// `T_world_lidar_start`.
+KeyframeOdometry trackKeyframes(const std::vector<Points2>& points,
+                                const std::vector<StepPrior>& priors,
+                                const KeyframeOdometryParams& params = {},
+                                const SE2& T_world_lidar_start = SE2());
+
+/// The same with odometry steps only (nullopt: no odometry for that step).
 KeyframeOdometry trackKeyframes(const std::vector<Points2>& points,
                                 const std::vector<std::optional<SE2>>& increments,
                                 const KeyframeOdometryParams& params = {},

@@ -7,9 +7,26 @@
 #include "algo/calibration/dataset_motion.hpp"
 #include "algo/deskew/deskew.hpp"
 #include "core/error.hpp"
+#include "core/heading.hpp"
 #include "eval/bench/match_run.hpp"
 
 namespace slamprep::eval {
+namespace {
+
+/// What the odometry and the gyro say of each step between consecutive scans (index 0 unused).
+std::vector<algo::StepPrior> stepPriors(const Dataset& dataset, const std::vector<double>& stamps_s,
+                                        const MatchTrajectoryOptions& options) {
+  std::vector<algo::StepPrior> priors(stamps_s.size());
+  const HeadingSeries gyro = options.use_gyro ? gyroHeading(dataset.imu) : HeadingSeries();
+  for (std::size_t k = 1; k < priors.size(); ++k) {
+    priors[k].odometry = algo::odometryLidarMotion(dataset, stamps_s[k - 1], stamps_s[k]);
+    if (!gyro.empty())
+      priors[k].gyro_yaw_rad = turned(gyro, stamps_s[k - 1], stamps_s[k], options.max_gyro_gap_s);
+  }
+  return priors;
+}
+
+}  // namespace
 
 MatchTrajectory matchTrajectory(const Dataset& dataset, const std::vector<Points2>& points,
                                 const MatchTrajectoryOptions& options) {
@@ -21,16 +38,16 @@ MatchTrajectory matchTrajectory(const Dataset& dataset, const std::vector<Points
                        "first-beam times not increasing");
     run.stamps_s.push_back(t);
   }
-  std::vector<std::optional<SE2>> increments(run.stamps_s.size());
-  for (std::size_t k = 1; k < increments.size(); ++k) {
-    increments[k] = algo::odometryLidarMotion(dataset, run.stamps_s[k - 1], run.stamps_s[k]);
-    run.odometry_guesses += increments[k] ? 1 : 0;
+  const std::vector<algo::StepPrior> priors = stepPriors(dataset, run.stamps_s, options);
+  for (const algo::StepPrior& p : priors) {
+    run.odometry_guesses += p.odometry ? 1 : 0;
+    run.gyro_guesses += p.gyro_yaw_rad ? 1 : 0;
   }
   const SE2& T_base_lidar = dataset.info.T_base_lidar;
   const auto odom0 = run.stamps_s.empty() ? std::nullopt : dataset.odom_nominal.at(run.stamps_s[0]);
   const SE2 start = odom0.value_or(SE2()) * T_base_lidar;
   const auto begin = std::chrono::steady_clock::now();
-  run.tracked = algo::trackKeyframes(points, increments, options.params, start);
+  run.tracked = algo::trackKeyframes(points, priors, options.params, start);
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   const SE2 T_lidar_base = T_base_lidar.inverse();
   for (std::size_t k = 0; k < run.tracked.scans.size(); ++k)
@@ -47,6 +64,9 @@ std::string formatTrackedMatches(const MatchTrajectory& run) {
     line["fallback"] = s.fallback;
     line["keyframe"] = s.is_keyframe;
     line["map_points"] = s.map_points;
+    line["guess"] = algo::guessSourceName(s.guess);
+    line["hypotheses"] = s.hypotheses;
+    line["support"] = s.support.fraction();
     text += line.dump() + "\n";
   }
   return text;

@@ -15,21 +15,27 @@ namespace slamprep::eval {
 struct MatchTrajectoryOptions {
   algo::KeyframeOdometryParams params;
   bool stamp_is_last_beam = false;
+  /// Guess each step's turn from the gyro too, where the dataset has an IMU ...
+  bool use_gyro = true;
+  /// ... and its samples lie no farther apart than this around the step.
+  double max_gyro_gap_s = 0.25;
 };
 
 struct MatchTrajectory {
   algo::KeyframeOdometry tracked;
   std::vector<double> stamps_s;      ///< first-beam time of every scan
   PoseSeries T_world_base;           ///< the base at every scan's first beam (T_world_lidar l^-1)
-  std::size_t odometry_guesses = 0;  ///< scans 1..n-1 whose guess came from the odometry
+  std::size_t odometry_guesses = 0;  ///< scans 1..n-1 with an odometry guess
+  std::size_t gyro_guesses = 0;      ///< scans 1..n-1 with a gyro guess
   double seconds = 0.0;              ///< wall-clock time of the tracking
 };
 
 /// Tracks the scans given as `points` (one per dataset scan, in its first-beam lidar frame; e.g.
-/// the scans as measured or de-skewed). The guess of scan k is the nominal odometry between the
-/// two first beams (algo::odometryLidarMotion, as calibrate's matches use); where the odometry
-/// does not cover them, the last step. The world frame is the odometry's at the first scan (the
-/// origin without odometry). Throws InputError when first-beam times do not increase.
+/// the scans as measured or de-skewed). The guesses of scan k: the nominal odometry between the
+/// two first beams (algo::odometryLidarMotion, as calibrate's matches use), the gyro's turn over
+/// them, the last step and standing still (algo::trackKeyframes). The world frame is the odometry's
+/// at the first scan (the origin without odometry). Throws InputError when first-beam times do not
+/// increase.
 MatchTrajectory matchTrajectory(const Dataset& dataset, const std::vector<Points2>& points,
                                 const MatchTrajectoryOptions& options = {});
 

@@ -14,8 +14,9 @@ namespace {
 
 class FileSource final : public ByteSource {
  public:
-  explicit FileSource(const std::filesystem::path& file) : name_(file.string()) {
-    fd_ = ::open(name_.c_str(), O_RDONLY | O_CLOEXEC);
+  FileSource(const std::filesystem::path& file, const std::string& name)
+      : name_(name.empty() ? file.string() : name) {
+    fd_ = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd_ < 0) throw InputError(name_, std::string("cannot open: ") + std::strerror(errno));
     struct stat st {};
     if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
@@ -87,8 +88,9 @@ class MemorySource final : public ByteSource {
 
 }  // namespace
 
-std::unique_ptr<ByteSource> openFileSource(const std::filesystem::path& file) {
-  return std::make_unique<FileSource>(file);
+std::unique_ptr<ByteSource> openFileSource(const std::filesystem::path& file,
+                                           const std::string& name) {
+  return std::make_unique<FileSource>(file, name);
 }
 
 std::unique_ptr<ByteSource> memorySource(std::string_view bytes, std::string name) {

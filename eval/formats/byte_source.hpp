@@ -22,8 +22,9 @@ class ByteSource {
 };
 
 /// A file read through a 1 MiB read-ahead buffer. Throws InputError when it cannot be opened or
-/// is not a regular file.
-std::unique_ptr<ByteSource> openFileSource(const std::filesystem::path& file);
+/// is not a regular file. Errors name `name` when given (an unpacked copy names its original).
+std::unique_ptr<ByteSource> openFileSource(const std::filesystem::path& file,
+                                           const std::string& name = "");
 
 /// Bytes in memory, not copied: `bytes` must outlive the source.
 std::unique_ptr<ByteSource> memorySource(std::string_view bytes, std::string name);

@@ -3,6 +3,7 @@
 #include <lz4frame.h>
 #include <zstd.h>
 
+#include <fstream>
 #include <memory>
 #include <stdexcept>
 
@@ -95,6 +96,81 @@ std::string decompressChunk(std::string_view compression, std::string_view data,
   if (compression == "lz4") return unlz4(data, uncompressed_size, where);
   throw InputError(where, "compression \"" + std::string(compression) +
                               "\" is not supported (only \"\", \"zstd\", \"lz4\")");
+}
+
+namespace {
+
+using ZstdStream = std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)>;
+
+ZstdStream zstdStream(const std::string& where) {
+  ZstdStream ctx(ZSTD_createDCtx(), &ZSTD_freeDCtx);
+  if (!ctx) throw InputError(where, "zstd: cannot create a decompression context");
+  return ctx;
+}
+
+/// Feeds `in` through `ctx`, handing each unpacked block to `sink`; returns ZSTD's last hint
+/// (0: a frame ended exactly at the end of the input).
+template <typename Sink>
+std::size_t unzstdBlocks(ZSTD_DCtx* ctx, std::string_view in, std::string& block,
+                         const std::string& where, Sink&& sink) {
+  ZSTD_inBuffer input{in.data(), in.size(), 0};
+  std::size_t hint = 1;
+  while (input.pos < input.size) {
+    ZSTD_outBuffer output{block.data(), block.size(), 0};
+    hint = ZSTD_decompressStream(ctx, &output, &input);
+    if (ZSTD_isError(hint))
+      throw InputError(where, std::string("zstd: corrupt data (") + ZSTD_getErrorName(hint) + ")");
+    sink(std::string_view(block.data(), output.pos));
+  }
+  // The input is consumed; flush what the decoder still holds.
+  while (hint != 0) {
+    ZSTD_outBuffer output{block.data(), block.size(), 0};
+    hint = ZSTD_decompressStream(ctx, &output, &input);
+    if (ZSTD_isError(hint))
+      throw InputError(where, std::string("zstd: corrupt data (") + ZSTD_getErrorName(hint) + ")");
+    if (output.pos == 0) break;  // needs more input: the frame is truncated
+    sink(std::string_view(block.data(), output.pos));
+  }
+  return hint;
+}
+
+}  // namespace
+
+std::string decompressZstd(std::string_view data, const std::string& where,
+                           std::uint64_t max_size) {
+  const ZstdStream ctx = zstdStream(where);
+  std::string out, block(std::size_t{1} << 16, '\0');
+  const std::size_t hint = unzstdBlocks(ctx.get(), data, block, where, [&](std::string_view b) {
+    if (out.size() + b.size() > max_size)
+      throw InputError(where, "zstd: unpacks to more than " + std::to_string(max_size) + " bytes");
+    out.append(b);
+  });
+  if (hint != 0) throw InputError(where, "zstd: truncated frame");
+  return out;
+}
+
+void decompressZstdFile(const std::filesystem::path& from, const std::filesystem::path& to) {
+  const std::string where = from.string();
+  std::ifstream in(from, std::ios::binary);
+  if (!in) throw InputError(where, "cannot open");
+  std::ofstream out(to, std::ios::binary | std::ios::trunc);
+  if (!out) throw InputError(to.string(), "cannot create the decompressed copy");
+  const ZstdStream ctx = zstdStream(where);
+  std::string chunk(std::size_t{1} << 20, '\0'), block(ZSTD_DStreamOutSize(), '\0');
+  std::size_t hint = 1;
+  bool any = false;
+  while (in) {
+    in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+    const auto n = static_cast<std::size_t>(in.gcount());
+    if (n == 0) break;
+    any = true;
+    hint = unzstdBlocks(
+        ctx.get(), std::string_view(chunk.data(), n), block, where,
+        [&](std::string_view b) { out.write(b.data(), static_cast<std::streamsize>(b.size())); });
+  }
+  if (!any || hint != 0) throw InputError(where, "zstd: empty or truncated file");
+  out.flush();
+  if (!out) throw InputError(to.string(), "cannot write the decompressed copy (disk full?)");
 }
 
 std::string compressChunk(Compression c, std::string_view data) {

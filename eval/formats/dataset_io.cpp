@@ -169,6 +169,8 @@ void writeStreamFiles(const std::filesystem::path& dir, const Dataset& dataset,
   writeTextFile(dir / kDatasetJson, formatDatasetInfo(dataset.info, name(kDatasetJson)));
   writeTum(dir / kGroundTruthTum, dataset.groundtruth, name(kGroundTruthTum));
   writeTum(dir / kOdomNominalTum, dataset.odom_nominal, name(kOdomNominalTum));
+  if (!dataset.odometry_logged.empty())
+    writeTum(dir / kOdometryLoggedTum, dataset.odometry_logged, name(kOdometryLoggedTum));
   writeEncoders(dir / kEncodersCsv, dataset.encoders, name(kEncodersCsv));
   writeImu(dir / kImuCsv, dataset.imu, name(kImuCsv));
 }
@@ -205,6 +207,8 @@ Dataset readDataset(const std::filesystem::path& dir) {
   d.info = parseDatasetInfo(text(kDatasetJson), name(kDatasetJson));
   d.groundtruth = parseTum(text(kGroundTruthTum), name(kGroundTruthTum));
   d.odom_nominal = parseTum(text(kOdomNominalTum), name(kOdomNominalTum));
+  if (std::filesystem::exists(dir / kOdometryLoggedTum, ec))
+    d.odometry_logged = parseTum(text(kOdometryLoggedTum), name(kOdometryLoggedTum));
   d.encoders = parseEncoders(text(kEncodersCsv), name(kEncodersCsv));
   d.imu = parseImu(text(kImuCsv), name(kImuCsv));
   std::vector<std::size_t> scan_lines;

@@ -28,6 +28,8 @@ Dataset readDataset(const std::filesystem::path& dir);
 inline constexpr const char* kDatasetJson = "dataset.json";
 inline constexpr const char* kGroundTruthTum = "groundtruth.tum";
 inline constexpr const char* kOdomNominalTum = "odom_nominal.tum";
+/// Optional: written only when Dataset::odometry_logged is not empty, read when present.
+inline constexpr const char* kOdometryLoggedTum = "odometry_logged.tum";
 inline constexpr const char* kEncodersCsv = "encoders.csv";
 inline constexpr const char* kImuCsv = "imu.csv";
 inline constexpr const char* kScansJsonl = "scans.jsonl";

@@ -1,6 +1,7 @@
 #pragma once
 // Importing real logs into a dataset directory (docs/export.md, "Import"): a CARMEN log, or a
-// ROS 2 bag (a folder with metadata.yaml and split .mcap files, or one .mcap file; CDR) with
+// ROS 2 bag (a folder with metadata.yaml and split sqlite3 .db3 or .mcap files, maybe zstd
+// compressed per file or per message, or one .db3 or .mcap file; CDR) with
 // sensor_msgs/LaserScan plus nav_msgs/Odometry or sensor_msgs/JointState. The result has no
 // ground truth; calibrate and deskew read it.
 
@@ -13,6 +14,9 @@
 #include <vector>
 
 #include "core/dataset.hpp"
+#include "eval/formats/range_limit.hpp"
+#include "eval/formats/stale_odometry.hpp"
+#include "eval/formats/twist_spikes.hpp"
 
 namespace slamprep::eval {
 
@@ -60,6 +64,10 @@ struct ImportParams {
   std::string scan_topic, odom_topic, joint_topic, imu_topic;
   /// JointState names of the wheels; empty = the one joint whose name contains "left"/"right".
   std::string left_joint, right_joint;
+  /// Readings beyond this become "no return" and every scan's range_max is set to it; nullopt:
+  /// the scans' own range_max (a note when it exceeds twice the 99.9th percentile of the
+  /// readings, range_limit.hpp).
+  std::optional<double> max_range_m;
   /// MCAP: park the scans in a file in this directory while the bag is read, and hand them out
   /// through ImportResult::scans instead of Dataset::scans (memory then holds the other streams
   /// and one chunk; `slamprep import` spills into the dataset directory it is writing). Empty:
@@ -67,15 +75,20 @@ struct ImportParams {
   std::filesystem::path spill_dir;
 };
 
-/// What an import read and decided, printed by `slamprep import` (CARMEN fills it).
+/// What an import read and decided, printed by `slamprep import` and written by its --json.
 struct ImportSummary {
-  std::string scans;             ///< which lines, beams and angles
-  std::string odometry;          ///< ODOM lines or the laser lines' robot poses
-  std::string lidar_mount;       ///< value and where it came from
-  std::string nominal_geometry;  ///< value and where it came from, or why there is none
-  std::string time_increment;    ///< value and where it came from
-  std::map<std::string, std::size_t> reordered;  ///< message -> lines sorted into place
-  std::map<std::string, std::size_t> dropped;    ///< reason -> lines not imported
+  std::string storage;  ///< bags: storage, files, metadata.yaml version, compression
+  std::map<std::string, std::string> topics;  ///< bags: message type -> topic read
+  std::string scans;                          ///< which lines or messages, beams and angles
+  std::string odometry;                       ///< ODOM lines, laser poses, Odometry or JointState
+  std::string lidar_mount;                    ///< value and where it came from
+  std::string nominal_geometry;      ///< value and where it came from, or why there is none
+  std::string time_increment;        ///< value and where it came from
+  std::optional<RangeReport> range;  ///< the maximum range rule (range_limit.hpp)
+  std::vector<StaleReport> stale;    ///< per odometry stream checked
+  std::optional<TwistSpikeReport> twist_spikes;  ///< bags with Odometry
+  std::map<std::string, std::size_t> reordered;  ///< CARMEN: message -> lines sorted into place
+  std::map<std::string, std::size_t> dropped;    ///< CARMEN: reason -> lines not imported
 };
 
 /// The scans of an import that spilled them (ImportParams::spill_dir), in stamp order, ready to
@@ -105,10 +118,14 @@ struct ImportResult {
 ImportResult importCarmen(std::string_view text, const std::string& file,
                           const ImportParams& params = {});
 
-/// A ROS 2 bag: a folder (metadata.yaml, its .mcap files in order) or one .mcap file, read
-/// chunk by chunk (never whole). Throws InputError naming the file, byte offset, topic and field
-/// on malformed MCAP or CDR, missing topics, non-finite values, empty scans, unsorted or
+/// A ROS 2 bag: a folder (metadata.yaml, its storage files in order: sqlite3 or MCAP, FILE or
+/// MESSAGE zstd compression) or one .db3 or .mcap file, read message by message (never whole;
+/// FILE-compressed files are unpacked into a scratch folder under spill_dir or the system temp,
+/// removed afterwards). Throws InputError naming the file, byte offset or row, topic and field
+/// on malformed storage or CDR, missing topics, non-finite values, empty scans, unsorted or
 /// duplicate stamps, a tilted lidar, or no nominal geometry.
+ImportResult importRosbag2(const std::filesystem::path& bag, const ImportParams& params = {});
+/// The same (`--format mcap`, kept for scripts: any rosbag2 storage is read).
 ImportResult importMcap(const std::filesystem::path& bag, const ImportParams& params = {});
 /// The same for one MCAP file held in memory (`file` names it in errors).
 ImportResult importMcap(std::string_view bytes, const std::string& file,

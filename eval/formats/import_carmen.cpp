@@ -9,6 +9,8 @@
 #include "eval/formats/carmen.hpp"
 #include "eval/formats/import.hpp"
 #include "eval/formats/import_common.hpp"
+#include "eval/formats/range_limit.hpp"
+#include "eval/formats/stale_odometry.hpp"
 #include "eval/formats/text_io.hpp"
 
 namespace slamprep::eval {
@@ -215,6 +217,21 @@ std::string timeIncrement(const CarmenLog& log, const ImportParams& p, const std
          "sensor's with --time-increment SECONDS; de-skew refuses time_increment 0)";
 }
 
+/// The odometry's stale-run report, named after the odometry it checks (s.odometry).
+StaleReport& staleReport(ImportSummary& s) {
+  s.stale.emplace_back();
+  s.stale.back().stream = s.odometry;
+  return s.stale.back();
+}
+
+/// --max-range, recorded. No note on a range_max far beyond the readings: FLASER's 80 m is
+/// CARMEN's convention, not a claim of the log (the summary still gives the percentile).
+void noteRange(RangeReport range, ImportResult& r) {
+  range.suspect = false;
+  r.summary.range = range;
+  if (range.max_range_m) r.dataset.info.config["max_range_m"] = *range.max_range_m;
+}
+
 }  // namespace
 
 ImportResult importCarmen(std::string_view text, const std::string& file, const ImportParams& p) {
@@ -238,14 +255,16 @@ ImportResult importCarmen(std::string_view text, const std::string& file, const 
   for (const auto& [message, lines] : log.skipped) s.dropped[message + ": not read"] = lines;
   for (const auto& [stream, lines] : log.repeated)
     s.dropped[stream + ": identical to the previous " + stream + " line"] = lines;
-  d.odom_nominal = odometryOf(log, lasers, p, file, s);
+  const PoseSeries odometry = odometryOf(log, lasers, p, file, s);
+  d.odom_nominal = dropStaleOdometry(odometry, staleReport(s));
   const std::optional<DiffDriveParams> nominal = nominalGeometry(log, p, file, s);
   double lateral = 0.0;
   if (nominal)
     d.encoders = encodersFromPoses(d.odom_nominal, *nominal, p.ticks_per_revolution, &lateral);
   d.info = importedInfo(p, nominal.value_or(DiffDriveParams{}), file, "carmen",
                         nominal ? "derived from the odometry poses with the nominal geometry"
-                                : "none: no nominal geometry");
+                                : "none: no nominal geometry",
+                        nominal ? "odometry_poses" : "");
   d.info.config["odometry_from"] = s.odometry;
   d.info.config["nominal_geometry_from"] = nominal ? s.nominal_geometry : "absent";
   d.info.T_base_lidar = lidarMount(log, lasers, p, file, result);
@@ -254,13 +273,18 @@ ImportResult importCarmen(std::string_view text, const std::string& file, const 
   s.time_increment = timeIncrement(log, p, file, time_increment);
   s.scans = scansText(lasers);
   std::vector<std::string> where;
+  RangeHistogram ranges;
+  std::size_t cut = 0;
   for (const auto& l : lasers) {
     ScanRecord r;
     r.scan = l.scan;
     r.scan.time_increment_s = time_increment;
+    ranges.add(r.scan);
+    if (p.max_range_m) cut += applyMaxRange(r.scan, *p.max_range_m);
     d.scans.push_back(std::move(r));
     where.push_back(file + ":" + std::to_string(l.line));
   }
+  noteRange(rangeReport(ranges, p.max_range_m, cut), result);
   const double scan_time = medianSpacing(d.scans);
   for (auto& r : d.scans) r.scan.scan_time_s = scan_time;
   attachOdometry(d, p.trim, where, result.notes);

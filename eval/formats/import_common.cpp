@@ -16,6 +16,8 @@ void checkGeometry(const DiffDriveParams& g, const std::string& where) {
 void checkParams(const ImportParams& p) {
   if (p.nominal_geometry) checkGeometry(*p.nominal_geometry, "--wheel-radius/--wheel-base");
   if (p.ticks_per_revolution <= 0) throw InputError("--ticks-per-revolution", "must be > 0");
+  if (p.max_range_m && (!std::isfinite(*p.max_range_m) || *p.max_range_m <= 0))
+    throw InputError("--max-range", "must be finite and > 0");
   if (p.time_increment_s && (!std::isfinite(*p.time_increment_s) || *p.time_increment_s < 0))
     throw InputError("--time-increment", "must be finite and >= 0");
   if (!std::isfinite(p.reorder_tolerance_s) || p.reorder_tolerance_s < 0)
@@ -57,12 +59,13 @@ void attachOdometry(Dataset& d, bool trim, const std::vector<std::string>& scan_
 }
 
 DatasetInfo importedInfo(const ImportParams& p, const DiffDriveParams& nominal,
-                         const std::string& file, const char* format,
+                         const std::string& file, const char* format, const std::string& encoders,
                          const std::string& encoders_from) {
   DatasetInfo info;
   info.nominal_geometry = nominal;
   info.ticks_per_revolution = p.ticks_per_revolution;
-  info.config = {{"imported_from", file}, {"format", format}, {"encoders", encoders_from}};
+  info.config = {{"imported_from", file}, {"format", format}, {"encoders", encoders}};
+  if (!encoders_from.empty()) info.config["encoders_from"] = encoders_from;
   return info;
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// What the CARMEN and MCAP importers (import_carmen.cpp, import_mcap.cpp) share: parameter
+// What the CARMEN and bag importers (import_carmen.cpp, import_bag.cpp) share: parameter
 // checks, attaching the odometry to the scans, the dataset info of an import, wheel ticks.
 
 #include <cstdint>
@@ -30,9 +30,10 @@ void attachOdometry(Dataset& d, bool trim, const std::vector<std::string>& scan_
                     std::vector<std::string>& notes);
 
 /// The info of an imported dataset: the nominal geometry, the tick resolution and where it came
-/// from (file, format, what the encoders were derived from).
+/// from (file, format, what the encoders were derived from: `encoders` in words,
+/// `encoders_from` the structured key "joint_states" | "odometry_poses", empty: no encoders).
 DatasetInfo importedInfo(const ImportParams& p, const DiffDriveParams& nominal,
-                         const std::string& file, const char* format,
+                         const std::string& file, const char* format, const std::string& encoders,
                          const std::string& encoders_from);
 
 /// The wheel angle as a whole number of ticks; throws InputError(where, ...) when out of range.

@@ -2,6 +2,11 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cstdlib>
+#include <fstream>
+#include <optional>
+#include <set>
+
 #include "core/error.hpp"
 
 namespace slamprep::eval {
@@ -13,51 +18,140 @@ std::string scalarOr(const YAML::Node& node, const char* key, const std::string&
   return v && v.IsScalar() ? v.as<std::string>() : fallback;
 }
 
-std::vector<fs::path> listedFiles(const fs::path& dir, const YAML::Node& root,
-                                  const std::string& where) {
+BagStorageKind storageOf(const std::string& id, const std::string& where) {
+  if (id == "mcap") return BagStorageKind::kMcap;
+  if (id == "sqlite3") return BagStorageKind::kSqlite3;
+  throw InputError(where, "storage_identifier \"" + id + "\" is not read (only sqlite3 and mcap)");
+}
+
+BagCompressionMode compressionOf(const std::string& mode, const std::string& format,
+                                 const std::string& where) {
+  BagCompressionMode m = BagCompressionMode::kNone;
+  if (mode == "FILE")
+    m = BagCompressionMode::kFile;
+  else if (mode == "MESSAGE")
+    m = BagCompressionMode::kMessage;
+  else if (!mode.empty() && mode != "NONE")
+    throw InputError(where, "compression_mode \"" + mode + "\" is unknown (NONE, FILE, MESSAGE)");
+  if (m != BagCompressionMode::kNone && format != "zstd")
+    throw InputError(where, "compression_format \"" + format + "\" (compression_mode " + mode +
+                                ") is not read (only zstd, what rosbag2 ships)");
+  return m;
+}
+
+/// A storage file's kind from its name with any ".zstd" dropped: .db3 or .mcap.
+std::optional<BagStorageKind> kindFromName(fs::path name) {
+  if (name.extension() == ".zstd") name.replace_extension();
+  if (name.extension() == ".db3") return BagStorageKind::kSqlite3;
+  if (name.extension() == ".mcap") return BagStorageKind::kMcap;
+  return std::nullopt;
+}
+
+fs::path listedFile(const fs::path& dir, const YAML::Node& p, const std::string& where) {
+  if (!p.IsScalar()) throw InputError(where, "relative_file_paths: an entry is not a name");
+  const fs::path relative = p.as<std::string>();
+  fs::path file = dir / relative;
+  // Older rosbag2 versions wrote the bag folder's name in front of each file.
+  if (!fs::exists(file) && relative.has_parent_path()) file = dir / relative.filename();
+  if (!fs::is_regular_file(file)) {
+    std::set<std::string> names;  // a renamed bag: say what the folder holds
+    for (const auto& e : fs::directory_iterator(dir))
+      if (kindFromName(e.path().filename())) names.insert(e.path().filename().string());
+    std::string present;
+    for (const std::string& n : names) {
+      if (!present.empty()) present += ", ";
+      present += n;
+    }
+    throw InputError(where, "relative_file_paths: " + relative.string() + " not found in " +
+                                dir.string() +
+                                (present.empty() ? "" : " (it holds " + present + ")"));
+  }
+  return file;
+}
+
+Rosbag2Bag fromMetadata(const fs::path& dir, const YAML::Node& root, const std::string& where) {
   const YAML::Node info = root["rosbag2_bagfile_information"];
   if (!info || !info.IsMap()) throw InputError(where, "no rosbag2_bagfile_information mapping");
-  const std::string storage = scalarOr(info, "storage_identifier", "");
-  if (storage != "mcap")
-    throw InputError(where, "storage_identifier \"" + storage +
-                                "\": only mcap bags are read (convert others with "
-                                "`ros2 bag convert`)");
-  if (scalarOr(info, "compression_mode", "") == "FILE")
-    throw InputError(where, "the bag's files are compressed whole (compression_mode FILE, " +
-                                scalarOr(info, "compression_format", "?") +
-                                "): decompress them first, or record with chunk compression");
+  Rosbag2Bag bag;
+  bag.path = dir;
+  const std::string version = scalarOr(info, "version", "0");
+  bag.version = std::atoi(version.c_str());
+  bag.compression_format = scalarOr(info, "compression_format", "");
+  bag.compression =
+      compressionOf(scalarOr(info, "compression_mode", ""), bag.compression_format, where);
   const YAML::Node paths = info["relative_file_paths"];
   if (!paths || !paths.IsSequence() || paths.size() == 0)
     throw InputError(where, "relative_file_paths: missing or empty");
-  std::vector<fs::path> files;
-  for (const YAML::Node& p : paths) {
-    if (!p.IsScalar()) throw InputError(where, "relative_file_paths: an entry is not a name");
-    const fs::path relative = p.as<std::string>();
-    fs::path file = dir / relative;
-    // Older rosbag2 versions wrote the bag folder's name in front of each file.
-    if (!fs::exists(file) && relative.has_parent_path()) file = dir / relative.filename();
-    if (!fs::is_regular_file(file))
-      throw InputError(
-          where, "relative_file_paths: " + relative.string() + " not found in " + dir.string());
-    files.push_back(file);
+  for (const YAML::Node& p : paths) bag.files.push_back(listedFile(dir, p, where));
+  bag.storage_identifier = scalarOr(info, "storage_identifier", "");
+  // Early bags (version 1-2) may leave it empty: the files' extension says.
+  if (bag.storage_identifier.empty())
+    if (const auto k = kindFromName(bag.files.front()))
+      bag.storage_identifier = std::string(storageName(*k));
+  bag.storage = storageOf(bag.storage_identifier, where);
+  return bag;
+}
+
+/// The first bytes of `file`.
+std::string magicOf(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::string head(16, '\0');
+  in.read(head.data(), 16);
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  return head;
+}
+
+/// One storage file without metadata.yaml: SQLite or MCAP by magic, a zstd frame by magic (then
+/// the name without ".zstd" says which storage), else by extension.
+Rosbag2Bag fromFile(const fs::path& file) {
+  Rosbag2Bag bag;
+  bag.path = file;
+  bag.files = {file};
+  const std::string head = magicOf(file);
+  std::optional<BagStorageKind> kind;
+  if (head.rfind(std::string("SQLite format 3\0", 16), 0) == 0) {
+    kind = BagStorageKind::kSqlite3;
+  } else if (head.rfind("\x89MCAP", 0) == 0) {
+    kind = BagStorageKind::kMcap;
+  } else if (head.rfind("\x28\xb5\x2f\xfd", 0) == 0) {
+    bag.compression = BagCompressionMode::kFile;
+    bag.compression_format = "zstd";
+    kind = kindFromName(file);
+    if (!kind)
+      throw InputError(file.string(), "a zstd-compressed file not named *.db3.zstd or *.mcap.zstd");
+  } else {
+    kind = kindFromName(file);  // let the storage reader say what is wrong with it
   }
-  return files;
+  if (!kind) throw InputError(file.string(), "neither an SQLite (.db3) nor an MCAP (.mcap) file");
+  bag.storage = *kind;
+  bag.storage_identifier = std::string(storageName(*kind));
+  return bag;
 }
 
 }  // namespace
 
-std::vector<fs::path> bagFiles(const fs::path& bag) {
+std::string_view storageName(BagStorageKind k) {
+  return k == BagStorageKind::kSqlite3 ? "sqlite3" : "mcap";
+}
+
+std::string_view compressionModeName(BagCompressionMode m) {
+  return m == BagCompressionMode::kFile      ? "FILE"
+         : m == BagCompressionMode::kMessage ? "MESSAGE"
+                                             : "NONE";
+}
+
+Rosbag2Bag readRosbag2(const fs::path& bag) {
   if (!fs::exists(bag)) throw InputError(bag.string(), "no such file or folder");
-  if (!fs::is_directory(bag)) return {bag};
+  if (!fs::is_directory(bag)) return fromFile(bag);
   const fs::path yaml = bag / "metadata.yaml";
   if (!fs::is_regular_file(yaml))
     throw InputError(bag.string(),
-                     "a bag folder needs its metadata.yaml (which lists the .mcap files in "
-                     "order): give one .mcap file instead, or rebuild it with "
+                     "a bag folder needs its metadata.yaml (which lists the storage files in "
+                     "order): give one .db3 or .mcap file instead, or rebuild it with "
                      "`ros2 bag reindex " +
-                         bag.string() + " mcap`");
+                         bag.string() + " sqlite3` (or mcap)");
   try {
-    return listedFiles(bag, YAML::LoadFile(yaml.string()), yaml.string());
+    return fromMetadata(bag, YAML::LoadFile(yaml.string()), yaml.string());
   } catch (const YAML::Exception& e) {
     throw InputError(yaml.string() + ":" + std::to_string(e.mark.line + 1), e.msg);
   }

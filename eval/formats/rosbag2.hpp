@@ -1,19 +1,39 @@
 #pragma once
 // A ROS 2 bag on disk: a folder holding metadata.yaml and the storage files it lists (rosbag2
-// splits a recording into several .mcap files), or a single .mcap file.
+// splits a recording into several files, sqlite3 .db3 or .mcap, each possibly compressed whole
+// with zstd), or a single .db3 or .mcap file.
 
 #include <filesystem>
+#include <string>
 #include <string_view>
 #include <vector>
 
 namespace slamprep::eval {
 
-/// The .mcap files of `bag`, in recording order: a folder's metadata.yaml
-/// `rosbag2_bagfile_information.relative_file_paths`, or `bag` itself when it is a file. Throws
-/// InputError naming the folder or metadata.yaml when the bag is not an MCAP bag (another
-/// storage, whole-file compression), a listed file is missing, or the folder has no
-/// metadata.yaml.
-std::vector<std::filesystem::path> bagFiles(const std::filesystem::path& bag);
+enum class BagStorageKind { kMcap, kSqlite3 };
+enum class BagCompressionMode { kNone, kFile, kMessage };
+
+/// What metadata.yaml `rosbag2_bagfile_information` says (or, for one file, its magic).
+struct Rosbag2Bag {
+  std::filesystem::path path;  ///< the folder or the file given
+  int version = 0;             ///< metadata.yaml version; 0 without one
+  BagStorageKind storage = BagStorageKind::kMcap;
+  std::string storage_identifier;  ///< "mcap" or "sqlite3"
+  BagCompressionMode compression = BagCompressionMode::kNone;
+  std::string compression_format;            ///< "" or "zstd"
+  std::vector<std::filesystem::path> files;  ///< the storage files, in recording order
+};
+
+/// Reads a bag folder's metadata.yaml (versions 1 to 9 as rosbag2 writes them: only
+/// storage_identifier, relative_file_paths, compression_format and compression_mode are used;
+/// topics, QoS strings or lists, type hashes and custom data are ignored), or takes one storage
+/// file by its magic (SQLite, MCAP, a zstd frame: a FILE-compressed storage file) or extension.
+/// Throws InputError naming the folder, metadata.yaml or file when there is no metadata.yaml, a
+/// listed file is missing, or the storage or compression is unknown.
+Rosbag2Bag readRosbag2(const std::filesystem::path& bag);
+
+std::string_view storageName(BagStorageKind k);
+std::string_view compressionModeName(BagCompressionMode m);
 
 /// The MCAP Metadata record in which slamprep's export keeps what a bag cannot otherwise say:
 /// the nominal wheel geometry (keys below, metres, as decimal text), and "odometry_heading":

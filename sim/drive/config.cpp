@@ -87,11 +87,17 @@ const char* modeName(SimMode mode) {
   return mode == SimMode::physics ? "physics" : "kinematic";
 }
 
+nlohmann::json::json_pointer pointer(const std::string& dotted) {
+  std::string p = "/" + dotted;
+  for (char& ch : p) {
+    if (ch == '.') ch = '/';
+  }
+  return nlohmann::json::json_pointer(p);
+}
+
 const char* headingName(OdometryHeading heading) {
   return heading == OdometryHeading::wheels ? "wheels" : "gyro";
 }
-
-constexpr const char* kOdometryHeadingKey = "odometry_heading";
 
 // ---- Values from JSON --------------------------------------------------------------------------
 
@@ -268,16 +274,6 @@ SE2 SimConfig::startPose(const SE2& T_world_start) const {
   return SE2(T_world_start.x + dx, T_world_start.y + dy, normalizeAngle(T_world_start.yaw + dyaw));
 }
 
-nlohmann::json::json_pointer configPointer(const std::string& key) {
-  if (key == "odometry.heading_from")
-    return nlohmann::json::json_pointer(std::string("/") + kOdometryHeadingKey);
-  std::string p = "/" + key;
-  for (char& ch : p) {
-    if (ch == '.') ch = '/';
-  }
-  return nlohmann::json::json_pointer(p);
-}
-
 std::vector<std::string> configKeys() {
   std::vector<std::string> keys;
   SimConfig config;
@@ -288,11 +284,10 @@ std::vector<std::string> configKeys() {
 nlohmann::json toJson(const SimConfig& config, bool every_key) {
   nlohmann::json json = nlohmann::json::object();
   visitFields(config, [&](const std::string& key, const auto& value) {
-    json[configPointer(key)] = toJsonValue(value);
+    json[pointer(key)] = toJsonValue(value);
   });
   if (!every_key && !config.faults.enable.any()) json.erase("faults");
-  if (!every_key && config.odometry.heading_from == OdometryHeading::wheels)
-    json.erase(kOdometryHeadingKey);
+  if (!every_key && config.odometry.heading_from == OdometryHeading::wheels) json.erase("odometry");
   if (!every_key && !config.start_jitter.any()) json.erase("start_jitter");
   return json;
 }
@@ -303,23 +298,23 @@ SimConfig configFromJson(const nlohmann::json& json, const std::string& where) {
   SimConfig config;
   std::size_t used = 0;
   visitFields(config, [&](const std::string& key, auto& value) {
-    const auto it = flat.find(configPointer(key).to_string());
+    const auto it = flat.find(pointer(key).to_string());
     if (it == flat.end()) return;
     fromJsonValue(*it, value, where + ": " + key);
     ++used;
   });
   if (used != flat.size()) {
-    std::vector<std::string> known;
-    for (const std::string& key : configKeys()) known.push_back(configPointer(key).to_string());
+    const std::vector<std::string> keys = configKeys();
     for (const auto& [path, value] : flat.items()) {
       // flatten() turns an empty object into a null leaf: nothing set there.
       if (value.is_null() && json.at(nlohmann::json::json_pointer(path)).is_object()) continue;
-      if (std::find(known.begin(), known.end(), path) != known.end()) continue;
       std::string dotted = path.empty() ? path : path.substr(1);
       for (char& ch : dotted) {
         if (ch == '/') ch = '.';
       }
-      throw InputError(where + ": " + dotted, "unknown configuration key");
+      if (std::find(keys.begin(), keys.end(), dotted) == keys.end()) {
+        throw InputError(where + ": " + dotted, "unknown configuration key");
+      }
     }
   }
   validate(config, where);

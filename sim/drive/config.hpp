@@ -73,14 +73,9 @@ struct SimConfig {
 /// Every configuration key, dotted ("lidar.rate_hz"), in a fixed order.
 std::vector<std::string> configKeys();
 
-/// Where a key sits in the configuration's JSON: its dots as levels ("/lidar/rate_hz"), except
-/// odometry.heading_from, which is the top-level "odometry_heading" that imported datasets
-/// record too (docs/dataset.md).
-nlohmann::json::json_pointer configPointer(const std::string& key);
-
 /// The configuration as nested JSON ({"lidar": {"rate_hz": 10, ...}, ...}). The "faults" keys
-/// appear only when a fault is on, "odometry_heading" only when it is "gyro" (or when every_key
-/// is set), so configurations without them read as they did before they existed.
+/// appear only when a fault is on, "odometry" only when its heading is the gyro's (or when
+/// every_key is set), so configurations without them read as they did before they existed.
 nlohmann::json toJson(const SimConfig& config, bool every_key = false);
 
 /// Reads a configuration written by toJson; missing keys keep their defaults. Throws InputError

@@ -348,6 +348,10 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   info.T_base_lidar = config.lidar.T_base_lidar;
   info.ticks_per_revolution = config.encoders.ticks_per_revolution;
   info.config = toJson(config);
+  info.config["encoders_from"] = "ticks";  // docs/dataset.md: simulated encoders count ticks
+  // docs/dataset.md: the odometry's heading is the gyro's (absent: the wheels', as before).
+  if (config.odometry.heading_from == OdometryHeading::gyro)
+    info.config["odometry_heading"] = "gyro";
 
   const Controller controller(scenario.profile, info.nominal_geometry);
   std::unique_ptr<Motion> motion;

@@ -157,6 +157,67 @@ TEST(KeyframeOdometry, WithoutOdometryTheLastStepIsTheGuess) {
   EXPECT_NEAR(run.scans.back().T_world_lidar.yaw, truth.back().yaw, kYawTolRad);
 }
 
+// A stale odometry that catches up (seen on a benchmark log: one value held for five scans while
+// the robot turned, then an 85 degree jump): the scans follow the turn meanwhile, so adding the
+// catch-up to the tracked pose would double it. Matched from every guess, the constant-velocity
+// one explains the scan; the result is the truth and no scan falls back.
+TEST(KeyframeOdometry, AStaleOdometryThatCatchesUpIsNotFollowed) {
+  const std::vector<SE2> truth = path(16, SE2(0.05, 0.0, 0.26));  // 15 degrees per scan
+  Log log = logAlong(truth);
+  for (std::size_t k = 5; k <= 10; ++k) log.increments[k] = SE2();  // held ...
+  log.increments[11] = between(truth[4], truth[11]);                // ... then caught up
+  const KeyframeOdometry run = trackKeyframes(log.points, log.increments, {}, truth[0]);
+  EXPECT_EQ(run.fallbacks, 0u);
+  EXPECT_EQ(run.scans[11].guess, GuessSource::kConstantVelocity);
+  for (std::size_t k = 0; k < truth.size(); ++k) {
+    SCOPED_TRACE(k);
+    EXPECT_NEAR(run.scans[k].T_world_lidar.x, truth[k].x, kPoseTolM);
+    EXPECT_NEAR(run.scans[k].T_world_lidar.y, truth[k].y, kPoseTolM);
+    EXPECT_NEAR(normalizeAngle(run.scans[k].T_world_lidar.yaw - truth[k].yaw), 0.0, kYawTolRad);
+  }
+  // The same log matched from the odometry guess alone ends far off: what the test guards.
+  KeyframeOdometryParams odometry_only;
+  odometry_only.hypothesis_separation_m = 1e9;
+  odometry_only.hypothesis_separation_rad = 1e9;
+  const KeyframeOdometry alone =
+      trackKeyframes(log.points, log.increments, odometry_only, truth[0]);
+  EXPECT_GT(std::abs(normalizeAngle(alone.scans.back().T_world_lidar.yaw - truth.back().yaw)), 0.5);
+}
+
+// The gyro's turn is a guess of its own: with the odometry's yaw 30 degrees off in one step and
+// the gyro right, the gyro's guess wins.
+TEST(KeyframeOdometry, TheGyroGuessWinsWhereTheOdometryTurnIsWrong) {
+  const std::vector<SE2> truth = path(8, SE2(0.12, 0.0, 0.05));  // 0.12 m: "still" is a guess too
+  const Log log = logAlong(truth);
+  std::vector<StepPrior> priors(truth.size());
+  for (std::size_t k = 1; k < truth.size(); ++k) {
+    priors[k].odometry = log.increments[k];
+    priors[k].gyro_yaw_rad = log.increments[k]->yaw;
+  }
+  priors[4].odometry = *priors[4].odometry * SE2(0.0, 0.0, 0.52);
+  const KeyframeOdometry run = trackKeyframes(log.points, priors, {}, truth[0]);
+  EXPECT_EQ(run.fallbacks, 0u);
+  EXPECT_EQ(run.scans[4].guess, GuessSource::kGyro);
+  EXPECT_EQ(run.scans[4].hypotheses, 3u);  // odometry, gyro, still (constant velocity = gyro)
+  EXPECT_EQ(run.multi_hypothesis, 7u);     // every scan: the odometry (= gyro) and still
+  EXPECT_NEAR(run.scans.back().T_world_lidar.yaw, truth.back().yaw, kYawTolRad);
+}
+
+// Accepted because the map supports the scan: with a support threshold no scan can reach, every
+// converged match falls back to a guess and is counted as unsupported.
+TEST(KeyframeOdometry, AMatchTheMapDoesNotSupportIsNotAccepted) {
+  const std::vector<SE2> truth = path(4, SE2(0.1, 0.0, 0.0));
+  const Log log = logAlong(truth);
+  KeyframeOdometryParams params;
+  params.min_support_fraction = 1.01;
+  const KeyframeOdometry run = trackKeyframes(log.points, log.increments, params, truth[0]);
+  EXPECT_EQ(run.matched, 0u);
+  EXPECT_EQ(run.fallbacks, 3u);
+  EXPECT_EQ(run.unsupported, 3u);
+  EXPECT_NE(run.scans[1].match.reason.find("not supported"), std::string::npos);
+  EXPECT_GT(run.scans[1].support.fraction(), 0.99);  // noiseless: every point on the map
+}
+
 // The fusion of a match with the odometry guess (fuseWithGuess): a corridor along x leaves x to
 // the odometry and y, yaw to the match; equal confidence gives the midpoint; sigma 0 turns it off.
 TEST(KeyframeOdometry, FusionLeavesTheDirectionsTheScanDoesNotSeeToTheOdometry) {

@@ -95,7 +95,7 @@ std::string errorOf(const fs::path& bag) {
   return "no error";
 }
 
-TEST(ImportBag, FoldersThatAreNotMcapBagsAreRefusedSayingWhy) {
+TEST(ImportBag, FoldersThatAreNotBagsAreRefusedSayingWhy) {
   const test::ScratchDir scratch("import_bag");
   const fs::path dir = scratch / "not_a_bag";
   fs::create_directories(dir);
@@ -103,7 +103,7 @@ TEST(ImportBag, FoldersThatAreNotMcapBagsAreRefusedSayingWhy) {
   writeFileAtomic(dir / "metadata.yaml",
                   "rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n"
                   "  relative_file_paths: [a_0.db3]\n");
-  EXPECT_NE(errorOf(dir).find("storage_identifier \"sqlite3\""), std::string::npos);
+  EXPECT_NE(errorOf(dir).find("a_0.db3 not found"), std::string::npos) << errorOf(dir);
   writeFileAtomic(dir / "metadata.yaml",
                   "rosbag2_bagfile_information:\n  storage_identifier: mcap\n"
                   "  relative_file_paths: [a_0.mcap]\n");
@@ -112,7 +112,7 @@ TEST(ImportBag, FoldersThatAreNotMcapBagsAreRefusedSayingWhy) {
                   "rosbag2_bagfile_information:\n  storage_identifier: mcap\n"
                   "  compression_mode: FILE\n  compression_format: zstd\n"
                   "  relative_file_paths: [a_0.mcap.zstd]\n");
-  EXPECT_NE(errorOf(dir).find("compressed whole"), std::string::npos);
+  EXPECT_NE(errorOf(dir).find("a_0.mcap.zstd not found"), std::string::npos) << errorOf(dir);
   EXPECT_NE(errorOf(dir / "missing.mcap").find("no such file"), std::string::npos);
 }
 

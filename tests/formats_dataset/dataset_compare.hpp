@@ -81,6 +81,7 @@ inline void expectSameDataset(const Dataset& a, const Dataset& b) {
   EXPECT_EQ(ia.config, ib.config);
   expectSamePoses(a.groundtruth, b.groundtruth, "groundtruth");
   expectSamePoses(a.odom_nominal, b.odom_nominal, "odom_nominal");
+  expectSamePoses(a.odometry_logged, b.odometry_logged, "odometry_logged");
   ASSERT_EQ(a.encoders.size(), b.encoders.size());
   for (std::size_t k = 0; k < a.encoders.size(); ++k) {
     ASSERT_TRUE(sameBits(a.encoders[k].stamp_s, b.encoders[k].stamp_s)) << "encoder " << k;

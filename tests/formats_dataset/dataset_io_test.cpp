@@ -72,17 +72,26 @@ TEST_F(DatasetIo, RoundTripIsBitExactWithTruth) {
   for (const char* f : {"dataset.json", "groundtruth.tum", "odom_nominal.tum", "encoders.csv",
                         "imu.csv", "scans.jsonl"})
     EXPECT_EQ(slurp(root_ / "run" / f), slurp(root_ / "again" / f)) << f;
+  // Optional, and written only when there is a logged odometry beside the encoders.
+  EXPECT_FALSE(std::filesystem::exists(root_ / "run" / eval::kOdometryLoggedTum));
 }
 
 TEST_F(DatasetIo, RoundTripIsBitExactWithoutTruth) {
   SyntheticDatasetParams p;
   p.with_truth = false;
+  p.logged_odometry = true;
+  p.varying_beams = true;
   const Dataset d = makeSyntheticDataset(p);
+  ASSERT_FALSE(d.odometry_logged.empty());
+  ASSERT_NE(d.scans[0].scan.size(), d.scans[1].scan.size());
   eval::writeDataset(root_ / "real/", d);  // trailing slash names the same directory
   const Dataset back = eval::readDataset(root_ / "real");
   EXPECT_FALSE(back.hasTruth());
   EXPECT_TRUE(back.groundtruth.empty());
   synthetic::expectSameDataset(d, back);
+  eval::writeDataset(root_ / "real_again", back);
+  EXPECT_EQ(slurp(root_ / "real" / eval::kOdometryLoggedTum),
+            slurp(root_ / "real_again" / eval::kOdometryLoggedTum));
   EXPECT_EQ(slurp(root_ / "real/scans.jsonl").find("p_ref_true"), std::string::npos);
   EXPECT_EQ(slurp(root_ / "real/scans.jsonl").find("true_pose"), std::string::npos);
 }

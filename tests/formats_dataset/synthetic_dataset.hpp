@@ -20,7 +20,11 @@ struct SyntheticDatasetParams {
   double scan_hz = 10;           ///< lidar revolutions per second
   int beams = 720;               ///< beams per scan
   bool with_truth = true;        ///< simulated (true) or real-log-like (false)
-  std::uint64_t seed = 7;        ///< RNG seed
+  /// Real-log-like extras: the log's own odometry beside the encoders (odometry_logged.tum),
+  /// and a beam count that changes scan to scan (a cheap lidar's), up to `beams`.
+  bool logged_odometry = false;
+  bool varying_beams = false;
+  std::uint64_t seed = 7;  ///< RNG seed
 };
 
 inline Dataset makeSyntheticDataset(const SyntheticDatasetParams& p) {
@@ -62,6 +66,8 @@ inline Dataset makeSyntheticDataset(const SyntheticDatasetParams& p) {
     right += 31 + static_cast<std::int64_t>(unit(rng) * 5);
     d.encoders.push_back({t, left, right});
     d.odom_nominal.push_back(t, pose(t - t0) * SE2(noisy(0.05), noisy(0.05), noisy(0.05)));
+    if (p.logged_odometry)
+      d.odometry_logged.push_back(t + 1e-4, pose(t - t0) * SE2(noisy(0.05), 0.0, noisy(0.05)));
   }
   const int n_imu = static_cast<int>(p.duration_s * p.imu_hz);
   for (int k = 0; k < n_imu; ++k)
@@ -72,15 +78,16 @@ inline Dataset makeSyntheticDataset(const SyntheticDatasetParams& p) {
   for (int s = 0; s < n_scans; ++s) {
     ScanRecord r;
     LaserScan& scan = r.scan;
+    const int beams = p.varying_beams ? p.beams - (s * 37) % (p.beams / 2) : p.beams;
     scan.stamp_s = t0 + s / p.scan_hz + noisy(1e-4);
     scan.angle_min_rad = -std::numbers::pi;
-    scan.angle_increment_rad = 2.0 * std::numbers::pi / p.beams;
+    scan.angle_increment_rad = 2.0 * std::numbers::pi / beams;
     scan.scan_time_s = 1.0 / p.scan_hz;
-    scan.time_increment_s = scan.scan_time_s / p.beams;
+    scan.time_increment_s = scan.scan_time_s / beams;
     scan.range_min_m = 0.1;
     scan.range_max_m = s % 2 ? 30.0 : inf;
-    scan.ranges_m.resize(p.beams);
-    for (int i = 0; i < p.beams; ++i) {
+    scan.ranges_m.resize(beams);
+    for (int i = 0; i < beams; ++i) {
       const double u = unit(rng);
       scan.ranges_m[i] = u < 0.1 ? inf : u < 0.12 ? 0.05 : 0.1 + 29.0 * unit(rng);
       if (i == 1 && s == 0) scan.ranges_m[i] = 2.0;  // an integer-valued range
@@ -88,8 +95,8 @@ inline Dataset makeSyntheticDataset(const SyntheticDatasetParams& p) {
     r.T_odom_base_nominal = pose(scan.stamp_s - t0) * SE2(noisy(0.05), noisy(0.05), noisy(0.05));
     if (p.with_truth) {
       r.T_world_base_true = pose(scan.stamp_s - t0);
-      r.p_ref_true.resize(p.beams);
-      for (int i = 0; i < p.beams; ++i)
+      r.p_ref_true.resize(beams);
+      for (int i = 0; i < beams; ++i)
         if (std::isfinite(scan.ranges_m[i]))
           r.p_ref_true[i] = scan.point(i) + Eigen::Vector2d(noisy(0.01), noisy(0.01));
     }

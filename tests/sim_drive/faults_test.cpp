@@ -78,7 +78,7 @@ TEST(Faults, OffLeavesTheConfigurationAndTheBytesAsBefore) {
   EXPECT_EQ(toJson(configFromJson(on, "test")), on);
 
   // Strengths without `enable` change nothing.
-  EXPECT_FALSE(toJson(SimConfig{}).contains("odometry_heading"));  // the wheels': as before
+  EXPECT_FALSE(toJson(SimConfig{}).contains("odometry"));  // the wheels' heading: as before
   SimConfig plain = longRun("none", 5.0), strong = plain;
   applyOverride(strong, "faults.clock_offset.offset_s=0.1");
   applyOverride(strong, "faults.dropped_beams.probability=0.5");

@@ -1,3 +1,6 @@
+// A ROS 2 bag -> dataset (docs/export.md, "Reading a ROS 2 bag"): any storage (sqlite3 or MCAP,
+// split files, FILE or MESSAGE zstd compression) read message by message, the chosen topics
+// decoded into the dataset's values as they stream by.
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -6,16 +9,21 @@
 
 #include "core/error.hpp"
 #include "core/odometry.hpp"
+#include "eval/formats/bag_open.hpp"
+#include "eval/formats/bag_storage.hpp"
 #include "eval/formats/bag_topics.hpp"
+#include "eval/formats/compression.hpp"
 #include "eval/formats/import.hpp"
 #include "eval/formats/import_common.hpp"
-#include "eval/formats/mcap.hpp"
+#include "eval/formats/range_limit.hpp"
 #include "eval/formats/ros2_messages.hpp"
 #include "eval/formats/ros_samples.hpp"
 #include "eval/formats/rosbag2.hpp"
 #include "eval/formats/scan_spill.hpp"
+#include "eval/formats/stale_odometry.hpp"
 #include "eval/formats/text_io.hpp"
 #include "eval/formats/tf_tree.hpp"
+#include "eval/formats/twist_spikes.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -30,15 +38,22 @@ enum class Role { kNone, kScan, kOdom, kJoint, kImu, kTf, kTfStatic };
 /// Where a message sits, kept per sample (the text is built only for an error).
 struct Place {
   std::size_t file = 0;
-  std::uint64_t offset = 0;
+  std::uint64_t position = 0;  ///< MCAP byte offset, sqlite row id
   std::uint32_t sequence = 0;
   Role role = Role::kNone;
 };
 
-std::string placeText(const std::vector<std::string>& files,
-                      const std::map<Role, std::string>& topics, const Place& p) {
-  return files[p.file] + ": offset " + std::to_string(p.offset) + ": " + topics.at(p.role) +
-         " message " + std::to_string(p.sequence);
+/// The storage files of a bag as errors name them.
+struct BagFileNames {
+  std::vector<std::string> names;
+  std::vector<char> sqlite;  ///< per file: positions are row ids, not byte offsets
+};
+
+std::string placeText(const BagFileNames& files, const std::map<Role, std::string>& topics,
+                      const Place& p) {
+  return files.names[p.file] + (files.sqlite[p.file] ? ": messages row " : ": offset ") +
+         std::to_string(p.position) + ": " + topics.at(p.role) + " message " +
+         std::to_string(p.sequence);
 }
 
 template <typename T>
@@ -61,17 +76,22 @@ struct SpilledScan {
 };
 
 struct BagData {
-  std::vector<std::string> files;
+  BagFileNames files;
+  std::string format;  ///< the storage: "mcap" or "sqlite3"
   std::map<Role, std::string> topics;
-  Samples<LaserScan> scans;      ///< without a spill
-  ScanSpill* spill = nullptr;    ///< with one: the scans go there ...
-  Samples<SpilledScan> spilled;  ///< ... and this is what stays in memory
+  bool message_compressed = false;  ///< compression_mode MESSAGE: each message is a zstd frame
+  Samples<LaserScan> scans;         ///< without a spill
+  ScanSpill* spill = nullptr;       ///< with one: the scans go there ...
+  Samples<SpilledScan> spilled;     ///< ... and this is what stays in memory
   std::string laser_frame;
-  Samples<std::pair<double, SE2>> odom;
+  Samples<OdometrySample> odom;
   Samples<EncoderSample> joints;
   Samples<ImuSample> imu;
   TfTree tf;
   std::optional<DiffDriveParams> geometry;  ///< from slamprep's Metadata record
+  RangeHistogram ranges;                    ///< of the scans as logged
+  std::size_t beams_min = 0, beams_max = 0;
+  std::size_t cut_by_max_range = 0;
   bool gyro_heading = false;  ///< the record says the Odometry's heading is the gyro's
 
   std::string where(const Place& p) const { return placeText(files, topics, p); }
@@ -93,30 +113,42 @@ std::string_view typeOf(Role r) {
   }
 }
 
-void decode(const McapMessage& m, const Place& place, const ImportParams& p, BagData& d) {
+/// The scan as logged goes into the range histogram; then --max-range cuts it.
+void keepScan(const LaserScanMsg& msg, const BagMessage& m, const Place& place,
+              const std::string& where, const ImportParams& p, BagData& d) {
+  if (!d.anyScan()) d.laser_frame = msg.header.frame_id;
+  if (msg.header.frame_id != d.laser_frame)
+    throw InputError(where, "header.frame_id: " + msg.header.frame_id +
+                                ", but the first scan's is " + d.laser_frame);
+  LaserScan scan = scanFromMsg(msg, where);
+  d.beams_min = d.anyScan() ? std::min(d.beams_min, scan.size()) : scan.size();
+  d.beams_max = std::max(d.beams_max, scan.size());
+  d.ranges.add(scan);
+  if (p.max_range_m) d.cut_by_max_range += applyMaxRange(scan, *p.max_range_m);
+  if (d.spill)
+    d.spilled.push_back({m.log_time_ns, place, {scan.stamp_s, d.spill->append(scan)}});
+  else
+    d.scans.push_back({m.log_time_ns, place, std::move(scan)});
+}
+
+void decode(const BagMessage& m, const Place& place, const ImportParams& p, BagData& d) {
   const std::string where = d.where(place);  // cheap next to the CDR decoding
+  const std::string unpacked = d.message_compressed ? decompressZstd(m.data, where) : "";
+  const std::string_view data = d.message_compressed ? std::string_view(unpacked) : m.data;
   switch (place.role) {
-    case Role::kScan: {
-      const LaserScanMsg msg = decodeLaserScan(m.data, where);
-      if (!d.anyScan()) d.laser_frame = msg.header.frame_id;
-      if (msg.header.frame_id != d.laser_frame)
-        throw InputError(where, "header.frame_id: " + msg.header.frame_id +
-                                    ", but the first scan's is " + d.laser_frame);
-      LaserScan scan = scanFromMsg(msg, where);
-      if (d.spill)
-        d.spilled.push_back({m.log_time_ns, place, {scan.stamp_s, d.spill->append(scan)}});
-      else
-        d.scans.push_back({m.log_time_ns, place, std::move(scan)});
+    case Role::kScan:
+      keepScan(decodeLaserScan(data, where), m, place, where, p, d);
       break;
-    }
     case Role::kOdom: {
-      const OdometryMsg msg = decodeOdometry(m.data, where);
+      const OdometryMsg msg = decodeOdometry(data, where);
       d.odom.push_back(
-          {m.log_time_ns, place, {msg.header.stamp.seconds(), poseFromMsg(msg, where)}});
+          {m.log_time_ns,
+           place,
+           {msg.header.stamp.seconds(), poseFromMsg(msg, where), msg.linear[0], msg.angular[2]}});
       break;
     }
     case Role::kJoint: {
-      const JointStateMsg msg = decodeJointState(m.data, where);
+      const JointStateMsg msg = decodeJointState(data, where);
       const WheelJoints w = wheelJoints(msg, p.left_joint, p.right_joint, where);
       const double rad_per_tick = radiansPerTick(p.ticks_per_revolution);
       d.joints.push_back(
@@ -127,11 +159,11 @@ void decode(const McapMessage& m, const Place& place, const ImportParams& p, Bag
       break;
     }
     case Role::kImu:
-      d.imu.push_back({m.log_time_ns, place, imuFromMsg(decodeImu(m.data, where), where)});
+      d.imu.push_back({m.log_time_ns, place, imuFromMsg(decodeImu(data, where), where)});
       break;
     case Role::kTf:
     case Role::kTfStatic:
-      for (const auto& t : decodeTf(m.data, where).transforms)
+      for (const auto& t : decodeTf(data, where).transforms)
         d.tf.add(t, place.role == Role::kTfStatic, where);
       break;
     case Role::kNone:
@@ -155,30 +187,33 @@ std::optional<DiffDriveParams> geometryFrom(const McapMetadata& meta, const std:
   return g;
 }
 
-/// One pass over one file: every message of a chosen topic decoded into `d`, chunk by chunk.
-void readFile(ByteSource& source, std::size_t file, const ImportParams& p, BagData& d) {
-  McapReader reader(source);
-  std::map<std::uint16_t, Role> roles;  // by channel id, filled as channels appear
-  McapMessage m;
-  while (reader.next(m)) {
-    auto it = roles.find(m.channel_id);
-    if (it == roles.end()) {
-      const McapChannel& ch = reader.channels().at(m.channel_id);
-      Role role = Role::kNone;
-      for (const auto& [r, topic] : d.topics)
-        if (topic == ch.topic) role = r;
-      const auto schema = reader.schemas().find(ch.schema_id);
-      if (role != Role::kNone && (schema == reader.schemas().end() ||
-                                  normalType(schema->second.name) != normalType(typeOf(role))))
-        throw InputError(source.name(), "channel " + std::to_string(ch.id) + " of " + ch.topic +
-                                            " is not " + std::string(typeOf(role)));
-      it = roles.emplace(m.channel_id, role).first;
-    }
-    if (it->second != Role::kNone) decode(m, {file, m.file_offset, m.sequence, it->second}, p, d);
+/// The role of a topic id, checked against its type the first time the id is seen.
+Role roleOf(const BagStorage& storage, std::uint32_t id, const BagData& d) {
+  const StorageTopic& t = storage.topic(id);
+  Role role = Role::kNone;
+  for (const auto& [r, topic] : d.topics)
+    if (topic == t.name) role = r;
+  if (role != Role::kNone && t.type != normalType(typeOf(role)))
+    throw InputError(storage.name(), "topic " + t.name + " (id " + std::to_string(id) +
+                                         ") is not " + std::string(typeOf(role)));
+  return role;
+}
+
+/// One pass over one storage file: every message of a chosen topic decoded into `d`.
+void readFile(BagStorage& storage, std::size_t file, const ImportParams& p, BagData& d) {
+  std::set<std::string> wanted;
+  for (const auto& [role, topic] : d.topics) wanted.insert(topic);
+  storage.select(wanted);
+  std::map<std::uint32_t, Role> roles;  // by topic id, filled as they appear
+  BagMessage m;
+  while (storage.next(m)) {
+    auto it = roles.find(m.topic_id);
+    if (it == roles.end()) it = roles.emplace(m.topic_id, roleOf(storage, m.topic_id, d)).first;
+    if (it->second != Role::kNone) decode(m, {file, m.position, m.sequence, it->second}, p, d);
   }
-  for (const McapMetadata& meta : reader.metadata()) {
+  for (const McapMetadata& meta : storage.metadata()) {
     if (meta.name != kSlamprepMetadata) continue;
-    d.geometry = geometryFrom(meta, source.name());
+    d.geometry = geometryFrom(meta, storage.name());
     for (const auto& [key, text] : meta.entries)
       if (key == kOdometryHeading) d.gyro_heading = text == "gyro";
   }
@@ -196,12 +231,21 @@ void sortAndCheck(Samples<T>& samples, const BagData& d, Stamp stamp) {
                       {d.where(samples[k].place), 0}, "header.stamp");
 }
 
-BagData readBag(const std::vector<ByteSource*>& files, const ImportParams& p,
-                const std::string& bag, ScanSpill* spill) {
-  BagData d;
-  d.spill = spill;
-  for (const ByteSource* f : files) d.files.push_back(f->name());
-  const BagTopics topics = listTopics(files);
+/// The topics of every file, a topic's type the same in all.
+BagTopics allTopics(const std::vector<BagStorage*>& files) {
+  BagTopics topics;
+  for (BagStorage* f : files)
+    for (const auto& [name, t] : f->topics()) {
+      const auto [it, inserted] = topics.emplace(name, t);
+      if (!inserted && it->second.type != t.type)
+        throw InputError(f->name(), "topic " + name + " has type " + t.type + " here but " +
+                                        it->second.type + " in an earlier file of the bag");
+    }
+  return topics;
+}
+
+void chooseTopics(const BagTopics& topics, const ImportParams& p, const std::string& bag,
+                  BagData& d) {
   auto choose = [&](Role r, const std::string& chosen, const char* preferred, const char* flag) {
     const std::string t = chooseTopic(topics, typeOf(r), chosen, preferred, bag, flag);
     if (!t.empty()) d.topics[r] = t;
@@ -220,12 +264,31 @@ BagData readBag(const std::vector<ByteSource*>& files, const ImportParams& p,
     if (const auto it = topics.find(topic);
         it != topics.end() && it->second.type == normalType(kTfType))
       d.topics[role] = topic;
+}
+
+/// How the storage files are read: which storage, and whether each message is compressed.
+struct BagLayout {
+  BagStorageKind storage = BagStorageKind::kMcap;
+  bool message_compressed = false;
+};
+
+BagData readBag(const std::vector<BagStorage*>& files, const BagLayout& layout,
+                const ImportParams& p, const std::string& bag, ScanSpill* spill) {
+  BagData d;
+  d.spill = spill;
+  d.format = std::string(storageName(layout.storage));
+  d.message_compressed = layout.message_compressed;
+  for (const BagStorage* f : files) {
+    d.files.names.push_back(f->name());
+    d.files.sqlite.push_back(layout.storage == BagStorageKind::kSqlite3);
+  }
+  chooseTopics(allTopics(files), p, bag, d);
   for (std::size_t i = 0; i < files.size(); ++i) readFile(*files[i], i, p, d);
 
   if (!d.anyScan()) throw InputError(bag, d.topics.at(Role::kScan) + ": no messages");
   sortAndCheck(d.scans, d, [](const LaserScan& s) { return s.stamp_s; });
   sortAndCheck(d.spilled, d, [](const SpilledScan& s) { return s.stamp_s; });
-  sortAndCheck(d.odom, d, [](const auto& o) { return o.first; });
+  sortAndCheck(d.odom, d, [](const OdometrySample& o) { return o.stamp_s; });
   sortAndCheck(d.joints, d, [](const EncoderSample& e) { return e.stamp_s; });
   sortAndCheck(d.imu, d, [](const ImuSample& s) { return s.stamp_s; });
   return d;
@@ -236,9 +299,15 @@ BagData readBag(const std::vector<ByteSource*>& files, const ImportParams& p,
 namespace {
 
 DiffDriveParams nominalGeometry(const BagData& d, const ImportParams& p, bool from_poses,
-                                const std::string& bag) {
-  if (p.nominal_geometry) return *p.nominal_geometry;
-  if (d.geometry) return *d.geometry;
+                                const std::string& bag, ImportSummary& s) {
+  if (p.nominal_geometry) {
+    s.nominal_geometry = "given (--nominal / --wheel-*)";
+    return *p.nominal_geometry;
+  }
+  if (d.geometry) {
+    s.nominal_geometry = "the bag's slamprep Metadata record";
+    return *d.geometry;
+  }
   throw InputError(
       bag,
       std::string("no nominal wheel geometry: ") +
@@ -250,42 +319,76 @@ DiffDriveParams nominalGeometry(const BagData& d, const ImportParams& p, bool fr
           "wheel_separation)");
 }
 
-/// Encoders and nominal odometry: JointState ticks integrated with the nominal geometry (from the
-/// logged odometry's pose at the first joint sample, if any), else ticks derived from Odometry.
-void attachEncoders(const BagData& d, const ImportParams& p, const std::string& bag,
-                    ImportResult& r) {
-  Dataset& ds = r.dataset;
+/// The logged Odometry as poses: its twist spikes reported, its stale runs dropped (reported).
+PoseSeries loggedOdometry(const BagData& d, ImportResult& r) {
+  const std::string stream = "Odometry " + d.topics.at(Role::kOdom);
   PoseSeries odom;
-  for (const auto& s : d.odom) odom.push_back(s.value.first, s.value.second);
-  const bool from_joints = d.topics.count(Role::kJoint) > 0;
-  std::string encoders_from;
-  if (from_joints) {
-    if (d.joints.size() < 2)
-      throw InputError(bag, d.topics.at(Role::kJoint) + ": fewer than 2 messages");
-    const DiffDriveParams nominal = nominalGeometry(d, p, false, bag);
-    ds.encoders.reserve(d.joints.size());
-    for (const auto& s : d.joints) ds.encoders.push_back(s.value);
-    ds.info = importedInfo(p, nominal, bag, "mcap", "JointState " + d.topics.at(Role::kJoint));
-    if (d.gyro_heading && odom.size() >= 2) {
-      // The Odometry's heading is the gyro's: no integration of the joints reproduces it.
-      ds.odom_nominal = std::move(odom);
-      ds.info.config[std::string(kOdometryHeading)] = "gyro";
-      r.notes.push_back("the odometry is " + d.topics.at(Role::kOdom) +
-                        " as logged: its heading is the integrated gyro (slamprep metadata)");
-      return;
-    }
-    const SE2 start = odom.at(ds.encoders.front().stamp_s).value_or(SE2());
-    ds.odom_nominal = integrateEncoders(ds.encoders, nominal, p.ticks_per_revolution, start);
+  for (const auto& s : d.odom) odom.push_back(s.value.stamp_s, s.value.pose);
+  r.summary.twist_spikes = findTwistSpikes(
+      d.odom.size(), [&](std::size_t k) -> const OdometrySample& { return d.odom[k].value; });
+  r.summary.twist_spikes->stream = stream;
+  StaleReport stale;
+  stale.stream = stream;
+  odom = dropStaleOdometry(odom, stale);
+  r.summary.stale.push_back(std::move(stale));
+  return odom;
+}
+
+/// JointState ticks (their stale runs dropped) integrated with the nominal geometry, from the
+/// logged odometry's pose at the first joint sample (if any); the logged odometry is kept.
+void encodersFromJoints(const BagData& d, const ImportParams& p, const std::string& bag,
+                        PoseSeries odom, ImportResult& r) {
+  Dataset& ds = r.dataset;
+  const std::string topic = d.topics.at(Role::kJoint);
+  if (d.joints.size() < 2) throw InputError(bag, topic + ": fewer than 2 messages");
+  const DiffDriveParams nominal = nominalGeometry(d, p, false, bag, r.summary);
+  EncoderLog joints;
+  joints.reserve(d.joints.size());
+  for (const auto& s : d.joints) joints.push_back(s.value);
+  StaleReport stale;
+  stale.stream = "JointState " + topic;
+  ds.encoders = dropStaleEncoders(joints, radiansPerTick(p.ticks_per_revolution), stale);
+  r.summary.stale.push_back(std::move(stale));
+  ds.info = importedInfo(p, nominal, bag, d.format.c_str(), "JointState " + topic, "joint_states");
+  if (d.gyro_heading && odom.size() >= 2) {
+    // The Odometry's heading is the gyro's: no integration of the joints reproduces it.
+    ds.odom_nominal = std::move(odom);
+    ds.info.config[std::string(kOdometryHeading)] = "gyro";
+    r.summary.odometry = std::to_string(d.joints.size()) + " JointState " + topic +
+                         " messages: wheel angles as ticks; the nominal odometry is Odometry " +
+                         d.topics.at(Role::kOdom) +
+                         " as logged, its heading the integrated gyro (slamprep metadata)";
     return;
   }
-  if (odom.size() < 2) throw InputError(bag, d.topics.at(Role::kOdom) + ": fewer than 2 messages");
-  const DiffDriveParams nominal = nominalGeometry(d, p, true, bag);
+  const SE2 start = odom.at(ds.encoders.front().stamp_s).value_or(SE2());
+  ds.odom_nominal = integrateEncoders(ds.encoders, nominal, p.ticks_per_revolution, start);
+  r.summary.odometry = std::to_string(d.joints.size()) + " JointState " + topic +
+                       " messages: wheel angles as ticks, integrated with the nominal geometry";
+  if (!odom.empty())
+    r.summary.odometry += "; Odometry " + d.topics.at(Role::kOdom) + " (" +
+                          std::to_string(odom.size()) + " poses) kept as odometry_logged.tum";
+  ds.odometry_logged = std::move(odom);
+}
+
+/// Encoders and nominal odometry: from JointState when the bag has it, else ticks derived from
+/// the Odometry poses.
+void attachEncoders(const BagData& d, const ImportParams& p, const std::string& bag,
+                    ImportResult& r) {
+  PoseSeries odom;
+  if (d.topics.count(Role::kOdom)) odom = loggedOdometry(d, r);
+  if (d.topics.count(Role::kJoint)) return encodersFromJoints(d, p, bag, std::move(odom), r);
+  Dataset& ds = r.dataset;
+  const std::string topic = d.topics.at(Role::kOdom);
+  if (odom.size() < 2) throw InputError(bag, topic + ": fewer than 2 messages");
+  const DiffDriveParams nominal = nominalGeometry(d, p, true, bag, r.summary);
   double lateral = 0.0;
   ds.encoders = encodersFromPoses(odom, nominal, p.ticks_per_revolution, &lateral);
+  r.summary.odometry = std::to_string(d.odom.size()) + " Odometry " + topic +
+                       " poses: ticks derived from them with the nominal geometry";
   ds.odom_nominal = std::move(odom);
-  ds.info = importedInfo(
-      p, nominal, bag, "mcap",
-      "derived from Odometry " + d.topics.at(Role::kOdom) + " with the nominal geometry");
+  ds.info = importedInfo(p, nominal, bag, d.format.c_str(),
+                         "derived from Odometry " + topic + " with the nominal geometry",
+                         "odometry_poses");
   if (lateral > 1e-6)
     r.notes.push_back("odometry has sideways steps up to " + std::to_string(lateral) +
                       " m that no wheel motion explains (dropped from the encoders)");
@@ -420,7 +523,7 @@ class SpilledScans final : public ScanStream {
 
   std::unique_ptr<ScanSpill> spill_;
   Samples<SpilledScan> stubs_;
-  std::vector<std::string> files_;
+  BagFileNames files_;
   std::map<Role, std::string> topics_;
   PoseSeries odometry_;
   bool upside_down_ = false;
@@ -429,19 +532,45 @@ class SpilledScans final : public ScanStream {
   std::size_t k_ = 0, count_ = 0, dropped_ = 0;
 };
 
-ImportResult importBag(const std::vector<ByteSource*>& files, const ImportParams& p,
-                       const std::string& bag) {
+/// What the summary says of the scans, the time increment and the maximum range.
+void summarizeScans(const BagData& d, const ImportParams& p, std::size_t messages,
+                    ImportResult& r) {
+  ImportSummary& s = r.summary;
+  s.scans = std::to_string(messages) + " LaserScan " + d.topics.at(Role::kScan) + " messages, " +
+            std::to_string(d.beams_min) +
+            (d.beams_max > d.beams_min ? ".." + std::to_string(d.beams_max) : "") +
+            " beams; angles, range limits and beam timing from each message";
+  s.time_increment = p.time_increment_s
+                         ? std::to_string(*p.time_increment_s) + " s (--time-increment)"
+                         : "each LaserScan's time_increment";
+  s.range = rangeReport(d.ranges, p.max_range_m, d.cut_by_max_range);
+  Dataset& ds = r.dataset;
+  if (p.max_range_m) ds.info.config["max_range_m"] = *p.max_range_m;
+  if (d.ranges.count() == 0)
+    r.notes.push_back(
+        "no scan has a valid reading (every range is non-finite or outside "
+        "[range_min, range_max]): the lidar saw nothing");
+  if (s.range->suspect) {
+    ds.info.config["range_max_suspect"] = s.range->text();
+    r.notes.push_back(s.range->text());
+  }
+  for (const auto& [role, topic] : d.topics) s.topics[std::string(typeOf(role))] = topic;
+}
+
+ImportResult importBag(const std::vector<BagStorage*>& files, const BagLayout& layout,
+                       const ImportParams& p, const std::string& bag) {
   checkParams(p);
   if (p.base_frame.empty()) throw InputError("--base-frame", "must not be empty");
   std::unique_ptr<ScanSpill> spill;
   if (!p.spill_dir.empty()) spill = std::make_unique<ScanSpill>(p.spill_dir / kSpillFile);
-  BagData d = readBag(files, p, bag, spill.get());
+  BagData d = readBag(files, layout, p, bag, spill.get());
   ImportResult r;
   attachEncoders(d, p, bag, r);
   release(d.odom);  // what a long bag holds besides its scans: freed as soon as converted
   release(d.joints);
   Dataset& ds = r.dataset;
   std::vector<std::string> scan_where;
+  const std::size_t messages = d.scans.size() + d.spilled.size();
   for (auto& s : d.scans) {  // moved: a long bag's scans are most of the memory
     ScanRecord record;
     record.scan = std::move(s.value);
@@ -453,10 +582,15 @@ ImportResult importBag(const std::vector<ByteSource*>& files, const ImportParams
   release(d.imu);
   ds.info.config["scan_topic"] = d.topics.at(Role::kScan);
   if (files.size() > 1) ds.info.config["bag_files"] = std::to_string(files.size());
+  summarizeScans(d, p, messages, r);
   mountLidar(d, p, r);
   const SE2& m = ds.info.T_base_lidar;
   if (!std::isfinite(m.x) || !std::isfinite(m.y) || !std::isfinite(m.yaw))
     throw InputError(bag, "lidar mount not finite");
+  r.summary.lidar_mount =
+      "x " + std::to_string(m.x) + " m, y " + std::to_string(m.y) + " m, yaw " +
+      std::to_string(m.yaw * 180 / std::numbers::pi) + " deg from " +
+      ds.info.config.value("lidar_mount_from", std::string("nothing (identity)"));
   if (spill) {
     r.scans = std::make_unique<SpilledScans>(std::move(spill), d, ds, p);
     return r;
@@ -466,22 +600,42 @@ ImportResult importBag(const std::vector<ByteSource*>& files, const ImportParams
   return r;
 }
 
+std::string storageText(const Rosbag2Bag& bag) {
+  std::string s = std::string(storageName(bag.storage)) + ", " + std::to_string(bag.files.size()) +
+                  (bag.files.size() > 1 ? " files" : " file");
+  s += bag.version ? " (metadata.yaml version " + std::to_string(bag.version) + ")"
+                   : " (no metadata.yaml: the file's magic)";
+  if (bag.compression != BagCompressionMode::kNone)
+    s += ", compression_mode " + std::string(compressionModeName(bag.compression)) + " " +
+         bag.compression_format;
+  return s;
+}
+
 }  // namespace
 
-ImportResult importMcap(const std::filesystem::path& bag, const ImportParams& p) {
+ImportResult importRosbag2(const std::filesystem::path& path, const ImportParams& p) {
   checkParams(p);
-  std::vector<std::unique_ptr<ByteSource>> sources;
-  std::vector<ByteSource*> files;
-  for (const auto& file : bagFiles(bag)) {
-    sources.push_back(openFileSource(file));
-    files.push_back(sources.back().get());
+  ImportResult r;
+  {
+    // Closed (and its scratch folder removed) before the scans are written out.
+    const OpenBag open(readRosbag2(path), p.spill_dir);
+    const BagLayout layout{open.bag().storage,
+                           open.bag().compression == BagCompressionMode::kMessage};
+    r = importBag(open.storages(), layout, p, path.string());
+    r.summary.storage = storageText(open.bag());
+    for (const std::string& n : open.notes()) r.notes.push_back(n);
   }
-  return importBag(files, p, bag.string());
+  return r;
+}
+
+ImportResult importMcap(const std::filesystem::path& bag, const ImportParams& p) {
+  return importRosbag2(bag, p);
 }
 
 ImportResult importMcap(std::string_view bytes, const std::string& file, const ImportParams& p) {
   const auto source = memorySource(bytes, file);
-  return importBag({source.get()}, p, file);
+  const auto storage = openMcapStorage(*source);
+  return importBag({storage.get()}, BagLayout{}, p, file);
 }
 
 }  // namespace slamprep::eval

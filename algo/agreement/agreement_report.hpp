@@ -1,0 +1,23 @@
+#pragma once
+// SensorAgreement as the `sensor_agreement` JSON object of import, match and calibrate, and as
+// the lines those commands print (docs/matching.md "Sensor agreement").
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "algo/agreement/sensor_agreement.hpp"
+
+namespace slamprep::algo {
+
+/// docs/matching.md "sensor_agreement": sources, pairs with their disagreeing spans, findings.
+/// Angles in degrees, as every JSON output a person reads.
+nlohmann::ordered_json agreementJson(const SensorAgreement& agreement,
+                                     const std::string& wheels_from);
+
+/// A few lines for the terminal: each source's turning, each pair's scale and disagreements.
+std::string agreementText(const SensorAgreement& agreement);
+
+/// One line per disagreeing span of the wheels against the gyro: why calibrate refuses.
+std::string wheelsGyroConflictText(const SensorAgreement& agreement);
+
+}  // namespace slamprep::algo

@@ -1,0 +1,52 @@
+#include "algo/agreement/dataset_sources.hpp"
+
+#include "core/odometry.hpp"
+
+namespace slamprep::algo {
+namespace {
+
+WheelTrack wheelTrack(const Dataset& d) {
+  WheelTrack w;
+  w.nominal = d.info.nominal_geometry;
+  w.from = encodersFrom(d.info);
+  const double rad_per_tick = radiansPerTick(d.info.ticks_per_revolution);
+  w.phi_rad.reserve(d.encoders.size());
+  for (const EncoderSample& e : d.encoders)
+    w.phi_rad.push_back(e.stamp_s, Eigen::Vector2d(double(e.ticks_left) * rad_per_tick,
+                                                   double(e.ticks_right) * rad_per_tick));
+  return w;
+}
+
+}  // namespace
+
+std::string encodersFrom(const DatasetInfo& info) {
+  const nlohmann::json& c = info.config;
+  if (c.is_object() && c.contains("encoders_from") && c["encoders_from"].is_string())
+    return c["encoders_from"];
+  const bool has_text = c.is_object() && c.contains("encoders") && c["encoders"].is_string();
+  const std::string text = has_text ? c["encoders"].get<std::string>() : std::string();
+  if (text.rfind("derived from", 0) == 0) return "odometry_poses";
+  if (text.rfind("JointState", 0) == 0) return "joint_states";
+  return "ticks";
+}
+
+RotationSources datasetSources(const Dataset& d, std::vector<HeadingSeries> scan_pieces) {
+  RotationSources s;
+  if (d.encoders.size() >= 2) s.wheels = wheelTrack(d);
+  if (d.imu.size() >= 2) s.gyro = gyroHeading(d.imu);
+  // The odometry topic is a source of its own only where the wheels were not derived from it.
+  if (!d.odometry_logged.empty() && (!s.wheels || s.wheels->from != "odometry_poses"))
+    s.odometry = poseHeading(d.odometry_logged);
+  else if (!s.wheels && d.odom_nominal.size() >= 2)
+    s.odometry = poseHeading(d.odom_nominal);
+  s.scans = std::move(scan_pieces);
+  return s;
+}
+
+std::vector<HeadingSeries> scanPieces(const std::vector<PoseSeries>& matched) {
+  std::vector<HeadingSeries> pieces;
+  for (const PoseSeries& p : matched) pieces.push_back(poseHeading(p));
+  return pieces;
+}
+
+}  // namespace slamprep::algo

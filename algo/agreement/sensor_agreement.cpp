@@ -1,0 +1,359 @@
+#include "algo/agreement/sensor_agreement.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+namespace slamprep::algo {
+namespace {
+
+constexpr double kDeg = 180.0 / std::numbers::pi;
+
+/// One window's equation of Eq. 1 or Eq. 2: y = x^T p.
+struct Row {
+  double t0_s, t1_s;
+  double y;
+  Eigen::VectorXd x;
+  double turn_a, turn_b;  ///< what the two sources turned (wheels: with the nominal geometry)
+};
+
+/// A named rotation source: its heading in pieces (what a source says across a break between
+/// two pieces is unknown), and the wheel angles where it is the wheels.
+struct Source {
+  std::string name;
+  std::vector<HeadingSeries> pieces;
+  const WheelTrack* wheels = nullptr;
+  bool is_gyro = false;
+  /// Poses and wheel angles keep what they turned across a gap between samples; rates do not.
+  double gapLimit(double max_gap_s) const {
+    return is_gyro ? max_gap_s : std::numeric_limits<double>::infinity();
+  }
+
+  double from() const { return pieces.front().frontStamp(); }
+  double to() const { return pieces.back().backStamp(); }
+  std::optional<double> turn(double t0, double t1, double max_gap_s) const {
+    for (const HeadingSeries& h : pieces)
+      if (h.covers(t0) && h.covers(t1)) return turned(h, t0, t1, gapLimit(max_gap_s));
+    return std::nullopt;
+  }
+};
+
+std::optional<Eigen::Vector2d> wheelTurn(const WheelTrack& w, double t0, double t1,
+                                         double max_gap_s) {
+  const auto b0 = w.phi_rad.bracket(t0), b1 = w.phi_rad.bracket(t1);
+  if (!b0 || !b1) return std::nullopt;
+  for (std::size_t k = b0->index; k + 1 < w.phi_rad.size() && w.phi_rad[k].stamp_s < t1; ++k)
+    if (w.phi_rad[k + 1].stamp_s - w.phi_rad[k].stamp_s > max_gap_s) return std::nullopt;
+  return *w.phi_rad.at(t1) - *w.phi_rad.at(t0);
+}
+
+/// The equation of one window [t0, t1] (Eq. 1 where a is the wheels, else Eq. 2); nullopt where
+/// a source does not cover it.
+std::optional<Row> rowAt(const Source& a, const Source& b, double t0, double t1, double lag_s,
+                         const AgreementParams& p) {
+  const auto da = a.turn(t0, t1, p.max_gap_s);
+  const auto db = b.turn(t0 + lag_s, t1 + lag_s, p.max_gap_s);
+  if (!da || !db) return std::nullopt;
+  const bool bias = a.is_gyro || b.is_gyro;
+  Eigen::VectorXd x(bias ? 3 : 2);
+  if (a.wheels) {
+    const auto dphi = wheelTurn(*a.wheels, t0, t1, a.gapLimit(p.max_gap_s));
+    if (!dphi) return std::nullopt;
+    x.head<2>() << (*dphi)(1), -(*dphi)(0);  // Eq. 1: a dphi_R - c dphi_L
+  } else {
+    x.head<2>() << *da, 0.0;  // Eq. 2: s dA (the second column stays unused)
+  }
+  if (bias) x(2) = t1 - t0;
+  return Row{t0, t1, *db, x, *da, *db};
+}
+
+/// The rows of the pair (a, b) over every window both cover, b read `lag_s` later.
+std::vector<Row> rowsOf(const Source& a, const Source& b, double lag_s, const AgreementParams& p) {
+  std::vector<Row> rows;
+  const double from = std::max(a.from(), b.from() - lag_s);
+  const double to = std::min(a.to(), b.to() - lag_s);
+  const auto n = static_cast<long>(std::floor((to - from - p.window_s) / p.step_s + 1e-9));
+  for (long i = 0; i <= n; ++i) {
+    const double t0 = from + double(i) * p.step_s;
+    if (auto row = rowAt(a, b, t0, t0 + p.window_s, lag_s, p)) rows.push_back(std::move(*row));
+  }
+  return rows;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+struct Fit {
+  Eigen::VectorXd coef;
+  std::vector<double> residual;
+  std::vector<bool> kept;
+  double sigma = 0.0;
+};
+
+/// Weighted least squares; a zero weight leaves a window out.
+Eigen::VectorXd solve(const std::vector<Row>& rows, const std::vector<double>& weight) {
+  const Eigen::Index n = rows.front().x.size();
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    A += weight[i] * rows[i].x * rows[i].x.transpose();
+    rhs += weight[i] * rows[i].x * rows[i].y;
+  }
+  // Minimum-norm solution: straight driving leaves a + c undetermined, an unused column all.
+  return A.completeOrthogonalDecomposition().solve(rhs);
+}
+
+std::vector<double> residuals(const std::vector<Row>& rows, const Eigen::VectorXd& coef) {
+  std::vector<double> r(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) r[i] = rows[i].y - rows[i].x.dot(coef);
+  return r;
+}
+
+/// The least-absolute-deviations fit (IRLS, weights 1 / |r|): a start that a block of faulty
+/// windows cannot drag, as it drags least squares.
+Eigen::VectorXd leastAbsolute(const std::vector<Row>& rows, double floor) {
+  std::vector<double> weight(rows.size(), 1.0);
+  Eigen::VectorXd coef = solve(rows, weight);
+  for (int round = 0; round < 50; ++round) {
+    const std::vector<double> r = residuals(rows, coef);
+    for (std::size_t i = 0; i < rows.size(); ++i) weight[i] = 1.0 / std::max(std::abs(r[i]), floor);
+    coef = solve(rows, weight);
+  }
+  return coef;
+}
+
+/// From the least-absolute-deviations start: the windows beyond outlier_sigmas robust sigmas
+/// (MAD over all windows, so the faults cannot inflate the scale that judges them) dropped and
+/// least squares on the rest, repeated until the kept set repeats.
+Fit robustFit(const std::vector<Row>& rows, const AgreementParams& p) {
+  Fit f;
+  f.coef = leastAbsolute(rows, p.min_sigma_rad);
+  for (int round = 0; round < 20; ++round) {
+    f.residual = residuals(rows, f.coef);
+    std::vector<double> abs_r(rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) abs_r[i] = std::abs(f.residual[i]);
+    f.sigma = std::max(1.4826 * median(abs_r), p.min_sigma_rad);
+    std::vector<bool> kept(rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) kept[i] = abs_r[i] <= p.outlier_sigmas * f.sigma;
+    if (kept == f.kept) break;
+    f.kept = kept;
+    f.coef = solve(rows, std::vector<double>(kept.begin(), kept.end()));
+  }
+  return f;
+}
+
+std::string fmtDeg(double rad) {
+  std::ostringstream s;
+  s.precision(1);
+  s << std::fixed << rad * kDeg;
+  return s.str();
+}
+
+/// Why `a` turned `turn_a` where its model from `b` expects `b` to turn `turn_b`.
+std::string likelyCause(const Source& a, const Source& b, double predicted_b, double turn_b) {
+  const bool plural = a.name == "wheels" || a.name == "scans";
+  const std::string told = a.name + (plural ? " say " : " says ") + fmtDeg(predicted_b) +
+                           " deg where " + b.name + " turned " + fmtDeg(turn_b) + " deg: ";
+  if (!a.wheels)
+    return told + (b.name == "scans" || a.name == "scans"
+                       ? "a failed scan match, or the other sensor's fault"
+                       : "one of the two is wrong here (a gyro fault, or an odometry glitch)");
+  const bool still = std::abs(turn_b) < 0.25 * std::abs(predicted_b);
+  const bool opposite = turn_b * predicted_b < 0.0;
+  if (still || opposite) return told + "the robot was lifted or blocked while its wheels turned";
+  if (std::abs(turn_b) > std::abs(predicted_b))
+    return told + "the robot turned more than its wheels: pushed, or a wheel spun freely";
+  return told + "the wheels turned more than the robot: wheel slip";
+}
+
+/// A span whose turns agree as a whole but not window by window: the two disagree on when.
+std::string transientCause(const Source& a, const Source& b, double predicted_b, double turn_b) {
+  return a.name + (a.name == "wheels" || a.name == "scans" ? " say " : " says ") +
+         fmtDeg(predicted_b) + " deg and " + b.name + " turned " + fmtDeg(turn_b) +
+         " deg over the span, but not at the same times inside it: a varying delay between "
+         "them, or a turn one of them saw late (a slipping or blocked wheel that caught up)";
+}
+
+/// The flagged windows merged into spans, each with what the sources turned over it.
+std::vector<Disagreement> disagreements(const Source& a, const Source& b,
+                                        const std::vector<Row>& rows, const Fit& f, double lag_s,
+                                        const AgreementParams& p) {
+  const double limit = std::max(p.disagreement_sigmas * f.sigma, p.disagreement_floor_rad);
+  std::vector<Disagreement> spans;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (std::abs(f.residual[i]) <= limit) continue;
+    if (!spans.empty() && rows[i].t0_s <= spans.back().t1_s) {
+      spans.back().t1_s = rows[i].t1_s;
+      spans.back().max_residual_rad =
+          std::max(spans.back().max_residual_rad, std::abs(f.residual[i]));
+    } else {
+      spans.push_back({rows[i].t0_s, rows[i].t1_s, 0.0, 0.0, std::abs(f.residual[i]), ""});
+    }
+  }
+  for (Disagreement& d : spans)
+    if (const auto row = rowAt(a, b, d.t0_s, d.t1_s, lag_s, p)) {
+      d.turn_a_rad = row->turn_a;
+      d.turn_b_rad = row->turn_b;
+      const double predicted = row->x.dot(f.coef);
+      d.likely_cause = std::abs(predicted - row->turn_b) < p.disagreement_floor_rad
+                           ? transientCause(a, b, predicted, row->turn_b)
+                           : likelyCause(a, b, predicted, row->turn_b);
+    }
+  return spans;
+}
+
+/// The delay of b's clock behind a's that fits best (lowest robust sigma over a grid of
+/// +-max_lag_s); of equally good ones (within 1 %), the smallest.
+double bestLag(const Source& a, const Source& b, const AgreementParams& p) {
+  double best = 0.0, best_sigma = std::numeric_limits<double>::infinity();
+  const auto steps = static_cast<int>(std::round(p.max_lag_s / p.lag_step_s));
+  for (int i = 0; i <= 2 * steps; ++i) {
+    const int k = (i % 2 == 0 ? 1 : -1) * ((i + 1) / 2);  // 0, -1, 1, -2, 2, ...
+    const double lag = k * p.lag_step_s;
+    const std::vector<Row> rows = rowsOf(a, b, lag, p);
+    if (rows.size() < 3) continue;
+    const double sigma = robustFit(rows, p).sigma;
+    if (sigma < 0.99 * best_sigma) best = lag, best_sigma = sigma;
+  }
+  return best;
+}
+
+PairAgreement comparePair(const Source& a, const Source& b, const AgreementParams& p) {
+  PairAgreement out;
+  out.a = a.name;
+  out.b = b.name;
+  out.model = a.wheels ? "wheels" : "scale";
+  out.lag_s = p.max_lag_s > 0.0 ? bestLag(a, b, p) : 0.0;
+  const std::vector<Row> rows = rowsOf(a, b, out.lag_s, p);
+  out.windows = rows.size();
+  if (rows.empty()) return out;
+  const Fit f = robustFit(rows, p);
+  double sum_a = 0.0, sum_b = 0.0, sum_sq = 0.0;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (f.kept[i]) {
+      ++out.kept;
+      sum_a += std::abs(rows[i].turn_a);
+      sum_b += std::abs(rows[i].turn_b);
+      sum_sq += f.residual[i] * f.residual[i];
+    }
+  out.scale = sum_b > 0.0 ? sum_a / sum_b : 1.0;
+  out.rms_residual_rad = out.kept ? std::sqrt(sum_sq / double(out.kept)) : 0.0;
+  out.sigma_rad = f.sigma;
+  if (f.coef.size() == 3) out.bias_radps = f.coef(2);
+  if (a.wheels) {
+    out.wheel_ratios = Eigen::Vector2d(f.coef(0), f.coef(1));
+    const DiffDriveParams& g = a.wheels->nominal;
+    if (f.coef(0) + f.coef(1) > 0.0)
+      out.effective_wheel_base_m = (g.radius_left_m + g.radius_right_m) / (f.coef(0) + f.coef(1));
+  }
+  out.disagreements = disagreements(a, b, rows, f, out.lag_s, p);
+  return out;
+}
+
+SourceTurning turningOf(const Source& s, const AgreementParams& p) {
+  SourceTurning t{s.name, s.from(), s.to(), 0.0, 0.0};
+  for (const HeadingSeries& h : s.pieces) {
+    t.net_rad += h[h.size() - 1].value - h[0].value;
+    for (double t0 = h.frontStamp(); t0 < h.backStamp(); t0 += p.step_s)
+      if (const auto d =
+              turned(h, t0, std::min(t0 + p.step_s, h.backStamp()), s.gapLimit(p.max_gap_s)))
+        t.absolute_rad += std::abs(*d);
+  }
+  return t;
+}
+
+std::vector<HeadingSeries> usable(std::vector<HeadingSeries> pieces) {
+  std::erase_if(pieces, [](const HeadingSeries& h) { return h.size() < 2; });
+  return pieces;
+}
+
+std::vector<Source> namedSources(const RotationSources& in) {
+  std::vector<Source> out;
+  auto add = [&](const char* name, std::vector<HeadingSeries> pieces, const WheelTrack* wheels,
+                 bool gyro) {
+    pieces = usable(std::move(pieces));
+    if (!pieces.empty()) out.push_back({name, std::move(pieces), wheels, gyro});
+  };
+  if (in.wheels) add("wheels", {wheelHeading(*in.wheels, in.wheels->nominal)}, &*in.wheels, false);
+  if (in.gyro) add("gyro", {*in.gyro}, nullptr, true);
+  if (in.odometry) add("odometry", {*in.odometry}, nullptr, false);
+  add("scans", in.scans, nullptr, false);
+  return out;
+}
+
+std::string fmtPercent(double ratio) {
+  std::ostringstream s;
+  s.precision(1);
+  s << std::fixed << 100.0 * (ratio - 1.0);
+  return s.str();
+}
+
+/// A heading taken from the gyro shows as an odometry topic that follows the gyro far more
+/// closely than the robot's own wheels do, and turns differently from its wheels.
+void findGyroHeading(const SensorAgreement& s, const RotationSources& in,
+                     std::vector<std::string>& findings) {
+  const PairAgreement* og = s.pair("gyro", "odometry");
+  const PairAgreement* wg = s.pair("wheels", "gyro");
+  const PairAgreement* wo = s.pair("wheels", "odometry");
+  if (og && wg && wo && og->kept > 0 && wg->kept > 0 && std::abs(og->scale - 1.0) < 0.02 &&
+      og->rms_residual_rad < 0.5 * wg->rms_residual_rad && std::abs(wo->scale - 1.0) > 0.02)
+    findings.push_back(
+        "the odometry topic takes its heading from the gyro: it follows the gyro to " +
+        fmtDeg(og->rms_residual_rad) +
+        " deg RMS per window (the wheels: " + fmtDeg(wg->rms_residual_rad) +
+        " deg) while the wheels, with the nominal "
+        "geometry, turn " +
+        fmtPercent(wo->scale) +
+        " % more than it: a gyro-heading odometry (e.g. TurtleBot3's use_imu). "
+        "Calibration uses the wheels, not the odometry topic");
+  if (!og && wg && in.wheels && in.wheels->from == "odometry_poses" && wg->kept > 0 &&
+      std::abs(wg->scale - 1.0) < 0.01 && wg->rms_residual_rad < 0.5 / kDeg)
+    findings.push_back(
+        "the odometry's heading follows the gyro to " + fmtDeg(wg->rms_residual_rad) +
+        " deg RMS per window: if the robot takes its heading from the gyro (a gyro-heading "
+        "odometry, e.g. TurtleBot3's use_imu), the wheel increments derived from its poses carry "
+        "the gyro's rotation and the wheel base cannot be calibrated from them");
+}
+
+}  // namespace
+
+HeadingSeries wheelHeading(const WheelTrack& wheels, const DiffDriveParams& g) {
+  HeadingSeries heading;
+  heading.reserve(wheels.phi_rad.size());
+  for (const auto& s : wheels.phi_rad.samples())
+    heading.push_back(
+        s.stamp_s, (g.radius_right_m * s.value(1) - g.radius_left_m * s.value(0)) / g.wheel_base_m);
+  return heading;
+}
+
+const PairAgreement* SensorAgreement::pair(const std::string& a, const std::string& b) const {
+  for (const PairAgreement& p : pairs)
+    if (p.a == a && p.b == b) return &p;
+  return nullptr;
+}
+
+const PairAgreement* SensorAgreement::wheelsGyroConflict() const {
+  const PairAgreement* p = pair("wheels", "gyro");
+  return p && !p->disagreements.empty() ? p : nullptr;
+}
+
+SensorAgreement compareSensors(const RotationSources& in, const AgreementParams& params) {
+  SensorAgreement out;
+  out.params = params;
+  const std::vector<Source> sources = namedSources(in);
+  for (const Source& s : sources) out.sources.push_back(turningOf(s, params));
+  for (std::size_t i = 0; i < sources.size(); ++i)
+    for (std::size_t j = i + 1; j < sources.size(); ++j)
+      out.pairs.push_back(comparePair(sources[i], sources[j], params));
+  findGyroHeading(out, in, out.findings);
+  return out;
+}
+
+}  // namespace slamprep::algo

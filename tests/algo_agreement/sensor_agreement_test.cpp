@@ -1,0 +1,154 @@
+// Sensors checked against each other (algo/agreement/sensor_agreement.hpp) on synthetic drives
+// whose truth is known: a wrong nominal wheel base is a scale, not a disagreement; a lifted robot,
+// wheels spinning while the body stands, is one, named; a gyro-heading odometry is recognised.
+#include "algo/agreement/sensor_agreement.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "algo/agreement/agreement_report.hpp"
+
+namespace slamprep::algo {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+const DiffDriveParams kTrue{0.033, 0.033, 0.178};
+const DiffDriveParams kNominal{0.033, 0.033, 0.160};  // the wheels turn 1.1125x the gyro
+
+/// A 120 s drive at 100 Hz, 0.02-0.18 m/s: wheel angles of the true geometry, the gyro's rate (bias
+/// 0.002 rad/s, white noise 0.01 rad/s) and the true heading. `lifted` [t0, t1]: the wheels keep
+/// turning as commanded while the body stands still.
+struct Drive {
+  WheelTrack wheels;
+  ImuLog imu;
+  HeadingSeries truth;
+};
+
+Drive drive(double lifted_from_s = 1e9, double lifted_to_s = 1e9) {
+  Drive d;
+  d.wheels.nominal = kNominal;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  Eigen::Vector2d phi = Eigen::Vector2d::Zero();
+  double yaw = 0.0;
+  const double dt = 0.01;
+  for (int k = 0; k <= 12000; ++k) {
+    const double t = k * dt;
+    const double w = 0.5 * std::sin(0.2 * t) + 0.3 * std::sin(0.05 * t + 1.0);
+    const bool lifted = t >= lifted_from_s && t < lifted_to_s;
+    const double w_body = lifted ? 0.0 : w;
+    d.wheels.phi_rad.push_back(t, phi);
+    d.imu.push_back({t, w_body + 0.002 + noise(rng), 0.0, 0.0});
+    d.truth.push_back(t, yaw);
+    // A varying speed: at a constant one a gyro bias and r_R != r_L turn alike (both grow with
+    // time), and Eq. 1 could not tell them apart.
+    phi += kTrue.wheelRates(0.1 + 0.08 * std::sin(0.13 * t), w) * dt;
+    yaw += w_body * dt;
+  }
+  return d;
+}
+
+TEST(SensorAgreement, AWrongNominalWheelBaseIsAScaleNotADisagreement) {
+  const Drive d = drive();
+  const SensorAgreement a = compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}});
+  const PairAgreement* p = a.pair("wheels", "gyro");
+  ASSERT_NE(p, nullptr);
+  EXPECT_NEAR(p->lag_s, 0.0, 0.02);  // the two clocks agree
+  EXPECT_GE(p->windows, 115u);       // 5 s windows every 1 s over 120 s (one lost to a lag)
+  EXPECT_TRUE(p->disagreements.empty()) << agreementText(a);
+  EXPECT_NEAR(p->scale, 0.178 / 0.160, 0.005);
+  ASSERT_TRUE(p->effective_wheel_base_m);
+  EXPECT_NEAR(*p->effective_wheel_base_m, 0.178, 0.0005);
+  EXPECT_NEAR(p->bias_radps, 0.002, 0.0005);
+  EXPECT_EQ(a.wheelsGyroConflict(), nullptr);
+  ASSERT_EQ(a.sources.size(), 2u);
+  EXPECT_NEAR(a.sources[1].net_rad, d.truth[d.truth.size() - 1].value + 0.24, 0.05);
+}
+
+TEST(SensorAgreement, ALiftedRobotIsADisagreementWithItsCause) {
+  const Drive d = drive(50.0, 60.0);  // turning -338 deg meanwhile
+  const SensorAgreement a = compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}});
+  const PairAgreement* p = a.wheelsGyroConflict();
+  ASSERT_NE(p, nullptr) << agreementText(a);
+  ASSERT_EQ(p->disagreements.size(), 1u) << agreementText(a);
+  const Disagreement& span = p->disagreements.front();
+  // The windows that overlap the 10 s lift by enough to exceed the 5 degree floor.
+  EXPECT_GE(span.t0_s, 45.0);
+  EXPECT_LE(span.t0_s, 50.0);
+  EXPECT_GE(span.t1_s, 60.0);
+  EXPECT_LE(span.t1_s, 66.0);
+  EXPECT_NE(span.likely_cause.find("lifted or blocked"), std::string::npos) << span.likely_cause;
+  // Outside the lift the fit still finds the true wheel base.
+  ASSERT_TRUE(p->effective_wheel_base_m);
+  EXPECT_NEAR(*p->effective_wheel_base_m, 0.178, 0.001);
+  EXPECT_NE(wheelsGyroConflictText(a).find("lifted"), std::string::npos);
+}
+
+TEST(SensorAgreement, ScanPiecesAreComparedWithinEachPieceOnly) {
+  const Drive d = drive();
+  // Two pieces of the true heading, the second with an arbitrary offset (a broken chain).
+  HeadingSeries first, second;
+  for (const auto& s : d.truth.samples()) {
+    if (s.stamp_s <= 50.0) first.push_back(s.stamp_s, s.value);
+    if (s.stamp_s >= 50.2) second.push_back(s.stamp_s, s.value + 3.0);
+  }
+  const SensorAgreement a =
+      compareSensors({std::nullopt, gyroHeading(d.imu), std::nullopt, {first, second}});
+  const PairAgreement* p = a.pair("gyro", "scans");
+  ASSERT_NE(p, nullptr);
+  EXPECT_EQ(p->model, "scale");
+  EXPECT_NEAR(p->lag_s, 0.0, 0.02);
+  EXPECT_GE(p->windows, 46u + 65u - 2u);  // no window straddles the break
+  EXPECT_LE(p->windows, 46u + 65u);
+  EXPECT_TRUE(p->disagreements.empty()) << agreementText(a);
+  EXPECT_NEAR(p->scale, 1.0, 0.01);
+}
+
+// Stamps of one sensor 0.2 s late: the delay is found and the turns agree again (without it, a
+// 1 rad/s turn would read as 11 degrees of disagreement per window).
+TEST(SensorAgreement, AClockDelayBetweenTwoSensorsIsFound) {
+  Drive d = drive();
+  for (ImuSample& s : d.imu) s.stamp_s += 0.2;
+  const SensorAgreement a = compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}});
+  const PairAgreement* p = a.pair("wheels", "gyro");
+  ASSERT_NE(p, nullptr);
+  EXPECT_NEAR(p->lag_s, 0.2, 0.015);
+  EXPECT_TRUE(p->disagreements.empty()) << agreementText(a);
+  ASSERT_TRUE(p->effective_wheel_base_m);
+  EXPECT_NEAR(*p->effective_wheel_base_m, 0.178, 0.0005);
+  AgreementParams no_lag;
+  no_lag.max_lag_s = 0.0;
+  const PairAgreement* q = compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}}, no_lag)
+                               .pair("wheels", "gyro");
+  EXPECT_GT(q->rms_residual_rad, 5.0 * p->rms_residual_rad);
+}
+
+TEST(SensorAgreement, AnOdometryTopicThatFollowsTheGyroIsFound) {
+  const Drive d = drive();
+  const HeadingSeries gyro = gyroHeading(d.imu);
+  const SensorAgreement a = compareSensors({d.wheels, gyro, gyro, {}});
+  ASSERT_EQ(a.findings.size(), 1u) << agreementText(a);
+  EXPECT_NE(a.findings[0].find("takes its heading from the gyro"), std::string::npos);
+  // Odometry from the same wheels instead: no such finding.
+  const SensorAgreement b = compareSensors({d.wheels, gyro, wheelHeading(d.wheels, kNominal), {}});
+  EXPECT_TRUE(b.findings.empty()) << agreementText(b);
+}
+
+TEST(Heading, TurnedIsTheDifferenceAndRefusesGaps) {
+  ImuLog imu = {{0.0, 1.0, 0, 0}, {1.0, 1.0, 0, 0}, {2.0, 3.0, 0, 0}, {5.0, 3.0, 0, 0}};
+  const HeadingSeries h = gyroHeading(imu);
+  EXPECT_DOUBLE_EQ(*turned(h, 0.0, 2.0, 1.5), 1.0 + 2.0);  // trapezoid: 1 + (1 + 3) / 2
+  EXPECT_DOUBLE_EQ(*turned(h, 0.5, 1.0, 1.5), 0.5);
+  EXPECT_FALSE(turned(h, 1.0, 4.0, 1.5));    // 2 .. 5 s is a 3 s gap
+  EXPECT_FALSE(turned(h, -1.0, 1.0, 10.0));  // not covered
+  PoseSeries poses;
+  poses.push_back(0.0, SE2(0, 0, 3.0));
+  poses.push_back(1.0, SE2(0, 0, -3.0));  // +0.283 rad the short way, across pi
+  EXPECT_NEAR(poseHeading(poses)[1].value, 3.0 + (2 * std::numbers::pi - 6.0), 1e-12);
+}
+
+}  // namespace
+}  // namespace slamprep::algo
