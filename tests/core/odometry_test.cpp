@@ -51,20 +51,22 @@ TEST(Odometry, WheelIncrementStraightAndSpin) {
   EXPECT_NEAR(spin.yaw, 0.2 / 0.5, 1e-15);
 }
 
-TEST(GyroOdometry, IntegratesALinearRateExactlyBetweenAndOutsideTheSamples) {
-  // Rate 0.5 + 0.2 t at 200 Hz from t = 1: trapezoids and linear interpolation are exact for it.
+TEST(GyroOdometry, HeadingInsideTheSamplesAndCarriedOnAtTheEdgeRatesOutside) {
+  // Rate 0.5 + 0.2 t at 200 Hz from t = 1: the trapezoids are exact for it at the samples.
   ImuLog imu;
   for (int k = 0; k <= 200; ++k) {
     const double t = 1.0 + 0.005 * k;
     imu.push_back({t, 0.5 + 0.2 * t, 0.0, 0.0});
   }
   const auto integral = [](double t) { return 0.5 * t + 0.1 * t * t - 0.6; };  // from t = 1
-  GyroYaw gyro(imu);
-  EXPECT_NEAR(gyro.at(0.9), -0.1 * 0.7, 1e-15);  // before the first sample: its rate held
-  for (const double t : {1.0, 1.0025, 1.3337, 1.995, 2.0})
-    EXPECT_NEAR(gyro.at(t), integral(t), 1e-12) << t;
-  EXPECT_NEAR(gyro.at(2.5), integral(2.0) + 0.5 * 0.9, 1e-12);  // after the last: held
-  EXPECT_THROW(GyroYaw(ImuLog{}), InputError);
+  const HeadingSeries heading = gyroHeading(imu);
+  for (const double t : {1.0, 1.335, 2.0})
+    EXPECT_NEAR(gyroHeadingAt(heading, imu, t), integral(t), 1e-12) << t;
+  // Between samples: linear, the interval's mean rate.
+  EXPECT_NEAR(gyroHeadingAt(heading, imu, 1.0025), 0.5 * integral(1.005), 1e-12);
+  EXPECT_NEAR(gyroHeadingAt(heading, imu, 0.9), -0.1 * 0.7, 1e-15);  // before: 0.7 rad/s
+  EXPECT_NEAR(gyroHeadingAt(heading, imu, 2.5), integral(2.0) + 0.5 * 0.9, 1e-12);  // after
+  EXPECT_THROW(integrateEncodersGyroHeading({{0.0, 0, 0}}, {}, {0.1, 0.1, 0.5}, 4096), InputError);
 }
 
 TEST(GyroOdometry, HeadingFromTheGyroTranslationFromTheWheels) {

@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
-#include "core/gyro_odometry.hpp"
+#include "core/heading.hpp"
 #include "core/odometry.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "sim/drive/fault_injection.hpp"
@@ -384,9 +384,8 @@ std::size_t expectHeldSignature(const Dataset& d, double truth_tolerance) {
     const SE2 truth_a = *d.groundtruth.at(a), truth_b = *d.groundtruth.at(b);
     EXPECT_LT(yawChange(truth_a, truth_b), truth_tolerance) << "held at " << a;
     EXPECT_LT((truth_b.translation() - truth_a.translation()).norm(), truth_tolerance);
-    GyroYaw gyro(d.imu);
-    const double gyro_a = gyro.at(a);
-    EXPECT_LT(std::abs(gyro.at(b) - gyro_a), 0.01);  // bias 1 mrad/s, noise: < 4 mrad in 3 s
+    // bias 1 mrad/s, noise: < 4 mrad in 3 s
+    EXPECT_LT(std::abs(*turned(gyroHeading(d.imu), a, b, 0.1)), 0.01);
     // The encoders' turn over the samples inside [a, b], with the TRUE geometry.
     const auto inside = [&](double t) {
       return std::lower_bound(d.encoders.begin(), d.encoders.end(), t,
@@ -479,15 +478,18 @@ TEST(OdometryHeading, GyroHeadingIsTheIntegratedGyroAndTheWheelsTranslation) {
     ASSERT_EQ(d.encoders[k].ticks_right, by_wheels.dataset.encoders[k].ticks_right);
   }
   ASSERT_EQ(d.odom_nominal.size(), d.encoders.size());
-  // Heading: the gyro integrated (trapezoids) from the first encoder stamp, to rounding.
-  GyroYaw gyro(d.imu);
-  const double yaw0 = gyro.at(d.encoders.front().stamp_s);
+  // Heading: the gyro's trapezoids summed from the first encoder stamp, to rounding (every
+  // encoder stamp k / 100 is the IMU stamp 2k / 200).
   const DiffDriveParams& nominal = d.info.nominal_geometry;
   const double rad_per_tick = radiansPerTick(d.info.ticks_per_revolution);
-  double worst_yaw = 0.0, worst_distance = 0.0;
+  double worst_yaw = 0.0, worst_distance = 0.0, gyro_yaw = 0.0;
+  std::size_t j = 0;  // IMU sample at the encoder stamp
   for (std::size_t k = 1; k < d.encoders.size(); ++k) {
-    const double expected = gyro.at(d.encoders[k].stamp_s) - yaw0;
-    worst_yaw = std::max(worst_yaw, yawChange(SE2(0, 0, expected), d.odom_nominal[k].value));
+    for (; d.imu[j].stamp_s < d.encoders[k].stamp_s; ++j)
+      gyro_yaw += 0.5 * (d.imu[j].gyro_z_radps + d.imu[j + 1].gyro_z_radps) *
+                  (d.imu[j + 1].stamp_s - d.imu[j].stamp_s);
+    ASSERT_EQ(d.imu[j].stamp_s, d.encoders[k].stamp_s);
+    worst_yaw = std::max(worst_yaw, yawChange(SE2(0, 0, gyro_yaw), d.odom_nominal[k].value));
     // Translation: the wheels' distance of the step along an arc, nothing sideways.
     const auto &a = d.encoders[k - 1], &b = d.encoders[k];
     const double s = nominal
