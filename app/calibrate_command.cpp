@@ -10,6 +10,7 @@
 #include "algo/calibration/calibration_json.hpp"
 #include "algo/deskew/deskew.hpp"
 #include "algo/timing/dataset_stamps.hpp"
+#include "app/calibration_tables.hpp"
 #include "app/choices.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
@@ -19,6 +20,7 @@
 #include "core/error.hpp"
 #include "eval/bench/calibration_run.hpp"
 #include "eval/bench/command_progress.hpp"
+#include "eval/bench/recordings_calibration.hpp"
 #include "eval/bench/ros2_params.hpp"
 #include "eval/formats/tum.hpp"
 
@@ -26,7 +28,7 @@ namespace slamprep::app {
 namespace {
 
 struct CalibrateFlags {
-  std::string dataset;
+  std::vector<std::string> datasets;  // several: recordings of one robot, combined
   std::string method = "all";
   std::string motion = "icp";   // what real logs have; groundtruth is the oracle
   std::string deskew = "auto";  // --deskew: how scans are de-skewed before matching
@@ -38,6 +40,7 @@ struct CalibrateFlags {
   std::string nominal;          // --nominal r_L,r_R,b
   std::string stamps = "auto";  // auto: jittered constant-rate streams back on their grids
   double trim_sigmas = algo::TrimParams{}.threshold_sigmas;
+  double validate_fraction = 0.0;    // --validate-fraction: hold out the last F of the scans
   std::vector<std::string> squares;  // extra UMBmark square-run datasets
   // The shared interval policy (algo::IntervalParams: every scan match) unless overridden.
   double keyframe_cm = algo::IntervalParams{}.keyframe_translation_m * 100.0;
@@ -53,64 +56,20 @@ struct CalibrateFlags {
   bool force = false;
 };
 
-// Lengths in mm, the yaw in degrees: what a person reads.
-std::string human(double value, int i) {
-  std::ostringstream s;
-  s << std::fixed;
-  if (i == 5)
-    s << std::setprecision(3) << value * 180.0 / std::numbers::pi << " deg";
-  else
-    s << std::setprecision(3) << value * 1000.0 << " mm";
-  return s.str();
+std::optional<DiffDriveParams> nominalOf(const CalibrateFlags& flags) {
+  if (flags.nominal.empty()) return std::nullopt;
+  const auto v = parseList(flags.nominal, "--nominal", {"r_L", "r_R", "b"});
+  if (!(v[0] > 0.0 && v[1] > 0.0 && v[2] > 0.0))
+    throw InputError("--nominal", "r_L, r_R and b must be > 0");
+  return DiffDriveParams{v[0], v[1], v[2]};
 }
 
-void printTable(const std::vector<algo::CalibrationRun>& rows,
-                const std::optional<algo::CalibrationTruth>& truth_of) {
-  std::optional<Eigen::VectorXd> truth;
-  if (truth_of) truth = truth_of->values();
-  for (const algo::CalibrationRun& row : rows) {
-    const auto& r = row.result;
-    std::cout << "\n" << algo::calibrationMethodName(row.method) << ": ";
-    if (!r.ok) {
-      std::cout << "REFUSED: " << r.reason << "\n";
-      continue;
-    }
-    std::cout << r.intervals_used << " intervals/runs, condition number " << std::setprecision(3)
-              << r.condition_number << ", " << r.intervals_trimmed << " trimmed\n";
-    for (const algo::TrimmedInterval& t : r.trimmed_worst)
-      std::cout << "  trimmed " << std::fixed << std::setprecision(3) << t.t0_s << ".." << t.t1_s
-                << " s: " << t.reason << " (" << std::setprecision(1) << t.residual_sigmas
-                << " robust sigmas)\n"
-                << std::defaultfloat;
-    std::cout << "  " << std::left << std::setw(10) << "param" << std::setw(16) << "estimate"
-              << std::setw(16) << "1-sigma";
-    if (truth)
-      std::cout << std::setw(16) << "truth" << std::setw(14) << "error"
-                << "error %";
-    std::cout << "\n";
-    const Eigen::VectorXd v = algo::calibrationValues(r), s = r.sigma();
-    for (int i = 0; i < v.size(); ++i) {
-      std::cout << "  " << std::setw(10) << algo::kCalibrationKeys[i] << std::setw(16)
-                << human(v(i), i) << std::setw(16)
-                << (r.covariance.size() > 0 ? human(s(i), i) : "n/a");
-      if (truth) {
-        const double e = algo::calibrationError(v, *truth, i);
-        std::ostringstream pct;
-        if (std::abs((*truth)(i)) > 1e-12)
-          pct << std::fixed << std::setprecision(4) << 100.0 * e / std::abs((*truth)(i)) << " %";
-        else
-          pct << "-";
-        std::cout << std::setw(16) << human((*truth)(i), i) << std::setw(14) << human(e, i)
-                  << pct.str();
-      }
-      std::cout << "\n";
-    }
-  }
-}
-
-eval::DatasetCalibrationParams paramsOf(const CalibrateFlags& flags) {
-  eval::DatasetCalibrationParams p;
-  p.dataset = flags.dataset;
+eval::RecordingsCalibrationParams paramsOf(const CalibrateFlags& flags) {
+  eval::RecordingsCalibrationParams recordings;
+  recordings.datasets = flags.datasets;
+  recordings.validate_fraction = flags.validate_fraction;
+  recordings.held_out.stamp_is_last_beam = flags.stamp_is_last_beam;
+  eval::DatasetCalibrationParams& p = recordings.base;
   if (flags.method != "all") p.methods = {*algo::parseCalibrationMethod(flags.method)};
   p.only_applicable = flags.method == "all";
   p.tuples = flags.tuples_in;
@@ -129,17 +88,29 @@ eval::DatasetCalibrationParams paramsOf(const CalibrateFlags& flags) {
   p.params.ceres.estimate_sideslip = flags.sideslip;
   p.params.trim.enabled = flags.trim_sigmas > 0.0;
   if (p.params.trim.enabled) p.params.trim.threshold_sigmas = flags.trim_sigmas;
-  if (!flags.nominal.empty()) {
-    const auto v = parseList(flags.nominal, "--nominal", {"r_L", "r_R", "b"});
-    if (!(v[0] > 0.0 && v[1] > 0.0 && v[2] > 0.0))
-      throw InputError("--nominal", "r_L, r_R and b must be > 0");
-    p.nominal = DiffDriveParams{v[0], v[1], v[2]};
-  }
-  return p;
+  p.nominal = nominalOf(flags);
+  return recordings;
+}
+
+// Options that describe one recording: refused with several (docs/calibration.md).
+void checkSeveral(const CalibrateFlags& flags) {
+  const std::pair<const char*, bool> single[] = {{"--tuples", !flags.tuples_in.empty()},
+                                                 {"--intervals", !flags.intervals_out.empty()},
+                                                 {"--odometry-out", !flags.odometry_out.empty()},
+                                                 {"--square", !flags.squares.empty()}};
+  for (const auto& [option, given] : single)
+    if (given)
+      throw InputError(option,
+                       "describes one recording; with several DATASETs run calibrate on each "
+                       "(--tuples and --intervals: one recording's intervals; --odometry-out: "
+                       "one recording's odometry; --square: the same square runs would count "
+                       "once per recording)");
 }
 
 void checkPaths(const CalibrateFlags& flags) {
-  if (!flags.dataset.empty()) checkInputDataset(flags.dataset, "DATASET");
+  const bool dataset = !flags.datasets.empty();
+  for (const std::string& dir : flags.datasets) checkInputDataset(dir, "DATASET");
+  if (flags.datasets.size() > 1) checkSeveral(flags);
   if (!flags.tuples_in.empty()) checkInputFile(flags.tuples_in, "--tuples");
   for (const std::string& dir : flags.squares) checkInputDataset(dir, "--square");
   if (!flags.json_out.empty()) checkOutputFile(flags.json_out, "--json", flags.force);
@@ -148,21 +119,32 @@ void checkPaths(const CalibrateFlags& flags) {
   if (!flags.odometry_out.empty())
     checkOutputFile(flags.odometry_out, "--odometry-out", flags.force);
   if (!flags.ros2_out.empty()) checkOutputFile(flags.ros2_out, "--ros2-params", flags.force);
-  if ((!flags.odometry_out.empty() || !flags.ros2_out.empty()) && flags.dataset.empty())
+  if ((!flags.odometry_out.empty() || !flags.ros2_out.empty()) && !dataset)
     throw InputError("--odometry-out/--ros2-params", "need DATASET (its encoders and mount)");
   if (flags.loop_closure && (flags.motion != "icp" || !flags.tuples_in.empty()))
     throw InputError("--loop-closure",
                      "closes the loops of scan-matched motion: needs --motion icp, not --tuples");
+  if (flags.validate_fraction != 0.0 &&
+      (!(flags.validate_fraction > 0.0 && flags.validate_fraction < 1.0) || !dataset ||
+       !flags.tuples_in.empty()))
+    throw InputError("--validate-fraction",
+                     "needs 0 < F < 1 and DATASET's scans (not --tuples): the last F of each "
+                     "recording's scans are held out");
   for (const std::string& out :
        {flags.json_out, flags.intervals_out, flags.odometry_out, flags.ros2_out})
-    if (!out.empty() && !flags.dataset.empty()) checkNotInside(out, flags.dataset, "output");
+    for (const std::string& dir : flags.datasets)
+      if (!out.empty()) checkNotInside(out, dir, "output");
+  eval::checkSameNominal(flags.datasets, nominalOf(flags));
 }
 
-// --odometry-out and --ros2-params from the best result; an error when no method is ok.
-void writeBestOutputs(const CalibrateFlags& flags, const eval::DatasetCalibration& c) {
+// --odometry-out and --ros2-params from the best of `runs` (one recording's, or the combined
+// ones; `c`: the (first) recording, for its encoders, nominal geometry and mount); an error when
+// no method is ok.
+void writeBestOutputs(const CalibrateFlags& flags, const std::vector<algo::CalibrationRun>& runs,
+                      const eval::DatasetCalibration& c) {
   if (flags.odometry_out.empty() && flags.ros2_out.empty()) return;
-  const algo::CalibrationRun* best = algo::bestRun(c.runs);
-  if (!best) throw InputError(flags.dataset, "no method gave a result: nothing to write");
+  const algo::CalibrationRun* best = algo::bestRun(runs);
+  if (!best) throw InputError(flags.datasets.front(), "no method gave a result: nothing to write");
   const std::string method(algo::calibrationMethodName(best->method));
   if (!flags.odometry_out.empty()) {
     const PoseSeries odometry = eval::calibratedOdometry(c, best->result.geometry);
@@ -184,36 +166,34 @@ void writeBestOutputs(const CalibrateFlags& flags, const eval::DatasetCalibratio
   }
 }
 
-int runCalibrate(const CalibrateFlags& flags) {
-  checkPaths(flags);
-  const eval::DatasetCalibration c = [&] {
-    eval::CommandProgress progress(1, "runs", "calibrate", !flags.quiet);
-    eval::StageReporter stages(flags.dataset.empty() ? "calibrate" : flags.dataset, 1);
-    stages.begin("calibrate");
-    return eval::calibrateDataset(paramsOf(flags));
-  }();
+// What one recording's calibration found beside the estimates (stderr); `who` prefixes it.
+void printNotes(const eval::DatasetCalibration& c, const std::string& who) {
   std::cerr << algo::stampsSummary(c.stamps);
   if (c.failed_matches > 0)
-    std::cerr << "calibrate: " << c.failed_matches << " scan matches failed (chains broken)\n";
+    std::cerr << who << c.failed_matches << " scan matches failed (chains broken)\n";
   if (c.from_motion)
-    std::cerr << "calibrate: " << c.intervals.intervals.size() << " intervals ("
+    std::cerr << who << c.intervals.intervals.size() << " intervals ("
               << c.intervals.dropped_standstill << " standing still, "
               << c.intervals.dropped_uncovered << " without encoder data dropped)\n";
   if (c.loops)
-    std::cerr << "calibrate: loop closure: " << c.loops->used << " of " << c.loops->candidates
+    std::cerr << who << "loop closure: " << c.loops->used << " of " << c.loops->candidates
               << " direct matches used; largest heading change of one link "
               << c.loops->max_link_change_rad * 180.0 / std::numbers::pi * 1e3 << " mdeg\n";
-  if (!flags.intervals_out.empty())
-    algo::writeIntervalRecords(flags.intervals_out, c.intervals.intervals);
   for (const algo::CalibrationRun& run : c.runs) {
     if (run.time_offset_s)
-      std::cerr << "calibrate: ceres time offset " << *run.time_offset_s * 1e3 << " ms +- "
+      std::cerr << who << "ceres time offset " << *run.time_offset_s * 1e3 << " ms +- "
                 << run.time_offset_sigma_s * 1e3 << " ms\n";
     if (run.sideslip_s)
-      std::cerr << "calibrate: " << algo::calibrationMethodName(run.method) << " sideslip k "
+      std::cerr << who << algo::calibrationMethodName(run.method) << " sideslip k "
                 << *run.sideslip_s * 1e3 << " ms +- " << run.sideslip_sigma_s * 1e3
                 << " ms (sideways speed k v w)\n";
   }
+}
+
+// One recording: today's table, then flags and the held-out validation.
+void printOne(const eval::RecordingsCalibration& r) {
+  const eval::DatasetCalibration& c = r.recordings.front().calibration;
+  const std::vector<algo::MethodReport>& methods = r.report.recordings.front().methods;
   printTable(c.runs, c.truth);
   for (const eval::NotApplicable& n : c.not_applicable)
     std::cout << "\n"
@@ -221,11 +201,66 @@ int runCalibrate(const CalibrateFlags& flags) {
   if (c.relative_to_odometry)
     std::cout << "\nrelative to the log's odometry: "
               << algo::odometryRelativeMeaning(*c.relative_to_odometry) << "\n";
-  if (!flags.json_out.empty()) algo::writeCalibrationJson(flags.json_out, c.runs, c.truth);
-  writeBestOutputs(flags, c);
-  const auto refused = std::count_if(c.runs.begin(), c.runs.end(),
-                                     [](const algo::CalibrationRun& r) { return !r.result.ok; });
-  return refusalExitCode(refused == static_cast<long>(c.runs.size()), refused > 0, flags.strict);
+  printValidation(methods, "");
+  printFlags(methods, "");
+}
+
+// Several recordings: compact tables, the combination, flags and validation of both.
+void printSeveral(const eval::RecordingsCalibration& r) {
+  printRecordings(r);
+  for (std::size_t i = 0; i < r.recordings.size(); ++i) {
+    const std::string label = "recording " + std::to_string(i + 1) + " ";
+    printValidation(r.report.recordings[i].methods, "of " + label);
+    printFlags(r.report.recordings[i].methods, label);
+  }
+  printValidation(r.report.combined, "of the combined estimate, mean over the recordings ");
+  printFlags(r.report.combined, "combined ");
+}
+
+// Exit 3 when every method refused (several recordings: every combined one), or with --strict
+// when any run refused or any estimate was flagged.
+int exitCode(const eval::RecordingsCalibration& r, bool strict) {
+  bool any_refused = false, any_flagged = false;
+  const auto scan = [&](const std::vector<algo::MethodReport>& methods) {
+    for (const algo::MethodReport& m : methods) {
+      any_refused = any_refused || !m.run.result.ok;
+      any_flagged = any_flagged || !m.flags.empty();
+    }
+  };
+  for (const algo::RecordingReport& rec : r.report.recordings) scan(rec.methods);
+  scan(r.report.combined);
+  const auto& decisive =
+      r.recordings.size() > 1 ? r.report.combined : r.report.recordings.front().methods;
+  const bool none_ok = std::none_of(decisive.begin(), decisive.end(),
+                                    [](const algo::MethodReport& m) { return m.run.result.ok; });
+  return refusalExitCode(none_ok, any_refused || any_flagged, strict);
+}
+
+int runCalibrate(const CalibrateFlags& flags) {
+  checkPaths(flags);
+  const std::size_t n = std::max<std::size_t>(1, flags.datasets.size());
+  const eval::RecordingsCalibration r = [&] {
+    eval::CommandProgress progress(n, "recordings", "calibrate", !flags.quiet);
+    eval::StageReporter stages(flags.datasets.empty() ? "calibrate" : flags.datasets.front(), 1);
+    stages.begin("calibrate");
+    return eval::calibrateRecordings(paramsOf(flags),
+                                     [&](const std::string& done) { progress.advance(done); });
+  }();
+  const bool several = r.recordings.size() > 1;
+  for (const eval::RecordingCalibration& rec : r.recordings)
+    printNotes(rec.calibration, several ? "calibrate: " + rec.dataset + ": " : "calibrate: ");
+  const eval::DatasetCalibration& first = r.recordings.front().calibration;
+  if (!flags.intervals_out.empty())
+    algo::writeIntervalRecords(flags.intervals_out, first.intervals.intervals);
+  if (several)
+    printSeveral(r);
+  else
+    printOne(r);
+  if (!flags.json_out.empty()) algo::writeCalibrateJson(flags.json_out, r.report);
+  std::vector<algo::CalibrationRun> combined;
+  for (const algo::CombinedRun& c : r.combined) combined.push_back(c.run);
+  writeBestOutputs(flags, several ? combined : first.runs, first);
+  return exitCode(r, flags.strict);
 }
 
 }  // namespace
@@ -237,9 +272,18 @@ Command addCalibrateCommand(CLI::App& app) {
   cli->footer(
       "r_L, r_R, b (and the lidar mount) from wheel encoders plus the lidar's motion\n"
       "(docs/calibration.md). --method all runs the methods that apply to the data; one that\n"
-      "does not (umbmark without square runs) is reported as not applicable. Exit 3 when every\n"
-      "method run refused, or with --strict when any did.");
-  cli->add_option("DATASET", flags->dataset, "dataset directory");
+      "does not (umbmark without square runs) is reported as not applicable.\n"
+      "Several DATASETs: recordings of one robot (same nominal geometry, or --nominal), each\n"
+      "calibrated on its own, then combined per method (information-weighted) with chi2/dof per\n"
+      "parameter; where chi2/dof > 2 the recordings disagree beyond their sigmas: the combined\n"
+      "sigma is scaled by sqrt(chi2/dof) and a WARNING names the worst recording. --json then\n"
+      "writes {\"recordings\", \"combined\", \"consistency\"}; --ros2-params the combined best\n"
+      "method; --tuples, --intervals, --odometry-out and --square are refused (exit 2).\n"
+      "An estimate more than 15 % from the nominal r_L, r_R or b is flagged (FLAG line, JSON\n"
+      "\"flags\") with its likely cause. Exit 3 when every method run refused (several\n"
+      "DATASETs: every combined one), or with --strict when any did or any estimate is flagged.");
+  cli->add_option("DATASET", flags->datasets,
+                  "dataset directory; several: recordings of one robot, combined");
   std::vector<std::string> methods = algo::calibrationMethodNames();
   methods.emplace_back("all");
   cli->add_option("--method", flags->method,
@@ -269,21 +313,31 @@ Command addCalibrateCommand(CLI::App& app) {
   cli->add_flag("--stamp-is-last-beam", flags->stamp_is_last_beam,
                 "the scans' stamps mark their last beam, not their first");
   cli->add_option("--intervals", flags->intervals_out,
-                  "write the intervals used as Censi records (JSON lines) to FILE");
-  cli->add_option("--tuples", flags->tuples_in, "run on Censi interval records instead");
+                  "write the intervals used as Censi records (JSON lines) to FILE; one DATASET "
+                  "only");
+  cli->add_option("--tuples", flags->tuples_in,
+                  "run on Censi interval records instead (JSON objects, one or several per "
+                  "line); one DATASET at most");
   cli->add_option("--json", flags->json_out,
                   "write one object per method to FILE (what deskew and export read with "
-                  "--calibration)");
+                  "--calibration); with several DATASETs an object of recordings, combined "
+                  "methods and consistency (those read its combined methods)");
   cli->add_option("--odometry-out", flags->odometry_out,
                   "write the odometry re-integrated with the best result's geometry to FILE "
-                  "(TUM; score it with `slamprep score relations`)");
+                  "(TUM; score it with `slamprep score relations`); one DATASET only");
   cli->add_option("--ros2-params", flags->ros2_out,
-                  "write the best result as ros2_control diff_drive_controller parameters and "
-                  "the base_link -> laser static transform to FILE (ROS 2 parameter YAML)");
+                  "write the best result (several DATASETs: the best combined one) as "
+                  "ros2_control diff_drive_controller parameters and the base_link -> laser "
+                  "static transform to FILE (ROS 2 parameter YAML)");
   cli->add_option("--nominal", flags->nominal,
                   "r_L,r_R,b in metres: the geometry the odometry uses (default: dataset.json's); "
                   "a log without encoder ticks gets its wheel increments derived from its "
                   "odometry poses with it, and the estimates are relative to it");
+  cli->add_option("--validate-fraction", flags->validate_fraction,
+                  "0 < F < 1: calibrate on the first 1 - F of each recording's scans and report "
+                  "the raw (nominal) and calibrated odometry's relative pose error over 10 s "
+                  "windows of the last F against their scan-to-map matched trajectory (JSON "
+                  "\"validation\")");
   cli->add_option("--trim-sigmas", flags->trim_sigmas,
                   "drop intervals whose residual against a first fit exceeds N robust (MAD) "
                   "sigmas, refit until the kept set repeats; 0: keep every interval")
@@ -291,7 +345,8 @@ Command addCalibrateCommand(CLI::App& app) {
       ->capture_default_str();
   cli->add_flag("--force", flags->force,
                 "replace existing output files; the old ones stay until the new are complete");
-  cli->add_flag("--strict", flags->strict, "exit 3 when any method refused, not only all");
+  cli->add_flag("--strict", flags->strict,
+                "exit 3 when any method refused, not only all, or any estimate is flagged");
   cli->add_flag("-q,--quiet", flags->quiet, "No progress output");
   cli->add_option("--keyframe-cm", flags->keyframe_cm,
                   "new interval every N cm of lidar motion (0: every scan match, as the bench)")
@@ -301,7 +356,8 @@ Command addCalibrateCommand(CLI::App& app) {
       ->check(nonNegative())
       ->capture_default_str();
   addIcpOptions(cli, flags->icp);
-  cli->add_option("--square", flags->squares, "UMBmark square-run dataset (repeatable)");
+  cli->add_option("--square", flags->squares,
+                  "UMBmark square-run dataset (repeatable); one DATASET at most");
   cli->add_option("--side", flags->side_m, "UMBmark square side (m)")
       ->check(positive())
       ->capture_default_str();

@@ -77,7 +77,8 @@ void addCalibration(const ExportFlags& flags, eval::ExportInput& input) {
   if (given) calibration.requireBest();  // an error when no entry is ok
   if (const algo::CalibrationRun* best = calibration.best())
     input.calibration = eval::CalibrationChoice{
-        best->result.geometry, std::string(algo::calibrationMethodName(best->method))};
+        best->result.geometry, std::string(algo::calibrationMethodName(best->method)),
+        best->relative_to_odometry};
   else
     input.notes.push_back(file.string() +
                           " holds no ok calibration: calibrated odometry not written");

@@ -155,6 +155,9 @@ Command addImportCommand(CLI::App& app) {
          "readings beyond this (m) become no return and range_max is set to it (default: the "
          "scans' range_max, with a note when it is over twice the 99.9th percentile reading)")
       ->check(positive());
+  cli->add_flag("--reverse-beam-time", flags->params.reverse_beam_time,
+                "bags: the beams were taken in the reverse of their array order (an RPLIDAR under "
+                "its ROS driver): each scan is reversed so that it runs in time order");
   // The nominal geometry: any of these flags replaces the log's (CARMEN PARAM lines) or the
   // default; the ones not given keep the default.
   auto& g = flags->geometry;

@@ -47,27 +47,6 @@ struct MatchFlags {
   bool force = false;
 };
 
-/// Every scan's points in its first-beam lidar frame: as measured, or de-skewed by `--deskew`
-/// where it applies (a scan the method refuses, e.g. time_increment 0, is matched as measured and
-/// counted).
-std::vector<Points2> scanPoints(const Dataset& d, const MatchFlags& flags, int* refused) {
-  std::vector<Points2> points;
-  if (flags.deskew == "none") {
-    for (const ScanRecord& record : d.scans) points.push_back(record.scan.points());
-    return points;
-  }
-  eval::DatasetDeskewOptions options = eval::nominalDeskewOptions(d);
-  if (d.encoders.empty()) options.odometry = d.odom_nominal;  // an imported log: its poses
-  options.stamp_is_last_beam = flags.stamp_is_last_beam;
-  const eval::DatasetDeskew deskewed =
-      eval::deskewDataset(d, *algo::parseDeskewMethod(flags.deskew), options);
-  const std::vector<Points2> corrected = eval::correctedPoints(deskewed);
-  for (std::size_t k = 0; k < d.scans.size(); ++k)
-    points.push_back(deskewed.scans[k].ok ? corrected[k] : d.scans[k].scan.points());
-  *refused = deskewed.refused;
-  return points;
-}
-
 /// The point-to-line RMS residual of the accepted matches (docs/matching.md): how well the
 /// scans fit the map they were matched to, what de-skew lowers where the robot turns.
 eval::ErrorStats acceptedResiduals(const algo::KeyframeOdometry& t) {
@@ -177,7 +156,8 @@ int runMatch(MatchFlags flags) {
   const Dataset d = eval::readDataset(flags.dataset);
   if (d.scans.size() < 2) throw InputError(flags.dataset, "needs at least two scans to match");
   int refused = 0;
-  const std::vector<Points2> points = scanPoints(d, flags, &refused);
+  const std::vector<Points2> points =
+      eval::matchScanPoints(d, flags.deskew, flags.stamp_is_last_beam, &refused);
   eval::MatchTrajectoryOptions options{flags.params, flags.stamp_is_last_beam};
   const eval::MatchTrajectory run = [&] {
     eval::CommandProgress progress(1, "runs", "match", !flags.quiet);

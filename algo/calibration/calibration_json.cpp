@@ -19,7 +19,11 @@ json geometryJson(const DiffDriveParams& g) {
   return {{"r_L", g.radius_left_m}, {"r_R", g.radius_right_m}, {"b", g.wheel_base_m}};
 }
 
-json toJson(const CalibrationRun& run, const std::optional<Eigen::VectorXd>& truth) {
+json errorJson(const HeldOutError& e) {
+  return {{"trans_m", e.trans_m}, {"rot_deg", e.rot_deg}};
+}
+
+json runJson(const CalibrationRun& run, const std::optional<Eigen::VectorXd>& truth) {
   const CalibrationResult& r = run.result;
   json j = {{"method", calibrationMethodName(run.method)}, {"ok", r.ok}, {"reason", r.reason}};
   const Eigen::VectorXd v = calibrationValues(r);
@@ -55,6 +59,44 @@ json toJson(const CalibrationRun& run, const std::optional<Eigen::VectorXd>& tru
     j["meaning"] = odometryRelativeMeaning(*nominal);
   }
   return j;
+}
+
+// One method object: the run's keys, plus "flags" and "validation" when there are any (so that
+// a plain run writes the same bytes as before they existed).
+json methodJson(const MethodReport& m, const std::optional<Eigen::VectorXd>& truth) {
+  json j = runJson(m.run, truth);
+  if (!m.flags.empty()) {
+    json flags = json::array();
+    for (const NominalFlag& f : m.flags)
+      flags.push_back({{"param", f.param}, {"ratio", f.ratio}, {"likely_cause", f.likely_cause}});
+    j["flags"] = flags;
+  }
+  if (const auto& v = m.validation)
+    j["validation"] = {{"fraction", v->fraction},
+                       {"raw", errorJson(v->raw)},
+                       {"calibrated", errorJson(v->calibrated)}};
+  return j;
+}
+
+json methodsJson(const std::vector<MethodReport>& methods,
+                 const std::optional<CalibrationTruth>& truth) {
+  std::optional<Eigen::VectorXd> truth_values;
+  if (truth) truth_values = truth->values();
+  json out = json::array();
+  for (const MethodReport& m : methods) out.push_back(methodJson(m, truth_values));
+  return out;
+}
+
+json consistencyJson(const std::vector<MethodConsistency>& consistency) {
+  json out = json::object();
+  for (const MethodConsistency& c : consistency) {
+    json params = json::object();
+    for (const ParameterConsistency& p : c.params)
+      params[p.param] = {{"chi2_dof", std::isfinite(p.chi2_dof) ? json(p.chi2_dof) : json(nullptr)},
+                         {"n", p.n}};
+    out[std::string(calibrationMethodName(c.method))] = params;
+  }
+  return out;
 }
 
 // Reads one entry; `where` is "FILE: [i]".
@@ -213,19 +255,35 @@ std::string odometryRelativeMeaning(const DiffDriveParams& g) {
          "multiplied (1 = the odometry was already right)";
 }
 
+std::string formatCalibrateJson(const CalibrateReport& report) {
+  if (report.recordings.size() == 1) {
+    const RecordingReport& only = report.recordings.front();
+    return methodsJson(only.methods, only.truth).dump(2) + "\n";
+  }
+  json recordings = json::array();
+  for (const RecordingReport& r : report.recordings)
+    recordings.push_back({{"dataset", r.dataset}, {"methods", methodsJson(r.methods, r.truth)}});
+  const json out = {{"recordings", recordings},
+                    {"combined", methodsJson(report.combined, report.combined_truth)},
+                    {"consistency", consistencyJson(report.consistency)}};
+  return out.dump(2) + "\n";
+}
+
 std::string formatCalibrationJson(const std::vector<CalibrationRun>& runs,
                                   const std::optional<CalibrationTruth>& truth) {
-  std::optional<Eigen::VectorXd> truth_values;
-  if (truth) truth_values = truth->values();
-  json out = json::array();
-  for (const CalibrationRun& run : runs) out.push_back(toJson(run, truth_values));
-  return out.dump(2) + "\n";
+  RecordingReport recording{"", {}, truth};
+  for (const CalibrationRun& run : runs) recording.methods.push_back({run, {}, std::nullopt});
+  return formatCalibrateJson({{recording}, {}, std::nullopt, {}});
 }
 
 void writeCalibrationJson(const std::filesystem::path& path,
                           const std::vector<CalibrationRun>& runs,
                           const std::optional<CalibrationTruth>& truth) {
   writeFileAtomic(path, formatCalibrationJson(runs, truth));
+}
+
+void writeCalibrateJson(const std::filesystem::path& path, const CalibrateReport& report) {
+  writeFileAtomic(path, formatCalibrateJson(report));
 }
 
 CalibrationRun CalibrationFile::requireBest() const {
@@ -236,17 +294,22 @@ CalibrationRun CalibrationFile::requireBest() const {
 
 CalibrationFile parseCalibrationJson(std::string_view text, const std::string& source) {
   json j;
+  std::string source_prefix = source + ": ";
   try {
     j = json::parse(text);
   } catch (const json::exception& e) {  // parse_error, and out_of_range for 1e999
     throw InputError(source, std::string("not JSON: ") + e.what());
+  }
+  if (j.is_object() && j.contains("combined")) {  // several recordings: their combination
+    j = json(j["combined"]);
+    source_prefix = source + ": combined";
   }
   if (j.is_object()) j = json::array({j});
   if (!j.is_array())
     throw InputError(source, "expected the array `slamprep calibrate --json` writes");
   CalibrationFile file{source, {}};
   for (std::size_t i = 0; i < j.size(); ++i) {
-    const std::string where = source + ": [" + std::to_string(i) + "]";
+    const std::string where = source_prefix + "[" + std::to_string(i) + "]";
     if (!j[i].is_object()) throw InputError(where, "not an object");
     file.runs.push_back(EntryReader(j[i], where).run());
   }

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "algo/calibration/calibrate.hpp"
+#include "algo/calibration/calibration_report.hpp"
 #include "core/diff_drive.hpp"
 #include "core/se2.hpp"
 
@@ -29,26 +30,27 @@ inline constexpr std::array<const char*, 6> kCalibrationKeys = {"r_L",     "r_R"
 /// r_L, r_R, b and, when the result estimates the mount, lidar_x, lidar_y, lidar_yaw.
 Eigen::VectorXd calibrationValues(const CalibrationResult& result);
 
-/// The true geometry and mount, for the JSON's "error" object.
-struct CalibrationTruth {
-  DiffDriveParams geometry;
-  SE2 T_base_lidar;
-  Eigen::VectorXd values() const;  ///< all six, in kCalibrationKeys order
-};
-
 /// estimate(i) - truth(i), the yaw (i = 5) wrapped to (-pi, pi].
 double calibrationError(const Eigen::VectorXd& estimate, const Eigen::VectorXd& truth, int i);
 
 /// The sentence "meaning" holds for results relative to a log's odometry geometry `nominal`.
 std::string odometryRelativeMeaning(const DiffDriveParams& nominal);
 
-/// The JSON text (two-space indent, keys sorted, newline at the end).
+/// The JSON text of `calibrate --json` (two-space indent, keys sorted, newline at the end): with
+/// one recording the array of its method objects; with several
+/// {"recordings": [{"dataset", "methods": [...]}], "combined": [...], "consistency":
+/// {METHOD: {PARAM: {"chi2_dof", "n"}}}}. Every method object is written by one function:
+/// today's keys, plus "flags" when there are any and "validation" when there is one.
+std::string formatCalibrateJson(const CalibrateReport& report);
+/// The array of method objects of bare runs (no flags, no validation).
 std::string formatCalibrationJson(const std::vector<CalibrationRun>& runs,
                                   const std::optional<CalibrationTruth>& truth);
 /// Writes formatCalibrationJson to `path` (atomically). InputError when it cannot.
 void writeCalibrationJson(const std::filesystem::path& path,
                           const std::vector<CalibrationRun>& runs,
                           const std::optional<CalibrationTruth>& truth);
+/// Writes formatCalibrateJson to `path` (atomically).
+void writeCalibrateJson(const std::filesystem::path& path, const CalibrateReport& report);
 
 /// A calibration JSON as read back: every run in file order, and the best one.
 struct CalibrationFile {
@@ -66,7 +68,8 @@ struct CalibrationFile {
   CalibrationRun requireBest() const;
 };
 
-/// Parses the JSON: an array of method objects (one object alone counts as an array of one).
+/// Parses the JSON: an array of method objects (one object alone counts as an array of one), or
+/// the object of several recordings, whose "combined" array is read.
 /// Every entry needs a known "method" and a boolean "ok"; an ok entry needs r_L, r_R, b finite
 /// and > 0, and joint and ceres entries the three finite lidar keys. Throws InputError naming
 /// `source` and the entry's field ("FILE: [2].r_L") otherwise.

@@ -109,35 +109,57 @@ IntervalSet buildIntervals(const EncoderLog& encoders, int ticks_per_revolution,
   return out;
 }
 
+namespace {
+
+// The JSON values of one line, in order: Censi's published lstraight.tuple has two records
+// concatenated on its line 1082, so a line may hold several.
+std::vector<nlohmann::json> lineValues(const std::string& line, const std::string& where) {
+  std::vector<nlohmann::json> values;
+  std::istringstream in(line);
+  while (!(in >> std::ws).eof()) {
+    nlohmann::json j;
+    try {
+      in >> j;                                      // stops right after one value
+    } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e999
+      throw InputError(where, std::string("not JSON: ") + e.what());
+    }
+    values.push_back(std::move(j));
+  }
+  return values;
+}
+
+CalibrationInterval intervalOfRecord(const nlohmann::json& j, const std::string& where, double t) {
+  if (!j.is_object()) throw InputError(where, "record must be a JSON object");
+  const double duration = finiteNumber(j, "T", where);
+  if (duration <= 0.0) throw InputError(where, "\"T\" must be positive");
+  const double phi_l = finiteNumber(j, "phi_l", where);
+  const double phi_r = finiteNumber(j, "phi_r", where);
+  if (!j.contains("sm") || !j["sm"].is_array() || j["sm"].size() != 3)
+    throw InputError(where, "\"sm\" must be an array [x, y, th]");
+  double sm[3];
+  for (int k = 0; k < 3; ++k) {
+    if (!j["sm"][k].is_number() || !std::isfinite(j["sm"][k].get<double>()))
+      throw InputError(where, "\"sm\" entries must be finite numbers");
+    sm[k] = j["sm"][k].get<double>();
+  }
+  return {t, t + duration, {{duration, phi_l * duration, phi_r * duration}}, {sm[0], sm[1], sm[2]}};
+}
+
+}  // namespace
+
 std::vector<CalibrationInterval> readIntervalRecords(std::istream& in, const std::string& source) {
   std::vector<CalibrationInterval> intervals;
   std::string line;
   double t = 0.0;
   for (int line_no = 1; std::getline(in, line); ++line_no) {
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     const std::string where = source + ":" + std::to_string(line_no);
-    nlohmann::json j;
-    try {
-      j = nlohmann::json::parse(line);
-    } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e999
-      throw InputError(where, std::string("not JSON: ") + e.what());
+    const std::vector<nlohmann::json> records = lineValues(line, where);
+    for (std::size_t r = 0; r < records.size(); ++r) {
+      const std::string at =
+          records.size() > 1 ? where + " record " + std::to_string(r + 1) : where;
+      intervals.push_back(intervalOfRecord(records[r], at, t));
+      t = intervals.back().t_end_s;
     }
-    if (!j.is_object()) throw InputError(where, "record must be a JSON object");
-    const double duration = finiteNumber(j, "T", where);
-    if (duration <= 0.0) throw InputError(where, "\"T\" must be positive");
-    const double phi_l = finiteNumber(j, "phi_l", where);
-    const double phi_r = finiteNumber(j, "phi_r", where);
-    if (!j.contains("sm") || !j["sm"].is_array() || j["sm"].size() != 3)
-      throw InputError(where, "\"sm\" must be an array [x, y, th]");
-    double sm[3];
-    for (int k = 0; k < 3; ++k) {
-      if (!j["sm"][k].is_number() || !std::isfinite(j["sm"][k].get<double>()))
-        throw InputError(where, "\"sm\" entries must be finite numbers");
-      sm[k] = j["sm"][k].get<double>();
-    }
-    intervals.push_back(
-        {t, t + duration, {{duration, phi_l * duration, phi_r * duration}}, {sm[0], sm[1], sm[2]}});
-    t += duration;
   }
   return intervals;
 }

@@ -67,10 +67,12 @@ IntervalSet buildIntervals(const EncoderLog& encoders, int ticks_per_revolution,
 std::vector<EncoderStep> encoderStepsBetween(const EncoderLog& encoders, int ticks_per_revolution,
                                              double t0_s, double t1_s);
 
-/// Reads Censi's interval records, one JSON object per line:
-/// {"T": s, "phi_l": rad/s, "phi_r": rad/s, "sm": [x, y, th]}. Each becomes one interval with a
-/// single constant-rate step; intervals are laid end to end from t = 0. Other keys are ignored.
-/// Throws InputError("source:line", ...) on a malformed record.
+/// Reads Censi's interval records, JSON objects one per line:
+/// {"T": s, "phi_l": rad/s, "phi_r": rad/s, "sm": [x, y, th]}. A line may hold several objects
+/// one after another (Censi's published lstraight.tuple does on its line 1082). Each becomes one
+/// interval with a single constant-rate step; intervals are laid end to end from t = 0. Other
+/// keys are ignored. Throws InputError("source:line", ...) on a malformed record ("source:line
+/// record k" on a line of several).
 std::vector<CalibrationInterval> readIntervalRecords(std::istream& in, const std::string& source);
 std::vector<CalibrationInterval> readIntervalRecords(const std::filesystem::path& path);
 

@@ -7,7 +7,6 @@
 #include "core/odometry.hpp"
 #include "eval/bench/dataset_deskew.hpp"
 #include "eval/formats/dataset_io.hpp"
-#include "eval/formats/import.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -33,17 +32,6 @@ std::vector<algo::UmbmarkRun> umbmarkRuns(const DatasetCalibrationParams& params
   return runs;
 }
 
-// A log with odometry poses but no encoder ticks (an imported CARMEN log without --nominal):
-// encoders derived from the poses with `nominal`, so intervals can be cut. The estimates are then
-// relative to the log's own odometry geometry (docs/calibration.md).
-Dataset withDerivedEncoders(const Dataset& dataset, const DiffDriveParams& nominal) {
-  Dataset derived = dataset;
-  derived.encoders =
-      encodersFromPoses(dataset.odom_nominal, nominal, dataset.info.ticks_per_revolution);
-  derived.info.nominal_geometry = nominal;
-  return derived;
-}
-
 // Each chain with the heading drift its loop closures reveal spread back (algo/matching/
 // loop_closure.hpp); `scan_points`: every scan's points as matched.
 LoopClosureSummary closeLoops(const std::vector<Points2>& scan_points,
@@ -67,7 +55,7 @@ LoopClosureSummary closeLoops(const std::vector<Points2>& scan_points,
 }  // namespace
 
 PoseSeries calibratedOdometry(const DatasetCalibration& c, const DiffDriveParams& geometry) {
-  return integrateEncoders(c.encoders, geometry, c.ticks_per_revolution, c.T_odom_base0);
+  return integrateOdometry(c.odometry, geometry);
 }
 
 CalibrationMotion calibrationMotion(const Dataset& dataset,
@@ -109,15 +97,22 @@ CalibrationMotion calibrationMotion(const Dataset& dataset,
   return motion;
 }
 
-DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params) {
-  if (params.dataset.empty() && params.tuples.empty())
+DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params,
+                                    std::optional<Dataset> dataset) {
+  if (params.dataset.empty() && params.tuples.empty() && !dataset)
     throw InputError("DATASET", "give a dataset directory, --tuples FILE, or both");
-  std::optional<Dataset> dataset;
-  if (!params.dataset.empty()) dataset = readDataset(params.dataset);
+  if (!dataset && !params.dataset.empty()) dataset = readDataset(params.dataset);
   DatasetCalibration out;
-  if (dataset && dataset->encoders.size() < 2 && dataset->odom_nominal.size() >= 2) {
-    out.relative_to_odometry = params.nominal.value_or(dataset->info.nominal_geometry);
-    dataset = withDerivedEncoders(*dataset, *out.relative_to_odometry);
+  if (dataset) {
+    // A log with odometry poses but no encoder ticks (an imported CARMEN log): encoders derived
+    // from the poses, so intervals can be cut; the estimates are then relative to the log's own
+    // odometry geometry (docs/calibration.md).
+    out.odometry = odometryEncoders(*dataset, params.dataset, params.nominal);
+    out.relative_to_odometry = out.odometry.derived_with;
+    if (out.relative_to_odometry) {
+      dataset->encoders = out.odometry.encoders;
+      dataset->info.nominal_geometry = *out.relative_to_odometry;
+    }
   }
   const Dataset* d = dataset ? &*dataset : nullptr;
   algo::CalibrationInput input;
@@ -125,10 +120,6 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params) {
   if (d) {
     out.nominal = *input.nominal;
     out.T_base_lidar = d->info.T_base_lidar;
-    out.encoders = d->encoders;
-    out.ticks_per_revolution = d->info.ticks_per_revolution;
-    if (!d->encoders.empty())
-      out.T_odom_base0 = d->odom_nominal.at(d->encoders.front().stamp_s).value_or(SE2());
   }
   if (d && d->info.true_geometry)
     out.truth = algo::CalibrationTruth{*d->info.true_geometry, d->info.T_base_lidar};

@@ -12,6 +12,7 @@
 #include "algo/matching/loop_closure.hpp"
 #include "algo/timing/dataset_stamps.hpp"
 #include "core/dataset.hpp"
+#include "eval/formats/wheel_odometry.hpp"
 
 namespace slamprep::eval {
 
@@ -98,19 +99,21 @@ struct DatasetCalibration {
   std::optional<DiffDriveParams> relative_to_odometry;
   /// The encoders the intervals were cut from (derived ones for a log without ticks), and the
   /// nominal odometry pose at their first stamp: what calibratedOdometry() integrates.
-  EncoderLog encoders;
-  int ticks_per_revolution = 0;
-  SE2 T_odom_base0;
+  OdometryEncoders odometry;
   DiffDriveParams nominal;  ///< the geometry the odometry uses (--nominal, else dataset.json's)
   SE2 T_base_lidar;         ///< the dataset's lidar mount (dataset.json)
 };
 
 /// The encoders of `c` integrated with `geometry` from the nominal odometry's pose at their first
-/// stamp: T_odom_base at every encoder stamp (`calibrate --odometry-out`).
+/// stamp: T_odom_base at every encoder stamp (`calibrate --odometry-out`; eval::integrateOdometry,
+/// the function `export --calibration` uses too).
 PoseSeries calibratedOdometry(const DatasetCalibration& c, const DiffDriveParams& geometry);
 
 /// Reads the dataset (and square runs), builds the methods' inputs and runs them. Throws
 /// InputError naming the directory or file for bad input (before any matching is done).
-DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params);
+/// `dataset`: the dataset already in memory (e.g. the calibration part of a recording split for
+/// validation) instead of reading params.dataset, which then only names it in messages.
+DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params,
+                                    std::optional<Dataset> dataset = std::nullopt);
 
 }  // namespace slamprep::eval

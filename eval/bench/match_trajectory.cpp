@@ -8,6 +8,7 @@
 #include "algo/deskew/deskew.hpp"
 #include "core/error.hpp"
 #include "core/heading.hpp"
+#include "eval/bench/dataset_deskew.hpp"
 #include "eval/bench/match_run.hpp"
 
 namespace slamprep::eval {
@@ -27,6 +28,26 @@ std::vector<algo::StepPrior> stepPriors(const Dataset& dataset, const std::vecto
 }
 
 }  // namespace
+
+std::vector<Points2> matchScanPoints(const Dataset& d, const std::string& deskew,
+                                     bool stamp_is_last_beam, int* deskew_refused) {
+  std::vector<Points2> points;
+  if (deskew == "none") {
+    for (const ScanRecord& record : d.scans) points.push_back(record.scan.points());
+    return points;
+  }
+  const auto method = algo::parseDeskewMethod(deskew);
+  if (!method) throw InputError("--deskew", "unknown de-skew method '" + deskew + "'");
+  DatasetDeskewOptions options = nominalDeskewOptions(d);
+  if (d.encoders.empty()) options.odometry = d.odom_nominal;  // an imported log: its poses
+  options.stamp_is_last_beam = stamp_is_last_beam;
+  const DatasetDeskew deskewed = deskewDataset(d, *method, options);
+  const std::vector<Points2> corrected = correctedPoints(deskewed);
+  for (std::size_t k = 0; k < d.scans.size(); ++k)
+    points.push_back(deskewed.scans[k].ok ? corrected[k] : d.scans[k].scan.points());
+  if (deskew_refused) *deskew_refused = deskewed.refused;
+  return points;
+}
 
 MatchTrajectory matchTrajectory(const Dataset& dataset, const std::vector<Points2>& points,
                                 const MatchTrajectoryOptions& options) {

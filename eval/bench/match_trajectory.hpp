@@ -30,6 +30,12 @@ struct MatchTrajectory {
   double seconds = 0.0;              ///< wall-clock time of the tracking
 };
 
+/// Every scan's points in its first-beam lidar frame: as measured, or (`vicp`) de-skewed by VICP
+/// where it applies; a scan it refuses (e.g. time_increment 0) is kept as measured and counted
+/// in `deskew_refused`. What `slamprep match` tracks.
+std::vector<Points2> matchScanPoints(const Dataset& dataset, const std::string& deskew,
+                                     bool stamp_is_last_beam, int* deskew_refused = nullptr);
+
 /// Tracks the scans given as `points` (one per dataset scan, in its first-beam lidar frame; e.g.
 /// the scans as measured or de-skewed). The guesses of scan k: the nominal odometry between the
 /// two first beams (algo::odometryLidarMotion, as calibrate's matches use), the gyro's turn over

@@ -13,6 +13,7 @@
 #include "eval/formats/scan_jsonl.hpp"
 #include "eval/formats/text_io.hpp"
 #include "eval/formats/tum.hpp"
+#include "eval/formats/wheel_odometry.hpp"
 
 namespace slamprep::eval {
 namespace fs = std::filesystem;
@@ -61,6 +62,7 @@ ExportFormat parseExportFormat(const std::string& name, const std::string& where
 
 ExportInput loadExportInput(const fs::path& dataset_dir) {
   ExportInput input;
+  input.source = dataset_dir.string();
   input.dataset = readDataset(dataset_dir);
   std::error_code ec;
   std::vector<fs::path> deskewed;
@@ -78,9 +80,9 @@ ExportInput loadExportInput(const fs::path& dataset_dir) {
   return input;
 }
 
-PoseSeries calibratedOdometry(const Dataset& d, const DiffDriveParams& geometry) {
-  const SE2 start = d.odom_nominal.empty() ? SE2() : d.odom_nominal[0].value;
-  return integrateEncoders(d.encoders, geometry, d.info.ticks_per_revolution, start);
+PoseSeries calibratedOdometry(const ExportInput& input) {
+  const CalibrationChoice& c = input.calibration.value();
+  return calibratedOdometry(input.dataset, input.source, c.geometry, c.derived_with);
 }
 
 std::string formatCarmen(const Dataset& d, const std::vector<ScanRecord>& scans,
@@ -348,7 +350,7 @@ ExportResult exportDataset(const ExportInput& input, ExportFormat format, const 
             slamprep::eval::formatTum(anchored(d.odom_nominal), "odom_nominal.tum"));
       result.counts["odom_nominal"] = d.odom_nominal.size();
       if (input.calibration) {
-        const PoseSeries cal = calibratedOdometry(d, input.calibration->geometry);
+        const PoseSeries cal = calibratedOdometry(input);
         write(out / "odom_calibrated.tum",
               slamprep::eval::formatTum(anchored(cal), "odom_calibrated.tum"));
         result.counts["odom_calibrated"] = cal.size();
@@ -362,8 +364,7 @@ ExportResult exportDataset(const ExportInput& input, ExportFormat format, const 
       if (d.hasTruth()) trajectories.emplace_back("groundtruth", d.groundtruth);
       trajectories.emplace_back("odom_nominal", d.odom_nominal);
       if (input.calibration)
-        trajectories.emplace_back("odom_calibrated",
-                                  calibratedOdometry(d, input.calibration->geometry));
+        trajectories.emplace_back("odom_calibrated", calibratedOdometry(input));
       std::vector<double> times;
       for (const auto& r : d.scans) {
         bool all = true;

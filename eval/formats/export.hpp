@@ -23,10 +23,14 @@ ExportFormat parseExportFormat(const std::string& name, const std::string& where
 struct CalibrationChoice {
   DiffDriveParams geometry;
   std::string method;  ///< where it came from, for messages
+  /// The calibration's relative_to_odometry: on a log without encoder ticks, the geometry its
+  /// wheel increments were derived with (as `calibrate` derived them; unset: dataset.json's).
+  std::optional<DiffDriveParams> derived_with;
 };
 
 /// Everything an export may write: the dataset plus what later steps left beside it.
 struct ExportInput {
+  std::string source;  ///< the dataset directory, for messages
   Dataset dataset;
   std::map<std::string, std::vector<ScanRecord>> deskewed;  ///< method -> deskewed_<method>.jsonl
   std::optional<CalibrationChoice> calibration;             ///< none: no calibrated odometry
@@ -95,7 +99,8 @@ std::string formatKittiPoses(const std::vector<SE2>& poses);
 /// (zero at k = 0).
 Eigen::Vector3d twistAt(const PoseSeries& poses, std::size_t k);
 
-/// Dead-reckoned odometry with the calibrated geometry, starting where the nominal one starts.
-PoseSeries calibratedOdometry(const Dataset& dataset, const DiffDriveParams& geometry);
+/// The dataset's odometry re-integrated with the calibration's geometry (wheel_odometry.hpp,
+/// the same trajectory as `calibrate --odometry-out`); throws InputError when there is none.
+PoseSeries calibratedOdometry(const ExportInput& input);
 
 }  // namespace slamprep::eval

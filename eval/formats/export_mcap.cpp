@@ -249,7 +249,7 @@ void writeBag(const ExportInput& input, const ExportParams& p, McapWriter& write
   for (const auto& [method, scans] : input.deskewed)
     addScans(bag, scans, "/scan_deskewed/" + method, "deskewed_" + method + ".jsonl", p);
   PoseSeries calibrated;
-  if (input.calibration) calibrated = calibratedOdometry(d, input.calibration->geometry);
+  if (input.calibration) calibrated = calibratedOdometry(input);
   if (!d.odom_nominal.empty())
     addOdometry(bag, d.odom_nominal, "/odom", "odom_nominal.tum", p.odom_frame, p.base_frame);
   if (input.calibration)

@@ -68,6 +68,12 @@ struct ImportParams {
   /// the scans' own range_max (a note when it exceeds twice the 99.9th percentile of the
   /// readings, range_limit.hpp).
   std::optional<double> max_range_m;
+  /// The beams were taken in the reverse of their array order: an RPLIDAR turns clockwise and
+  /// its ROS driver publishes the beams counter-clockwise, yet with a positive time_increment.
+  /// Each scan is reversed so that the array runs in time order (angle_increment negated), the
+  /// stamp staying the first measured beam's. Check with `match --deskew` on a turning log: de-
+  /// skew that raises the residual in turns points to this (docs/export.md).
+  bool reverse_beam_time = false;
   /// MCAP: park the scans in a file in this directory while the bag is read, and hand them out
   /// through ImportResult::scans instead of Dataset::scans (memory then holds the other streams
   /// and one chunk; `slamprep import` spills into the dataset directory it is writing). Empty:

@@ -113,6 +113,14 @@ std::string_view typeOf(Role r) {
   }
 }
 
+/// The array put in the order the beams were taken: the last beam first, angles running back.
+void reverseBeams(LaserScan& scan) {
+  if (scan.ranges_m.empty()) return;
+  scan.angle_min_rad += double(scan.size() - 1) * scan.angle_increment_rad;
+  scan.angle_increment_rad = -scan.angle_increment_rad;
+  std::reverse(scan.ranges_m.begin(), scan.ranges_m.end());
+}
+
 /// The scan as logged goes into the range histogram; then --max-range cuts it.
 void keepScan(const LaserScanMsg& msg, const BagMessage& m, const Place& place,
               const std::string& where, const ImportParams& p, BagData& d) {
@@ -121,6 +129,7 @@ void keepScan(const LaserScanMsg& msg, const BagMessage& m, const Place& place,
     throw InputError(where, "header.frame_id: " + msg.header.frame_id +
                                 ", but the first scan's is " + d.laser_frame);
   LaserScan scan = scanFromMsg(msg, where);
+  if (p.reverse_beam_time) reverseBeams(scan);
   d.beams_min = d.anyScan() ? std::min(d.beams_min, scan.size()) : scan.size();
   d.beams_max = std::max(d.beams_max, scan.size());
   d.ranges.add(scan);

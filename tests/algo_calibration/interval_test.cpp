@@ -61,6 +61,30 @@ TEST(IntervalRecords, ReadsCensiLinesIgnoringExtraKeysAndBlankLines) {
   EXPECT_DOUBLE_EQ(out[1].t_end_s, 1.5);
 }
 
+// Censi's published lstraight.tuple holds two records one after another on its line 1082.
+TEST(IntervalRecords, ReadsSeveralObjectsOnOneLine) {
+  std::stringstream ss;
+  ss << "{\"T\": 0.5, \"phi_l\": 2, \"phi_r\": 4, \"sm\": [0.1, 0, 0.2]}\n"
+     << "{\"T\": 1, \"phi_l\": 1, \"phi_r\": 1, \"sm\": [0.2, 0, 0]}"
+     << "{\"T\": 0.25, \"phi_l\": 4, \"phi_r\": 0, \"sm\": [0, 0, -0.1]} \n"
+     << "{\"T\": 2, \"phi_l\": 1, \"phi_r\": 2, \"sm\": [0.3, 0, 0.1]}\n";
+  const auto out = readIntervalRecords(ss, "lstraight.tuple");
+  ASSERT_EQ(out.size(), 4u);
+  EXPECT_DOUBLE_EQ(out[1].t_start_s, 0.5);
+  EXPECT_DOUBLE_EQ(out[2].t_start_s, 1.5);
+  EXPECT_DOUBLE_EQ(out[2].sumLeft_rad(), 1.0);
+  EXPECT_DOUBLE_EQ(out[2].T_lidarStart_lidarEnd.yaw, -0.1);
+  EXPECT_DOUBLE_EQ(out[3].t_end_s, 3.75);
+  // A bad second record on a line is named by its line and place.
+  std::stringstream bad("{\"T\": 1, \"phi_l\": 1, \"phi_r\": 1, \"sm\": [0, 0, 0]}{\"T\": -1}\n");
+  try {
+    readIntervalRecords(bad, "t.tuple");
+    ADD_FAILURE() << "accepted a negative T";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("t.tuple:1 record 2"), std::string::npos) << e.what();
+  }
+}
+
 TEST(IntervalRecords, MalformedRecordNamesItsLine) {
   const std::string good = "{\"T\": 0.5, \"phi_l\": 2, \"phi_r\": 4, \"sm\": [0.1, 0, 0.2]}\n";
   const std::vector<std::pair<std::string, std::string>> bad = {

@@ -77,6 +77,38 @@ err_has "--loop-closure: closes the loops of scan-matched motion"
 expect 2 calibrate "$dir/nowhere"
 internal calibrate "$fig8"
 
+# calibrate several recordings of one robot: 0 with the combined JSON object (one DATASET keeps
+# the list), 2 for the options of one recording and for nominal geometries that differ, 3 for a
+# flagged estimate (more than 15 % from the nominal) only with --strict.
+fig8b=$dir/fig8b
+"$slamprep" simulate --scenario worlds/scenarios/figure_eight.yaml --mode kinematic --seed 2 \
+  --quiet --out "$fig8b" >/dev/null || fail "simulate figure eight 2"
+expect 0 calibrate "$fig8" "$fig8b" --motion groundtruth --method joint --validate-fraction 0.3 \
+  --json "$dir/multi.json" --ros2-params "$dir/multi.yaml"
+out_has "combined over 2 recordings"
+out_has "held-out validation"
+grep -q '"consistency"' "$dir/multi.json" || fail "several DATASETs: no consistency in --json"
+grep -q '"validation"' "$dir/multi.json" || fail "--validate-fraction: no validation in --json"
+[ -s "$dir/multi.yaml" ] || fail "several DATASETs: --ros2-params not written"
+expect 0 export "$fig8" --format tum --out "$dir/multi_tum" --calibration "$dir/multi.json"
+[ -s "$dir/multi_tum/odom_calibrated.tum" ] || fail "export read no combined calibration"
+expect 0 calibrate "$fig8" --motion groundtruth --method joint --json "$dir/one.json"
+[ "$(head -c1 "$dir/one.json")" = "[" ] || fail "one DATASET: --json is no longer a list"
+for option in "--odometry-out $dir/o.tum" "--intervals $dir/i.jsonl" "--square $fig8"; do
+  # shellcheck disable=SC2086
+  expect 2 calibrate "$fig8" "$fig8b" $option
+  err_has "${option%% *}: describes one recording"
+done
+"$slamprep" simulate --scenario worlds/scenarios/arc.yaml --duration 1 --mode kinematic --quiet \
+  --set nominal.wheel_base_error=0.1 --out "$dir/other" >/dev/null || fail "simulate other"
+expect 2 calibrate "$fig8" "$dir/other" --motion groundtruth
+err_has "nominal geometries differ"
+expect 2 calibrate "$fig8" --validate-fraction 1.5
+err_has "--validate-fraction"
+expect 0 calibrate "$fig8" --motion groundtruth --method joint --nominal 0.1,0.1,0.7
+out_has "FLAG joint: b = 0.7"
+expect 3 calibrate "$fig8" --motion groundtruth --method joint --nominal 0.1,0.1,0.7 --strict
+
 # bench, merge, plot on a two-trial suite: 0, 3 (a shard missing, a regression), 2, 1.
 cat >"$dir/tiny.yaml" <<YAML
 name: tiny

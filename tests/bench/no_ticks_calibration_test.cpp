@@ -6,11 +6,15 @@
 
 #include <filesystem>
 
+#include "algo/calibration/calibration_json.hpp"
 #include "core/atomic_file.hpp"
+#include "core/error.hpp"
 #include "eval/bench/calibration_run.hpp"
 #include "eval/bench/ros2_params.hpp"
 #include "eval/formats/dataset_io.hpp"
+#include "eval/formats/export.hpp"
 #include "eval/formats/import.hpp"
+#include "eval/formats/tum.hpp"
 #include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
@@ -95,6 +99,43 @@ INSTANTIATE_TEST_SUITE_P(CarmenExcerpts, NoTicks,
                            return std::string(info.param.second == std::string("laser") ? "intel"
                                                                                         : "aces");
                          });
+
+// `export --format tum --calibration CAL.json` on a log without ticks wrote an empty
+// odom_calibrated.tum: it integrated the (absent) ticks. It now writes what `calibrate
+// --odometry-out` writes (one function, eval/formats/wheel_odometry.hpp), increments derived with
+// the calibration's relative_to_odometry; and refuses, not writes nothing, without odometry.
+TEST(NoTicksExport, WritesTheCalibratedOdometryCalibrateWrites) {
+  const test::ScratchDir scratch("no_ticks_export");
+  const fs::path dir = importExcerpt(scratch, "carmen_intel/intel_first180s.clf", "laser");
+  const fs::path tuples = scratch / "one.tuple";  // no scan matching needed for the odometry
+  writeFileAtomic(tuples, "{\"T\": 1, \"phi_l\": 1, \"phi_r\": 1, \"sm\": [0.1, 0, 0]}\n");
+  DatasetCalibrationParams params;
+  params.dataset = dir.string();
+  params.tuples = tuples.string();
+  params.methods = {algo::CalibrationMethod::kModel};
+  const DatasetCalibration c = calibrateDataset(params);
+  ASSERT_TRUE(c.relative_to_odometry);
+  algo::CalibrationRun run;  // what calibrate --json would hold for a calibrated geometry
+  run.method = algo::CalibrationMethod::kModel;
+  run.result.ok = true;
+  run.result.geometry = {0.101, 0.0985, 0.52};
+  run.relative_to_odometry = c.relative_to_odometry;
+  const std::string odometry_out = formatTum(calibratedOdometry(c, run.result.geometry), "odom");
+
+  ExportInput input = loadExportInput(dir);
+  const algo::CalibrationRun best =
+      algo::parseCalibrationJson(algo::formatCalibrationJson({run}, std::nullopt), "cal.json")
+          .requireBest();
+  input.calibration = CalibrationChoice{best.result.geometry, "model", best.relative_to_odometry};
+  const fs::path out = scratch / "tum";
+  fs::create_directories(out);
+  const ExportResult result = exportDataset(input, ExportFormat::kTum, out);
+  EXPECT_GT(result.counts.at("odom_calibrated"), 900u);  // 912 odometry poses in 180 s
+  EXPECT_EQ(readFile(out / "odom_calibrated.tum"), odometry_out);
+
+  input.dataset.odom_nominal = PoseSeries();  // nothing to integrate: an error, not a file
+  EXPECT_THROW(calibratedOdometry(input), InputError);
+}
 
 TEST(Ros2Params, ReadsBackAsTheCalibratedGeometryAndMount) {
   Ros2ParamsInput in;

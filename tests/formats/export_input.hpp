@@ -10,7 +10,7 @@ inline eval::ExportInput syntheticInput() {
   eval::ExportInput in;
   in.dataset = makeSyntheticDataset();
   in.deskewed["linear"] = in.dataset.scans;  // stands in for a de-skew output
-  in.calibration = eval::CalibrationChoice{*in.dataset.info.true_geometry, "joint"};
+  in.calibration = eval::CalibrationChoice{*in.dataset.info.true_geometry, "joint", std::nullopt};
   return in;
 }
 

@@ -161,6 +161,28 @@ TEST(CheapLidar, MaxRangeMakesFartherReadingsNoReturn) {
   }
 }
 
+// --reverse-beam-time: the same points (each beam keeps its direction), the array in reverse,
+// so that beam i is the i-th taken; the stamp stays.
+TEST(CheapLidar, ReversedBeamTimeKeepsEveryPointAndReversesTheOrder) {
+  const ImportResult as_logged = importMcap(robotLog({}), "cheap.mcap", params());
+  ImportParams p = params();
+  p.reverse_beam_time = true;
+  const ImportResult reversed = importMcap(robotLog({}), "cheap.mcap", p);
+  ASSERT_EQ(as_logged.dataset.scans.size(), reversed.dataset.scans.size());
+  for (std::size_t k = 0; k < reversed.dataset.scans.size(); ++k) {
+    const LaserScan& a = as_logged.dataset.scans[k].scan;
+    const LaserScan& b = reversed.dataset.scans[k].scan;
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(b.stamp_s, a.stamp_s);
+    EXPECT_EQ(b.angle_increment_rad, -a.angle_increment_rad);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const std::size_t j = a.size() - 1 - i;
+      EXPECT_EQ(b.ranges_m[j], a.ranges_m[i]);
+      EXPECT_NEAR(b.beamAngle(j), a.beamAngle(i), 1e-9);
+    }
+  }
+}
+
 TEST(StaleOdometry, AHeldPoseFollowedByAJumpIsDroppedAndInterpolatedOver) {
   RobotLog log;
   log.held_from = 100;  // 12 s: five samples repeat sample 100, then 106 catches up

@@ -1,0 +1,73 @@
+#pragma once
+// Everything `slamprep calibrate --json` writes (docs/calibration.md): the runs of one or several
+// recordings, each method's flags and held-out validation, and for several recordings the
+// combined estimate and its consistency. calibration_json.hpp turns it into the one JSON text;
+// a new key (e.g. one more object per method or for the whole file) is added to this report and
+// to formatCalibrateJson, nowhere else.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "algo/calibration/calibrate.hpp"
+#include "algo/calibration/nominal_flags.hpp"
+#include "core/se2.hpp"
+
+namespace slamprep::algo {
+
+/// The true geometry and mount, for the JSON's "error" object.
+struct CalibrationTruth {
+  DiffDriveParams geometry;
+  SE2 T_base_lidar;
+  Eigen::VectorXd values() const;  ///< all six, in kCalibrationKeys order
+};
+
+/// An odometry's relative pose error on the held-out part of a recording.
+struct HeldOutError {
+  double trans_m = 0.0;  ///< mean translation error over the windows
+  double rot_deg = 0.0;  ///< mean absolute rotation error
+};
+
+/// `calibrate --validate-fraction`: the nominal and the calibrated geometry on held-out data.
+struct ValidationFigures {
+  double fraction = 0.0;
+  HeldOutError raw;
+  HeldOutError calibrated;
+};
+
+/// One method's run and what is said about it.
+struct MethodReport {
+  CalibrationRun run;
+  std::vector<NominalFlag> flags;               ///< "flags" (written when not empty)
+  std::optional<ValidationFigures> validation;  ///< "validation" (with --validate-fraction)
+};
+
+/// One recording (DATASET) and its methods.
+struct RecordingReport {
+  std::string dataset;
+  std::vector<MethodReport> methods;
+  std::optional<CalibrationTruth> truth;  ///< for "error"
+};
+
+/// chi2/dof of one parameter of one method over the recordings (combine_recordings.hpp).
+struct ParameterConsistency {
+  std::string param;
+  double chi2_dof = 0.0;  ///< NaN (written null) when n < 2
+  int n = 0;              ///< recordings where the method was ok
+};
+
+struct MethodConsistency {
+  CalibrationMethod method = CalibrationMethod::kDirect;
+  std::vector<ParameterConsistency> params;
+};
+
+struct CalibrateReport {
+  /// One: the JSON is today's list of method objects. Several: the object with "recordings",
+  /// "combined" and "consistency".
+  std::vector<RecordingReport> recordings;
+  std::vector<MethodReport> combined;
+  std::optional<CalibrationTruth> combined_truth;  ///< when every recording has the same truth
+  std::vector<MethodConsistency> consistency;
+};
+
+}  // namespace slamprep::algo

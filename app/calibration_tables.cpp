@@ -1,0 +1,195 @@
+#include "app/calibration_tables.hpp"
+
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <numbers>
+#include <sstream>
+
+#include "algo/calibration/calibration_json.hpp"
+
+namespace slamprep::app {
+namespace {
+
+// Lengths in mm, the yaw in degrees: what a person reads.
+std::string human(double value, int i) {
+  std::ostringstream s;
+  s << std::fixed;
+  if (i == 5)
+    s << std::setprecision(3) << value * 180.0 / std::numbers::pi << " deg";
+  else
+    s << std::setprecision(3) << value * 1000.0 << " mm";
+  return s.str();
+}
+
+// "101.234 +- 0.012 mm" (no sigma: the value alone).
+std::string withSigma(const algo::CalibrationResult& r, int i) {
+  const Eigen::VectorXd v = algo::calibrationValues(r);
+  if (r.covariance.size() == 0) return human(v(i), i);
+  const std::string value = human(v(i), i);
+  const std::string sigma = human(r.sigma()(i), i);
+  return value.substr(0, value.rfind(' ')) + " +- " + sigma;
+}
+
+void printCompactRuns(const std::vector<algo::MethodReport>& methods) {
+  for (const algo::MethodReport& m : methods) {
+    const algo::CalibrationResult& r = m.run.result;
+    std::cout << "  " << std::left << std::setw(9) << algo::calibrationMethodName(m.run.method);
+    if (!r.ok) {
+      std::cout << "REFUSED: " << r.reason << "\n";
+      continue;
+    }
+    const int n = r.estimates_mount ? 6 : 3;
+    for (int i = 0; i < n; ++i)
+      std::cout << (i ? ", " : "") << algo::kCalibrationKeys[i] << " " << withSigma(r, i);
+    std::cout << "\n";
+  }
+}
+
+void printCombinedMethod(const algo::CombinedRun& c, const eval::RecordingsCalibration& r) {
+  const algo::CalibrationResult& res = c.run.result;
+  std::cout << "\n" << algo::calibrationMethodName(c.run.method) << ": ";
+  if (!res.ok) {
+    std::cout << "REFUSED: " << res.reason << "\n";
+    return;
+  }
+  std::cout << c.recordings.size() << " of " << r.recordings.size() << " recordings\n";
+  std::cout << "  " << std::left << std::setw(10) << "param" << std::setw(16) << "estimate"
+            << std::setw(24) << "1-sigma"
+            << "chi2/dof\n";
+  const Eigen::VectorXd v = algo::calibrationValues(res), s = res.sigma();
+  const Eigen::VectorXd& chi2 = c.estimate.chi2_dof;
+  for (int i = 0; i < v.size(); ++i) {
+    std::ostringstream sigma, x2;
+    sigma << human(s(i), i);
+    if (c.estimate.sigma_scale(i) > 1.0)
+      sigma << " (x" << std::fixed << std::setprecision(2) << c.estimate.sigma_scale(i) << ")";
+    if (std::isfinite(chi2(i)))
+      x2 << std::fixed << std::setprecision(2) << chi2(i);
+    else
+      x2 << "-";
+    std::cout << "  " << std::setw(10) << algo::kCalibrationKeys[i] << std::setw(16)
+              << human(v(i), i) << std::setw(24) << sigma.str() << x2.str() << "\n";
+  }
+}
+
+// The warning for a method whose recordings disagree beyond their sigmas, naming the worst
+// recording and parameter.
+void warnInconsistent(const algo::CombinedRun& c, const eval::RecordingsCalibration& r) {
+  const algo::CombinedEstimate& e = c.estimate;
+  if (!c.run.result.ok || e.worst_input < 0) return;
+  const int j = e.worst_parameter;
+  const int rec = c.recordings[e.worst_input];
+  const algo::CalibrationResult* worst = nullptr;
+  for (const algo::CalibrationRun& run : r.recordings[rec].calibration.runs)
+    if (run.method == c.run.method) worst = &run.result;
+  const double x = algo::calibrationValues(*worst)(j);
+  const double combined = algo::calibrationValues(c.run.result)(j);
+  std::cout << "WARNING: " << algo::calibrationMethodName(c.run.method)
+            << ": the recordings disagree beyond their sigmas (chi2/dof " << std::fixed
+            << std::setprecision(2) << e.chi2_dof(j) << " on " << algo::kCalibrationKeys[j]
+            << "); the combined sigma of each such parameter is scaled by sqrt(chi2/dof). Worst: "
+            << "recording " << rec + 1 << " (" << r.recordings[rec].dataset << "), "
+            << algo::kCalibrationKeys[j] << " " << human(x, j) << " against the combined "
+            << human(combined, j) << ", " << std::setprecision(1)
+            << std::abs(x - combined) / worst->sigma()(j) << " of its sigmas\n"
+            << std::defaultfloat;
+}
+
+}  // namespace
+
+void printTable(const std::vector<algo::CalibrationRun>& rows,
+                const std::optional<algo::CalibrationTruth>& truth_of) {
+  std::optional<Eigen::VectorXd> truth;
+  if (truth_of) truth = truth_of->values();
+  for (const algo::CalibrationRun& row : rows) {
+    const auto& r = row.result;
+    std::cout << "\n" << algo::calibrationMethodName(row.method) << ": ";
+    if (!r.ok) {
+      std::cout << "REFUSED: " << r.reason << "\n";
+      continue;
+    }
+    std::cout << r.intervals_used << " intervals/runs, condition number " << std::setprecision(3)
+              << r.condition_number << ", " << r.intervals_trimmed << " trimmed\n";
+    for (const algo::TrimmedInterval& t : r.trimmed_worst)
+      std::cout << "  trimmed " << std::fixed << std::setprecision(3) << t.t0_s << ".." << t.t1_s
+                << " s: " << t.reason << " (" << std::setprecision(1) << t.residual_sigmas
+                << " robust sigmas)\n"
+                << std::defaultfloat;
+    std::cout << "  " << std::left << std::setw(10) << "param" << std::setw(16) << "estimate"
+              << std::setw(16) << "1-sigma";
+    if (truth)
+      std::cout << std::setw(16) << "truth" << std::setw(14) << "error"
+                << "error %";
+    std::cout << "\n";
+    const Eigen::VectorXd v = algo::calibrationValues(r), s = r.sigma();
+    for (int i = 0; i < v.size(); ++i) {
+      std::cout << "  " << std::setw(10) << algo::kCalibrationKeys[i] << std::setw(16)
+                << human(v(i), i) << std::setw(16)
+                << (r.covariance.size() > 0 ? human(s(i), i) : "n/a");
+      if (truth) {
+        const double e = algo::calibrationError(v, *truth, i);
+        std::ostringstream pct;
+        if (std::abs((*truth)(i)) > 1e-12)
+          pct << std::fixed << std::setprecision(4) << 100.0 * e / std::abs((*truth)(i)) << " %";
+        else
+          pct << "-";
+        std::cout << std::setw(16) << human((*truth)(i), i) << std::setw(14) << human(e, i)
+                  << pct.str();
+      }
+      std::cout << "\n";
+    }
+  }
+}
+
+void printRecordings(const eval::RecordingsCalibration& r) {
+  for (std::size_t i = 0; i < r.recordings.size(); ++i) {
+    const eval::DatasetCalibration& c = r.recordings[i].calibration;
+    std::cout << "\nrecording " << i + 1 << ": " << r.recordings[i].dataset << " ("
+              << c.intervals.intervals.size() << " intervals)\n";
+    printCompactRuns(r.report.recordings[i].methods);
+  }
+  std::cout << "\ncombined over " << r.recordings.size()
+            << " recordings (information-weighted; where chi2/dof > 2 the sigma is scaled by "
+               "sqrt(chi2/dof), marked xN):\n";
+  for (const algo::CombinedRun& c : r.combined) printCombinedMethod(c, r);
+  std::cout << "\n";
+  for (const algo::CombinedRun& c : r.combined) warnInconsistent(c, r);
+}
+
+void printFlags(const std::vector<algo::MethodReport>& methods, const std::string& label) {
+  for (const algo::MethodReport& m : methods)
+    for (const algo::NominalFlag& f : m.flags)
+      std::cout << "FLAG " << label << algo::calibrationMethodName(m.run.method) << ": " << f.param
+                << " = " << std::fixed << std::setprecision(3) << f.ratio
+                << " x nominal (more than 15 % off): likely cause: " << f.likely_cause << "\n"
+                << std::defaultfloat;
+}
+
+void printValidation(const std::vector<algo::MethodReport>& methods, const std::string& label) {
+  bool header = false;
+  for (const algo::MethodReport& m : methods) {
+    if (!m.validation) continue;
+    const algo::ValidationFigures& v = *m.validation;
+    if (!header) {
+      std::cout << "\nheld-out validation " << label << "(last " << v.fraction * 100.0
+                << " % of the scans; relative pose error over 10 s windows against scan-to-map "
+                   "matching):\n  "
+                << std::left << std::setw(10) << "method" << std::setw(14) << "raw m"
+                << std::setw(14) << "raw deg" << std::setw(16) << "calibrated m"
+                << "calibrated deg\n";
+      header = true;
+    }
+    std::cout << "  " << std::setw(10) << algo::calibrationMethodName(m.run.method) << std::fixed
+              << std::setprecision(4) << std::setw(14) << v.raw.trans_m << std::setw(14)
+              << v.raw.rot_deg << std::setw(16) << v.calibrated.trans_m << v.calibrated.rot_deg
+              << std::defaultfloat;
+    if (v.calibrated.trans_m > v.raw.trans_m)
+      std::cout << "  calibrated WORSE than raw in translation";
+    if (v.calibrated.rot_deg > v.raw.rot_deg)
+      std::cout << "  calibrated WORSE than raw in rotation";
+    std::cout << "\n";
+  }
+}
+
+}  // namespace slamprep::app

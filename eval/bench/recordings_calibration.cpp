@@ -1,0 +1,180 @@
+#include "eval/bench/recordings_calibration.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "algo/calibration/calibration_json.hpp"
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "eval/formats/dataset_io.hpp"
+#include "eval/formats/dataset_json.hpp"
+
+namespace slamprep::eval {
+namespace {
+
+std::string geometryText(const DiffDriveParams& g) {
+  using nlohmann::json;
+  return "r_L " + json(g.radius_left_m).dump() + ", r_R " + json(g.radius_right_m).dump() + ", b " +
+         json(g.wheel_base_m).dump() + " m";
+}
+
+bool sameGeometry(const DiffDriveParams& a, const DiffDriveParams& b) {
+  return a.radius_left_m == b.radius_left_m && a.radius_right_m == b.radius_right_m &&
+         a.wheel_base_m == b.wheel_base_m;
+}
+
+// The mount a run's odometry is scored with: the calibrated one where the method estimates it.
+SE2 mountOf(const algo::CalibrationRun& run, const SE2& dataset_mount) {
+  return run.result.estimates_mount ? run.result.T_base_lidar : dataset_mount;
+}
+
+RecordingCalibration calibrateRecording(const RecordingsCalibrationParams& p,
+                                        const std::string& dataset) {
+  DatasetCalibrationParams params = p.base;
+  if (!dataset.empty()) params.dataset = dataset;
+  RecordingCalibration out{params.dataset, {}, std::nullopt};
+  if (!(p.validate_fraction > 0.0)) {
+    out.calibration = calibrateDataset(params);
+    return out;
+  }
+  ValidationSplit split =
+      splitForValidation(readDataset(params.dataset), p.validate_fraction, params.dataset);
+  out.calibration = calibrateDataset(params, std::move(split.calibration));
+  out.held_out = heldOutPart(split.held_out, out.calibration.odometry, p.held_out);
+  return out;
+}
+
+algo::MethodReport methodReport(const algo::CalibrationRun& run, const RecordingCalibration& r,
+                                const RecordingsCalibrationParams& p) {
+  algo::MethodReport m{run, {}, std::nullopt};
+  if (!r.dataset.empty())  // --tuples alone has no nominal geometry to compare with
+    m.flags = algo::nominalFlags(run.result, r.calibration.nominal, p.flags);
+  const DatasetCalibration& c = r.calibration;
+  if (r.held_out && run.result.ok)
+    m.validation = algo::ValidationFigures{
+        p.validate_fraction, heldOutError(*r.held_out, c.nominal, c.T_base_lidar),
+        heldOutError(*r.held_out, run.result.geometry, mountOf(run, c.T_base_lidar))};
+  return m;
+}
+
+// The methods any recording ran, in the order of first appearance.
+std::vector<algo::CalibrationMethod> methodsRun(const std::vector<RecordingCalibration>& recs) {
+  std::vector<algo::CalibrationMethod> methods;
+  for (const RecordingCalibration& r : recs)
+    for (const algo::CalibrationRun& run : r.calibration.runs)
+      if (std::find(methods.begin(), methods.end(), run.method) == methods.end())
+        methods.push_back(run.method);
+  return methods;
+}
+
+algo::MethodConsistency consistencyOf(const algo::CombinedRun& c) {
+  algo::MethodConsistency out{c.run.method, {}};
+  const int n = static_cast<int>(c.recordings.size());
+  const int size = c.run.result.estimates_mount ? 6 : 3;
+  for (int j = 0; j < size; ++j) {
+    const Eigen::VectorXd& chi2 = c.estimate.chi2_dof;
+    const double value = j < chi2.size() ? chi2(j) : std::numeric_limits<double>::quiet_NaN();
+    out.params.push_back({algo::kCalibrationKeys[j], value, n});
+  }
+  return out;
+}
+
+// The truth every recording shares, if they all have the same one.
+std::optional<algo::CalibrationTruth> sharedTruth(const std::vector<RecordingCalibration>& recs) {
+  const std::optional<algo::CalibrationTruth>& first = recs.front().calibration.truth;
+  for (const RecordingCalibration& r : recs)
+    if (!r.calibration.truth || !first || r.calibration.truth->values() != first->values())
+      return std::nullopt;
+  return first;
+}
+
+void combine(const RecordingsCalibrationParams& p, RecordingsCalibration& out) {
+  const std::vector<RecordingCalibration>& recs = out.recordings;
+  for (const algo::CalibrationMethod method : methodsRun(recs)) {
+    std::vector<const algo::CalibrationRun*> runs;
+    for (const RecordingCalibration& r : recs) {
+      const auto& all = r.calibration.runs;
+      const auto it = std::find_if(all.begin(), all.end(), [&](const algo::CalibrationRun& x) {
+        return x.method == method;
+      });
+      runs.push_back(it == all.end() ? nullptr : &*it);
+    }
+    out.combined.push_back(algo::combineRuns(method, runs, p.combine));
+  }
+  out.report.combined_truth = sharedTruth(recs);
+  for (const algo::CombinedRun& c : out.combined) {
+    algo::MethodReport m{c.run, {}, combinedValidation(out, c.run, p.validate_fraction)};
+    if (!recs.front().dataset.empty())
+      m.flags = algo::nominalFlags(c.run.result, recs.front().calibration.nominal, p.flags);
+    out.report.combined.push_back(m);
+    out.report.consistency.push_back(consistencyOf(c));
+  }
+}
+
+}  // namespace
+
+void checkSameNominal(const std::vector<std::string>& datasets,
+                      const std::optional<DiffDriveParams>& nominal) {
+  if (nominal || datasets.size() < 2) return;
+  auto nominalOf = [](const std::string& dir) {
+    const std::filesystem::path file = std::filesystem::path(dir) / "dataset.json";
+    return parseDatasetInfo(readFile(file), file.string()).nominal_geometry;
+  };
+  const DiffDriveParams first = nominalOf(datasets.front());
+  for (std::size_t i = 1; i < datasets.size(); ++i) {
+    const DiffDriveParams other = nominalOf(datasets[i]);
+    if (!sameGeometry(first, other))
+      throw InputError("DATASET", "the recordings' nominal geometries differ: " + datasets.front() +
+                                      " has " + geometryText(first) + ", " + datasets[i] + " has " +
+                                      geometryText(other) +
+                                      "; one robot has one: give it with --nominal r_L,r_R,b");
+  }
+}
+
+std::optional<algo::ValidationFigures> combinedValidation(const RecordingsCalibration& r,
+                                                          const algo::CalibrationRun& combined,
+                                                          double fraction) {
+  if (!combined.result.ok) return std::nullopt;
+  algo::ValidationFigures mean{fraction, {}, {}};
+  int parts = 0;
+  for (const RecordingCalibration& rec : r.recordings) {
+    if (!rec.held_out) continue;
+    const DatasetCalibration& c = rec.calibration;
+    const algo::HeldOutError raw = heldOutError(*rec.held_out, c.nominal, c.T_base_lidar);
+    const algo::HeldOutError cal =
+        heldOutError(*rec.held_out, combined.result.geometry, mountOf(combined, c.T_base_lidar));
+    mean.raw.trans_m += raw.trans_m;
+    mean.raw.rot_deg += raw.rot_deg;
+    mean.calibrated.trans_m += cal.trans_m;
+    mean.calibrated.rot_deg += cal.rot_deg;
+    ++parts;
+  }
+  if (parts == 0) return std::nullopt;
+  for (algo::HeldOutError* e : {&mean.raw, &mean.calibrated}) {
+    e->trans_m /= parts;
+    e->rot_deg /= parts;
+  }
+  return mean;
+}
+
+RecordingsCalibration calibrateRecordings(const RecordingsCalibrationParams& params,
+                                          const std::function<void(const std::string&)>& done) {
+  RecordingsCalibration out;
+  std::vector<std::string> datasets = params.datasets;
+  if (datasets.empty()) datasets.push_back(params.base.dataset);
+  for (const std::string& dataset : datasets) {
+    out.recordings.push_back(calibrateRecording(params, dataset));
+    const RecordingCalibration& r = out.recordings.back();
+    algo::RecordingReport report{r.dataset, {}, r.calibration.truth};
+    for (const algo::CalibrationRun& run : r.calibration.runs)
+      report.methods.push_back(methodReport(run, r, params));
+    out.report.recordings.push_back(std::move(report));
+    if (done) done(r.dataset);
+  }
+  if (out.recordings.size() > 1) combine(params, out);
+  return out;
+}
+
+}  // namespace slamprep::eval
