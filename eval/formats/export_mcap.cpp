@@ -235,11 +235,15 @@ void writeBag(const ExportInput& input, const ExportParams& p, McapWriter& write
               std::map<std::string, std::size_t>* counts) {
   const Dataset& d = input.dataset;
   const DiffDriveParams& g = d.info.nominal_geometry;
-  // What a bag cannot otherwise carry, so `slamprep import` needs no --nominal for it.
-  writer.addMetadata(std::string(kSlamprepMetadata),
-                     {{std::string(kNominalRadiusLeft), decimal(g.radius_left_m)},
-                      {std::string(kNominalRadiusRight), decimal(g.radius_right_m)},
-                      {std::string(kNominalWheelBase), decimal(g.wheel_base_m)}});
+  // What a bag cannot otherwise carry, so `slamprep import` needs no --nominal for it, and
+  // keeps an odometry whose heading is the gyro's instead of integrating the joints.
+  std::vector<std::pair<std::string, std::string>> metadata = {
+      {std::string(kNominalRadiusLeft), decimal(g.radius_left_m)},
+      {std::string(kNominalRadiusRight), decimal(g.radius_right_m)},
+      {std::string(kNominalWheelBase), decimal(g.wheel_base_m)}};
+  if (d.info.config.value(std::string(kOdometryHeading), "") == "gyro")
+    metadata.emplace_back(kOdometryHeading, "gyro");
+  writer.addMetadata(std::string(kSlamprepMetadata), std::move(metadata));
   BagBuilder bag(writer);
   addScans(bag, d.scans, "/scan", "scans.jsonl", p);
   for (const auto& [method, scans] : input.deskewed)

@@ -92,6 +92,7 @@ struct BagData {
   RangeHistogram ranges;                    ///< of the scans as logged
   std::size_t beams_min = 0, beams_max = 0;
   std::size_t cut_by_max_range = 0;
+  bool gyro_heading = false;  ///< the record says the Odometry's heading is the gyro's
 
   std::string where(const Place& p) const { return placeText(files, topics, p); }
   bool anyScan() const { return !scans.empty() || !spilled.empty(); }
@@ -182,7 +183,8 @@ void decode(const BagMessage& m, const Place& place, const ImportParams& p, BagD
 std::optional<DiffDriveParams> geometryFrom(const McapMetadata& meta, const std::string& file) {
   std::map<std::string, double, std::less<>> values;
   for (const auto& [key, text] : meta.entries)
-    values[key] = parseFiniteDouble(text, {file + ": Metadata " + meta.name, 0}, key);
+    if (key != kOdometryHeading)
+      values[key] = parseFiniteDouble(text, {file + ": Metadata " + meta.name, 0}, key);
   auto get = [&](std::string_view key) {
     const auto it = values.find(key);
     if (it == values.end())
@@ -218,8 +220,12 @@ void readFile(BagStorage& storage, std::size_t file, const ImportParams& p, BagD
     if (it == roles.end()) it = roles.emplace(m.topic_id, roleOf(storage, m.topic_id, d)).first;
     if (it->second != Role::kNone) decode(m, {file, m.position, m.sequence, it->second}, p, d);
   }
-  for (const McapMetadata& meta : storage.metadata())
-    if (meta.name == kSlamprepMetadata) d.geometry = geometryFrom(meta, storage.name());
+  for (const McapMetadata& meta : storage.metadata()) {
+    if (meta.name != kSlamprepMetadata) continue;
+    d.geometry = geometryFrom(meta, storage.name());
+    for (const auto& [key, text] : meta.entries)
+      if (key == kOdometryHeading) d.gyro_heading = text == "gyro";
+  }
 }
 
 /// Sorts by log time (file order for equal times) and checks the header stamps increase.
@@ -352,9 +358,19 @@ void encodersFromJoints(const BagData& d, const ImportParams& p, const std::stri
   stale.stream = "JointState " + topic;
   ds.encoders = dropStaleEncoders(joints, radiansPerTick(p.ticks_per_revolution), stale);
   r.summary.stale.push_back(std::move(stale));
+  ds.info = importedInfo(p, nominal, bag, d.format.c_str(), "JointState " + topic, "joint_states");
+  if (d.gyro_heading && odom.size() >= 2) {
+    // The Odometry's heading is the gyro's: no integration of the joints reproduces it.
+    ds.odom_nominal = std::move(odom);
+    ds.info.config[std::string(kOdometryHeading)] = "gyro";
+    r.summary.odometry = std::to_string(d.joints.size()) + " JointState " + topic +
+                         " messages: wheel angles as ticks; the nominal odometry is Odometry " +
+                         d.topics.at(Role::kOdom) +
+                         " as logged, its heading the integrated gyro (slamprep metadata)";
+    return;
+  }
   const SE2 start = odom.at(ds.encoders.front().stamp_s).value_or(SE2());
   ds.odom_nominal = integrateEncoders(ds.encoders, nominal, p.ticks_per_revolution, start);
-  ds.info = importedInfo(p, nominal, bag, d.format.c_str(), "JointState " + topic, "joint_states");
   r.summary.odometry = std::to_string(d.joints.size()) + " JointState " + topic +
                        " messages: wheel angles as ticks, integrated with the nominal geometry";
   if (!odom.empty())

@@ -36,10 +36,13 @@ std::string_view storageName(BagStorageKind k);
 std::string_view compressionModeName(BagCompressionMode m);
 
 /// The MCAP Metadata record in which slamprep's export keeps what a bag cannot otherwise say:
-/// the nominal wheel geometry (keys below, metres, as decimal text).
+/// the nominal wheel geometry (keys below, metres, as decimal text), and "odometry_heading":
+/// "gyro" when the Odometry's heading is the integrated gyro, not the wheels' (absent
+/// otherwise): its poses are then not the JointState ticks integrated.
 inline constexpr std::string_view kSlamprepMetadata = "slamprep";
 inline constexpr std::string_view kNominalRadiusLeft = "nominal_wheel_radius_left_m";
 inline constexpr std::string_view kNominalRadiusRight = "nominal_wheel_radius_right_m";
 inline constexpr std::string_view kNominalWheelBase = "nominal_wheel_base_m";
+inline constexpr std::string_view kOdometryHeading = "odometry_heading";
 
 }  // namespace slamprep::eval

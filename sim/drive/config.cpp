@@ -63,6 +63,7 @@ void visitFields(Config& c, Visitor&& v) {
   v("imu.accel_noise_mps2", c.imu.accel_noise_mps2);
   v("imu.accel_bias_x_mps2", c.imu.accel_bias_x_mps2);
   v("imu.accel_bias_y_mps2", c.imu.accel_bias_y_mps2);
+  v("odometry.heading_from", c.odometry.heading_from);
   auto& f = c.faults;
   v("faults.enable", f.enable);
   v("faults.encoder_spikes.rate_hz", f.encoder_spike_rate_hz);
@@ -74,6 +75,12 @@ void visitFields(Config& c, Visitor&& v) {
   v("faults.dropped_scans.probability", f.dropped_scan_probability);
   v("faults.dropped_beams.probability", f.dropped_beam_probability);
   v("faults.imu_bias_drift.gyro_walk_radps_per_sqrt_s", f.imu_gyro_bias_walk_radps);
+  v("faults.stale_odometry.rate_hz", f.stale_odometry_rate_hz);
+  v("faults.stale_odometry.min_hold_s", f.stale_odometry_min_hold_s);
+  v("faults.stale_odometry.max_hold_s", f.stale_odometry_max_hold_s);
+  v("faults.held_robot.rate_hz", f.held_robot_rate_hz);
+  v("faults.held_robot.min_duration_s", f.held_robot_min_duration_s);
+  v("faults.held_robot.max_duration_s", f.held_robot_max_duration_s);
 }
 
 const char* modeName(SimMode mode) {
@@ -86,6 +93,10 @@ nlohmann::json::json_pointer pointer(const std::string& dotted) {
     if (ch == '.') ch = '/';
   }
   return nlohmann::json::json_pointer(p);
+}
+
+const char* headingName(OdometryHeading heading) {
+  return heading == OdometryHeading::wheels ? "wheels" : "gyro";
 }
 
 // ---- Values from JSON --------------------------------------------------------------------------
@@ -124,6 +135,18 @@ void fromJsonValue(const nlohmann::json& j, SimMode& out, const std::string& at)
 
 nlohmann::json toJsonValue(SimMode mode) {
   return modeName(mode);
+}
+nlohmann::json toJsonValue(OdometryHeading heading) {
+  return headingName(heading);
+}
+void fromJsonValue(const nlohmann::json& j, OdometryHeading& out, const std::string& at) {
+  if (j == "wheels") {
+    out = OdometryHeading::wheels;
+  } else if (j == "gyro") {
+    out = OdometryHeading::gyro;
+  } else {
+    throw InputError(at, "expected \"wheels\" or \"gyro\"");
+  }
 }
 nlohmann::json toJsonValue(const FaultSet& faults) {
   return toString(faults);
@@ -180,6 +203,9 @@ void fromText(const std::string& text, SimMode& out, const std::string& at) {
 void fromText(const std::string& text, FaultSet& out, const std::string& at) {
   fromJsonValue(nlohmann::json(text), out, at);
 }
+void fromText(const std::string& text, OdometryHeading& out, const std::string& at) {
+  fromJsonValue(nlohmann::json(text), out, at);
+}
 
 // ---- Validation ----------------------------------------------------------------------------
 
@@ -214,6 +240,18 @@ void validateFaults(const Checker& check, const FaultsConfig& f) {
         std::pair{"faults.dropped_beams.probability", f.dropped_beam_probability}})
     if (!(p >= 0.0 && p <= 1.0)) check.fail(key, "must be in [0, 1]", p);
   check.nonNegative("faults.imu_bias_drift.gyro_walk_radps_per_sqrt_s", f.imu_gyro_bias_walk_radps);
+  // The lasting faults: a rate, and a length drawn from [min, max] with min > 0.
+  const auto lasting = [&check](const std::string& prefix, double rate_hz, const char* length,
+                                double min_s, double max_s) {
+    check.nonNegative(prefix + ".rate_hz", rate_hz);
+    check.positive(prefix + ".min_" + length, min_s);
+    if (!(max_s >= min_s))
+      check.fail(prefix + ".max_" + length, "must not be below the minimum", max_s);
+  };
+  lasting("faults.stale_odometry", f.stale_odometry_rate_hz, "hold_s", f.stale_odometry_min_hold_s,
+          f.stale_odometry_max_hold_s);
+  lasting("faults.held_robot", f.held_robot_rate_hz, "duration_s", f.held_robot_min_duration_s,
+          f.held_robot_max_duration_s);
 }
 
 }  // namespace
@@ -249,6 +287,7 @@ nlohmann::json toJson(const SimConfig& config, bool every_key) {
     json[pointer(key)] = toJsonValue(value);
   });
   if (!every_key && !config.faults.enable.any()) json.erase("faults");
+  if (!every_key && config.odometry.heading_from == OdometryHeading::wheels) json.erase("odometry");
   if (!every_key && !config.start_jitter.any()) json.erase("start_jitter");
   return json;
 }

@@ -37,6 +37,15 @@ struct StartJitter {
   bool any() const { return position_m > 0.0 || yaw_deg > 0.0; }
 };
 
+/// Where the published odometry (odom_nominal) takes its heading from: the wheels (their
+/// rotation difference over the nominal wheel base) or the integrated gyro, as TurtleBot3's
+/// turtlebot3_node does with use_imu. The translation is the wheels' either way.
+enum class OdometryHeading { wheels, gyro };
+
+struct OdometryConfig {
+  OdometryHeading heading_from = OdometryHeading::wheels;  ///< odometry.heading_from
+};
+
 struct SimConfig {
   std::string world = "worlds/room.yaml";  ///< world file (relative: cwd, then dataDir())
   std::string scenario = "worlds/scenarios/default.yaml";  ///< scenario file (same lookup)
@@ -52,6 +61,7 @@ struct SimConfig {
   LidarConfig lidar;                ///< rotating lidar
   EncoderConfig encoders;           ///< wheel encoders
   ImuConfig imu;                    ///< planar IMU
+  OdometryConfig odometry;          ///< how odom_nominal is integrated
   FaultsConfig faults;              ///< injected faults, all off by default (docs/faults.md)
 
   /// The geometry the odometry is told: the true geometry scaled by the nominal errors.
@@ -64,8 +74,8 @@ struct SimConfig {
 std::vector<std::string> configKeys();
 
 /// The configuration as nested JSON ({"lidar": {"rate_hz": 10, ...}, ...}). The "faults" keys
-/// appear only when a fault is on (or every_key is set), so fault-free configurations read as
-/// they did before faults existed.
+/// appear only when a fault is on, "odometry" only when its heading is the gyro's (or when
+/// every_key is set), so configurations without them read as they did before they existed.
 nlohmann::json toJson(const SimConfig& config, bool every_key = false);
 
 /// Reads a configuration written by toJson; missing keys keep their defaults. Throws InputError

@@ -5,6 +5,7 @@
 #include <limits>
 #include <vector>
 
+#include "sim/drive/fault_windows.hpp"
 #include "sim/drive/rng.hpp"
 
 namespace slamprep::sim {
@@ -14,17 +15,6 @@ using nlohmann::json;
 
 SplitMix64 stream(std::uint64_t seed, RngStream id) {
   return SplitMix64(streamSeed(seed, id));
-}
-
-/// Event times of a Poisson process of `rate_hz` on [0, duration_s): exponential gaps.
-std::vector<double> poissonTimes(SplitMix64& rng, double rate_hz, double duration_s) {
-  std::vector<double> times;
-  if (!(rate_hz > 0.0)) return times;
-  for (double t = 0.0;;) {
-    t += -std::log(1.0 - rng.uniform()) / rate_hz;  // 1 - u in (0, 1]: finite log
-    if (t >= duration_s) return times;
-    times.push_back(t);
-  }
 }
 
 /// One stamp error per sample: N(0, sigma^2) cut to +-0.45 periods so the order is kept.
@@ -46,6 +36,44 @@ json jitterSummary(const std::vector<double>& errors) {
 }
 
 // ---- Encoders --------------------------------------------------------------------------------
+
+/// Stale odometry: the samples stamped inside a window repeat the last value before it (the
+/// stamps go on); the first sample after it reads the true count again, one jump of everything
+/// the wheels turned meanwhile. Sample 0 has no earlier value and is never held.
+json holdEncoders(const FaultsConfig& f, std::uint64_t seed, double duration_s, EncoderLog& log) {
+  SplitMix64 rng = stream(seed, RngStream::fault_stale_odometry);
+  json events = json::array();
+  const auto at = [&log](double t) {
+    return std::lower_bound(log.begin(), log.end(), t,
+                            [](const EncoderSample& s, double v) { return s.stamp_s < v; });
+  };
+  for (const TimeWindow& w :
+       poissonWindows(rng, f.stale_odometry_rate_hz, f.stale_odometry_min_hold_s,
+                      f.stale_odometry_max_hold_s, duration_s)) {
+    auto first = at(w.from_s);
+    if (first == log.begin() && first != log.end()) ++first;
+    const auto end = std::max(first, at(w.to_s));
+    json event = {{"t_from_s", w.from_s},
+                  {"t_to_s", w.to_s},
+                  {"sample", first - log.begin()},
+                  {"samples", end - first}};
+    if (first != end) {
+      const EncoderSample held = *(first - 1);
+      for (auto it = first; it != end; ++it) {
+        it->ticks_left = held.ticks_left;
+        it->ticks_right = held.ticks_right;
+      }
+      if (end != log.end())  // the catch-up: the true count again, in one step
+        event["jump_ticks"] = {end->ticks_left - held.ticks_left,
+                               end->ticks_right - held.ticks_right};
+    }
+    events.push_back(event);
+  }
+  return {{"rate_hz", f.stale_odometry_rate_hz},
+          {"min_hold_s", f.stale_odometry_min_hold_s},
+          {"max_hold_s", f.stale_odometry_max_hold_s},
+          {"events", events}};
+}
 
 /// A spike: the first sample at or after the event time reads `ticks` too many on one wheel.
 json injectSpikes(const FaultsConfig& f, std::uint64_t seed, double duration_s, EncoderLog& log) {
@@ -149,7 +177,9 @@ json injectStreamFaults(const FaultsConfig& f, std::uint64_t seed, const StreamR
   json out = json::object();
   const FaultSet& on = f.enable;
 
-  // Encoders: spikes and jitter by clean index, then the dropouts removed.
+  // Encoders: stale holds, spikes and jitter by clean index, then the dropouts removed.
+  if (on.has(Fault::stale_odometry))
+    out["stale_odometry"] = holdEncoders(f, seed, duration_s, data.encoders);
   if (on.has(Fault::encoder_spikes))
     out["encoder_spikes"] = injectSpikes(f, seed, duration_s, data.encoders);
   std::vector<std::pair<double, double>> windows;
@@ -247,7 +277,7 @@ json glassRecord(const World& world) {
 }  // namespace
 
 json injectFaults(const SimConfig& config, const World& world, const FloorSlip* slip,
-                  double duration_s, Dataset& data) {
+                  const HeldSchedule& held, double duration_s, Dataset& data) {
   const FaultsConfig& f = config.faults;
   const StreamRates rates{config.encoders.rate_hz, config.imu.rate_hz, config.lidar.rate_hz};
   json out = {{"enabled", json::array()}};
@@ -260,6 +290,7 @@ json injectFaults(const SimConfig& config, const World& world, const FloorSlip* 
     out["floor_patches"] = record;
   }
   if (f.enable.has(Fault::glass)) out["glass"] = glassRecord(world);
+  if (f.enable.has(Fault::held_robot)) out["held_robot"] = held.record(f);
   return out;
 }
 

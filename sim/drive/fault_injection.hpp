@@ -1,6 +1,7 @@
 #pragma once
-// Injects the sensor-stream faults (everything but floor patches and glass, which act inside
-// the physics and the ray caster) into simulated logs, and records every event it injects.
+// Injects the sensor-stream faults (everything but floor patches, glass and the held robot, which
+// act inside the physics and the ray caster) into simulated logs, and records every event it
+// injects.
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
@@ -9,6 +10,7 @@
 #include "sim/drive/config.hpp"
 #include "sim/drive/faults.hpp"
 #include "sim/drive/floor_slip.hpp"
+#include "sim/drive/held_robot.hpp"
 #include "sim/physics/world.hpp"
 
 namespace slamprep::sim {
@@ -33,8 +35,8 @@ World worldWithFaults(const World& world, const FaultSet& faults);
 
 /// Injects the stream faults of config.faults into `data` and returns dataset.json's "faults":
 /// {"enabled": [...], "<fault>": its record, ...}. `slip` is the floor-patch tracker of the run
-/// (null in kinematic mode or with floor_patches off).
+/// (null in kinematic mode or with floor_patches off), `held` the run's held windows.
 nlohmann::json injectFaults(const SimConfig& config, const World& world, const FloorSlip* slip,
-                            double duration_s, Dataset& data);
+                            const HeldSchedule& held, double duration_s, Dataset& data);
 
 }  // namespace slamprep::sim

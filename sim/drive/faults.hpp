@@ -1,8 +1,9 @@
 #pragma once
 // Faults real robots have and a clean simulation lacks: encoder spikes and dropouts, stamp
-// jitter, a lidar-odometry clock offset, dropped scans and beams, IMU bias drift, slippery floor
-// and glass. Each is off by default, switched on by name (`--set faults.enable=...`), has its own
-// seeded stream, and every injected event is recorded in dataset.json (docs/faults.md).
+// jitter, a lidar-odometry clock offset, dropped scans and beams, IMU bias drift, slippery floor,
+// glass, stale odometry that catches up, and a held robot whose wheels turn. Each is off by
+// default, switched on by name (`--set faults.enable=...`), has its own seeded stream, and every
+// injected event is recorded in dataset.json (docs/faults.md).
 
 #include <array>
 #include <cstdint>
@@ -22,10 +23,12 @@ enum class Fault : std::uint8_t {
   imu_bias_drift,    ///< gyro bias as a random walk
   floor_patches,     ///< the world's low-friction floor patches make the wheels slip
   glass,             ///< the world's `returns: false` objects give no lidar return
+  stale_odometry,    ///< the encoders repeat their last value for a while, then jump to the truth
+  held_robot,        ///< the body is held still while the wheels turn as commanded
 };
 
 /// Every fault with its name, in the order the names are written.
-inline constexpr std::array<std::pair<Fault, std::string_view>, 9> kFaultNames{{
+inline constexpr std::array<std::pair<Fault, std::string_view>, 11> kFaultNames{{
     {Fault::encoder_spikes, "encoder_spikes"},
     {Fault::encoder_dropouts, "encoder_dropouts"},
     {Fault::stamp_jitter, "stamp_jitter"},
@@ -35,6 +38,8 @@ inline constexpr std::array<std::pair<Fault, std::string_view>, 9> kFaultNames{{
     {Fault::imu_bias_drift, "imu_bias_drift"},
     {Fault::floor_patches, "floor_patches"},
     {Fault::glass, "glass"},
+    {Fault::stale_odometry, "stale_odometry"},
+    {Fault::held_robot, "held_robot"},
 }};
 
 std::string_view faultName(Fault fault);
@@ -69,6 +74,12 @@ struct FaultsConfig {
   double dropped_scan_probability = 0.01;   ///< per scan
   double dropped_beam_probability = 0.005;  ///< per beam
   double imu_gyro_bias_walk_radps = 1e-4;   ///< gyro bias random walk, rad/s per sqrt(s)
+  double stale_odometry_rate_hz = 0.01;     ///< holds per second
+  double stale_odometry_min_hold_s = 0.3;   ///< each hold lasts uniform [min, max]
+  double stale_odometry_max_hold_s = 1.0;
+  double held_robot_rate_hz = 0.01;        ///< holds of the body per second
+  double held_robot_min_duration_s = 1.0;  ///< each lasts uniform [min, max]
+  double held_robot_max_duration_s = 3.0;
 };
 
 }  // namespace slamprep::sim

@@ -5,7 +5,6 @@
 #include <sstream>
 
 #include "core/error.hpp"
-#include "core/odometry.hpp"
 #include "sim/drive/controller.hpp"
 #include "sim/drive/simulator.hpp"
 
@@ -22,7 +21,7 @@ std::string formatPoint(const Eigen::Vector2d& p) {
 }  // namespace
 
 void checkPathInWorld(const Scene& scene, const Scenario& scenario, const SimConfig& config,
-                      const SE2& T_world_start, double duration_s) {
+                      const SE2& T_world_start, double duration_s, const HeldSchedule& held) {
   const double radius_m = footprintRadius(config.robot) + config.path_margin_m;
   const std::string world = scene.world().source.string();
   if (scene.collides(T_world_start.translation(), radius_m)) {
@@ -37,8 +36,7 @@ void checkPathInWorld(const Scene& scene, const Scenario& scenario, const SimCon
   const auto steps = static_cast<std::int64_t>(std::ceil(duration_s / kCheckStep_s));
   for (std::int64_t k = 1; k <= steps; ++k) {
     const double t0 = (k - 1) * kCheckStep_s, t1 = std::min(duration_s, k * kCheckStep_s);
-    const Eigen::Vector2d dphi = controller.wheelAngleIncrement(t0, t1);
-    T_world_base = T_world_base * wheelIncrement(config.robot.geometry, dphi.x(), dphi.y());
+    T_world_base = T_world_base * held.bodyIncrement(controller, config.robot.geometry, t0, t1);
     if (!scene.collides(T_world_base.translation(), radius_m)) continue;
     const ProfileSegment* segment = scenario.profile.segmentAt(t1);
     std::ostringstream what;

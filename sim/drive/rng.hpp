@@ -23,6 +23,8 @@ enum class RngStream : std::uint64_t {
   fault_dropped_scans = 0x66647363ULL,     // "fdsc"
   fault_dropped_beams = 0x66646265ULL,     // "fdbe"
   fault_imu_bias_drift = 0x66696d62ULL,    // "fimb"
+  fault_stale_odometry = 0x6673746fULL,    // "fsto"
+  fault_held_robot = 0x6668656cULL,        // "fhel"
 };
 
 /// SplitMix64 (Steele, Lea, Flood 2014): a tiny generator whose output is fully specified, so

@@ -7,12 +7,14 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/gyro_odometry.hpp"
 #include "core/odometry.hpp"
 #include "core/paths.hpp"
 #include "sim/drive/controller.hpp"
 #include "sim/drive/explore.hpp"
 #include "sim/drive/fault_injection.hpp"
 #include "sim/drive/floor_slip.hpp"
+#include "sim/drive/held_robot.hpp"
 #include "sim/drive/rng.hpp"
 #include "sim/drive/sensors.hpp"
 #include "sim/physics/lidar.hpp"
@@ -67,11 +69,16 @@ class Motion {
 };
 
 /// Bullet: the controller's wheel-rate targets go to the motors; the joints give the encoders.
+/// A step that starts inside a held window runs with the chassis held (Robot::setHeld).
 class PhysicsMotion : public Motion {
  public:
   PhysicsMotion(Scene& scene, const Controller& controller, const RobotConfig& config,
-                const SE2& T_world_start, FloorSlip* slip)
-      : scene_(scene), controller_(controller), robot_(scene, config, T_world_start), slip_(slip) {
+                const SE2& T_world_start, FloorSlip* slip, const HeldSchedule& held)
+      : scene_(scene),
+        controller_(controller),
+        robot_(scene, config, T_world_start),
+        slip_(slip),
+        held_(held) {
     angle0_ = {robot_.wheelAngleLeft(), robot_.wheelAngleRight()};
   }
   StepState initial() const override { return read(0.0); }
@@ -90,6 +97,7 @@ class PhysicsMotion : public Motion {
   StepState step(const StepState& prev, double t_s) override {
     const Eigen::Vector2d target = controller_.wheelRates(t_s);
     robot_.setWheelRateTargets(target.x(), target.y());
+    robot_.setHeld(held_.heldAt(prev.t_s));
     if (slip_) {
       const auto friction = slip_->update(prev.t_s, prev.T_world_base);
       robot_.setWheelFriction(friction[0], friction[1]);
@@ -115,16 +123,17 @@ class PhysicsMotion : public Motion {
   const Controller& controller_;
   Robot robot_;
   FloorSlip* slip_;  // null: the floor is uniform
+  const HeldSchedule& held_;
   Eigen::Vector2d angle0_ = Eigen::Vector2d::Zero();
 };
 
 /// No physics: the wheels turn exactly as commanded and the base follows the exact arc of the
-/// TRUE geometry over each step (core/odometry.hpp wheelIncrement).
+/// TRUE geometry over each step (core/odometry.hpp wheelIncrement), except while it is held.
 class KinematicMotion : public Motion {
  public:
   KinematicMotion(const Controller& controller, const DiffDriveParams& true_geometry,
-                  const SE2& T_world_start)
-      : controller_(controller), geometry_(true_geometry), start_(T_world_start) {}
+                  const SE2& T_world_start, const HeldSchedule& held)
+      : controller_(controller), geometry_(true_geometry), start_(T_world_start), held_(held) {}
   StepState initial() const override {
     StepState s;
     s.T_world_base = start_;
@@ -135,9 +144,10 @@ class KinematicMotion : public Motion {
     StepState s;
     s.t_s = t_s;
     s.wheel_angle_rad = prev.wheel_angle_rad + dphi;
-    s.T_world_base = prev.T_world_base * wheelIncrement(geometry_, dphi.x(), dphi.y());
+    s.T_world_base = prev.T_world_base * held_.bodyIncrement(controller_, geometry_, prev.t_s, t_s);
     const Eigen::Vector2d rates = controller_.wheelRates(t_s);
-    const Eigen::Vector2d twist = geometry_.twist(rates.x(), rates.y());
+    const Eigen::Vector2d twist =
+        held_.heldAt(t_s) ? Eigen::Vector2d::Zero() : geometry_.twist(rates.x(), rates.y());
     s.v_world_mps = s.T_world_base.rotation() * Eigen::Vector2d(twist.x(), 0.0);
     s.yaw_rate_radps = twist.y();
     return s;
@@ -147,6 +157,7 @@ class KinematicMotion : public Motion {
   const Controller& controller_;
   DiffDriveParams geometry_;
   SE2 start_;
+  const HeldSchedule& held_;
 };
 
 // ---- Sensors, streamed step by step ---------------------------------------------------------
@@ -322,7 +333,10 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   Scene scene(worldWithFaults(world, config.faults.enable), physics);
   const SE2 T_world_start = config.startPose(world.T_world_start);
   const Scenario scenario = planExplore(scene, written, config, T_world_start);
-  checkPathInWorld(scene, scenario, config, T_world_start, duration_s);
+  const HeldSchedule held = config.faults.enable.has(Fault::held_robot)
+                                ? HeldSchedule(config.faults, config.seed, duration_s)
+                                : HeldSchedule();
+  checkPathInWorld(scene, scenario, config, T_world_start, duration_s, held);
 
   Dataset data;
   DatasetInfo& info = data.info;
@@ -335,6 +349,9 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   info.ticks_per_revolution = config.encoders.ticks_per_revolution;
   info.config = toJson(config);
   info.config["encoders_from"] = "ticks";  // docs/dataset.md: simulated encoders count ticks
+  // docs/dataset.md: the odometry's heading is the gyro's (absent: the wheels', as before).
+  if (config.odometry.heading_from == OdometryHeading::gyro)
+    info.config["odometry_heading"] = "gyro";
 
   const Controller controller(scenario.profile, info.nominal_geometry);
   std::unique_ptr<Motion> motion;
@@ -344,9 +361,10 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
                  config.robot.geometry.wheel_base_m / 2);
   if (config.mode == SimMode::physics) {
     motion = std::make_unique<PhysicsMotion>(scene, controller, config.robot, T_world_start,
-                                             slip ? &*slip : nullptr);
+                                             slip ? &*slip : nullptr, held);
   } else {
-    motion = std::make_unique<KinematicMotion>(controller, config.robot.geometry, T_world_start);
+    motion =
+        std::make_unique<KinematicMotion>(controller, config.robot.geometry, T_world_start, held);
   }
   LidarStream lidar(config.lidar, streamSeed(config.seed, RngStream::lidar), data.scans);
   EncoderStream encoders(config.encoders, data.encoders);
@@ -386,7 +404,7 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   }
 
   if (config.faults.enable.any())
-    info.faults = injectFaults(config, world, slip ? &*slip : nullptr, duration_s, data);
+    info.faults = injectFaults(config, world, slip ? &*slip : nullptr, held, duration_s, data);
   // A scan completed after the last encoder sample (its last beam inside the final encoder
   // period) is not covered by the odometry: readDataset would refuse it, so it is not kept.
   while (!data.scans.empty() && !data.encoders.empty() &&
@@ -397,8 +415,12 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   while (!data.scans.empty() && !data.encoders.empty() &&
          data.scans.front().scan.stamp_s < data.encoders.front().stamp_s)
     data.scans.erase(data.scans.begin());
+  // The odometry the robot publishes: heading from the wheels, or from the integrated gyro.
   data.odom_nominal =
-      integrateEncoders(data.encoders, info.nominal_geometry, info.ticks_per_revolution);
+      config.odometry.heading_from == OdometryHeading::gyro
+          ? integrateEncodersGyroHeading(data.encoders, data.imu, info.nominal_geometry,
+                                         info.ticks_per_revolution)
+          : integrateEncoders(data.encoders, info.nominal_geometry, info.ticks_per_revolution);
   for (ScanRecord& record : data.scans) {
     record.T_odom_base_nominal = data.odom_nominal.at(record.scan.stamp_s);
   }

@@ -7,6 +7,7 @@
 #include "core/dataset.hpp"
 #include "eval/metrics/odometry_drift.hpp"
 #include "sim/drive/config.hpp"
+#include "sim/drive/held_robot.hpp"
 #include "sim/drive/scenario.hpp"
 #include "sim/physics/scene.hpp"
 #include "sim/physics/world.hpp"
@@ -46,10 +47,12 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
                    const ProgressCallback& progress = {}, ScenePhysicsParams physics = {});
 
 /// Drives the commanded profile kinematically with the true geometry (the path the robot will
-/// take, up to slip) from `T_world_start` and checks every 10 ms that the footprint plus margin
-/// stays clear of static geometry. Throws InputError naming the scenario segment otherwise.
+/// take, up to slip; standing still while `held`) from `T_world_start` and checks every 10 ms
+/// that the footprint plus margin stays clear of static geometry. Throws InputError naming the
+/// scenario segment otherwise.
 void checkPathInWorld(const Scene& scene, const Scenario& scenario, const SimConfig& config,
-                      const SE2& T_world_start, double duration_s);
+                      const SE2& T_world_start, double duration_s,
+                      const HeldSchedule& held = HeldSchedule());
 
 /// Statistics of a simulated dataset: counts, distance, and odometry drift with both geometries.
 SimSummary summarize(const Dataset& dataset, SimMode mode);

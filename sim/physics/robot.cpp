@@ -65,6 +65,8 @@ struct Robot::Impl {
   std::unique_ptr<btHingeConstraint> hinge_left, hinge_right;
   std::unique_ptr<btPoint2PointConstraint> joint_front, joint_back;
   Unwrapper angle_left, angle_right;
+  int chassis_mask = 0;  // collision mask the chassis was added with
+  bool held = false;
   double motor_dt_s = 0.001;  // step the motor impulse limit was set for
   double last_time_s = 0.0;
 
@@ -117,7 +119,8 @@ Robot::Impl::Impl(Scene& s, const RobotConfig& c, const SE2& T0) : scene(s), con
   const int mask = btBroadphaseProxy::AllFilter ^ kRobotGroup;
   for (Body* b : {&wheel_left, &wheel_right})
     scene.dynamics().addRigidBody(b->body.get(), kRobotGroup, mask);
-  scene.dynamics().addRigidBody(chassis.body.get(), kRobotGroup, mask ^ kFloorGroup);
+  chassis_mask = mask ^ kFloorGroup;
+  scene.dynamics().addRigidBody(chassis.body.get(), kRobotGroup, chassis_mask);
   hinge_left = hinge(wheel_left, g.radius_left_m, g.wheel_base_m / 2);
   hinge_right = hinge(wheel_right, g.radius_right_m, -g.wheel_base_m / 2);
   if (config.caster_friction > 0)
@@ -187,6 +190,36 @@ void Robot::setWheelRateTargets(double left_radps, double right_radps) {
 void Robot::setWheelFriction(double left, double right) {
   impl_->wheel_left.body->setFriction(left);
   impl_->wheel_right.body->setFriction(right);
+}
+
+void Robot::setHeld(bool held) {
+  Impl& m = *impl_;
+  if (held == m.held) return;
+  m.held = held;
+  btRigidBody& chassis = *m.chassis.body;
+  // Bullet files a body as static or dynamic when it is added: remove, change, add again.
+  m.scene.dynamics().removeRigidBody(&chassis);
+  btVector3 inertia(0, 0, 0);
+  if (!held) chassis.getCollisionShape()->calculateLocalInertia(m.config.chassis_mass_kg, inertia);
+  chassis.setMassProps(held ? 0.0 : m.config.chassis_mass_kg, inertia);
+  chassis.updateInertiaTensor();
+  chassis.setLinearVelocity(btVector3(0, 0, 0));
+  chassis.setAngularVelocity(btVector3(0, 0, 0));
+  m.scene.dynamics().addRigidBody(&chassis, kRobotGroup, m.chassis_mask);
+  chassis.forceActivationState(DISABLE_DEACTIVATION);
+  // The body stops (or starts) at once: what is left of the wheels' motion is their spin.
+  const btVector3 axle = chassis.getWorldTransform().getBasis().getColumn(1);
+  for (Body* b : {&m.wheel_left, &m.wheel_right, &m.caster_front, &m.caster_back}) {
+    if (!b->body) continue;
+    const bool wheel = b == &m.wheel_left || b == &m.wheel_right;
+    b->body->setLinearVelocity(btVector3(0, 0, 0));
+    b->body->setAngularVelocity(wheel ? axle * b->body->getAngularVelocity().dot(axle)
+                                      : btVector3(0, 0, 0));
+  }
+}
+
+bool Robot::held() const {
+  return impl_->held;
 }
 
 void Robot::update() {

@@ -48,6 +48,12 @@ class Robot {
   /// Friction coefficient of each tyre from the next step on (Bullet multiplies it by the
   /// floor's): how a low-friction floor patch acts on the wheel above it.
   void setWheelFriction(double left, double right);
+  /// Holds the body still (a lifted robot, or one pinned against an obstacle) or lets it go: held,
+  /// the chassis is a static body and the robot's bodies lose every velocity but the wheels'
+  /// spin, so the wheels turn at their motor targets, skidding on the floor under their own
+  /// weight, while the base stays where it is. Let go, it is a dynamic body again, at rest.
+  void setHeld(bool held);
+  bool held() const;
   /// Call after every Scene::step: reads the chassis pose and unwraps the wheel angles.
   void update();
   SE2 T_world_base() const;        // base frame: between the wheel contact points, x forward

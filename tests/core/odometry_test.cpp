@@ -5,6 +5,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/error.hpp"
+#include "core/gyro_odometry.hpp"
+
 namespace slamprep {
 namespace {
 
@@ -46,6 +49,50 @@ TEST(Odometry, WheelIncrementStraightAndSpin) {
   const SE2 spin = wheelIncrement(g, -1.0, 1.0);
   EXPECT_NEAR(spin.x, 0.0, 1e-15);
   EXPECT_NEAR(spin.yaw, 0.2 / 0.5, 1e-15);
+}
+
+TEST(GyroOdometry, HeadingInsideTheSamplesAndCarriedOnAtTheEdgeRatesOutside) {
+  // Rate 0.5 + 0.2 t at 200 Hz from t = 1: the trapezoids are exact for it at the samples.
+  ImuLog imu;
+  for (int k = 0; k <= 200; ++k) {
+    const double t = 1.0 + 0.005 * k;
+    imu.push_back({t, 0.5 + 0.2 * t, 0.0, 0.0});
+  }
+  const auto integral = [](double t) { return 0.5 * t + 0.1 * t * t - 0.6; };  // from t = 1
+  const HeadingSeries heading = gyroHeading(imu);
+  for (const double t : {1.0, 1.335, 2.0})
+    EXPECT_NEAR(gyroHeadingAt(heading, imu, t), integral(t), 1e-12) << t;
+  // Between samples: linear, the interval's mean rate.
+  EXPECT_NEAR(gyroHeadingAt(heading, imu, 1.0025), 0.5 * integral(1.005), 1e-12);
+  EXPECT_NEAR(gyroHeadingAt(heading, imu, 0.9), -0.1 * 0.7, 1e-15);  // before: 0.7 rad/s
+  EXPECT_NEAR(gyroHeadingAt(heading, imu, 2.5), integral(2.0) + 0.5 * 0.9, 1e-12);  // after
+  EXPECT_THROW(integrateEncodersGyroHeading({{0.0, 0, 0}}, {}, {0.1, 0.1, 0.5}, 4096), InputError);
+}
+
+TEST(GyroOdometry, HeadingFromTheGyroTranslationFromTheWheels) {
+  // Both wheels turn alike (the wheels see no turn); the gyro turns at 0.4 rad/s.
+  const DiffDriveParams g{0.1, 0.1, 0.5};
+  const int ticks = 4096;
+  ImuLog imu;
+  for (int k = 0; k <= 400; ++k) imu.push_back({0.005 * k, 0.4, 0.0, 0.0});
+  EncoderLog encoders;
+  for (int k = 0; k <= 100; ++k) encoders.push_back({0.01 * k + 0.002, 7 * k, 7 * k});
+  const SE2 start(1.0, 2.0, 0.3);
+  const PoseSeries odom = integrateEncodersGyroHeading(encoders, imu, g, ticks, start);
+  ASSERT_EQ(odom.size(), encoders.size());
+  const double step_m = 0.1 * 7 * radiansPerTick(ticks);
+  for (std::size_t k = 1; k < odom.size(); ++k) {
+    EXPECT_NEAR(odom[k].value.yaw, 0.3 + 0.4 * 0.01 * k, 1e-12);
+    const Eigen::Vector3d xi = between(odom[k - 1].value, odom[k].value).log();
+    EXPECT_NEAR(xi.x(), step_m, 1e-15);  // the wheels' distance, along an arc
+    EXPECT_NEAR(xi.y(), 0.0, 1e-15);
+  }
+  // Wheel odometry says straight; this one turns: a circle of radius v / w.
+  EXPECT_NEAR(integrateEncoders(encoders, g, ticks, start).samples().back().value.yaw, 0.3, 1e-15);
+  const double radius = step_m / 0.01 / 0.4;
+  const Eigen::Vector2d centre =
+      start.translation() + radius * Eigen::Vector2d(-std::sin(0.3), std::cos(0.3));
+  EXPECT_NEAR((odom.samples().back().value.translation() - centre).norm(), radius, 1e-12);
 }
 
 }  // namespace

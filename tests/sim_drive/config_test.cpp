@@ -84,13 +84,17 @@ TEST(SimConfig, JsonRoundTripsEveryKey) {
   applyOverride(c, "mode=kinematic");
   applyOverride(c, "faults.enable=clock_offset");  // the fault keys are written only with one on
   applyOverride(c, "start_jitter.yaw_deg=30");     // and the start_jitter keys only when it is on
+  applyOverride(c, "odometry.heading_from=gyro");  // and the odometry key only when it is gyro
   const nlohmann::json json = toJson(c);
   EXPECT_EQ(json["lidar"]["mount"]["yaw_rad"], -0.25);
+  EXPECT_EQ(json["odometry"]["heading_from"], "gyro");
   EXPECT_EQ(json.flatten().size(), configKeys().size());
   const SimConfig back = configFromJson(json, "dataset.json: config");
   EXPECT_EQ(toJson(back), json);
   EXPECT_EQ(back.mode, SimMode::kinematic);
   EXPECT_EQ(back.seed, 77u);
+  EXPECT_EQ(back.odometry.heading_from, OdometryHeading::gyro);
+  EXPECT_THROW(applyOverride(c, "odometry.heading_from=compass"), InputError);
 }
 
 TEST(SimConfig, JsonRejectsUnknownKeysAndWrongTypes) {

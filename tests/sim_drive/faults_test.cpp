@@ -1,5 +1,6 @@
 // The fault models (docs/faults.md): statistics against their parameters, determinism, stream
-// independence, faults off leaving the output untouched, glass and floor patches.
+// independence, faults off leaving the output untouched, glass and floor patches, stale
+// odometry, a held robot, and odometry whose heading is the gyro's.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/heading.hpp"
 #include "core/odometry.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "sim/drive/fault_injection.hpp"
@@ -76,9 +78,12 @@ TEST(Faults, OffLeavesTheConfigurationAndTheBytesAsBefore) {
   EXPECT_EQ(toJson(configFromJson(on, "test")), on);
 
   // Strengths without `enable` change nothing.
+  EXPECT_FALSE(toJson(SimConfig{}).contains("odometry"));  // the wheels' heading: as before
   SimConfig plain = longRun("none", 5.0), strong = plain;
   applyOverride(strong, "faults.clock_offset.offset_s=0.1");
   applyOverride(strong, "faults.dropped_beams.probability=0.5");
+  applyOverride(strong, "faults.stale_odometry.rate_hz=5");
+  applyOverride(strong, "faults.held_robot.rate_hz=5");
   const test::ScratchDir root("faults_off");
   eval::writeDataset(root / "a", run(plain).dataset);
   eval::writeDataset(root / "b", run(strong).dataset);
@@ -309,6 +314,225 @@ TEST(Faults, FloorPatchesMakeTheWheelsSlip) {
   EXPECT_TRUE(events[0]["entered"].get<bool>());
   // The wheels reach the strip (x = -1) after ~1 m, at 0.5 m/s: after 2 s.
   EXPECT_GT(events[0]["t_s"].get<double>(), 1.9);
+}
+
+}  // namespace
+}  // namespace slamprep::sim
+
+// ---- Stale odometry, a held robot, the gyro's heading ---------------------------------------
+
+namespace slamprep::sim {
+namespace {
+
+double yawChange(const SE2& a, const SE2& b) {
+  return std::abs(normalizeAngle(b.yaw - a.yaw));
+}
+
+TEST(Faults, StaleOdometryHoldsItsPoseThenJumpsByTheTruthsMotion) {
+  SimConfig c = longRun("stale_odometry", 40.0);
+  applyOverride(c, "faults.stale_odometry.rate_hz=0.3");
+  c.nominal = {0.0, 0.0, 0.0};  // the odometry's geometry is the truth's: it errs by ticks only
+  // One arc of constant curvature: the catch-up step's single arc is the truth's motion.
+  const Scenario arc = scenario("  - {type: arc, v_mps: 0.3, w_radps: 0.8, duration_s: 45}\n");
+  const SimResult r = simulate(c, squareRoom(3.0), arc);
+  const Dataset& d = r.dataset;
+  ASSERT_EQ(d.odom_nominal.size(), d.encoders.size());
+  SimConfig clean = c;
+  applyOverride(clean, "faults.enable=none");
+  EXPECT_EQ(d.scans.size(), simulate(clean, squareRoom(3.0), arc).dataset.scans.size());
+
+  std::size_t checked = 0;
+  for (const auto& e : d.info.faults["stale_odometry"]["events"]) {
+    const auto k0 = e["sample"].get<std::size_t>(), k1 = k0 + e["samples"].get<std::size_t>();
+    EXPECT_NEAR(e["t_to_s"].get<double>() - e["t_from_s"].get<double>(), 0.65, 0.35 + 1e-12);
+    if (!e.contains("jump_ticks") || e["t_from_s"].get<double>() < 1.0) continue;  // ramp-up
+    // The odometry repeats the last pose before the hold, bit for bit, over all of it.
+    const SE2& held = d.odom_nominal[k0 - 1].value;
+    for (std::size_t k = k0; k < k1; ++k) {
+      EXPECT_EQ(d.odom_nominal[k].value.x, held.x);
+      EXPECT_EQ(d.odom_nominal[k].value.y, held.y);
+      EXPECT_EQ(d.odom_nominal[k].value.yaw, held.yaw);
+    }
+    // ... while the truth turns at least 0.3 s x 0.8 rad/s ...
+    const SE2 truth0 = *d.groundtruth.at(d.encoders[k0 - 1].stamp_s);
+    const SE2 truth_held = *d.groundtruth.at(d.encoders[k1 - 1].stamp_s);
+    const SE2 truth1 = *d.groundtruth.at(d.encoders[k1].stamp_s);
+    EXPECT_GT(yawChange(truth0, truth_held), 0.2);
+    // ... and then jumps by the truth's motion since the hold began, up to the ticks (1 tick =
+    // 0.15 mm of wheel travel, 3e-4 rad of heading).
+    const SE2 jump = between(d.odom_nominal[k1 - 1].value, d.odom_nominal[k1].value);
+    const SE2 moved = between(truth0, truth1);
+    EXPECT_LT((jump.translation() - moved.translation()).norm(), 1e-3);
+    EXPECT_LT(yawChange(jump, moved), 1e-3);
+    const auto& ticks = e["jump_ticks"];
+    EXPECT_EQ(ticks[0].get<std::int64_t>(),
+              d.encoders[k1].ticks_left - d.encoders[k0 - 1].ticks_left);
+    ++checked;
+  }
+  EXPECT_GE(checked, 5u);  // ~11 holds in 40 s at 0.3 Hz
+}
+
+/// The held robot's signature: during every event (away from its edges) the truth and the
+/// integrated gyro stand still while the encoders integrate a turn of more than 1.5 rad.
+std::size_t expectHeldSignature(const Dataset& d, double truth_tolerance) {
+  const DiffDriveParams& g = *d.info.true_geometry;
+  const double rad_per_tick = radiansPerTick(d.info.ticks_per_revolution);
+  std::size_t checked = 0;
+  for (const auto& e : d.info.faults["held_robot"]["events"]) {
+    const double a = e["t_from_s"].get<double>() + 0.05, b = e["t_to_s"].get<double>() - 0.05;
+    if (b > d.encoders.back().stamp_s) continue;
+    const SE2 truth_a = *d.groundtruth.at(a), truth_b = *d.groundtruth.at(b);
+    EXPECT_LT(yawChange(truth_a, truth_b), truth_tolerance) << "held at " << a;
+    EXPECT_LT((truth_b.translation() - truth_a.translation()).norm(), truth_tolerance);
+    // bias 1 mrad/s, noise: < 4 mrad in 3 s
+    EXPECT_LT(std::abs(*turned(gyroHeading(d.imu), a, b, 0.1)), 0.01);
+    // The encoders' turn over the samples inside [a, b], with the TRUE geometry.
+    const auto inside = [&](double t) {
+      return std::lower_bound(d.encoders.begin(), d.encoders.end(), t,
+                              [](const EncoderSample& s, double v) { return s.stamp_s < v; });
+    };
+    const EncoderSample &ea = *inside(a), &eb = *(inside(b) - 1);
+    const double wheel_yaw = g.twist((eb.ticks_left - ea.ticks_left) * rad_per_tick,
+                                     (eb.ticks_right - ea.ticks_right) * rad_per_tick)
+                                 .y();
+    EXPECT_GT(std::abs(wheel_yaw), 1.5);
+    ++checked;
+  }
+  return checked;
+}
+
+SimConfig heldRun(SimMode mode, double duration_s, double rate_hz) {
+  SimConfig c = longRun("held_robot", duration_s);
+  c.mode = mode;
+  if (mode == SimMode::physics) c.physics_rate_hz = 1000.0;
+  applyOverride(c, "faults.held_robot.rate_hz=" + std::to_string(rate_hz));
+  applyOverride(c, "faults.held_robot.min_duration_s=2");
+  applyOverride(c, "faults.held_robot.max_duration_s=3");
+  return c;
+}
+
+const Scenario& longSpin() {
+  static const Scenario s = scenario("  - {type: spin, angle_deg: 2000, rate_radps: 1.0}\n");
+  return s;
+}
+
+TEST(Faults, HeldRobotsWheelsTurnWhileTheBodyAndTheGyroStandStill) {
+  const SimResult r = simulate(heldRun(SimMode::kinematic, 30.0, 0.1), squareRoom(3.0), longSpin());
+  EXPECT_GE(expectHeldSignature(r.dataset, 1e-12), 2u);  // kinematic: the body does not move
+  // Outside the events the robot turns: the truth turned the commanded angle less the holds.
+  double held_s = 0.0;
+  for (const auto& e : r.dataset.info.faults["held_robot"]["events"])
+    held_s += std::min(30.0, e["t_to_s"].get<double>()) - e["t_from_s"].get<double>();
+  EXPECT_GT(held_s, 4.0);
+  EXPECT_GT(r.summary.rotation_rad, 30.0 - held_s - 2.0);
+  EXPECT_LT(r.summary.rotation_rad, 1.0377 * (30.0 - held_s) + 0.1);
+}
+
+TEST(Faults, HeldRobotInThePhysicsSkidsItsWheelsUnderAStillChassis) {
+  const SimResult r = simulate(heldRun(SimMode::physics, 14.0, 0.3), squareRoom(3.0), longSpin());
+  EXPECT_GE(expectHeldSignature(r.dataset, 1e-3), 1u);
+  // Let go, the robot turns again.
+  const auto& events = r.dataset.info.faults["held_robot"]["events"];
+  ASSERT_FALSE(events.empty());
+  const double after = events[0]["t_to_s"].get<double>() + 0.5;
+  if (after + 1.0 < 14.0) {
+    EXPECT_GT(yawChange(*r.dataset.groundtruth.at(after), *r.dataset.groundtruth.at(after + 1.0)),
+              0.5);
+  }
+}
+
+TEST(Faults, HeldWindowsStopTheKinematicBody) {
+  SimConfig c = heldRun(SimMode::kinematic, 30.0, 0.1);
+  const HeldSchedule held(c.faults, c.seed, 30.0);
+  ASSERT_FALSE(held.windows().empty());
+  const Controller controller(longSpin().profile, c.nominalGeometry());
+  const TimeWindow w = held.windows().front();
+  const DiffDriveParams& g = c.robot.geometry;
+  // Inside a window: no motion; across its start: the arc of the part before it.
+  const SE2 none = held.bodyIncrement(controller, g, w.from_s + 0.1, w.from_s + 0.2);
+  EXPECT_EQ(none.yaw, 0.0);
+  EXPECT_EQ(none.x, 0.0);
+  const Eigen::Vector2d dphi = controller.wheelAngleIncrement(w.from_s - 0.05, w.from_s);
+  EXPECT_NEAR(held.bodyIncrement(controller, g, w.from_s - 0.05, w.from_s + 0.05).yaw,
+              wheelIncrement(g, dphi.x(), dphi.y()).yaw, 1e-15);
+  EXPECT_FALSE(held.heldAt(w.from_s - 1e-9));
+  EXPECT_TRUE(held.heldAt(w.from_s));
+  EXPECT_FALSE(held.heldAt(w.to_s));
+}
+
+TEST(OdometryHeading, GyroHeadingIsTheIntegratedGyroAndTheWheelsTranslation) {
+  const Scenario drive = scenario(
+      "  - {type: spin, angle_deg: 360}\n"
+      "  - {type: arc, v_mps: 0.3, w_radps: 0.5, duration_s: 10}\n");
+  SimConfig c = longRun("none", 17.0);
+  const SimResult by_wheels = simulate(c, squareRoom(3.0), drive);
+  applyOverride(c, "odometry.heading_from=gyro");
+  const SimResult by_gyro = simulate(c, squareRoom(3.0), drive);
+  const Dataset& d = by_gyro.dataset;
+  EXPECT_EQ(d.info.config.value("odometry_heading", ""), "gyro");
+  EXPECT_FALSE(by_wheels.dataset.info.config.contains("odometry_heading"));
+  // encoders.csv stays the wheels' ticks.
+  ASSERT_EQ(d.encoders.size(), by_wheels.dataset.encoders.size());
+  for (std::size_t k = 0; k < d.encoders.size(); ++k) {
+    ASSERT_EQ(d.encoders[k].ticks_left, by_wheels.dataset.encoders[k].ticks_left);
+    ASSERT_EQ(d.encoders[k].ticks_right, by_wheels.dataset.encoders[k].ticks_right);
+  }
+  ASSERT_EQ(d.odom_nominal.size(), d.encoders.size());
+  // Heading: the gyro's trapezoids summed from the first encoder stamp, to rounding (every
+  // encoder stamp k / 100 is the IMU stamp 2k / 200).
+  const DiffDriveParams& nominal = d.info.nominal_geometry;
+  const double rad_per_tick = radiansPerTick(d.info.ticks_per_revolution);
+  double worst_yaw = 0.0, worst_distance = 0.0, gyro_yaw = 0.0;
+  std::size_t j = 0;  // IMU sample at the encoder stamp
+  for (std::size_t k = 1; k < d.encoders.size(); ++k) {
+    for (; d.imu[j].stamp_s < d.encoders[k].stamp_s; ++j)
+      gyro_yaw += 0.5 * (d.imu[j].gyro_z_radps + d.imu[j + 1].gyro_z_radps) *
+                  (d.imu[j + 1].stamp_s - d.imu[j].stamp_s);
+    ASSERT_EQ(d.imu[j].stamp_s, d.encoders[k].stamp_s);
+    worst_yaw = std::max(worst_yaw, yawChange(SE2(0, 0, gyro_yaw), d.odom_nominal[k].value));
+    // Translation: the wheels' distance of the step along an arc, nothing sideways.
+    const auto &a = d.encoders[k - 1], &b = d.encoders[k];
+    const double s = nominal
+                         .twist((b.ticks_left - a.ticks_left) * rad_per_tick,
+                                (b.ticks_right - a.ticks_right) * rad_per_tick)
+                         .x();
+    const Eigen::Vector3d step =
+        between(d.odom_nominal[k - 1].value, d.odom_nominal[k].value).log();
+    worst_distance = std::max({worst_distance, std::abs(step.x() - s), std::abs(step.y())});
+  }
+  EXPECT_LT(worst_yaw, 1e-9);
+  EXPECT_LT(worst_distance, 1e-12);
+  // With the wheel base 4 % too long, the wheels' heading is 13.6 deg short per commanded turn
+  // and the arc's; the gyro's follows the truth up to its bias (1 mrad/s) and noise.
+  const SE2 truth_end = *d.groundtruth.at(d.encoders.back().stamp_s);
+  const double wheel_error =
+      yawChange(by_wheels.dataset.odom_nominal.samples().back().value, truth_end);
+  const double gyro_error = yawChange(d.odom_nominal.samples().back().value, truth_end);
+  EXPECT_GT(wheel_error, 0.2);
+  EXPECT_LT(gyro_error, 0.03);
+}
+
+TEST(Faults, StaleHeldAndGyroHeadingSameSeedSameBytesInThePhysics) {
+  auto write = [](const std::filesystem::path& dir) {
+    SimConfig c = heldRun(SimMode::physics, 8.0, 0.3);
+    applyOverride(c, "faults.enable=stale_odometry,held_robot");
+    applyOverride(c, "faults.stale_odometry.rate_hz=1");
+    applyOverride(c, "odometry.heading_from=gyro");
+    const SimResult r = simulate(c, squareRoom(3.0), longSpin());
+    EXPECT_FALSE(r.dataset.info.faults["stale_odometry"]["events"].empty());
+    EXPECT_FALSE(r.dataset.info.faults["held_robot"]["events"].empty());
+    eval::writeDataset(dir, r.dataset);
+  };
+  const test::ScratchDir root("faults_new_bytes");
+  write(root / "a");
+  write(root / "b");
+  for (const auto& entry : std::filesystem::directory_iterator(root / "a")) {
+    std::ifstream a(entry.path()), b(root / "b" / entry.path().filename());
+    std::stringstream sa, sb;
+    sa << a.rdbuf();
+    sb << b.rdbuf();
+    EXPECT_EQ(sa.str(), sb.str()) << entry.path().filename();
+  }
 }
 
 }  // namespace
