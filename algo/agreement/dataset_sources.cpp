@@ -34,10 +34,13 @@ RotationSources datasetSources(const Dataset& d, std::vector<HeadingSeries> scan
   RotationSources s;
   if (d.encoders.size() >= 2) s.wheels = wheelTrack(d);
   if (d.imu.size() >= 2) s.gyro = gyroHeading(d.imu);
-  // The odometry topic is a source of its own only where the wheels were not derived from it.
+  // The odometry topic is a source of its own only where the wheels were not derived from it:
+  // the logged topic beside joint states, or a dataset odometry whose heading is the gyro's.
+  const bool gyro_headed =
+      d.info.config.is_object() && d.info.config.value("odometry_heading", "") == "gyro";
   if (!d.odometry_logged.empty() && (!s.wheels || s.wheels->from != "odometry_poses"))
     s.odometry = poseHeading(d.odometry_logged);
-  else if (!s.wheels && d.odom_nominal.size() >= 2)
+  else if ((!s.wheels || gyro_headed) && d.odom_nominal.size() >= 2)
     s.odometry = poseHeading(d.odom_nominal);
   s.scans = std::move(scan_pieces);
   return s;

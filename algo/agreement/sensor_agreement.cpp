@@ -165,9 +165,12 @@ std::string likelyCause(const Source& a, const Source& b, double predicted_b, do
     return told + (b.name == "scans" || a.name == "scans"
                        ? "a failed scan match, or the other sensor's fault"
                        : "one of the two is wrong here (a gyro fault, or an odometry glitch)");
-  const bool still = std::abs(turn_b) < 0.25 * std::abs(predicted_b);
+  // A hold of a few seconds fills only part of a 5 s window: the robot turning less than half
+  // of what its wheels say is a hold, not the few-percent shortfall of slip.
+  const bool held = std::abs(turn_b) < 0.5 * std::abs(predicted_b);
   const bool opposite = turn_b * predicted_b < 0.0;
-  if (still || opposite) return told + "the robot was lifted or blocked while its wheels turned";
+  if (held || opposite)
+    return told + "the robot was lifted or blocked while its wheels turned (or they slipped badly)";
   if (std::abs(turn_b) > std::abs(predicted_b))
     return told + "the robot turned more than its wheels: pushed, or a wheel spun freely";
   return told + "the wheels turned more than the robot: wheel slip";
