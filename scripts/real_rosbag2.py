@@ -1,0 +1,163 @@
+#!/usr/bin/env python3
+"""Real ROS 2 recordings through slamprep (results/real/README.md, "Real ROS 2 recordings").
+
+    python3 scripts/real_rosbag2.py LIST DATA_DIR OUT_DIR [SLAMPREP]
+
+LIST (results/real/rosbag2_recordings.tsv) names each bag folder under DATA_DIR, its robot, its
+nominal geometry and import flags. For every recording: import --format rosbag2, then match with
+the scans as measured and with each de-skew method (residual of the accepted matches, all scans
+and the turning ones: |yaw rate| > 0.3 rad/s from the odometry). For every robot: calibrate all its
+recordings together with the protocol's settings (CALIBRATE_FLAGS), with a held-out validation.
+Prints the tables of the README. The bags are not in the repository (their sources are in LIST).
+"""
+import json
+import math
+import os
+import subprocess
+import sys
+
+DESKEW = ["none", "const-velocity", "odom-linear", "odom-quadratic", "vicp", "odom-icp"]
+CALIBRATE_FLAGS = ["--method", "joint", "--motion", "map", "--keyframe-cm", "20",
+                   "--validate-fraction", "0.3"]
+TURNING_RADPS = 0.3
+
+
+def run(cmd):
+    return subprocess.run(cmd, capture_output=True, text=True)
+
+
+def recordings(path):
+    for line in open(path):
+        if line.startswith("#") or not line.strip():
+            continue
+        name, robot, rel, source, nominal, flags = line.rstrip("\n").split("\t")
+        yield dict(name=name, robot=robot, rel=rel, source=source, nominal=nominal,
+                   flags=flags.split())
+
+
+def yaw_rate(odometry):
+    """Yaw rate (rad/s) between consecutive odometry samples, by the later stamp."""
+    rows = [list(map(float, l.split())) for l in open(odometry) if not l.startswith("#")]
+    out = []
+    for a, b in zip(rows, rows[1:]):
+        ya, yb = 2 * math.atan2(a[6], a[7]), 2 * math.atan2(b[6], b[7])
+        d = (yb - ya + math.pi) % (2 * math.pi) - math.pi
+        out.append((b[0], d / (b[0] - a[0])))
+    return out
+
+
+def rate_at(rates, t):
+    lo, hi = 0, len(rates) - 1
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if rates[mid][0] < t:
+            lo = mid + 1
+        else:
+            hi = mid
+    return rates[lo][1] if rates else 0.0
+
+
+def median(v):
+    v = sorted(v)
+    return v[len(v) // 2] if v else float("nan")
+
+
+def match_all(bin_, dataset, out, rates):
+    row = {}
+    for method in DESKEW:
+        lines, summary = f"{out}.{method}.jsonl", f"{out}.{method}.json"
+        r = run([bin_, "match", dataset, "--deskew", method, "--out", lines, "--json", summary,
+                 "--force", "-q"])
+        if r.returncode not in (0, 3):
+            row[method] = None
+            continue
+        scans = [json.loads(l) for l in open(lines)]
+        ok = [s for s in scans if not s["fallback"]]
+        turning = [s["rms_m"] for s in ok if abs(rate_at(rates, s["stamp_cur"])) > TURNING_RADPS]
+        row[method] = dict(all=median([s["rms_m"] for s in ok]), turning=median(turning),
+                           n_turning=len(turning), summary=json.load(open(summary)))
+    return row
+
+
+def main():
+    if len(sys.argv) < 4:
+        sys.exit(__doc__)
+    listing, data, out = sys.argv[1:4]
+    bin_ = sys.argv[4] if len(sys.argv) > 4 else "build/slamprep"
+    os.makedirs(out, exist_ok=True)
+    by_robot, rows = {}, []
+    for rec in recordings(listing):
+        dataset = os.path.join(out, rec["name"])
+        r = run([bin_, "import", "--format", "rosbag2", os.path.join(data, rec["rel"]), "--out",
+                 dataset, "--force", "--nominal", rec["nominal"], "--json", dataset + ".import.json",
+                 *rec["flags"]])
+        if r.returncode != 0:
+            rows.append((rec, None, r.stderr.strip().splitlines()[-1]))
+            continue
+        rates = yaw_rate(os.path.join(dataset, "odom_nominal.tum"))
+        rows.append((rec, match_all(bin_, dataset, dataset, rates), ""))
+        by_robot.setdefault((rec["robot"], rec["nominal"]), []).append(dataset)
+    print_recordings(rows)
+    for (robot, nominal), datasets in by_robot.items():
+        calibrate(bin_, robot, nominal, datasets, out)
+
+
+def print_recordings(rows):
+    print("| recording | scans | converged | wheels vs scans: lag s, scale | residual median [mm], "
+          "all / turning (n): " + ", ".join(DESKEW) + " |")
+    print("|---|---|---|---|---|")
+    for rec, row, error in rows:
+        if row is None:
+            print(f"| {rec['name']} | import refused: {error} | | | |")
+            continue
+        s = row["none"]["summary"]
+        pair = next((p for p in s["sensor_agreement"]["pairs"] if p["b"] == "scans"), None)
+        agreement = f"{pair['lag_s']:.2f}, {pair['scale']:.3f}" if pair else "-"
+        cells = []
+        for m in DESKEW:
+            x = row[m]
+            cells.append("-" if x is None else
+                         f"{1e3 * x['all']:.1f} / {1e3 * x['turning']:.1f} ({x['n_turning']})")
+        print(f"| {rec['name']} | {s['scans']} | {s['converged_percent']:.1f} % | {agreement} | "
+              + " ; ".join(cells) + " |")
+
+
+def calibrate(bin_, robot, nominal, datasets, out):
+    result = os.path.join(out, robot + ".calibration.json")
+    r = run([bin_, "calibrate", *datasets, *CALIBRATE_FLAGS, "--nominal", nominal, "--json",
+             result, "--force", "-q"])
+    print(f"\n### {robot}: {len(datasets)} recordings, calibrate {' '.join(CALIBRATE_FLAGS)} "
+          f"(exit {r.returncode})\n")
+    if r.returncode not in (0, 3):
+        print(r.stderr)
+        return
+    j = json.load(open(result))
+    if "recordings" not in j:  # one recording: the list
+        j = {"recordings": [{"dataset": datasets[0], "methods": j}], "combined": j,
+             "consistency": {}}
+    print("| recording | r_L mm | r_R mm | b mm | lidar x, y mm, yaw deg | held-out raw m / deg | "
+          "calibrated m / deg |")
+    print("|---|---|---|---|---|---|---|")
+    for rec in j["recordings"] + [{"dataset": "combined", "methods": j["combined"]}]:
+        m = rec["methods"][0]
+        name = os.path.basename(rec["dataset"])
+        if not m["ok"]:
+            print(f"| {name} | refused: {m['reason'][:90]} | | | | | |")
+            continue
+        v = m.get("validation")
+        raw = f"{v['raw']['trans_m']:.3f} / {v['raw']['rot_deg']:.2f}" if v else "-"
+        cal = f"{v['calibrated']['trans_m']:.3f} / {v['calibrated']['rot_deg']:.2f}" if v else "-"
+        sig = m["sigma"]
+        print(f"| {name} | {1e3 * m['r_L']:.1f} ± {1e3 * sig['r_L']:.1f} | "
+              f"{1e3 * m['r_R']:.1f} ± {1e3 * sig['r_R']:.1f} | "
+              f"{1e3 * m['b']:.1f} ± {1e3 * sig['b']:.1f} | "
+              f"{1e3 * m['lidar_x']:.0f}, {1e3 * m['lidar_y']:.0f}, "
+              f"{math.degrees(m['lidar_yaw']):.1f} | {raw} | {cal} |")
+    for method, params in j.get("consistency", {}).items():
+        print(f"\nchi2/dof over the recordings ({method}): " + ", ".join(
+            f"{k} {v['chi2_dof']:.2f} (n {v['n']})" for k, v in params.items()
+            if v["chi2_dof"] is not None))
+
+
+if __name__ == "__main__":
+    main()
