@@ -30,6 +30,9 @@ void writeFileAtomic(const std::filesystem::path& file, const std::string& text)
 }
 
 std::string readFile(const std::filesystem::path& file) {
+  std::error_code ec;  // a device or FIFO (/dev/zero) would be read forever
+  if (std::filesystem::exists(file, ec) && !std::filesystem::is_regular_file(file, ec))
+    throw InputError(file.string(), "not a regular file");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string(), "cannot open file");
   std::ostringstream buffer;

@@ -10,7 +10,8 @@ namespace slamprep {
 /// Throws InputError naming the file when it cannot be written.
 void writeFileAtomic(const std::filesystem::path& file, const std::string& text);
 
-/// Reads a whole file; throws InputError naming the file when it cannot be read.
+/// Reads a whole file; throws InputError naming the file when it cannot be read or is not a
+/// regular file.
 std::string readFile(const std::filesystem::path& file);
 
 }  // namespace slamprep

@@ -12,6 +12,7 @@
 
 #include "core/dataset.hpp"
 #include "core/error.hpp"
+#include "core/input_file.hpp"
 #include "eval/formats/csv_logs.hpp"
 #include "eval/formats/dataset_json.hpp"
 #include "eval/formats/scan_jsonl.hpp"
@@ -204,7 +205,8 @@ Dataset readDataset(const std::filesystem::path& dir) {
   auto text = [&](const char* file) { return readTextFile(dir / file); };
   auto name = [&](const char* file) { return (dir / file).string(); };
   Dataset d;
-  d.info = parseDatasetInfo(text(kDatasetJson), name(kDatasetJson));
+  d.info = parseDatasetInfo(readInputFile(dir / kDatasetJson, kDatasetJson, kMaxConfigFileBytes),
+                            name(kDatasetJson));
   d.groundtruth = parseTum(text(kGroundTruthTum), name(kGroundTruthTum));
   d.odom_nominal = parseTum(text(kOdomNominalTum), name(kOdomNominalTum));
   if (std::filesystem::exists(dir / kOdometryLoggedTum, ec))
