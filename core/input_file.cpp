@@ -27,8 +27,9 @@ std::string kindOf(fs::file_type type) {
 }
 
 std::string sizeText(std::uintmax_t bytes) {
-  return bytes >= (1u << 20) ? std::to_string(bytes >> 20) + " MiB"
-                             : std::to_string(bytes >> 10) + " KiB";
+  if (bytes >= (1u << 20) && bytes % (1u << 20) == 0) return std::to_string(bytes >> 20) + " MiB";
+  if (bytes >= 1024 && bytes % 1024 == 0) return std::to_string(bytes >> 10) + " KiB";
+  return std::to_string(bytes) + " bytes";
 }
 
 }  // namespace

@@ -63,7 +63,8 @@ struct Regression {
 void checkSummaryShape(const nlohmann::json& summary, const std::string& file);
 
 /// The --compare baseline, read and checked before any trial runs: a JSON object whose "metrics"
-/// maps names to objects with a numeric "mean". Throws InputError naming the file and field.
+/// (if present) maps names to objects with a numeric "mean". Throws InputError naming the file
+/// and field.
 nlohmann::json loadBaseline(const std::filesystem::path& file);
 
 /// Compares the `mean` of each toleranced metric in its worse direction.
