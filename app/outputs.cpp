@@ -83,24 +83,19 @@ OutputGuard& OutputGuard::directory(const fs::path& dir, const std::string& opti
 
 void OutputGuard::checkRelations(const Output& out, std::size_t index) const {
   const std::string where = quoted(out.option, out.path);
+  const std::string choose = ": choose another " + out.option;
   for (const Named& in : inputs_) {
     const std::string input = "the input " + quoted(in.option, in.path);
     switch (relation(out.path, in.path)) {
       case Relation::kSame:
-        throw InputError(where, "is " + input +
-                                    "; a command never replaces its input, even "
-                                    "with --force: choose another " +
-                                    out.option);
+        throw InputError(where, "is " + input + "; a command never replaces its input, even with " +
+                                    "--force" + choose);
       case Relation::kInside:
-        throw InputError(where, "is inside " + input +
-                                    "; a command never writes into its "
-                                    "input: choose another " +
-                                    out.option);
+        throw InputError(where,
+                         "is inside " + input + "; a command never writes into its input" + choose);
       case Relation::kContains:
-        throw InputError(where, "contains " + input +
-                                    "; replacing it would delete that "
-                                    "input: choose another " +
-                                    out.option);
+        throw InputError(where,
+                         "contains " + input + "; replacing it would delete that input" + choose);
       case Relation::kApart:
         break;
     }
