@@ -13,6 +13,7 @@
 #include "app/exit_codes.hpp"
 #include "app/version.hpp"
 #include "core/error.hpp"
+#include "core/partial_cleanup.hpp"
 
 namespace {
 
@@ -78,6 +79,7 @@ bool unknownCommand(const CLI::App& app, int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  slamprep::removePartialsOnSignal();  // Ctrl-C leaves no <out>.partial-<pid> behind
   CLI::App app{
       "slamprep: simulate a differential-drive robot with a rotating lidar in Bullet, then measure "
       "how well odometry calibration and lidar de-skew recover the truth."};
