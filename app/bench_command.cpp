@@ -138,6 +138,8 @@ Command addBenchCommand(CLI::App& app) {
       "Every trial simulates, matches, calibrates, de-skews and measures against the truth;\n"
       "results/<suite>/ gets README.md, summary.json, trials.csv and plots/ (docs/results.md).\n"
       "The results folder is bench's own: an interrupted run resumes in it, --fresh recomputes.\n"
+      "bench writes only into a results folder it created (it holds .slamprep-results): an\n"
+      "existing folder without that marker is refused (exit 2) and left as it is.\n"
       "Exit 3 when a trial failed, a shard or the merge is incomplete, a metric regressed\n"
       "beyond its tolerance (--compare) or a Slurm job failed (--wait).");
   cli->add_option("--suite", flags->options.suite,
@@ -189,7 +191,8 @@ Command addMergeCommand(CLI::App& app) {
   auto* cli = app.add_subcommand("merge", "Combine the --shard runs of a suite into its results.");
   cli->footer(
       "Reads results/<suite>/shards/*/ and writes the results folder, byte-identical to a\n"
-      "single-machine run. Exit 3 while trials are missing.");
+      "single-machine run. Exit 3 while trials are missing. RESULTS_DIR must be a folder bench\n"
+      "created (with .slamprep-results); any other is refused (exit 2).");
   cli->add_option("RESULTS_DIR", *dir, "The suite's results folder, e.g. results/default")
       ->required();
   cli->add_flag_callback(
@@ -212,7 +215,8 @@ Command addPlotCommand(CLI::App& app) {
   cli->footer(
       "Renders off-screen (OSMesa) into RESULTS_DIR/plots/ and rewrites its README.md around\n"
       "them; `bench` and `merge` call this themselves. Without trials/ (git ignores it) the\n"
-      "first trial's figures cannot be redrawn: their PNGs are kept as they were.");
+      "first trial's figures cannot be redrawn: their PNGs are kept as they were. RESULTS_DIR\n"
+      "must be a folder bench created (with .slamprep-results); any other is refused (exit 2).");
   cli->add_option("RESULTS_DIR", *dir,
                   "A finished results folder with suite.yaml and summary.json, e.g. "
                   "results/default")

@@ -113,18 +113,27 @@ void checkSeveral(const CalibrateFlags& flags) {
                        "once per recording)");
 }
 
+// Every output against every input (DATASETs, --square runs, --tuples) and each other.
+void checkOutputs(const CalibrateFlags& flags) {
+  OutputGuard guard(flags.force);
+  for (const std::string& dir : flags.datasets) guard.input(dir, "DATASET");
+  for (const std::string& dir : flags.squares) guard.input(dir, "--square");
+  guard.input(flags.tuples_in, "--tuples");
+  for (const auto& [file, option] : {std::pair{flags.json_out, "--json"},
+                                     {flags.intervals_out, "--intervals"},
+                                     {flags.odometry_out, "--odometry-out"},
+                                     {flags.ros2_out, "--ros2-params"}})
+    if (!file.empty()) guard.file(file, option);
+  guard.check();
+}
+
 void checkPaths(const CalibrateFlags& flags) {
   const bool dataset = !flags.datasets.empty();
   for (const std::string& dir : flags.datasets) checkInputDataset(dir, "DATASET");
   if (flags.datasets.size() > 1) checkSeveral(flags);
   if (!flags.tuples_in.empty()) checkInputFile(flags.tuples_in, "--tuples");
   for (const std::string& dir : flags.squares) checkInputDataset(dir, "--square");
-  if (!flags.json_out.empty()) checkOutputFile(flags.json_out, "--json", flags.force);
-  if (!flags.intervals_out.empty())
-    checkOutputFile(flags.intervals_out, "--intervals", flags.force);
-  if (!flags.odometry_out.empty())
-    checkOutputFile(flags.odometry_out, "--odometry-out", flags.force);
-  if (!flags.ros2_out.empty()) checkOutputFile(flags.ros2_out, "--ros2-params", flags.force);
+  checkOutputs(flags);
   if ((!flags.odometry_out.empty() || !flags.ros2_out.empty()) && !dataset)
     throw InputError("--odometry-out/--ros2-params", "need DATASET (its encoders and mount)");
   if (flags.loop_closure && (flags.motion != "icp" || !flags.tuples_in.empty()))
@@ -136,10 +145,6 @@ void checkPaths(const CalibrateFlags& flags) {
     throw InputError("--validate-fraction",
                      "needs 0 < F < 1 and DATASET's scans (not --tuples): the last F of each "
                      "recording's scans are held out");
-  for (const std::string& out :
-       {flags.json_out, flags.intervals_out, flags.odometry_out, flags.ros2_out})
-    for (const std::string& dir : flags.datasets)
-      if (!out.empty()) checkNotInside(out, dir, "output");
   eval::checkSameNominal(flags.datasets, nominalOf(flags));
 }
 
@@ -346,21 +351,25 @@ Command addCalibrateCommand(CLI::App& app) {
                 "the scans' stamps mark their last beam, not their first");
   cli->add_option("--intervals", flags->intervals_out,
                   "write the intervals used as Censi records (JSON lines) to FILE; one DATASET "
-                  "only");
+                  "only")
+      ->check(outputPath());
   cli->add_option("--tuples", flags->tuples_in,
                   "run on Censi interval records instead (JSON objects, one or several per "
                   "line); one DATASET at most");
   cli->add_option("--json", flags->json_out,
                   "write one object per method to FILE (what deskew and export read with "
                   "--calibration); with several DATASETs an object of recordings, combined "
-                  "methods and consistency (those read its combined methods)");
+                  "methods and consistency (those read its combined methods)")
+      ->check(outputPath());
   cli->add_option("--odometry-out", flags->odometry_out,
                   "write the odometry re-integrated with the best result's geometry to FILE "
-                  "(TUM; score it with `slamprep score relations`); one DATASET only");
+                  "(TUM; score it with `slamprep score relations`); one DATASET only")
+      ->check(outputPath());
   cli->add_option("--ros2-params", flags->ros2_out,
                   "write the best result (several DATASETs: the best combined one) as "
                   "ros2_control diff_drive_controller parameters and the base_link -> laser "
-                  "static transform to FILE (ROS 2 parameter YAML)");
+                  "static transform to FILE (ROS 2 parameter YAML)")
+      ->check(outputPath());
   cli->add_option("--nominal", flags->nominal,
                   "r_L,r_R,b in metres: the geometry the odometry uses (default: dataset.json's); "
                   "a log without encoder ticks gets its wheel increments derived from its "

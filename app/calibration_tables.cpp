@@ -162,7 +162,9 @@ void printFlags(const std::vector<algo::MethodReport>& methods, const std::strin
     for (const algo::NominalFlag& f : m.flags)
       std::cout << "FLAG " << label << algo::calibrationMethodName(m.run.method) << ": " << f.param
                 << " = " << std::fixed << std::setprecision(3) << f.ratio
-                << " x nominal (more than 15 % off): likely cause: " << f.likely_cause << "\n"
+                << (f.param == "b_vs_gyro" ? " (b over the gyro's b): "
+                                           : " x nominal (more than 15 % off): likely cause: ")
+                << f.likely_cause << "\n"
                 << std::defaultfloat;
 }
 

@@ -105,14 +105,11 @@ DeskewFlags checkFlags(DeskewFlags flags) {
     std::cerr << "deskew: note: --no-write is deprecated: nothing is written without --out\n";
     flags.out.clear();
   }
-  if (!flags.out.empty()) {
-    checkNotInside(flags.out, flags.dataset, "--out");
-    checkOutputDataset(flags.out, "--out", flags.force);
-  }
-  if (!flags.json_out.empty()) {
-    checkNotInside(flags.json_out, flags.dataset, "--json");
-    checkOutputFile(flags.json_out, "--json", flags.force);
-  }
+  OutputGuard guard(flags.force);
+  guard.input(flags.dataset, "DATASET").input(flags.calibration, "--calibration");
+  if (!flags.out.empty()) guard.dataset(flags.out, "--out");
+  if (!flags.json_out.empty()) guard.file(flags.json_out, "--json");
+  guard.check();
   return flags;
 }
 
@@ -365,8 +362,10 @@ Command addDeskewCommand(CLI::App& app) {
                   "--json` FILE");
   cli->add_option("--out", flags->out,
                   "write a copy of the dataset plus deskewed_<method>.jsonl into this new "
-                  "directory (without it nothing is written)");
-  cli->add_option("--json", flags->json_out, "write one object per method to FILE");
+                  "directory (without it nothing is written)")
+      ->check(outputPath());
+  cli->add_option("--json", flags->json_out, "write one object per method to FILE")
+      ->check(outputPath());
   cli->add_flag("--force", flags->force,
                 "replace an existing --out or --json; the old one stays until the new is "
                 "complete");

@@ -2,6 +2,7 @@
 // laser_data JSON (docs/export.md).
 #include <filesystem>
 #include <iostream>
+#include <set>
 
 #include "algo/calibration/calibration_json.hpp"
 #include "algo/deskew/deskew.hpp"
@@ -30,26 +31,32 @@ bool isDirectoryFormat(eval::ExportFormat format) {
   return format == eval::ExportFormat::kTum || format == eval::ExportFormat::kKitti;
 }
 
-// What --force may replace for tum and kitti: a folder an earlier export wrote (or an empty one).
+// The files an export into a folder writes (eval::exportDataset): --force replaces a folder that
+// holds nothing else (or nothing), never one with a file of the user's beside them.
 bool isTrajectoryFolder(const fs::path& dir) {
+  static const std::set<std::string> written = {
+      "groundtruth.tum", "odom_nominal.tum", "odom_calibrated.tum",
+      "groundtruth.txt", "odom_nominal.txt", "odom_calibrated.txt",
+      "times.txt"};
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    const fs::path& file = entry.path();
-    if (!entry.is_regular_file(ec) || (file.extension() != ".tum" && file.extension() != ".txt"))
+  for (const auto& entry : fs::directory_iterator(dir, ec))
+    if (!entry.is_regular_file(ec) || !written.contains(entry.path().filename().string()))
       return false;
-  }
   return !ec;
 }
 
 void checkPaths(const ExportFlags& flags, eval::ExportFormat format) {
   checkInputDataset(flags.dataset, "DATASET");
   if (!flags.calibration.empty()) checkInputFile(flags.calibration, "--calibration");
-  checkNotInside(flags.out, flags.dataset, "--out");
+  OutputGuard guard(flags.force);
+  guard.input(flags.dataset, "DATASET").input(flags.calibration, "--calibration");
   if (isDirectoryFormat(format))
-    checkOutputDirectory(flags.out, "--out", flags.force, isTrajectoryFolder,
-                         "a trajectories folder (only *.tum and *.txt files)");
+    guard.directory(flags.out, "--out", isTrajectoryFolder,
+                    "a trajectories folder an export wrote (only groundtruth, odom_nominal, "
+                    "odom_calibrated .tum/.txt and times.txt)");
   else
-    checkOutputFile(flags.out, "--out", flags.force);
+    guard.file(flags.out, "--out");
+  guard.check();
 }
 
 // tum and kitti write several files: into a partial folder, published whole.
@@ -114,7 +121,8 @@ Command addExportCommand(CLI::App& app) {
   cli->add_option("--out", flags->out,
                   "output file (mcap, carmen, csm) or directory (tum, kitti); an existing one "
                   "is refused unless --force")
-      ->required();
+      ->required()
+      ->check(outputPath());
   cli->add_flag("--force", flags->force,
                 "replace an existing --out; the old one stays until the new is complete");
   cli->add_option("--calibration", flags->calibration,

@@ -69,12 +69,10 @@ int runImport(ImportFlags flags) {
   const bool carmen = flags.format == "carmen";
   // A ROS 2 bag may be a folder (metadata.yaml + storage files); everything else is one file.
   if (carmen || !std::filesystem::is_directory(flags.input)) checkInputFile(flags.input, "PATH");
-  checkOutputDataset(flags.out, "--out", flags.force);
-  checkNotInside(flags.out, flags.input, "--out");
-  if (!flags.json_out.empty()) {
-    checkOutputFile(flags.json_out, "--json", flags.force);
-    checkNotInside(flags.json_out, flags.input, "--json");
-  }
+  OutputGuard guard(flags.force);
+  guard.input(flags.input, "PATH").dataset(flags.out, "--out");
+  if (!flags.json_out.empty()) guard.file(flags.json_out, "--json");
+  guard.check();
   if (flags.wheel_radius_m > 0)
     flags.geometry.radius_left_m = flags.geometry.radius_right_m = flags.wheel_radius_m;
   if (flags.geometry_given) flags.params.nominal_geometry = flags.geometry;
@@ -144,12 +142,14 @@ Command addImportCommand(CLI::App& app) {
       ->required();
   cli->add_option("--out", flags->out,
                   "dataset directory to write; an existing one is refused unless --force")
-      ->required();
+      ->required()
+      ->check(outputPath());
   cli->add_flag("--force", flags->force,
                 "replace an existing --out dataset (and --json file); the old one stays until the "
                 "new is complete");
   cli->add_option("--json", flags->json_out,
-                  "write what the import read and decided as JSON (docs/export.md)");
+                  "write what the import read and decided as JSON (docs/export.md)")
+      ->check(outputPath());
   cli->add_option_function<double>(
          "--max-range", [flags](double m) { flags->params.max_range_m = m; },
          "readings beyond this (m) become no return and range_max is set to it (default: the "

@@ -14,6 +14,7 @@
 #include "app/exit_codes.hpp"
 #include "app/version.hpp"
 #include "core/error.hpp"
+#include "core/partial_cleanup.hpp"
 
 namespace {
 
@@ -79,6 +80,7 @@ bool unknownCommand(const CLI::App& app, int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  slamprep::removePartialsOnSignal();  // Ctrl-C leaves no <out>.partial-<pid> behind
   // Past a file size limit (ulimit -f) a write fails with EFBIG and the error names the file;
   // the default SIGXFSZ would kill the process without a word.
   std::signal(SIGXFSZ, SIG_IGN);

@@ -143,13 +143,13 @@ void printGuesses(const eval::MatchTrajectory& run) {
 
 int runMatch(MatchFlags flags) {
   checkInputDataset(flags.dataset, "DATASET");
+  OutputGuard guard(flags.force);
+  guard.input(flags.dataset, "DATASET");
   for (const auto& [file, option] : {std::pair{flags.out, "--out"},
                                      {flags.trajectory, "--trajectory"},
-                                     {flags.json_out, "--json"}}) {
-    if (file.empty()) continue;
-    checkNotInside(file, flags.dataset, option);
-    checkOutputFile(file, option, flags.force);
-  }
+                                     {flags.json_out, "--json"}})
+    if (!file.empty()) guard.file(file, option);
+  guard.check();
   flags.params.keyframe_angle_rad = flags.keyframe_angle_deg / kDegPerRad;
   flags.params.odometry_sigma_rad = flags.odometry_sigma_deg / kDegPerRad;
   const auto begin = std::chrono::steady_clock::now();
@@ -216,10 +216,13 @@ Command addMatchCommand(CLI::App& app) {
       "--trajectory FILE writes the base poses as TUM, --out FILE one JSON line per scan, --json\n"
       "FILE the summary. Exit 3 when no scan matched, or with --strict when any fell back.");
   cli->add_option("DATASET", flags->dataset, "dataset directory (read only)")->required();
-  cli->add_option("--out", flags->out, "write one JSON line per scan after the first to FILE");
+  cli->add_option("--out", flags->out, "write one JSON line per scan after the first to FILE")
+      ->check(outputPath());
   cli->add_option("--trajectory", flags->trajectory,
-                  "write the base trajectory at the scans' first beams to FILE (TUM)");
-  cli->add_option("--json", flags->json_out, "write the summary (counts, timing, parameters)");
+                  "write the base trajectory at the scans' first beams to FILE (TUM)")
+      ->check(outputPath());
+  cli->add_option("--json", flags->json_out, "write the summary (counts, timing, parameters)")
+      ->check(outputPath());
   cli->add_flag("--force", flags->force,
                 "replace existing output files; the old ones stay until the new are complete");
   cli->add_flag("--strict", flags->strict, "exit 3 when any scan fell back, not only all");

@@ -188,11 +188,17 @@ Command addScoreCommand(CLI::App& app) {
   for (auto* sub : {rel, ape, rpe}) {
     sub->add_option("--json", flags->json_out,
                     "also write the figures as JSON to FILE; an existing one is refused unless "
-                    "--force");
+                    "--force")
+        ->check(outputPath());
     sub->add_flag("--force", flags->force, "replace an existing --json file");
   }
   return {cli, [flags, rel, ape] {
-            if (!flags->json_out.empty()) checkOutputFile(flags->json_out, "--json", flags->force);
+            if (!flags->json_out.empty())
+              OutputGuard(flags->force)
+                  .input(flags->first, rel->parsed() ? "RELATIONS" : "GROUNDTRUTH")
+                  .input(flags->second, rel->parsed() ? "TRAJ" : "ESTIMATE")
+                  .file(flags->json_out, "--json")
+                  .check();
             if (rel->parsed()) return runRelations(*flags);
             if (ape->parsed()) return runApe(*flags);
             return runRpe(*flags);

@@ -15,6 +15,7 @@
 #include "core/error.hpp"
 #include "core/input_file.hpp"
 #include "core/json_input.hpp"
+#include "core/paths.hpp"
 #include "eval/bench/command_progress.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "sim/drive/simulator.hpp"
@@ -85,8 +86,18 @@ void printSummary(const sim::SimSummary& s, double wall_s, const std::string& ou
   std::printf("wrote %s\n", out.c_str());
 }
 
+// A --world or --scenario as the simulator will find it (empty: not given).
+std::filesystem::path dataFile(const std::string& given) {
+  return given.empty() ? std::filesystem::path() : resolveDataPath(given);
+}
+
 int run(const SimulateFlags& flags, const CLI::App& cli) {
-  checkOutputDataset(flags.out, "--out", flags.force);  // before minutes of simulation
+  OutputGuard(flags.force)  // before minutes of simulation
+      .input(flags.config_file, "--config")
+      .input(dataFile(flags.world), "--world")
+      .input(dataFile(flags.scenario), "--scenario")
+      .dataset(flags.out, "--out")
+      .check();
   sim::SimConfig config;
   if (!flags.config_file.empty()) config = readConfigFile(flags.config_file);
   if (cli.count("--world")) config.world = flags.world;
@@ -149,7 +160,8 @@ Command addSimulateCommand(CLI::App& app) {
   cli->add_option("--out", flags->out,
                   "Output dataset directory (written atomically); an existing one is refused "
                   "unless --force")
-      ->required();
+      ->required()
+      ->check(outputPath());
   cli->add_flag("--force", flags->force,
                 "Replace an existing --out dataset; the old one stays until the new is complete");
   cli->add_flag("-q,--quiet", flags->quiet, "No progress output");

@@ -1,5 +1,6 @@
 #include "core/paths.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <system_error>
 
@@ -38,6 +39,20 @@ fs::path resolveDataPath(const fs::path& path) {
   if (data_dir.empty()) return path;
   const fs::path in_data = data_dir / path;
   return fs::exists(in_data) ? in_data : path;
+}
+
+fs::path resolvedPath(const fs::path& path) {
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(path, ec);
+  fs::path p = fs::weakly_canonical(absolute, ec);
+  if (ec) p = absolute;
+  p = p.lexically_normal();
+  return p.has_filename() || p == p.root_path() ? p : p.parent_path();
+}
+
+bool isSameOrInside(const fs::path& inner, const fs::path& outer) {
+  const fs::path i = resolvedPath(inner), o = resolvedPath(outer);
+  return std::mismatch(o.begin(), o.end(), i.begin(), i.end()).first == o.end();
 }
 
 }  // namespace slamprep

@@ -18,4 +18,12 @@ std::filesystem::path dataDir();
 /// reports the path as the user wrote it).
 std::filesystem::path resolveDataPath(const std::filesystem::path& path);
 
+/// `path` absolute, with its symlinks and `..` resolved as far as it exists and no trailing
+/// slash: the form in which the output guard compares paths ("ds/", "./ds" and a link to ds are
+/// one folder).
+std::filesystem::path resolvedPath(const std::filesystem::path& path);
+
+/// Whether resolvedPath(inner) is resolvedPath(outer) or lies below it.
+bool isSameOrInside(const std::filesystem::path& inner, const std::filesystem::path& outer);
+
 }  // namespace slamprep

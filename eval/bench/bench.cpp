@@ -10,6 +10,7 @@
 #include "core/paths.hpp"
 #include "eval/bench/figures.hpp"
 #include "eval/bench/report.hpp"
+#include "eval/bench/results_folder.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -69,6 +70,7 @@ SuitePlots plotResults(const fs::path& results_dir) {
     if (!fs::exists(results_dir / file))
       throw InputError((results_dir / file).string(),
                        "missing: not a finished results folder of `slamprep bench` (or `merge`)");
+  requireResultsFolder(results_dir, "RESULTS_DIR");  // before anything is written into it
   const Suite suite = loadSuite(results_dir / "suite.yaml");
   const fs::path summary_file = results_dir / "summary.json";
   const nlohmann::json summary = readJsonFile(summary_file, "summary");
@@ -109,6 +111,7 @@ BenchOutcome runBench(const BenchOptions& options, const TrialFunction& trial) {
   auto trials = expandTrials(outcome.suite);
   attachInputDigests(trials);  // an edited world or scenario makes its trials stale
 
+  claimResultsFolder(outcome.out_dir, "--results");  // never a folder bench did not create
   // The suite travels with its results, so `merge` can run anywhere the folder is.
   writeFileAtomic(outcome.out_dir / "suite.yaml", readFile(suite_file));
   const fs::path run_dir =
@@ -132,6 +135,7 @@ BenchOutcome mergeShards(const fs::path& results_dir, bool plots) {
   const fs::path suite_file = results_dir / "suite.yaml";
   if (!fs::exists(suite_file))
     throw InputError(results_dir.string(), "no suite.yaml: not a results folder of slamprep bench");
+  requireResultsFolder(results_dir, "RESULTS_DIR");  // before anything is written into it
   outcome.suite = loadSuite(suite_file);
   outcome.out_dir = results_dir;
   std::vector<fs::path> shard_dirs;

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "algo/calibration/calibration_json.hpp"
+#include "algo/calibration/gyro_check.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "eval/formats/dataset_io.hpp"
@@ -60,6 +61,9 @@ algo::MethodReport methodReport(const algo::CalibrationRun& run, const Recording
   algo::MethodReport m{run, {}, std::nullopt};
   if (!r.dataset.empty())  // --tuples alone has no nominal geometry to compare with
     m.flags = algo::nominalFlags(run.result, r.calibration.nominal, p.flags);
+  if (r.calibration.agreement && algo::isIntervalMethod(run.method))
+    if (const auto flag = algo::gyroFlag(run.result, *r.calibration.agreement))
+      m.flags.push_back(*flag);
   const DatasetCalibration& c = r.calibration;
   if (r.held_out && run.result.ok)
     m.validation = algo::ValidationFigures{

@@ -21,6 +21,7 @@
 #include "core/error.hpp"
 #include "core/paths.hpp"
 #include "eval/bench/bench.hpp"
+#include "eval/bench/results_folder.hpp"
 #include "eval/bench/runner.hpp"
 
 extern char** environ;
@@ -355,6 +356,7 @@ SlurmResult submitToSlurm(const SlurmParams& params) {
   const Suite suite = loadSuite(findSuite(p.suite_arg, resolveDataPath("eval/suites")));
   const fs::path out_dir = p.results_root / suite.name;
 
+  claimResultsFolder(out_dir, "--results");  // the shards and the merge write into it
   SlurmResult result;
   result.scripts = writeSlurmScripts(p, out_dir);
   result.shards_submitted = incompleteShards(suite, out_dir, p.shards);

@@ -76,9 +76,27 @@ std::vector<algo::CalibrationMethod> parseCalibrationMethods(const YamlDoc& doc,
   return methods;
 }
 
+// Why `name` cannot be the results folder results/<name>/ (one file-name part), or "".
+std::string badSuiteName(const std::string& name) {
+  if (name.empty() || name == "." || name == "..")
+    return "must name one folder under --results (not empty, '.' or '..')";
+  if (name.size() > 255) return "is longer than 255 bytes (it names a folder)";
+  for (unsigned char c : name)
+    if (c == '/' || c < 0x20 || c == 0x7f)
+      return "must be one file-name part: no '/' or control characters (it names the folder "
+             "results/<name>/)";
+  return "";
+}
+
+std::string suiteName(const YamlDoc& doc, const YAML::Node& node) {
+  std::string name = doc.string(node, "name");
+  if (const std::string why = badSuiteName(name); !why.empty()) doc.fail(node, "name", why);
+  return name;
+}
+
 void parseKey(const YamlDoc& doc, const std::string& key, const YAML::Node& value, Suite& suite) {
   if (key == "name")
-    suite.name = doc.string(value, key);
+    suite.name = suiteName(doc, value);
   else if (key == "description")
     suite.description = doc.string(value, key);
   else if (key == "worlds")
@@ -122,6 +140,8 @@ void parseKey(const YamlDoc& doc, const std::string& key, const YAML::Node& valu
 
 void validate(const Suite& suite) {
   const std::string f = suite.source.string();
+  if (const std::string why = badSuiteName(suite.name); !why.empty())  // a name from the file's
+    throw InputError(f + ": name", why);                               // stem ("..yaml")
   if (suite.worlds.empty()) throw InputError(f + ": worlds", "at least one world is needed");
   if (suite.scenarios.empty()) throw InputError(f + ": scenarios", "at least one scenario");
   if (suite.seeds < 1 || suite.seeds > kMaxSeeds)

@@ -10,9 +10,11 @@
 #include <system_error>
 #include <vector>
 
+#include "core/atomic_file.hpp"
 #include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "core/input_file.hpp"
+#include "core/partial_cleanup.hpp"
 #include "eval/formats/csv_logs.hpp"
 #include "eval/formats/dataset_json.hpp"
 #include "eval/formats/scan_jsonl.hpp"
@@ -41,12 +43,13 @@ void syncDirectory(const fs::path& dir) {
   ::close(fd);
 }
 
-// Moves the complete `partial` onto `dir`; the old dataset (if any) is deleted afterwards.
+// Moves the complete `partial` onto `dir`; the old dataset (if any) is deleted afterwards. An
+// output given without --force (refuseToReplace) is only ever created, never replaced.
 void publish(const fs::path& partial, const fs::path& dir,
              const ReplaceableDirectory& replaceable) {
   std::error_code ec;
-  if (!fs::exists(fs::symlink_status(dir, ec))) {
-    if (::rename(partial.c_str(), dir.c_str()) != 0) systemError(dir, "cannot rename into place");
+  if (!mayReplace(dir) || !fs::exists(fs::symlink_status(dir, ec))) {
+    renameIntoPlace(partial, dir);
     return;
   }
   std::error_code dir_ec;
@@ -60,7 +63,7 @@ void publish(const fs::path& partial, const fs::path& dir,
   }
   // No RENAME_EXCHANGE on this filesystem: move the old one aside, then the new one in. `dir` is
   // briefly absent, never half written.
-  const fs::path old = dir.string() + ".old-" + std::to_string(::getpid());
+  const fs::path old = partialSibling(dir, "old");
   fs::remove_all(old, ec);
   if (::rename(dir.c_str(), old.c_str()) != 0) systemError(dir, "cannot move the old dataset");
   if (::rename(partial.c_str(), dir.c_str()) != 0) {
@@ -81,8 +84,7 @@ bool isReplaceableDataset(const fs::path& dir) {
 }
 
 fs::path partialDirectory(const fs::path& dir) {
-  const fs::path target = withoutTrailingSlash(dir);
-  return target.string() + ".partial-" + std::to_string(::getpid());
+  return partialSibling(withoutTrailingSlash(dir));
 }
 
 void publishDirectoryAtomically(const fs::path& dir,
@@ -95,7 +97,8 @@ void publishDirectoryAtomically(const fs::path& dir,
     fs::create_directories(target.parent_path(), ec);
     if (ec) throw InputError(target.parent_path().string(), "cannot create: " + ec.message());
   }
-  fs::remove_all(partial, ec);  // a stale one from a crashed process with our pid
+  const PartialInFlight in_flight(partial);  // removed if a signal ends the process
+  fs::remove_all(partial, ec);               // a stale one from a crashed process with our pid
   if (!fs::create_directory(partial, ec))
     throw InputError(partial.string(), "cannot create: " + ec.message());
   try {

@@ -34,7 +34,8 @@ inline constexpr const char* kEncodersCsv = "encoders.csv";
 inline constexpr const char* kImuCsv = "imu.csv";
 inline constexpr const char* kScansJsonl = "scans.jsonl";
 
-/// `<dir>.partial-<pid>`: the sibling a directory is written into before it is published.
+/// `<dir>.partial-<pid>` (core/atomic_file.hpp, partialSibling): the sibling a directory is
+/// written into before it is published.
 std::filesystem::path partialDirectory(const std::filesystem::path& dir);
 
 /// Whether an existing directory may be replaced by a new one.
@@ -44,9 +45,11 @@ using ReplaceableDirectory = std::function<bool(const std::filesystem::path&)>;
 bool isReplaceableDataset(const std::filesystem::path& dir);
 
 /// Creates the partial sibling of `dir`, lets `fill(partial_dir)` write into it, then renames it
-/// onto `dir`. An existing `dir` is replaced only when `replaceable(dir)` (it is swapped
-/// atomically with renameat2(RENAME_EXCHANGE) where the filesystem supports it). On any exception
-/// the partial directory is removed and the exception propagates; `dir` is untouched.
+/// onto `dir`. An existing `dir` is replaced only when `replaceable(dir)` and not marked by
+/// refuseToReplace (core/atomic_file.hpp: an output given without --force, which must not appear
+/// while the command runs); it is swapped atomically with renameat2(RENAME_EXCHANGE) where the
+/// filesystem supports it. On any exception, and on SIGINT/SIGTERM/SIGHUP once
+/// removePartialsOnSignal() is installed, the partial directory is removed; `dir` is untouched.
 void publishDirectoryAtomically(const std::filesystem::path& dir,
                                 const std::function<void(const std::filesystem::path&)>& fill,
                                 const ReplaceableDirectory& replaceable = isReplaceableDataset);

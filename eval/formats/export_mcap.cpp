@@ -10,8 +10,10 @@
 #include <limits>
 #include <queue>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/odometry.hpp"
+#include "core/partial_cleanup.hpp"
 #include "eval/formats/export.hpp"
 #include "eval/formats/mcap.hpp"
 #include "eval/formats/ros2_messages.hpp"
@@ -295,22 +297,21 @@ void writeMcapFile(const std::filesystem::path& file, const ExportInput& input,
                    const ExportParams& p, std::map<std::string, std::size_t>* counts) {
   std::error_code ec;
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
-  const std::filesystem::path tmp = file.string() + ".partial-" + std::to_string(::getpid());
+  const std::filesystem::path tmp = partialSibling(file);
+  const PartialInFlight in_flight(tmp);  // removed if a signal ends the process
   try {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    McapWriter writer(writerParams(p), &out);
-    writeBag(input, p, writer, counts);
-    writer.finish();
-    out.flush();
-    if (!out) throw InputError(file.string(), "cannot write file");
+    {
+      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+      McapWriter writer(writerParams(p), &out);
+      writeBag(input, p, writer, counts);
+      writer.finish();
+      out.flush();
+      if (!out) throw InputError(file.string(), "cannot write file");
+    }
+    renameIntoPlace(tmp, file);
   } catch (...) {
     std::filesystem::remove(tmp, ec);
     throw;
-  }
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw InputError(file.string(), "cannot rename the finished file into place");
   }
 }
 

@@ -60,7 +60,7 @@ expect 0 deskew "$ds" --method all
 out_has "no --out: no de-skewed scans written"
 unchanged "$ds" "$dir/ds.before" "deskew without --out"
 expect 2 deskew "$ds" --out "$ds" --force
-err_has "inside the input"
+err_has "is the input DATASET"
 expect 2 deskew "$ds" --out "$ds/deskewed"
 expect 2 deskew "$ds" --json "$ds/deskew.json"
 unchanged "$ds" "$dir/ds.before" "a refused deskew"

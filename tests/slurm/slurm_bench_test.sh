@@ -134,6 +134,7 @@ echo "ok: merged result equals the single-machine run"
 
 # 2. Shard 2 cannot write its folder (a plain file stands where shards/2-of-4/ goes).
 mkdir -p "$dir/broken/slurm-tiny/shards"
+touch "$dir/broken/slurm-tiny/.slamprep-results"  # a folder bench made (docs/results.md)
 touch "$dir/broken/slurm-tiny/shards/2-of-4"
 set +e
 "$slamprep" bench --suite "$dir/slurm-tiny.yaml" --slurm --shards 4 --wait --no-plots \

@@ -1,0 +1,50 @@
+// The gyro's check of a calibrated wheel base (algo/calibration/gyro_check.hpp): with the gyro
+// fit's a = r_R / b and c = r_L / b, b_gyro = (r_L + r_R) / (a + c).
+#include "algo/calibration/gyro_check.hpp"
+
+#include <gtest/gtest.h>
+
+namespace slamprep::algo {
+namespace {
+
+SensorAgreement gyroSays(double r_L, double r_R, double b) {
+  SensorAgreement a;
+  PairAgreement p;
+  p.a = "wheels";
+  p.b = "gyro";
+  p.wheel_ratios = Eigen::Vector2d(r_R / b, r_L / b);
+  a.pairs.push_back(p);
+  return a;
+}
+
+CalibrationResult result(double b, double sigma_b) {
+  CalibrationResult r;
+  r.ok = true;
+  r.geometry = {0.1, 0.1, b};
+  r.covariance = Eigen::Matrix3d::Identity() * 1e-12;
+  r.covariance(2, 2) = sigma_b * sigma_b;
+  return r;
+}
+
+TEST(GyroCheck, TheGyrosWheelBaseUsesTheResultsRadii) {
+  const SensorAgreement gyro = gyroSays(0.1, 0.1, 0.5);
+  EXPECT_NEAR(*gyroWheelBase(result(0.5, 0.001), gyro), 0.5, 1e-12);
+  CalibrationResult bigger = result(0.5, 0.001);
+  bigger.geometry.radius_left_m = bigger.geometry.radius_right_m = 0.11;
+  EXPECT_NEAR(*gyroWheelBase(bigger, gyro), 0.55, 1e-12);
+}
+
+TEST(GyroCheck, FlagsAWheelBaseTheGyroDoesNotSupport) {
+  const SensorAgreement gyro = gyroSays(0.1, 0.1, 0.5);
+  EXPECT_FALSE(gyroFlag(result(0.51, 0.001), gyro));  // 2 %: under the 3 % floor
+  const auto flag = gyroFlag(result(0.55, 0.001), gyro);
+  ASSERT_TRUE(flag);
+  EXPECT_EQ(flag->param, "b_vs_gyro");
+  EXPECT_NEAR(flag->ratio, 1.1, 1e-12);
+  EXPECT_NE(flag->likely_cause.find("500.0 mm"), std::string::npos) << flag->likely_cause;
+  EXPECT_FALSE(gyroFlag(result(0.55, 0.02), gyro));  // within 3 sigma of its own uncertainty
+  EXPECT_FALSE(gyroFlag(result(0.55, 0.001), SensorAgreement{}));  // no gyro: nothing to say
+}
+
+}  // namespace
+}  // namespace slamprep::algo
