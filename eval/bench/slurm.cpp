@@ -200,17 +200,17 @@ void refuseControlCharacters(const std::string& text, const std::string& what) {
                      "job script");
 }
 
-// One word of an #SBATCH line: sbatch splits directives at blanks, takes quotes and ends them at
-// an unescaped '#', and copies any character after a backslash as it is.
+// One word of an #SBATCH line. sbatch ends a word at a blank outside quotes (a backslash does not
+// protect it), and at an unquoted '#'; inside double quotes a backslash takes the next character
+// as it is. So: double quotes, and a backslash before '"', '\\', '\'' and '#' (older parsers
+// end a word at '#' even inside quotes).
 std::string sbatchWord(const std::string& word) {
-  std::string out;
+  std::string out = "\"";
   for (char c : word) {
-    if (!std::isalnum(static_cast<unsigned char>(c)) &&
-        std::string_view("/._-+,:=@%").find(c) == std::string_view::npos)
-      out += '\\';
+    if (std::string_view("\"\\'#").find(c) != std::string_view::npos) out += '\\';
     out += c;
   }
-  return out;
+  return out + '"';
 }
 
 // A path for --output: Slurm expands %-patterns (%a, %j) there; "%%" is a literal '%'.
@@ -308,7 +308,8 @@ std::vector<SlurmJobRecord> parseScontrolJobs(const std::string& text) {
 }
 
 std::vector<int> incompleteShards(const Suite& suite, const fs::path& out_dir, int count) {
-  const auto trials = expandTrials(suite);
+  auto trials = expandTrials(suite);
+  attachInputDigests(trials);  // as runBench stores them, so complete shards are recognised
   const std::string build = binaryFingerprint();
   std::vector<int> missing;
   for (int k = 1; k <= count; ++k) {

@@ -58,17 +58,20 @@ TEST(Suite, RefusesMoreTrialsThanTheLimitBeforeExpandingThem) {
                                          "1000000000 trials, more than the limit of 100000");
   }
   // At the limit exactly: read.
-  EXPECT_NO_THROW(loadSuite(writeTemp("limit.yaml", "worlds: [a, b]\nscenarios: [c]\nseeds: 50000\n")));
-  EXPECT_THROW(loadSuite(writeTemp("over.yaml", "worlds: [a, b, c]\nscenarios: [d]\nseeds: 50000\n")),
-               InputError);
+  EXPECT_NO_THROW(
+      loadSuite(writeTemp("limit.yaml", "worlds: [a, b]\nscenarios: [c]\nseeds: 50000\n")));
+  EXPECT_THROW(
+      loadSuite(writeTemp("over.yaml", "worlds: [a, b, c]\nscenarios: [d]\nseeds: 50000\n")),
+      InputError);
 }
 
 // Issue 26, finding 11: the suite's settings travel with every trial, so an edited suite makes
 // the stored results stale.
 TEST(Suite, TrialsCarryTheSuiteSettings) {
-  const Suite suite = loadSuite(writeTemp("settings.yaml",
-                                          "worlds: [a]\nscenarios: [b]\nmode: kinematic\n"
-                                          "calibration_methods: [joint]\ndeskew_methods: [none]\n"));
+  const Suite suite =
+      loadSuite(writeTemp("settings.yaml",
+                          "worlds: [a]\nscenarios: [b]\nmode: kinematic\n"
+                          "calibration_methods: [joint]\ndeskew_methods: [none]\n"));
   const auto trials = expandTrials(suite);
   EXPECT_EQ(trials.front().settings["mode"], "kinematic");
   EXPECT_EQ(trials.front().settings["calibration_methods"], nlohmann::json::array({"joint"}));

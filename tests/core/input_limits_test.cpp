@@ -1,9 +1,8 @@
 // Issue 26, finding 8 and the low items: JSON nested deep enough to crash every reader by
 // recursion (depth 200 000) or to grow 22 KB into a 200 MB rewrite (depth 10 000), keys repeated
 // in one object, and input files that never end (/dev/zero) or are larger than any real one.
-#include <sys/stat.h>
-
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <fstream>
 #include <string>
@@ -33,8 +32,7 @@ std::string errorOf(Fn&& fn) {
 }
 
 TEST(JsonInput, NestingUpToTheLimitIsRead) {
-  EXPECT_EQ(parseJsonInput(nested(kMaxJsonDepth), "d.json").dump(),
-            nested(kMaxJsonDepth));
+  EXPECT_EQ(parseJsonInput(nested(kMaxJsonDepth), "d.json").dump(), nested(kMaxJsonDepth));
 }
 
 TEST(JsonInput, DeeperNestingIsRefusedNamingFileAndLine) {
@@ -53,8 +51,9 @@ TEST(JsonInput, BracketsInsideStringsAreNotNesting) {
 }
 
 TEST(JsonInput, RepeatedKeyIsRefusedWithBothLines) {
-  EXPECT_EQ(errorOf([] { parseJsonInput("{\"walls\": 1,\n\"b\": {\"walls\": 2},\n\"walls\": 3}",
-                                        "w.json"); }),
+  EXPECT_EQ(errorOf([] {
+              parseJsonInput("{\"walls\": 1,\n\"b\": {\"walls\": 2},\n\"walls\": 3}", "w.json");
+            }),
             "w.json:3: key \"walls\" appears twice in one object (first on line 1)");
   // The same key spelled with an escape is the same key.
   EXPECT_NE(errorOf([] { parseJsonInput(R"({"a": 1, "\u0061": 2})", "w.json"); }), "");
@@ -82,11 +81,13 @@ TEST_F(InputFileTest, DevicesFifosAndFoldersAreRefusedUpFront) {
             "/dev/zero: cannot read world file: a character device, not a regular file");
   const auto fifo = scratch_ / "fifo";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  EXPECT_NE(errorOf([&] { readInputFile(fifo, "suite file", kMaxYamlFileBytes); })
-                .find("a FIFO (pipe), not a regular file"),
+  EXPECT_NE(errorOf([&] {
+              readInputFile(fifo, "suite file", kMaxYamlFileBytes);
+            }).find("a FIFO (pipe), not a regular file"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { readInputFile(scratch_.path(), "world file", kMaxYamlFileBytes); })
-                .find("a directory"),
+  EXPECT_NE(errorOf([&] {
+              readInputFile(scratch_.path(), "world file", kMaxYamlFileBytes);
+            }).find("a directory"),
             std::string::npos);
   EXPECT_EQ(errorOf([&] { readInputFile(scratch_ / "none", "world file", 10); }),
             (scratch_ / "none").string() + ": cannot open world file");

@@ -74,9 +74,10 @@ TEST_F(YamlLimits, MoreObjectsThanTheLimitAreRefusedBeforeParsingThem) {
   for (int i = 0; i < 6000; ++i) yaml += kWall;
   yaml += "boxes:\n";
   for (int i = 0; i < 4001; ++i) yaml += "  - {center: [0, 0], size: [1, 1]}\n";
-  EXPECT_EQ(worldError(yaml), file() + ":6003:3: boxes: the world has more than 10000 objects "
-                                       "(walls, boxes, cylinders, polygons and floor patches "
-                                       "together)");
+  EXPECT_EQ(worldError(yaml), file() +
+                                  ":6003:3: boxes: the world has more than 10000 objects "
+                                  "(walls, boxes, cylinders, polygons and floor patches "
+                                  "together)");
 }
 
 TEST_F(YamlLimits, DevicesAndLargeFilesAreRefusedUnread) {
@@ -133,8 +134,9 @@ TEST(ConfigLimits, RunsTooLargeToHoldAreRefusedBeforeSimulating) {
   SimConfig beams;
   applyOverride(beams, "lidar.rate_hz=100");
   applyOverride(beams, "lidar.beams_per_revolution=100000");
-  EXPECT_NE(errorOf([&] { checkRunSize(beams, 3600.0); })
-                .find("lidar.rate_hz x lidar.beams_per_revolution"),
+  EXPECT_NE(errorOf([&] {
+              checkRunSize(beams, 3600.0);
+            }).find("lidar.rate_hz x lidar.beams_per_revolution"),
             std::string::npos);
 }
 
