@@ -13,6 +13,7 @@
 #include "eval/bench/runner.hpp"
 #include "eval/bench/summary.hpp"
 #include "tests/support/scratch_dir.hpp"
+#include "tests/support/error_of.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -25,15 +26,7 @@ TrialOutput fakeTrial(const TrialSpec& spec) {
           {{"seconds", 0.1}}};
 }
 
-template <typename Fn>
-std::string errorOf(Fn&& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::errorOf;
 
 class Reuse : public ::testing::Test {
  protected:

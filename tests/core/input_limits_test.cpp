@@ -12,6 +12,7 @@
 #include "core/input_file.hpp"
 #include "core/json_input.hpp"
 #include "tests/support/scratch_dir.hpp"
+#include "tests/support/error_of.hpp"
 
 namespace slamprep {
 namespace {
@@ -20,16 +21,7 @@ std::string nested(int depth) {
   return std::string(depth, '[') + "1" + std::string(depth, ']');
 }
 
-// The InputError's message; empty when nothing was thrown.
-template <typename Fn>
-std::string errorOf(Fn&& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::errorOf;
 
 TEST(JsonInput, NestingUpToTheLimitIsRead) {
   EXPECT_EQ(parseJsonInput(nested(kMaxJsonDepth), "d.json").dump(), nested(kMaxJsonDepth));

@@ -14,19 +14,12 @@
 #include "sim/physics/world.hpp"
 #include "sim/yaml/yaml_fields.hpp"
 #include "tests/support/scratch_dir.hpp"
+#include "tests/support/error_of.hpp"
 
 namespace slamprep::sim {
 namespace {
 
-template <typename Fn>
-std::string errorOf(Fn&& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::errorOf;
 
 class YamlLimits : public ::testing::Test {
  protected:
