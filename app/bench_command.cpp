@@ -107,6 +107,7 @@ int runBenchCommand(BenchFlags& flags) {
   if (!flags.compare.empty()) flags.options.compare = flags.compare;
   const eval::Suite suite =
       eval::loadSuite(eval::findSuite(flags.options.suite, resolveDataPath("eval/suites")));
+  eval::checkSuiteFiles(suite);  // a typo in worlds: is exit 2 now, not every trial failed
   const auto outcome = eval::runBench(flags.options, eval::benchTrial(suite));
   const auto& run = outcome.run;
   std::cerr << "suite " << outcome.suite.name << ": " << run.selected << " trials (" << run.reused

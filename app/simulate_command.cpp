@@ -18,6 +18,7 @@
 #include "core/paths.hpp"
 #include "eval/bench/command_progress.hpp"
 #include "eval/formats/dataset_io.hpp"
+#include "sim/drive/scenario.hpp"
 #include "sim/drive/simulator.hpp"
 
 namespace slamprep::app {
@@ -86,18 +87,7 @@ void printSummary(const sim::SimSummary& s, double wall_s, const std::string& ou
   std::printf("wrote %s\n", out.c_str());
 }
 
-// A --world or --scenario as the simulator will find it (empty: not given).
-std::filesystem::path dataFile(const std::string& given) {
-  return given.empty() ? std::filesystem::path() : resolveDataPath(given);
-}
-
-int run(const SimulateFlags& flags, const CLI::App& cli) {
-  OutputGuard(flags.force)  // before minutes of simulation
-      .input(flags.config_file, "--config")
-      .input(dataFile(flags.world), "--world")
-      .input(dataFile(flags.scenario), "--scenario")
-      .dataset(flags.out, "--out")
-      .check();
+sim::SimConfig assembleConfig(const SimulateFlags& flags, const CLI::App& cli) {
   sim::SimConfig config;
   if (!flags.config_file.empty()) config = readConfigFile(flags.config_file);
   if (cli.count("--world")) config.world = flags.world;
@@ -107,6 +97,24 @@ int run(const SimulateFlags& flags, const CLI::App& cli) {
   if (cli.count("--mode")) sim::applyOverride(config, "mode=" + flags.mode);
   sim::validate(config, "command line");
   for (const std::string& assignment : flags.overrides) sim::applyOverride(config, assignment);
+  return config;
+}
+
+// Every file the run reads, wherever it was named (flag, --config, --set, a scenario's include),
+// so that --out can never replace one of them.
+void checkOutputs(const SimulateFlags& flags, const sim::SimConfig& config) {
+  OutputGuard guard(flags.force);
+  guard.input(flags.config_file, "--config")
+      .input(resolveDataPath(config.world), "--world")
+      .input(resolveDataPath(config.scenario), "--scenario");
+  for (const auto& file : sim::loadScenario(resolveDataPath(config.scenario)).files)
+    guard.input(file, "--scenario (included)");
+  guard.dataset(flags.out, "--out").check();  // before minutes of simulation
+}
+
+int run(const SimulateFlags& flags, const CLI::App& cli) {
+  const sim::SimConfig config = assembleConfig(flags, cli);
+  checkOutputs(flags, config);
 
   const auto start = std::chrono::steady_clock::now();  // for the summary only
   const sim::SimResult result = [&] {

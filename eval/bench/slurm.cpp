@@ -355,6 +355,7 @@ SlurmResult submitToSlurm(const SlurmParams& params) {
   SlurmParams p = params;
   p.results_root = fs::absolute(params.results_root).lexically_normal();
   const Suite suite = loadSuite(findSuite(p.suite_arg, resolveDataPath("eval/suites")));
+  checkSuiteFiles(suite);  // before a job is queued
   const fs::path out_dir = p.results_root / suite.name;
 
   claimResultsFolder(out_dir, "--results");  // the shards and the merge write into it

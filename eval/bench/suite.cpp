@@ -12,6 +12,8 @@
 #include "core/error.hpp"
 #include "core/paths.hpp"
 #include "sim/drive/config.hpp"
+#include "sim/drive/scenario.hpp"
+#include "sim/physics/world.hpp"
 #include "sim/yaml/yaml_fields.hpp"
 
 namespace slamprep::eval {
@@ -260,6 +262,20 @@ void attachInputDigests(std::vector<TrialSpec>& trials) {
   };
   for (TrialSpec& t : trials)
     t.inputs = {{"world", digest(t.world)}, {"scenario", digest(t.scenario)}};
+}
+
+void checkSuiteFiles(const Suite& suite) {
+  const auto check = [&suite](const std::vector<std::string>& files, const std::string& key,
+                              const auto& load) {
+    for (std::size_t i = 0; i < files.size(); ++i) try {
+        load(resolveDataPath(files[i]));
+      } catch (const InputError& e) {
+        throw InputError(suite.source.string() + ": " + key + "[" + std::to_string(i) + "]",
+                         e.what());
+      }
+  };
+  check(suite.worlds, "worlds", [](const std::filesystem::path& f) { sim::loadWorld(f); });
+  check(suite.scenarios, "scenarios", [](const std::filesystem::path& f) { sim::loadScenario(f); });
 }
 
 std::vector<TrialSpec> expandTrials(const Suite& suite) {

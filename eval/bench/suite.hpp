@@ -73,6 +73,10 @@ struct TrialSpec {
 /// Reads a suite YAML; throws InputError naming file, line and key.
 Suite loadSuite(const std::filesystem::path& file);
 
+/// Reads every world and scenario the suite names, so that a typo is refused (InputError naming
+/// the suite, the key and the file) before any trial runs rather than failing every trial.
+void checkSuiteFiles(const Suite& suite);
+
 /// Resolves a suite name ("default") or path to its file under `suites_dir`.
 std::filesystem::path findSuite(const std::string& name_or_path,
                                 const std::filesystem::path& suites_dir);

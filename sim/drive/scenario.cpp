@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <numbers>
 #include <set>
+#include <utility>
 
 #include "core/error.hpp"
 #include "core/input_file.hpp"
@@ -27,6 +28,7 @@ constexpr int kMaxIncludedFiles = 256;
 struct IncludeStack {
   std::vector<std::string> files;
   int loaded = 0;
+  std::vector<std::filesystem::path> read;  ///< every file read, once (an output must spare them)
 };
 
 // ---- Reading fields (sim/yaml: every error names file, line, column and key) -----------------
@@ -363,6 +365,8 @@ CommandProfile loadProfile(const std::filesystem::path& file, IncludeStack& stac
     throw InputError(file.string(), "include cycle (or nesting deeper than 16)");
   }
   stack.files.push_back(id);
+  if (std::find(stack.read.begin(), stack.read.end(), file) == stack.read.end())
+    stack.read.push_back(file);
   CommandProfile profile = parseProfile(text, {YamlDoc(file.string()), file}, stack, top);
   stack.files.pop_back();
   return profile;
@@ -375,6 +379,7 @@ Scenario loadScenario(const std::filesystem::path& file) {
   scenario.source = file;
   IncludeStack stack;
   scenario.profile = loadProfile(file, stack, &scenario);
+  scenario.files = std::move(stack.read);
   return scenario;
 }
 
@@ -383,6 +388,7 @@ Scenario parseScenario(const std::string& yaml_text, const std::filesystem::path
   scenario.source = source;
   IncludeStack stack{{std::filesystem::weakly_canonical(source).string()}, 1};
   scenario.profile = parseProfile(yaml_text, {YamlDoc(source.string()), source}, stack, &scenario);
+  scenario.files = std::move(stack.read);
   return scenario;
 }
 

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "sim/drive/command_profile.hpp"
 
@@ -14,6 +15,8 @@ namespace slamprep::sim {
 struct Scenario {
   std::string name;
   std::filesystem::path source;
+  /// Every file read for it: `source` (when read from disk) and each include, once, in order.
+  std::vector<std::filesystem::path> files;
   AccelerationLimits limits;
   CommandProfile profile;
 };

@@ -77,6 +77,16 @@ expect 2 simulate --scenario worlds/scenarios/arc.yaml --config "$ds/dataset.jso
   --force
 err_has "--out $ds: contains the input --config"
 unchanged "$ds" "$dir/ds.before" "simulate --force onto the dataset its --config came from"
+# A scenario's include is an input too, and so is a world or scenario named in --config or --set.
+mkdir "$dir/parts" && echo '{}' >"$dir/parts/dataset.json"
+printf 'segments:\n  - {type: arc, v_mps: 0.3, w_radps: 0.3, angle_deg: 90}\n' >"$dir/parts/arc.yaml"
+printf 'segments:\n  - {type: include, file: parts/arc.yaml}\n' >"$dir/outer.yaml"
+fingerprint "$dir/parts" >"$dir/parts.before"
+expect 2 simulate --scenario "$dir/outer.yaml" --mode kinematic --out "$dir/parts" --force
+err_has "--out $dir/parts: contains the input --scenario (included) $dir/parts/arc.yaml"
+expect 2 simulate --set "scenario=$dir/parts/arc.yaml" --mode kinematic --out "$dir/parts" --force
+err_has "--out $dir/parts: contains the input --scenario"
+unchanged "$dir/parts" "$dir/parts.before" "simulate --force onto a folder holding its scenario"
 
 # Two outputs on one path, or one inside the other.
 expect 2 calibrate "$fig8" --motion groundtruth --method joint --json "$dir/same.json" \

@@ -82,6 +82,16 @@ expect 2 bench --suite "$dir/tiny.yaml" --results "$dir/res" --jobs -5
 err_has "--jobs: must be >= 0"
 expect 2 bench --suite "$dir/tiny.yaml" --results "$dir/res" --jobs 100000
 err_has "--jobs 100000: more than 4 worker processes per core"
+# A world or scenario the suite names is read before any trial: a typo is exit 2, not n failures.
+sed 's|worlds/room.yaml|worlds/no_such_room.yaml|' "$dir/tiny.yaml" >"$dir/typo.yaml"
+expect 2 bench --suite "$dir/typo.yaml" --results "$dir/res" --quiet --no-plots
+err_has "typo.yaml: worlds[0]: "
+err_has "no_such_room.yaml"
+[ ! -e "$dir/res/tiny" ] || fail "bench ran trials of a suite whose world does not exist"
+printf 'segments:\n  - {type: arc, v_mps: 1.0}\n' >"$dir/bad_arc.yaml"
+sed "s|worlds/scenarios/arc.yaml|$dir/bad_arc.yaml|" "$dir/tiny.yaml" >"$dir/typo.yaml"
+expect 2 bench --suite "$dir/typo.yaml" --results "$dir/res" --quiet --no-plots
+err_has "typo.yaml: scenarios[0]: $dir/bad_arc.yaml:2"
 printf '{"metrics": [1,,]' >"$dir/garbage.json"
 expect 2 bench --suite "$dir/tiny.yaml" --results "$dir/res" --quiet --no-plots \
   --compare "$dir/garbage.json"
