@@ -7,6 +7,7 @@
 
 #include "algo/calibration/calibration_json.hpp"
 #include "algo/calibration/gyro_check.hpp"
+#include "algo/calibration/validation_flag.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "eval/formats/dataset_io.hpp"
@@ -69,6 +70,8 @@ algo::MethodReport methodReport(const algo::CalibrationRun& run, const Recording
     m.validation = algo::ValidationFigures{
         p.validate_fraction, heldOutError(*r.held_out, c.nominal, c.T_base_lidar),
         heldOutError(*r.held_out, run.result.geometry, mountOf(run, c.T_base_lidar))};
+  if (m.validation)
+    if (const auto flag = algo::validationFlag(*m.validation)) m.flags.push_back(*flag);
   return m;
 }
 
@@ -121,6 +124,8 @@ void combine(const RecordingsCalibrationParams& p, RecordingsCalibration& out) {
     algo::MethodReport m{c.run, {}, combinedValidation(out, c.run, p.validate_fraction)};
     if (!recs.front().dataset.empty())
       m.flags = algo::nominalFlags(c.run.result, recs.front().calibration.nominal, p.flags);
+    if (m.validation)
+      if (const auto flag = algo::validationFlag(*m.validation)) m.flags.push_back(*flag);
     out.report.combined.push_back(m);
     out.report.consistency.push_back(consistencyOf(c));
   }

@@ -386,7 +386,7 @@ Scenario loadScenario(const std::filesystem::path& file) {
 Scenario parseScenario(const std::string& yaml_text, const std::filesystem::path& source) {
   Scenario scenario;
   scenario.source = source;
-  IncludeStack stack{{std::filesystem::weakly_canonical(source).string()}, 1};
+  IncludeStack stack{{std::filesystem::weakly_canonical(source).string()}, 1, {}};
   scenario.profile = parseProfile(yaml_text, {YamlDoc(source.string()), source}, stack, &scenario);
   scenario.files = std::move(stack.read);
   return scenario;
