@@ -1,0 +1,67 @@
+#include "eval/bench/twin_odometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace slamprep::eval {
+namespace {
+
+template <typename Samples>
+double medianStep(const Samples& s) {
+  std::vector<double> steps;
+  for (std::size_t k = 1; k < s.size(); ++k) steps.push_back(s[k].stamp_s - s[k - 1].stamp_s);
+  if (steps.empty()) return 0.0;
+  const auto mid = steps.begin() + std::ptrdiff_t(steps.size() / 2);
+  std::nth_element(steps.begin(), mid, steps.end());
+  return *mid;
+}
+
+/// Mean and standard deviation of the gyro where the wheels did not turn between two
+/// encoder samples.
+void fitGyro(const Dataset& d, const OdometryFitParams& p, OdometryFit& f) {
+  const double imu_step = medianStep(d.imu);
+  f.imu_rate_hz = imu_step > 0.0 ? 1.0 / imu_step : 0.0;
+  std::vector<double> still;
+  std::size_t e = 0;
+  for (const ImuSample& s : d.imu) {
+    while (e + 1 < d.encoders.size() && d.encoders[e + 1].stamp_s < s.stamp_s) ++e;
+    if (e + 1 >= d.encoders.size() || d.encoders[e].stamp_s > s.stamp_s) continue;
+    const EncoderSample& a = d.encoders[e];
+    const EncoderSample& b = d.encoders[e + 1];
+    if (a.ticks_left == b.ticks_left && a.ticks_right == b.ticks_right)
+      still.push_back(s.gyro_z_radps);
+  }
+  f.still_samples = still.size();
+  if (still.size() < p.min_still) return;
+  double sum = 0.0, sq = 0.0;
+  for (double g : still) sum += g;
+  f.gyro_bias_radps = sum / double(still.size());
+  for (double g : still) sq += (g - f.gyro_bias_radps) * (g - f.gyro_bias_radps);
+  f.gyro_noise_radps = std::sqrt(sq / double(still.size() - 1));
+}
+
+}  // namespace
+
+OdometryFit fitOdometry(const Dataset& d, const OdometryFitParams& p) {
+  OdometryFit f;
+  f.ticks_per_revolution = d.info.ticks_per_revolution;
+  if (d.encoders.size() >= 2) {
+    f.duration_s = d.encoders.back().stamp_s - d.encoders.front().stamp_s;
+    const double step = medianStep(d.encoders);
+    f.encoder_rate_hz = step > 0.0 ? 1.0 / step : 0.0;
+    double missing = 0.0;
+    for (std::size_t k = 1; k < d.encoders.size(); ++k) {
+      const double dt = d.encoders[k].stamp_s - d.encoders[k - 1].stamp_s;
+      if (dt <= p.gap_periods * step) continue;
+      ++f.gaps;
+      missing += dt - step;
+      f.gap_max_s = std::max(f.gap_max_s, dt - step);
+    }
+    if (f.gaps > 0) f.gap_mean_s = missing / double(f.gaps);
+  }
+  f.has_imu = !d.imu.empty();
+  if (f.has_imu) fitGyro(d, p, f);
+  return f;
+}
+
+}  // namespace slamprep::eval
