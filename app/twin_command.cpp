@@ -18,6 +18,7 @@
 #include "eval/formats/dataset_io.hpp"
 #include "sim/drive/scenario.hpp"
 #include "sim/drive/simulator.hpp"
+#include "sim/physics/world.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -47,6 +48,8 @@ void writeTwin(eval::TwinFit& fit, const TwinFlags& flags, const fs::path& parti
                nlohmann::ordered_json& json) {
   writeFileAtomic(partial / "world.yaml", fit.world_yaml);
   writeFileAtomic(partial / "scenario.yaml", fit.scenario_yaml);
+  // Simulated from the files as written (rounded), so their --set list gives the same bytes.
+  fit.world = sim::loadWorld(partial / "world.yaml");
   sim::SimConfig& config = fit.config;
   config.world = (fs::path(flags.out) / "world.yaml").string();
   config.scenario = (fs::path(flags.out) / "scenario.yaml").string();
@@ -54,16 +57,16 @@ void writeTwin(eval::TwinFit& fit, const TwinFlags& flags, const fs::path& parti
   const auto begin = std::chrono::steady_clock::now();
   const sim::SimResult r = eval::simulateTwin(fit, scenario);
   json = fit.json;
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   fs::create_directories(partial / "dataset");
   eval::writeDatasetFiles(partial / "dataset", r.dataset, fs::path(flags.out) / "dataset");
-  json["simulate"] = {
-      {"command", "slamprep simulate --world " + config.world + " --scenario " + config.scenario +
-                      " --set ... (sets) --out DIR"},
-      {"scans", r.summary.scans},
-      {"distance_m", r.summary.distance_m},
-      {"true_geometry_drift_max_m", r.summary.drift_true.max_position_error_m},
-      {"seconds", wall}};
+  json["simulate"] = {{"command", "slamprep simulate --world " + config.world + " --scenario " +
+                                      config.scenario + " --set ... (sets) --out DIR"},
+                      {"scans", r.summary.scans},
+                      {"distance_m", r.summary.distance_m},
+                      {"true_geometry_drift_max_m", r.summary.drift_true.max_position_error_m},
+                      {"seconds", wall}};
   writeFileAtomic(partial / "twin.json", json.dump(2) + "\n");
 }
 

@@ -202,8 +202,7 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
       "robot.caster_radius_m=" + num(r.caster_radius_m),
       "robot.chassis_clearance_m=" + num(r.chassis_clearance_m),
       "robot.radius_left_m=" + num(g.radius_left_m),
-      "robot.radius_right_m=" + num(g.radius_right_m),
-      "robot.wheel_base_m=" + num(g.wheel_base_m),
+      "robot.radius_right_m=" + num(g.radius_right_m), "robot.wheel_base_m=" + num(g.wheel_base_m),
       "nominal.radius_left_error=" + num(f.nominal.radius_left_m / g.radius_left_m - 1.0),
       "nominal.radius_right_error=" + num(f.nominal.radius_right_m / g.radius_right_m - 1.0),
       "nominal.wheel_base_error=" + num(f.nominal.wheel_base_m / g.wheel_base_m - 1.0),
@@ -211,11 +210,9 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
       "lidar.beams_per_revolution=" + std::to_string(l.beams_per_revolution),
       "lidar.fov_rad=" + num(l.fov_rad),
       std::string("lidar.clockwise=") + (l.angle_increment_rad < 0.0 ? "true" : "false"),
-      "lidar.range_min_m=" + num(l.range_min_m),
-      "lidar.range_max_m=" + num(l.usable_max_m),
+      "lidar.range_min_m=" + num(l.range_min_m), "lidar.range_max_m=" + num(l.usable_max_m),
       "lidar.range_noise_m=" + num(f.against_map.range_noise_m),
-      "lidar.mount.x_m=" + num(f.T_base_lidar.x),
-      "lidar.mount.y_m=" + num(f.T_base_lidar.y),
+      "lidar.mount.x_m=" + num(f.T_base_lidar.x), "lidar.mount.y_m=" + num(f.T_base_lidar.y),
       "lidar.mount.yaw_rad=" + num(normalizeAngle(f.T_base_lidar.yaw + l.mount_yaw_shift_rad)),
       "encoders.rate_hz=" + num(f.odometry.encoder_rate_hz),
       "encoders.ticks_per_revolution=" + std::to_string(f.odometry.ticks_per_revolution)};
@@ -273,35 +270,40 @@ nlohmann::ordered_json lidarJson(const Fitted& f) {
   const LidarAgainstMap& m = f.against_map;
   return {
       {"rate_hz", fitted(l.rate_hz, "1 / median step between scan stamps")},
-      {"beams_per_scan", fitted({{"mean", l.beams_per_scan_mean}, {"min", l.beams_min},
-                                 {"max", l.beams_max}, {"most_common", l.beams_mode}},
+      {"beams_per_scan", fitted({{"mean", l.beams_per_scan_mean},
+                                 {"min", l.beams_min},
+                                 {"max", l.beams_max},
+                                 {"most_common", l.beams_mode}},
                                 "counted per scan; the twin has one count, beams_per_revolution "
                                 "x fov / 2 pi")},
       {"angle_min_deg", fitted(l.angle_min_rad * kDegPerRad, "of the most common layout")},
-      {"angle_increment_deg", fitted(l.angle_increment_rad * kDegPerRad,
-                                     "median; negative: clockwise")},
+      {"angle_increment_deg",
+       fitted(l.angle_increment_rad * kDegPerRad, "median; negative: clockwise")},
       {"beams_per_revolution", fitted(l.beams_per_revolution, "round(360 deg / |increment|)")},
       {"fov_deg", fitted(l.fov_rad * kDegPerRad, "most common count x increment, at most 360")},
       {"mount_yaw_shift_deg", fitted(l.mount_yaw_shift_rad * kDegPerRad,
                                      "added to the mount's yaw so the twin's beam i points "
                                      "where the recorded beam i did")},
-      {"time_increment_s", fitted(l.time_increment_s, "median of the scans' time_increment; the "
-                                                      "twin's is 1 / (rate x beams_per_revolution)")},
+      {"time_increment_s", fitted(l.time_increment_s,
+                                  "median of the scans' time_increment; the "
+                                  "twin's is 1 / (rate x beams_per_revolution)")},
       {"stamp", fitted("first beam", "the dataset's convention (docs/dataset.md); the twin's too")},
       {"range_min_m", fitted(l.range_min_m, "median of the scans' range_min")},
       {"range_max_m", fitted(l.range_max_m, "median of the scans' range_max")},
       {"usable_max_range_m", fitted(l.usable_max_m, "99.9th percentile of the valid readings")},
       {"no_return_fraction", fitted(l.no_return_fraction, "invalid beams of all beams")},
-      {"range_noise_m", fitted(m.range_noise_m, "1.4826 MAD of measured - cast range of the "
-                                                "accepted scans in the twin's world; includes the "
-                                                "walls' fit and the matched poses' error")},
+      {"range_noise_m", fitted(m.range_noise_m,
+                               "1.4826 MAD of measured - cast range of the "
+                               "accepted scans in the twin's world; includes the "
+                               "walls' fit and the matched poses' error")},
       {"residual_median_m", fitted(m.residual_median_m, "signed median of the same residuals")},
       {"residuals", m.residuals},
       {"dropout_probability", fitted(m.dropout_probability,
                                      "no return where the world predicts one within the usable "
                                      "range; the twin drops beams uniformly at this rate")},
-      {"spurious_fraction", fitted(m.spurious_fraction, "a return where the world predicts none "
-                                                        "(people, what the walls missed)")},
+      {"spurious_fraction", fitted(m.spurious_fraction,
+                                   "a return where the world predicts none "
+                                   "(people, what the walls missed)")},
       {"dropout_by_angle", fitted(m.dropout_by_angle, "per 10 deg of beam angle from -180")},
       {"dropout_by_range", fitted(m.dropout_by_range, "per 0.5 m of predicted range from 0")}};
 }
@@ -339,9 +341,10 @@ nlohmann::ordered_json odometryJson(const Fitted& f, const nlohmann::ordered_jso
 namespace {
 
 nlohmann::ordered_json worldJson(const WallMap& map, const WorldBuild& b) {
-  return {{"how", "matched points in a 5 cm grid (cells with >= 2 returns), straight runs found "
-                  "by a Hough transform, fitted by total least squares, split at 0.25 m gaps; "
-                  "the rest as short walls and posts; geometry the robot's path crosses cut away"},
+  return {{"how",
+           "matched points in a 5 cm grid (cells with >= 2 returns), straight runs found "
+           "by a Hough transform, fitted by total least squares, split at 0.25 m gaps; "
+           "the rest as short walls and posts; geometry the robot's path crosses cut away"},
           {"occupied_cells", map.occupied_cells},
           {"cells_on_walls_percent",
            map.occupied_cells ? 100.0 * map.cells_on_walls / map.occupied_cells : 0.0},
@@ -355,9 +358,10 @@ nlohmann::ordered_json worldJson(const WallMap& map, const WorldBuild& b) {
 }
 
 nlohmann::ordered_json driveJson(const TrackedDrive& d, double period_s) {
-  return {{"how", "commands: wheel rates every period_s (scenario type track) that a kinematic "
-                  "robot of the true geometry drives onto the matched trajectory; the physics "
-                  "adds its slip"},
+  return {{"how",
+           "commands: wheel rates every period_s (scenario type track) that a kinematic "
+           "robot of the true geometry drives onto the matched trajectory; the physics "
+           "adds its slip"},
           {"period_s", period_s},
           {"knots", d.wheel_rates.size()},
           {"distance_m", d.distance_m},
@@ -395,9 +399,11 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   MatchTrajectoryOptions options;
   const std::vector<Points2> points = matchScanPoints(real, p.deskew, false);
   const MatchTrajectory run = matchTrajectory(real, points, options);
-  if (run.tracked.matched == 0) throw InputError(name, "no scan matched: no map to make a world of");
+  if (run.tracked.matched == 0)
+    throw InputError(name, "no scan matched: no map to make a world of");
   std::vector<char> accepted;
-  const WallMap map = extractWalls(mapPoints(run, points, f.layout.usable_max_m, accepted), p.walls);
+  const WallMap map =
+      extractWalls(mapPoints(run, points, f.layout.usable_max_m, accepted), p.walls);
   nlohmann::ordered_json geometry_how;
   f.true_geometry = trueGeometry(real, name, p, geometry_how);
   f.robot = twinRobot(f.true_geometry);
@@ -418,13 +424,14 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   for (const std::string& s : out.sets) sim::applyOverride(out.config, s);
   out.world = std::move(built.world);
   out.world_yaml = worldYaml(out.world, "The world of slamprep twin " + name + " (docs/twin.md)");
-  out.scenario_yaml = scenarioYaml(
-      drive, p.track.period_s, "The matched trajectory of " + name + " as wheel-rate commands");
+  out.scenario_yaml = scenarioYaml(drive, p.track.period_s,
+                                   "The matched trajectory of " + name + " as wheel-rate commands");
   out.json = {{"dataset", name},
-              {"match", {{"deskew", p.deskew},
-                         {"scans", run.tracked.scans.size()},
-                         {"matched", run.tracked.matched},
-                         {"accepted_for_the_map", std::count(accepted.begin(), accepted.end(), 1)}}},
+              {"match",
+               {{"deskew", p.deskew},
+                {"scans", run.tracked.scans.size()},
+                {"matched", run.tracked.matched},
+                {"accepted_for_the_map", std::count(accepted.begin(), accepted.end(), 1)}}},
               {"world", worldJson(map, built)},
               {"drive", driveJson(drive, p.track.period_s)},
               {"lidar", lidarJson(f)},
@@ -464,10 +471,11 @@ sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
     setRangeNoise(fit, std::max(0.0, next));
   }
   j["tuning_runs"] = runs;
-  j["how"] = "tuned so the twin's scan-to-map residual (match --deskew none, median) is the "
-             "recording's: started at the range residual against the world "
-             "(fitted_against_the_world_m), a step through zero, then a secant step; "
-             "tuning_runs: [noise, the twin's residual] of each run";
+  j["how"] =
+      "tuned so the twin's scan-to-map residual (match --deskew none, median) is the "
+      "recording's: started at the range residual against the world "
+      "(fitted_against_the_world_m), a step through zero, then a secant step; "
+      "tuning_runs: [noise, the twin's residual] of each run";
   return r;
 }
 

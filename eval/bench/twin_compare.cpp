@@ -24,12 +24,17 @@ const std::map<std::string, const char*>& definitions() {
        "slamprep match --deskew none: median over the accepted scans of their RMS point-to-line "
        "residual"},
       {"scan_to_map_residual_p95_m", "the same, 95th percentile"},
-      {"match_converged_percent", "slamprep match --deskew none: accepted of all scans but the first"},
+      {"match_converged_percent",
+       "slamprep match --deskew none: accepted of all scans but the first"},
       {"odometry_drift_per_m",
        "the raw odometry against the matched trajectory: mean translation error of 1 m pieces of "
        "path (RPE, metres), per metre"},
-      {"calibration_sigma_b_mm",
-       "1-sigma of b from calibrate --method joint --motion map --keyframe-cm 20 (null: refused)"}};
+      {"calibration_sigma_b",
+       "1-sigma of b in metres from calibrate --method joint --motion map --keyframe-cm 20 "
+       "(null: refused)"},
+      {"calibration_b_m",
+       "b from the same calibration: its spread over twin seeds against its spread over "
+       "recordings is the suite's (scripts/twins.sh)"}};
   return d;
 }
 
@@ -48,15 +53,18 @@ std::optional<double> driftPerMetre(const Dataset& d, const MatchTrajectory& run
   return r.translation_m.mean;  // pieces of 1 m: metres per metre
 }
 
-std::optional<double> sigmaB(const std::string& dir, const Dataset& d) {
+/// The joint calibration's b and its 1-sigma (both nullopt when refused).
+std::pair<std::optional<double>, std::optional<double>> calibratedB(const std::string& dir,
+                                                                    const Dataset& d) {
   DatasetCalibrationParams c;
   c.dataset = dir;
   c.methods = {algo::CalibrationMethod::kJoint};
   c.motion.from_map = true;
   c.motion.intervals.keyframe_translation_m = 0.2;
   const DatasetCalibration cal = calibrateDataset(c, d);
-  if (cal.runs.empty() || !cal.runs.front().result.ok) return std::nullopt;
-  return cal.runs.front().result.sigma()(2) * 1e3;
+  if (cal.runs.empty() || !cal.runs.front().result.ok) return {};
+  const algo::CalibrationResult& r = cal.runs.front().result;
+  return {r.geometry.wheel_base_m, r.sigma()(2)};
 }
 
 }  // namespace
@@ -68,18 +76,22 @@ TwinStatistics measureTwinStatistics(const std::string& dir) {
   const std::vector<Points2> points = matchScanPoints(d, "none", false);
   const MatchTrajectory run = matchTrajectory(d, points, {});
   for (std::size_t k = 1; k < run.tracked.scans.size(); ++k)
-    if (!run.tracked.scans[k].fallback) s.residuals_m.push_back(run.tracked.scans[k].match.rms_residual_m);
+    if (!run.tracked.scans[k].fallback)
+      s.residuals_m.push_back(run.tracked.scans[k].match.rms_residual_m);
   const ErrorStats r = summarize(s.residuals_m);
   const double attempted = double(run.tracked.scans.size()) - 1.0;
+  const auto [b, sigma_b] = calibratedB(dir, d);
   auto opt = [](bool ok, double v) { return ok ? std::optional<double>(v) : std::nullopt; };
-  s.values = {{"scan_rate_hz", l.rate_hz},
-              {"beams_per_scan_mean", l.beams_per_scan_mean},
-              {"no_return_fraction", l.no_return_fraction},
-              {"scan_to_map_residual_median_m", opt(r.ok, r.median)},
-              {"scan_to_map_residual_p95_m", opt(r.ok, r.p95)},
-              {"match_converged_percent", opt(attempted > 0, 100.0 * run.tracked.matched / attempted)},
-              {"odometry_drift_per_m", driftPerMetre(d, run)},
-              {"calibration_sigma_b_mm", sigmaB(dir, d)}};
+  s.values = {
+      {"scan_rate_hz", l.rate_hz},
+      {"beams_per_scan_mean", l.beams_per_scan_mean},
+      {"no_return_fraction", l.no_return_fraction},
+      {"scan_to_map_residual_median_m", opt(r.ok, r.median)},
+      {"scan_to_map_residual_p95_m", opt(r.ok, r.p95)},
+      {"match_converged_percent", opt(attempted > 0, 100.0 * run.tracked.matched / attempted)},
+      {"odometry_drift_per_m", driftPerMetre(d, run)},
+      {"calibration_sigma_b", sigma_b},
+      {"calibration_b_m", b}};
   return s;
 }
 

@@ -24,9 +24,8 @@ SE2 recordedAt(const PoseSeries& T_world_base, double t_s) {
 Eigen::Vector2d meanTwist(const SE2& T_world_base, const SE2& T_world_target, double dt,
                           const TrackParams& p) {
   const SE2 e = between(T_world_base, T_world_target);
-  const double lateral =
-      std::clamp(p.lateral_gain_per_m * e.y * (e.x >= 0.0 ? 1.0 : -1.0), -p.max_lateral_rad,
-                 p.max_lateral_rad);
+  const double lateral = std::clamp(p.lateral_gain_per_m * e.y * (e.x >= 0.0 ? 1.0 : -1.0),
+                                    -p.max_lateral_rad, p.max_lateral_rad);
   return {e.x / dt, (e.yaw + lateral * std::min(1.0, std::abs(e.x) / 0.01)) / dt};
 }
 
@@ -49,8 +48,8 @@ TrackedDrive trackTrajectory(const PoseSeries& T_world_base, const DiffDrivePara
   if (T_world_base.size() < 2) return drive;
   drive.t0_s = T_world_base.frontStamp();
   for (std::size_t i = 1; i < T_world_base.size(); ++i)
-    drive.distance_m += (T_world_base[i].value.translation() -
-                         T_world_base[i - 1].value.translation()).norm();
+    drive.distance_m +=
+        (T_world_base[i].value.translation() - T_world_base[i - 1].value.translation()).norm();
   const double span_s = T_world_base.backStamp() - drive.t0_s;
   const auto knots = static_cast<std::size_t>(std::ceil(span_s / p.period_s));
   const int steps = std::max(1, static_cast<int>(std::lround(p.period_s / p.step_s)));

@@ -13,17 +13,17 @@
 namespace slamprep::eval {
 
 struct TrackParams {
-  double period_s = 0.1;             ///< knot spacing of the track segment
-  double step_s = 0.01;              ///< kinematic integration step
-  double lateral_gain_per_m = 2.0;   ///< heading correction per metre of sideways error ...
-  double max_lateral_rad = 0.5;      ///< ... at most this
-  double max_wheel_radps = 50.0;     ///< commands are clamped (a matching glitch is not a drive)
+  double period_s = 0.1;            ///< knot spacing of the track segment
+  double step_s = 0.01;             ///< kinematic integration step
+  double lateral_gain_per_m = 2.0;  ///< heading correction per metre of sideways error ...
+  double max_lateral_rad = 0.5;     ///< ... at most this
+  double max_wheel_radps = 50.0;    ///< commands are clamped (a matching glitch is not a drive)
 };
 
 struct TrackedDrive {
   std::vector<Eigen::Vector2d> wheel_rates;  ///< knot k at (k + 1) period_s; rad/s left, right
-  PoseSeries replay;           ///< the kinematic robot at every knot (scenario time, from 0)
-  double t0_s = 0.0;           ///< recorded time of scenario time 0
+  PoseSeries replay;            ///< the kinematic robot at every knot (scenario time, from 0)
+  double t0_s = 0.0;            ///< recorded time of scenario time 0
   double rms_position_m = 0.0;  ///< replay against the recording at the knots
   double max_position_m = 0.0;
   double rms_heading_deg = 0.0;

@@ -27,8 +27,8 @@ std::string commentLines(const std::string& text) {
 std::string worldYaml(const sim::World& w, const std::string& comment) {
   std::string y = commentLines(comment);
   y += "name: " + w.name + "\n";
-  y += format("start: {x: %.4f, y: %.4f, yaw_deg: %.3f}\n", w.T_world_start.x,
-              w.T_world_start.y, w.T_world_start.yaw * 180.0 / std::numbers::pi);
+  y += format("start: {x: %.4f, y: %.4f, yaw_deg: %.3f}\n", w.T_world_start.x, w.T_world_start.y,
+              w.T_world_start.yaw * 180.0 / std::numbers::pi);
   if (!w.walls.empty()) y += "walls:\n";
   for (const sim::Wall& s : w.walls)
     y += format("  - {from: [%.4f, %.4f], to: [%.4f, %.4f], thickness: %.3f, height: %.2f}\n",
@@ -43,7 +43,8 @@ std::string worldYaml(const sim::World& w, const std::string& comment) {
 std::string scenarioYaml(const TrackedDrive& drive, double period_s, const std::string& comment) {
   std::string y = commentLines(comment);
   y += "name: twin\nsegments:\n";
-  y += format("  - type: track\n    kind: wheel_rates\n    period_s: %.6g\n    values:\n", period_s);
+  y +=
+      format("  - type: track\n    kind: wheel_rates\n    period_s: %.6g\n    values:\n", period_s);
   for (const Eigen::Vector2d& c : drive.wheel_rates)
     y += format("      - [%.5f, %.5f]\n", c.x(), c.y());
   return y;

@@ -91,8 +91,8 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
                                const LidarLayout& layout, const LidarMapParams& p) {
   LidarAgainstMap m;
   const auto angle_bins = static_cast<std::size_t>(std::lround(360.0 / p.angle_bin_deg));
-  const auto range_bins =
-      static_cast<std::size_t>(std::ceil(std::max(layout.usable_max_m, p.range_bin_m) / p.range_bin_m));
+  const auto range_bins = static_cast<std::size_t>(
+      std::ceil(std::max(layout.usable_max_m, p.range_bin_m) / p.range_bin_m));
   std::vector<std::size_t> by_angle(angle_bins), drop_angle(angle_bins);
   std::vector<std::size_t> drop_range(range_bins);
   m.predicted_by_range.assign(range_bins, 0);
@@ -117,7 +117,8 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
       }
       ++predicted;
       const double beam = std::remainder(s.beamAngle(i), kTwoPi) + std::numbers::pi;
-      const auto ab = std::min(angle_bins - 1, static_cast<std::size_t>(beam / kTwoPi * angle_bins));
+      const auto ab =
+          std::min(angle_bins - 1, static_cast<std::size_t>(beam / kTwoPi * angle_bins));
       const auto rb = std::min(range_bins - 1, static_cast<std::size_t>(*hit / p.range_bin_m));
       ++by_angle[ab];
       ++m.predicted_by_range[rb];

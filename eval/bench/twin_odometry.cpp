@@ -45,13 +45,24 @@ void fitGyro(const Dataset& d, const OdometryFitParams& p, OdometryFit& f) {
 OdometryFit fitOdometry(const Dataset& d, const OdometryFitParams& p) {
   OdometryFit f;
   f.ticks_per_revolution = d.info.ticks_per_revolution;
-  if (d.encoders.size() >= 2) {
-    f.duration_s = d.encoders.back().stamp_s - d.encoders.front().stamp_s;
-    const double step = medianStep(d.encoders);
+  // A log without encoder ticks (CARMEN without --nominal): its odometry poses' stream.
+  std::vector<double> stamps;
+  for (const EncoderSample& e : d.encoders) stamps.push_back(e.stamp_s);
+  if (stamps.size() < 2) {
+    stamps.clear();
+    for (const auto& s : d.odom_nominal.samples()) stamps.push_back(s.stamp_s);
+  }
+  if (stamps.size() >= 2) {
+    f.duration_s = stamps.back() - stamps.front();
+    std::vector<double> steps;
+    for (std::size_t k = 1; k < stamps.size(); ++k) steps.push_back(stamps[k] - stamps[k - 1]);
+    std::vector<double> sorted = steps;
+    std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(sorted.size() / 2),
+                     sorted.end());
+    const double step = sorted[sorted.size() / 2];
     f.encoder_rate_hz = step > 0.0 ? 1.0 / step : 0.0;
     double missing = 0.0;
-    for (std::size_t k = 1; k < d.encoders.size(); ++k) {
-      const double dt = d.encoders[k].stamp_s - d.encoders[k - 1].stamp_s;
+    for (double dt : steps) {
       if (dt <= p.gap_periods * step) continue;
       ++f.gaps;
       missing += dt - step;

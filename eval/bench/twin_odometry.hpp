@@ -25,8 +25,8 @@ struct OdometryFit {
 };
 
 struct OdometryFitParams {
-  double gap_periods = 2.5;     ///< a step this many median steps long is a gap
-  std::size_t min_still = 50;   ///< fewer still gyro samples: bias and noise are not fitted
+  double gap_periods = 2.5;    ///< a step this many median steps long is a gap
+  std::size_t min_still = 50;  ///< fewer still gyro samples: bias and noise are not fitted
 };
 
 OdometryFit fitOdometry(const Dataset& dataset, const OdometryFitParams& params = {});

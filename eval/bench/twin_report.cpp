@@ -29,15 +29,13 @@ std::string twinText(const nlohmann::ordered_json& j) {
                 d["replay_rms_heading_deg"].get<double>());
   out += buf;
   const auto& l = j["lidar"];
-  std::snprintf(buf, sizeof buf,
-                "lidar: %.2f Hz, %.1f beams per scan, %d per revolution, usable range %.2f m, "
-                "range noise %.4f m, dropout %.3f where the world has a wall\n",
-                l["rate_hz"]["value"].get<double>(),
-                l["beams_per_scan"]["value"]["mean"].get<double>(),
-                l["beams_per_revolution"]["value"].get<int>(),
-                l["usable_max_range_m"]["value"].get<double>(),
-                l["range_noise_m"]["value"].get<double>(),
-                l["dropout_probability"]["value"].get<double>());
+  std::snprintf(
+      buf, sizeof buf,
+      "lidar: %.2f Hz, %.1f beams per scan, %d per revolution, usable range %.2f m, "
+      "range noise %.4f m, dropout %.3f where the world has a wall\n",
+      l["rate_hz"]["value"].get<double>(), l["beams_per_scan"]["value"]["mean"].get<double>(),
+      l["beams_per_revolution"]["value"].get<int>(), l["usable_max_range_m"]["value"].get<double>(),
+      l["range_noise_m"]["value"].get<double>(), l["dropout_probability"]["value"].get<double>());
   out += buf;
   const auto& o = j["odometry"];
   const auto& t = o["true"]["value"];
@@ -52,14 +50,15 @@ std::string twinText(const nlohmann::ordered_json& j) {
 }
 
 void plotComparison(const TwinComparison& c, const std::filesystem::path& png) {
-  plot::Figure fig{.width_px = 1400, .height_px = 700, .title = "twin against recording",
-                   .cols = 2};
+  plot::Figure fig{
+      .width_px = 1400, .height_px = 700, .title = "twin against recording", .cols = 2};
   plot::Axes ratios{.title = "twin / real per statistic (band: +-25 %)",
-                    .y_label = "twin / real", .log_y = true,
+                    .y_label = "twin / real",
+                    .log_y = true,
                     .legend = plot::LegendPosition::None};
   plot::Series bars{.label = "twin / real", .style = plot::Style::Bars};
-  const char* const shorts[] = {"rate",   "beams",   "no-return", "resid. med",
-                                "resid. p95", "conv. %", "drift/m",  "sigma b"};
+  const char* const shorts[] = {"rate",    "beams",   "no-return", "resid. med", "resid. p95",
+                                "conv. %", "drift/m", "sigma b",   "b"};
   for (std::size_t i = 0; i < c.rows.size(); ++i) {
     ratios.categories.push_back(i < std::size(shorts) ? shorts[i] : c.rows[i].name);
     bars.x.push_back(double(i));
@@ -67,14 +66,17 @@ void plotComparison(const TwinComparison& c, const std::filesystem::path& png) {
   }
   const double right = double(c.rows.size()) - 0.5;
   for (double level : {0.75, 1.0, 1.25})
-    ratios.series.push_back({.x = {-0.5, right}, .y = {level, level},
-                             .color = plot::rgb(0x555555), .line_width_px = 1.5,
+    ratios.series.push_back({.x = {-0.5, right},
+                             .y = {level, level},
+                             .color = plot::rgb(0x555555),
+                             .line_width_px = 1.5,
                              .dashed = level != 1.0});
   ratios.series.push_back(bars);
   ratios.dodge = false;
   ratios.y_range = plot::Range{0.1, 10.0};
   plot::Axes box{.title = "per-scan RMS residual against the map",
-                 .y_label = "residual [m]", .legend = plot::LegendPosition::None,
+                 .y_label = "residual [m]",
+                 .legend = plot::LegendPosition::None,
                  .categories = {"real", "twin"}};
   plot::Series a{.x = {}, .y = c.real_residuals_m, .style = plot::Style::Box};
   a.x.assign(c.real_residuals_m.size(), 0.0);

@@ -17,7 +17,8 @@ struct Cell {
   int hits = 0;
 };
 
-std::vector<Cell> occupiedCells(const std::vector<MapPoint>& points, const WallExtractionParams& p) {
+std::vector<Cell> occupiedCells(const std::vector<MapPoint>& points,
+                                const WallExtractionParams& p) {
   std::map<std::pair<int, int>, Cell> grid;  // ordered: the same points give the same cells
   for (const MapPoint& m : points) {
     const int ix = static_cast<int>(std::floor(m.p_world.x() / p.cell_m));
@@ -125,7 +126,8 @@ std::vector<int> lineInliers(const std::vector<Cell>& cells, const std::vector<c
   for (int round = 0; round < 3; ++round) {
     in.clear();
     for (std::size_t i = 0; i < cells.size(); ++i)
-      if (active[i] && std::abs(n.dot(cells[i].centroid) - rho) <= tolerance_m) in.push_back(int(i));
+      if (active[i] && std::abs(n.dot(cells[i].centroid) - rho) <= tolerance_m)
+        in.push_back(int(i));
     if (in.size() < 2) return in;
     std::vector<Eigen::Vector2d> pts;
     for (int i : in) pts.push_back(cells[i].centroid);
@@ -140,21 +142,21 @@ std::vector<int> lineInliers(const std::vector<Cell>& cells, const std::vector<c
 std::vector<std::vector<int>> runsAlong(const std::vector<Cell>& cells, std::vector<int> in,
                                         const Eigen::Vector2d& n, double max_gap_m) {
   const Eigen::Vector2d dir(n.y(), -n.x());
-  std::sort(in.begin(), in.end(), [&](int a, int b) {
-    return cells[a].centroid.dot(dir) < cells[b].centroid.dot(dir);
-  });
+  std::sort(in.begin(), in.end(),
+            [&](int a, int b) { return cells[a].centroid.dot(dir) < cells[b].centroid.dot(dir); });
   std::vector<std::vector<int>> runs;
   for (std::size_t k = 0; k < in.size(); ++k) {
-    const bool gap = k == 0 || (cells[in[k]].centroid - cells[in[k - 1]].centroid).dot(dir) >
-                                   max_gap_m;
+    const bool gap =
+        k == 0 || (cells[in[k]].centroid - cells[in[k - 1]].centroid).dot(dir) > max_gap_m;
     if (gap) runs.emplace_back();
     runs.back().push_back(in[k]);
   }
   return runs;
 }
 
-double length(const WallSegment& s) { return (s.to_m - s.from_m).norm(); }
-
+double length(const WallSegment& s) {
+  return (s.to_m - s.from_m).norm();
+}
 
 /// Connected groups of the cells no wall explained (8-neighbours, one empty cell bridged).
 std::vector<std::vector<int>> clusters(const std::vector<Cell>& cells, std::vector<int> left) {
@@ -241,8 +243,9 @@ WallMap extractWalls(const std::vector<MapPoint>& points, const WallExtractionPa
   for (std::size_t i = 0; i < cells.size(); ++i)
     if (active[i]) leftover.push_back(int(i));
   addClutter(cells, leftover, p, map);
-  std::stable_sort(map.walls.begin(), map.walls.end(),
-                   [](const WallSegment& a, const WallSegment& b) { return length(a) > length(b); });
+  std::stable_sort(
+      map.walls.begin(), map.walls.end(),
+      [](const WallSegment& a, const WallSegment& b) { return length(a) > length(b); });
   return map;
 }
 

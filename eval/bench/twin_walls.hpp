@@ -16,13 +16,13 @@ struct MapPoint {
 };
 
 struct WallExtractionParams {
-  double cell_m = 0.05;           ///< grid cell; a cell is occupied by >= min_hits points
-  int min_hits = 2;               ///< a single stray return does not make a wall
+  double cell_m = 0.05;            ///< grid cell; a cell is occupied by >= min_hits points
+  int min_hits = 2;                ///< a single stray return does not make a wall
   double line_tolerance_m = 0.05;  ///< a cell belongs to a line within this distance
-  double min_length_m = 0.3;      ///< shorter straight runs are left to the clutter pass
-  double max_gap_m = 0.25;        ///< a run along a line breaks at a larger gap (a door)
-  double angle_step_deg = 1.0;    ///< Hough resolution in angle (rho: line_tolerance_m)
-  double thickness_m = 0.04;      ///< thickness of the walls written
+  double min_length_m = 0.3;       ///< shorter straight runs are left to the clutter pass
+  double max_gap_m = 0.25;         ///< a run along a line breaks at a larger gap (a door)
+  double angle_step_deg = 1.0;     ///< Hough resolution in angle (rho: line_tolerance_m)
+  double thickness_m = 0.04;       ///< thickness of the walls written
   double post_max_extent_m = 0.2;  ///< clutter smaller than this is a post (cylinder)
 };
 
@@ -40,7 +40,7 @@ struct Post {
 };
 
 struct WallMap {
-  std::vector<WallSegment> walls;  ///< straight runs, longest first
+  std::vector<WallSegment> walls;    ///< straight runs, longest first
   std::vector<WallSegment> clutter;  ///< short clusters fitted as short walls
   std::vector<Post> posts;           ///< compact clusters
   int occupied_cells = 0;
