@@ -1,6 +1,7 @@
 // `slamprep bench`: the main job. Runs a suite, writes results/<suite>/, compares to a baseline.
 #include <algorithm>
 #include <iostream>
+#include <thread>
 
 #include "app/choices.hpp"
 #include "app/commands.hpp"
@@ -88,8 +89,19 @@ int runOnSlurm(BenchFlags& flags) {
   return 0;
 }
 
+// More workers than 4 per core only add memory and switching (10000 started one per trial);
+// with --slurm the count is checked where the tasks run.
+void checkJobs(int jobs) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (jobs > 4 * cores)
+    throw InputError("--jobs " + std::to_string(jobs),
+                     "more than 4 worker processes per core (this machine has " +
+                         std::to_string(cores) + "): at most " + std::to_string(4 * cores));
+}
+
 int runBenchCommand(BenchFlags& flags) {
   if (flags.slurm) return runOnSlurm(flags);
+  checkJobs(flags.options.jobs);
   if (!flags.shard.empty()) flags.options.shard = eval::Shard::parse(flags.shard);
   if (!flags.compare.empty()) checkInputFile(flags.compare, "--compare");  // before any trial
   if (!flags.compare.empty()) flags.options.compare = flags.compare;
@@ -136,8 +148,9 @@ Command addBenchCommand(CLI::App& app) {
       ->capture_default_str();
   cli->add_option("--jobs,-j", flags->options.jobs,
                   "Trials run at once in worker processes (0: one per core); results are the "
-                  "same bytes whatever the count")
-      ->capture_default_str();
+                  "same bytes whatever the count; at most 4 per core")
+      ->capture_default_str()
+      ->check(nonNegative());
   cli->add_option("--shard", flags->shard,
                   "Run only slice K of N (K/N) into results/<suite>/shards/K-of-N/; combine "
                   "with `slamprep merge`");

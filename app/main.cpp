@@ -3,6 +3,7 @@
 // option, then work; exit codes in app/exit_codes.hpp.
 
 #include <algorithm>
+#include <csignal>
 #include <cstdlib>
 #include <iostream>
 #include <string_view>
@@ -80,6 +81,9 @@ bool unknownCommand(const CLI::App& app, int argc, char** argv) {
 
 int main(int argc, char** argv) {
   slamprep::removePartialsOnSignal();  // Ctrl-C leaves no <out>.partial-<pid> behind
+  // Past a file size limit (ulimit -f) a write fails with EFBIG and the error names the file;
+  // the default SIGXFSZ would kill the process without a word.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{
       "slamprep: simulate a differential-drive robot with a rotating lidar in Bullet, then measure "
       "how well odometry calibration and lidar de-skew recover the truth."};

@@ -13,6 +13,8 @@
 #include "app/commands.hpp"
 #include "app/outputs.hpp"
 #include "core/error.hpp"
+#include "core/input_file.hpp"
+#include "core/json_input.hpp"
 #include "core/paths.hpp"
 #include "eval/bench/command_progress.hpp"
 #include "eval/formats/dataset_io.hpp"
@@ -55,10 +57,8 @@ std::string keysHelp() {
 /// A configuration JSON file: either the configuration object itself or a dataset.json, whose
 /// "config" field holds the configuration a dataset was simulated with.
 sim::SimConfig readConfigFile(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file, "cannot open configuration file");
-  nlohmann::json json = nlohmann::json::parse(in, nullptr, false);
-  if (json.is_discarded()) throw InputError(file, "malformed JSON");
+  nlohmann::json json =
+      parseJsonInput(readInputFile(file, "configuration file", kMaxConfigFileBytes), file);
   if (json.is_object() && json.contains("config") && json.contains("format_version")) {
     json = json["config"];
     // Keys the dataset adds beside the simulator's configuration (docs/dataset.md).
@@ -143,7 +143,8 @@ Command addSimulateCommand(CLI::App& app) {
       ->check(nonNegative());
   cli->add_option("--seed", flags->seed,
                   "Seed of all sensor noise (default 1). Same seed and "
-                  "configuration give byte-identical datasets");
+                  "configuration give byte-identical datasets")
+      ->check(nonNegative());  // CLI11 would wrap -1 to 2^64 - 1
   cli->add_option("--mode", flags->mode,
                   "physics (default): Bullet rigid bodies, motors, contacts, slip. kinematic: "
                   "exact integration of the commanded wheel rates with the true geometry")

@@ -124,6 +124,9 @@ void writeFileAtomic(const fs::path& file, const std::string& text) {
 }
 
 std::string readFile(const fs::path& file) {
+  std::error_code ec;  // a device or FIFO (/dev/zero) would be read forever
+  if (fs::exists(file, ec) && !fs::is_regular_file(file, ec))
+    throw InputError(file.string(), "not a regular file");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string(), "cannot open file");
   std::ostringstream buffer;

@@ -11,7 +11,8 @@ namespace slamprep {
 /// folders. Throws InputError naming the file when it cannot be written.
 void writeFileAtomic(const std::filesystem::path& file, const std::string& text);
 
-/// Reads a whole file; throws InputError naming the file when it cannot be read.
+/// Reads a whole file; throws InputError naming the file when it cannot be read or is not a
+/// regular file.
 std::string readFile(const std::filesystem::path& file);
 
 /// `<folder>/<name>.<tag>-<pid>`: the sibling a file or folder is written into before it is

@@ -10,6 +10,8 @@
 #include "algo/agreement/agreement_report.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/input_file.hpp"
+#include "core/json_input.hpp"
 
 namespace slamprep::algo {
 namespace {
@@ -305,13 +307,8 @@ CalibrationRun CalibrationFile::requireBest() const {
 }
 
 CalibrationFile parseCalibrationJson(std::string_view text, const std::string& source) {
-  json j;
+  json j = parseJsonInput(text, source);  // nesting and repeated keys checked first
   std::string source_prefix = source + ": ";
-  try {
-    j = json::parse(text);
-  } catch (const json::exception& e) {  // parse_error, and out_of_range for 1e999
-    throw InputError(source, std::string("not JSON: ") + e.what());
-  }
   if (j.is_object() && j.contains("combined")) {  // several recordings: their combination
     j = json(j["combined"]);
     source_prefix = source + ": combined";
@@ -329,7 +326,8 @@ CalibrationFile parseCalibrationJson(std::string_view text, const std::string& s
 }
 
 CalibrationFile readCalibrationJson(const std::filesystem::path& path) {
-  return parseCalibrationJson(readFile(path), path.string());
+  return parseCalibrationJson(readInputFile(path, "calibration file", kMaxRecordFileBytes),
+                              path.string());
 }
 
 }  // namespace slamprep::algo

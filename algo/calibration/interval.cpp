@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/input_file.hpp"
+#include "core/json_input.hpp"
 #include "core/odometry.hpp"
 
 namespace slamprep::algo {
@@ -153,6 +155,7 @@ std::vector<CalibrationInterval> readIntervalRecords(std::istream& in, const std
   double t = 0.0;
   for (int line_no = 1; std::getline(in, line); ++line_no) {
     const std::string where = source + ":" + std::to_string(line_no);
+    checkJsonStructure(line, source, static_cast<std::size_t>(line_no));  // nesting, repeated keys
     const std::vector<nlohmann::json> records = lineValues(line, where);
     for (std::size_t r = 0; r < records.size(); ++r) {
       const std::string at =
@@ -165,8 +168,8 @@ std::vector<CalibrationInterval> readIntervalRecords(std::istream& in, const std
 }
 
 std::vector<CalibrationInterval> readIntervalRecords(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path.string(), "cannot open");
+  // Refused up front: a device (/dev/zero used to fill 2 GB in one line), or over 1 GiB.
+  std::istringstream in(readInputFile(path, "record file", kMaxRecordFileBytes));
   return readIntervalRecords(in, path.string());
 }
 

@@ -6,6 +6,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/json_input.hpp"
 #include "core/paths.hpp"
 #include "eval/bench/figures.hpp"
 #include "eval/bench/report.hpp"
@@ -21,7 +22,7 @@ nlohmann::json collectTiming(const std::vector<TrialSpec>& trials, const fs::pat
   nlohmann::json timing = nlohmann::json::object();
   for (const auto& t : trials)
     if (fs::exists(timing_dir / (t.id + ".json")))
-      timing[t.id] = nlohmann::json::parse(readFile(timing_dir / (t.id + ".json")));
+      timing[t.id] = readJsonFile(timing_dir / (t.id + ".json"), "timing file");
   return timing;
 }
 
@@ -72,29 +73,27 @@ SuitePlots plotResults(const fs::path& results_dir) {
   requireResultsFolder(results_dir, "RESULTS_DIR");  // before anything is written into it
   const Suite suite = loadSuite(results_dir / "suite.yaml");
   const fs::path summary_file = results_dir / "summary.json";
-  nlohmann::json summary;
+  const nlohmann::json summary = readJsonFile(summary_file, "summary");
+  checkSummaryShape(summary, summary_file.string());
   try {
-    summary = nlohmann::json::parse(readFile(summary_file));
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(summary_file.string(), std::string("not valid JSON: ") + e.what());
+    return writeReport(suite, summary, results_dir, true);
+  } catch (const nlohmann::json::exception& e) {  // a field the shape check does not cover
+    throw InputError(results_dir.string(), std::string("unexpected content: ") + e.what());
   }
-  const bool shaped = summary.is_object() &&
-                      summary.value("metrics", nlohmann::json()).is_object() &&
-                      summary.value("groups", nlohmann::json()).is_array() &&
-                      summary.value("trials", nlohmann::json()).is_number_integer() &&
-                      summary.value("missing", nlohmann::json()).is_array();
-  if (!shaped)
-    throw InputError(summary_file.string(),
-                     "not a bench summary (needs \"metrics\", \"groups\", \"trials\", "
-                     "\"missing\"; docs/results.md)");
-  return writeReport(suite, summary, results_dir, true);
 }
 
 void writeResults(BenchOutcome& outcome, const std::vector<TrialSpec>& trials, bool plots) {
   const fs::path& dir = outcome.out_dir;
   const TrialSet set = loadTrials(trials, dir / "trials");
+  for (const auto& file : set.stale)
+    std::cerr << file << ": made for another version of the suite (or of this trial): not used\n";
   outcome.complete = set.missing.empty();
-  outcome.summary = summarize(outcome.suite, set);
+  try {
+    outcome.summary = summarize(outcome.suite, set);
+  } catch (const nlohmann::json::exception& e) {  // a result's metric of an unexpected type
+    throw InputError((dir / "trials").string(),
+                     std::string("a trial result has unexpected content: ") + e.what());
+  }
   writeFileAtomic(dir / "summary.json", outcome.summary.dump(2) + "\n");
   writeFileAtomic(dir / "trials.csv", trialsCsv(set));
   writeFileAtomic(dir / "timing.json", collectTiming(trials, dir / "timing").dump(2) + "\n");
@@ -106,7 +105,11 @@ BenchOutcome runBench(const BenchOptions& options, const TrialFunction& trial) {
   const fs::path suite_file = findSuite(options.suite, resolveDataPath("eval/suites"));
   outcome.suite = loadSuite(suite_file);
   outcome.out_dir = options.results_root / outcome.suite.name;
-  const auto trials = expandTrials(outcome.suite);
+  // Read and checked before any trial runs: a bad baseline must not cost the suite's hours.
+  const std::optional<nlohmann::json> baseline =
+      options.compare ? std::optional(loadBaseline(*options.compare)) : std::nullopt;
+  auto trials = expandTrials(outcome.suite);
+  attachInputDigests(trials);  // an edited world or scenario makes its trials stale
 
   claimResultsFolder(outcome.out_dir, "--results");  // never a folder bench did not create
   // The suite travels with its results, so `merge` can run anywhere the folder is.
@@ -120,10 +123,8 @@ BenchOutcome runBench(const BenchOptions& options, const TrialFunction& trial) {
   if (options.shard) return outcome;  // `slamprep merge` aggregates the shards
 
   writeResults(outcome, trials, options.plots);
-  if (options.compare) {
-    const auto baseline = nlohmann::json::parse(readFile(*options.compare));
-    outcome.regressions = compareToBaseline(outcome.summary, baseline, outcome.suite.tolerances);
-  }
+  if (baseline)
+    outcome.regressions = compareToBaseline(outcome.summary, *baseline, outcome.suite.tolerances);
   if (options.update_baseline)
     writeFileAtomic(outcome.out_dir / "baseline.json", outcome.summary.dump(2) + "\n");
   return outcome;

@@ -111,7 +111,7 @@ struct DatasetCalibration {
   /// motion only, not --tuples), and where the wheels came from (algo::encodersFrom).
   std::optional<algo::SensorAgreement> agreement;
   std::string encoders_from;
-  std::size_t intervals_excluded = 0;           ///< with exclude_disagreement
+  std::size_t intervals_excluded = 0;  ///< with exclude_disagreement
   double clock_offset_s = 0.0;  ///< what sync_clocks added to the wheels' stamps (0: nothing)
   std::vector<algo::StreamStamps> stamps;       ///< what stamp regularisation found and did
   std::optional<algo::CalibrationTruth> truth;  ///< when the dataset knows its true geometry

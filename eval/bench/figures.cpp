@@ -5,6 +5,7 @@
 #include <map>
 
 #include "core/atomic_file.hpp"
+#include "core/json_input.hpp"
 #include "core/paths.hpp"
 #include "eval/bench/consistency_figure.hpp"
 #include "eval/bench/figure_groups.hpp"
@@ -30,8 +31,8 @@ std::optional<json> firstArtifacts(const Suite& suite, const fs::path& out_dir) 
   const auto trials = expandTrials(suite);
   const auto file = out_dir / "trials" / (trials.front().id + ".json");
   if (!fs::exists(file)) return std::nullopt;
-  json trial = json::parse(readFile(file));
-  if (!trial.contains("artifacts")) return std::nullopt;
+  const json trial = readJsonFile(file, "trial result");
+  if (!trial.is_object() || !trial.contains("artifacts")) return std::nullopt;
   return trial["artifacts"];
 }
 

@@ -14,6 +14,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/json_input.hpp"
 #include "eval/bench/progress.hpp"
 #include "eval/bench/stage_report.hpp"
 
@@ -80,9 +81,9 @@ int runChild(const TrialSpec& spec, const TrialFunction& run, const RunOptions& 
 bool isTrialComplete(const std::filesystem::path& file, const TrialSpec& spec) {
   if (!std::filesystem::exists(file)) return false;
   try {
-    const auto stored = nlohmann::json::parse(readFile(file));
-    return stored.contains("trial") && stored["trial"] == specJson(spec);
-  } catch (const std::exception&) {
+    const auto stored = readJsonFile(file, "trial result");
+    return stored.is_object() && stored.contains("trial") && stored["trial"] == specJson(spec);
+  } catch (const std::exception&) {  // unreadable or malformed: computed again
     return false;
   }
 }
@@ -108,7 +109,9 @@ nlohmann::json specJson(const TrialSpec& spec) {
           {"seed", spec.seed},
           {"duration_s", spec.duration_s},
           {"overrides", spec.overrides},
-          {"sweep", spec.sweep}};
+          {"sweep", spec.sweep},
+          {"settings", spec.settings},
+          {"inputs", spec.inputs}};
 }
 
 RunReport runTrials(const std::vector<TrialSpec>& trials, const TrialFunction& run,

@@ -56,10 +56,12 @@ struct RunReport {
 RunReport runTrials(const std::vector<TrialSpec>& trials, const TrialFunction& run,
                     const RunOptions& options);
 
-/// A stored trial result is reusable when it parses and was made from the same spec.
+/// A stored trial result is reusable when it parses and was made from the same spec: the same
+/// trial, suite settings and world and scenario file digests (specJson).
 bool isTrialComplete(const std::filesystem::path& file, const TrialSpec& spec);
 
-/// The spec as stored with its result, so a stale result (suite changed) is recomputed.
+/// The spec as stored with its result ("trial"), so a stale result (suite or its worlds and
+/// scenarios changed) is recomputed. Only world, scenario, sweep, id and seed reach the summary.
 nlohmann::json specJson(const TrialSpec& spec);
 
 }  // namespace slamprep::eval

@@ -4,6 +4,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -12,6 +14,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string_view>
 #include <thread>
 
 #include "core/atomic_file.hpp"
@@ -169,19 +172,69 @@ bool pollOnce(SlurmResult& result, std::map<int, std::string>& ended, std::strin
   return true;
 }
 
+bool isControl(char c) {
+  return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+}
+
+// The text with its control characters shown as \xNN, for a message.
+std::string printable(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (!isControl(c)) {
+      out += c;
+      continue;
+    }
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "\\x%02x", static_cast<unsigned char>(c));
+    out += hex;
+  }
+  return out;
+}
+
+// A newline in a name or path would end a comment or an #SBATCH line and start a command, and no
+// quoting survives both bash and sbatch's directive parser: such text is refused.
+void refuseControlCharacters(const std::string& text, const std::string& what) {
+  if (std::any_of(text.begin(), text.end(), isControl))
+    throw InputError(what + " '" + printable(text) + "'",
+                     "holds a control character (newline, tab, ...): it cannot go into a Slurm "
+                     "job script");
+}
+
+// One word of an #SBATCH line. sbatch ends a word at a blank outside quotes (a backslash does not
+// protect it), and at an unquoted '#'; inside double quotes a backslash takes the next character
+// as it is. So: double quotes, and a backslash before '"', '\\', '\'' and '#' (older parsers
+// end a word at '#' even inside quotes).
+std::string sbatchWord(const std::string& word) {
+  std::string out = "\"";
+  for (char c : word) {
+    if (std::string_view("\"\\'#").find(c) != std::string_view::npos) out += '\\';
+    out += c;
+  }
+  return out + '"';
+}
+
+// A path for --output: Slurm expands %-patterns (%a, %j) there; "%%" is a literal '%'.
+std::string sbatchOutputPath(const std::string& path) {
+  std::string out;
+  for (char c : path) out += c == '%' ? std::string("%%") : std::string(1, c);
+  return sbatchWord(out);
+}
+
 std::string shardScript(const SlurmParams& params, const fs::path& out_dir, const fs::path& exe,
                         const fs::path& workdir, const std::string& suite) {
   const std::string n = std::to_string(params.shards);
   const fs::path log_dir = out_dir / "slurm";
   std::ostringstream s;
   s << "#!/bin/bash\n"
-    << "# slamprep suite '" << out_dir.filename().string() << "': one shard per array task.\n"
+    << "# slamprep suite " << shellQuote(out_dir.filename().string())
+    << ": one shard per array task.\n"
     << "# Submit by hand: sbatch --array=1-" << n << " "
     << shellQuote((log_dir / "shard.sh").string())
     << "\n# (or --array=K,... for the shards still missing). Task K runs slice K of " << n
     << " into " << (out_dir / "shards").string() << "/K-of-" << n << "/.\n"
-    << "#SBATCH --job-name=slamprep-" << out_dir.filename().string() << "\n"
-    << "#SBATCH --output=" << (log_dir / ("shard-%a-of-" + n + ".log")).string() << "\n"
+    << "#SBATCH --job-name=" << sbatchWord("slamprep-" + out_dir.filename().string()) << "\n"
+    << "#SBATCH --output=" << sbatchOutputPath((log_dir / "shard-").string()) << "%a-of-" << n
+    << ".log\n"
     << "set -euo pipefail\n"
     << "cd " << shellQuote(workdir.string()) << "\n"
     << "exec " << shellQuote(exe.string()) << " bench --quiet --no-plots \\\n"
@@ -198,12 +251,13 @@ std::string mergeScript(const SlurmParams& params, const fs::path& out_dir, cons
   const fs::path log_dir = out_dir / "slurm";
   std::ostringstream s;
   s << "#!/bin/bash\n"
-    << "# slamprep suite '" << out_dir.filename().string()
-    << "': combine the shards once the array completed.\n"
+    << "# slamprep suite " << shellQuote(out_dir.filename().string())
+    << ": combine the shards once the array completed.\n"
     << "# Submit by hand: sbatch --dependency=afterok:<array job id> --kill-on-invalid-dep=yes "
     << shellQuote((log_dir / "merge.sh").string()) << "\n"
-    << "#SBATCH --job-name=slamprep-" << out_dir.filename().string() << "-merge\n"
-    << "#SBATCH --output=" << (log_dir / "merge.log").string() << "\n"
+    << "#SBATCH --job-name=" << sbatchWord("slamprep-" + out_dir.filename().string() + "-merge")
+    << "\n"
+    << "#SBATCH --output=" << sbatchOutputPath((log_dir / "merge.log").string()) << "\n"
     << "set -euo pipefail\n"
     << "cd " << shellQuote(workdir.string()) << "\n"
     << "exec " << shellQuote(exe.string()) << " merge " << shellQuote(out_dir.string())
@@ -254,7 +308,8 @@ std::vector<SlurmJobRecord> parseScontrolJobs(const std::string& text) {
 }
 
 std::vector<int> incompleteShards(const Suite& suite, const fs::path& out_dir, int count) {
-  const auto trials = expandTrials(suite);
+  auto trials = expandTrials(suite);
+  attachInputDigests(trials);  // as runBench stores them, so complete shards are recognised
   const std::string build = binaryFingerprint();
   std::vector<int> missing;
   for (int k = 1; k <= count; ++k) {
@@ -278,6 +333,12 @@ SlurmScripts writeSlurmScripts(const SlurmParams& params, const fs::path& out_di
   const std::string suite = suite_path.has_extension() || suite_path.has_parent_path()
                                 ? fs::absolute(suite_path).lexically_normal().string()
                                 : params.suite_arg;
+  refuseControlCharacters(out_dir.filename().string(), "suite name");
+  refuseControlCharacters(out_dir.string(), "results folder");
+  refuseControlCharacters(suite, "--suite");
+  refuseControlCharacters(exe.string(), "slamprep binary path");
+  refuseControlCharacters(workdir.string(), "working directory");
+  refuseControlCharacters(params.results_root.string(), "--results");
   SlurmScripts scripts{out_dir / "slurm" / "shard.sh", out_dir / "slurm" / "merge.sh",
                        out_dir / "slurm"};
   fs::create_directories(scripts.log_dir);

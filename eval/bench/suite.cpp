@@ -8,7 +8,9 @@
 
 #include "algo/calibration/calibration_method.hpp"
 #include "algo/deskew/deskew.hpp"
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/paths.hpp"
 #include "sim/drive/config.hpp"
 #include "sim/yaml/yaml_fields.hpp"
 
@@ -20,6 +22,9 @@ using sim::YamlDoc;
 
 // A million trials is beyond any machine this runs on: such a count is a typo.
 constexpr int kMaxSeeds = 100000;
+// Trials of one suite (worlds x scenarios x sweep points x seeds): each simulates for seconds at
+// least, and 10^9 used to end in bad_alloc after half a minute of expanding them.
+constexpr double kMaxTrials = 100000;
 
 void parseSweep(const YamlDoc& doc, const YAML::Node& node, Suite& suite) {
   doc.requireMap(node, "sweep");
@@ -151,6 +156,17 @@ void validate(const Suite& suite) {
                      "must be nominal, true or calibrated, not '" + suite.deskew_geometry + "'");
   if (suite.motion != "icp" && suite.motion != "groundtruth")
     throw InputError(f + ": motion", "must be icp or groundtruth, not '" + suite.motion + "'");
+  // Counted in floating point: the product of the sweep axes may not fit any integer.
+  double trials = static_cast<double>(suite.worlds.size()) * suite.scenarios.size() * suite.seeds;
+  for (const auto& axis : suite.sweep) trials *= static_cast<double>(axis.values.size());
+  if (trials > kMaxTrials) {
+    char count[64];
+    std::snprintf(count, sizeof count, "%.0f", trials);
+    throw InputError(f + ": " + (suite.sweep.empty() ? "seeds" : "sweep"),
+                     std::string("worlds x scenarios x sweep points x seeds is ") + count +
+                         " trials, more than the limit of " +
+                         std::to_string(static_cast<int>(kMaxTrials)));
+  }
 }
 
 // Method names and simulator keys are checked now, not hours into a sweep.
@@ -215,7 +231,39 @@ std::filesystem::path findSuite(const std::string& name_or_path,
   return file;
 }
 
+nlohmann::json suiteSettings(const Suite& suite) {
+  nlohmann::json methods = nlohmann::json::array();
+  for (const auto method : suite.calibration_methods)
+    methods.push_back(std::string(algo::calibrationMethodName(method)));
+  return {{"mode", suite.mode},
+          {"motion", suite.motion},
+          {"calibration_methods", methods},
+          {"calibration_sideslip", suite.calibration_sideslip},
+          {"calibration_loop_closure", suite.calibration_loop_closure},
+          {"deskew_methods", suite.deskew_methods},
+          {"deskew_geometry", suite.deskew_geometry}};
+}
+
+void attachInputDigests(std::vector<TrialSpec>& trials) {
+  std::map<std::string, std::string> digests;  // path as written -> digest
+  const auto digest = [&digests](const std::string& file) {
+    const auto [it, inserted] = digests.emplace(file, "unreadable");
+    if (inserted) try {
+        std::uint64_t h = 1469598103934665603ull;  // FNV-1a, as binaryFingerprint
+        for (unsigned char c : readFile(resolveDataPath(file))) h = (h ^ c) * 1099511628211ull;
+        char hex[17];
+        std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+        it->second = hex;
+      } catch (const InputError&) {  // the trial itself reports the missing file
+      }
+    return it->second;
+  };
+  for (TrialSpec& t : trials)
+    t.inputs = {{"world", digest(t.world)}, {"scenario", digest(t.scenario)}};
+}
+
 std::vector<TrialSpec> expandTrials(const Suite& suite) {
+  const nlohmann::json settings = suiteSettings(suite);
   // Sweep points: the cartesian product of all axes, last axis varying fastest.
   std::vector<std::map<std::string, std::string>> points{{}};
   for (const auto& axis : suite.sweep) {
@@ -242,6 +290,7 @@ std::vector<TrialSpec> expandTrials(const Suite& suite) {
           t.sweep = point;
           t.seed = suite.base_seed + static_cast<std::uint64_t>(s);
           t.duration_s = suite.duration_s;
+          t.settings = settings;
           char prefix[16];
           std::snprintf(prefix, sizeof prefix, "%04zu", t.index);
           t.id = std::string(prefix) + "-" + std::filesystem::path(world).stem().string() + "-" +

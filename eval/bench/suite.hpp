@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,11 @@ struct TrialSpec {
   std::map<std::string, std::string> sweep;      ///< this trial's sweep values only
   std::uint64_t seed = 0;
   double duration_s = 0.0;
+  /// The suite's settings every trial runs with (suiteSettings): stored with the result, so a
+  /// suite edited (mode, methods, ...) makes the stored results stale instead of reused.
+  nlohmann::json settings;
+  /// Digests of the world and scenario files' bytes (attachInputDigests); null when not taken.
+  nlohmann::json inputs;
 };
 
 /// Reads a suite YAML; throws InputError naming file, line and key.
@@ -73,5 +79,14 @@ std::filesystem::path findSuite(const std::string& name_or_path,
 
 /// Worlds x scenarios x sweep points x seeds, in that nesting order.
 std::vector<TrialSpec> expandTrials(const Suite& suite);
+
+/// What a trial depends on in the suite besides its own spec: mode, motion, the calibration and
+/// de-skew methods and their options.
+nlohmann::json suiteSettings(const Suite& suite);
+
+/// Sets every trial's `inputs` to the FNV-1a digests of its world and scenario files (found as
+/// the simulator finds them); a file that cannot be read gets "unreadable". The files a scenario
+/// includes are not part of it.
+void attachInputDigests(std::vector<TrialSpec>& trials);
 
 }  // namespace slamprep::eval

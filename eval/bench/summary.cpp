@@ -4,9 +4,12 @@
 #include <cmath>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/json_input.hpp"
+#include "eval/bench/runner.hpp"
 #include "eval/metrics/consistency.hpp"
 
 namespace slamprep::eval {
@@ -113,13 +116,101 @@ TrialSet loadTrials(const std::vector<TrialSpec>& trials, const std::filesystem:
       set.missing.push_back(spec.id);
       continue;
     }
-    try {
-      set.results.push_back(nlohmann::json::parse(readFile(file)));
-    } catch (const nlohmann::json::exception& e) {
-      throw InputError(file.string(), std::string("not a valid trial result: ") + e.what());
+    nlohmann::json result = readJsonFile(file, "trial result");
+    checkTrialShape(result, file.string());
+    if (withoutInputs(result["trial"]) != withoutInputs(specJson(spec))) {
+      set.missing.push_back(spec.id);  // made by another version of the suite: never mixed in
+      set.stale.push_back(file.string());
+      continue;
     }
+    set.results.push_back(std::move(result));
   }
   return set;
+}
+
+void checkTrialShape(const nlohmann::json& result, const std::string& file) {
+  if (!result.is_object()) throw InputError(file, "a trial result must be a JSON object");
+  if (!result.contains("trial") || !result["trial"].is_object())
+    throw InputError(file + ": trial", "missing or not an object (the trial's spec)");
+  const nlohmann::json& t = result["trial"];
+  for (const char* key : {"id", "world", "scenario"})
+    if (!t.contains(key) || !t[key].is_string())
+      throw InputError(file + ": trial." + key, "missing or not a string");
+  if (!t.contains("seed") || !t["seed"].is_number_unsigned())
+    throw InputError(file + ": trial.seed", "missing or not a whole number >= 0");
+  if (!t.contains("sweep") || !t["sweep"].is_object())
+    throw InputError(file + ": trial.sweep", "missing or not an object");
+}
+
+nlohmann::json withoutInputs(nlohmann::json trial_spec) {
+  if (trial_spec.is_object()) trial_spec.erase("inputs");
+  return trial_spec;
+}
+
+namespace {
+
+[[noreturn]] void badField(const std::string& file, const std::string& field,
+                           const std::string& what) {
+  throw InputError(file + ": " + field, what);
+}
+
+// {name: {n, mean, std, min, max}}; with `mean_only` (a baseline) only the mean is required.
+void checkMetrics(const nlohmann::json& metrics, const std::string& file, const std::string& field,
+                  bool mean_only) {
+  if (!metrics.is_object()) badField(file, field, "missing or not an object");
+  for (const auto& [name, stats] : metrics.items()) {
+    const std::string at = field + "." + name;
+    if (!stats.is_object()) badField(file, at, "not an object {n, mean, std, min, max}");
+    for (const char* key : {"mean", "std", "min", "max"}) {
+      if (mean_only && std::string_view(key) != "mean") continue;
+      if (!stats.contains(key) || !stats[key].is_number())
+        badField(file, at + "." + key, "missing or not a number");
+    }
+    if (!mean_only && (!stats.contains("n") || !stats["n"].is_number_unsigned()))
+      badField(file, at + ".n", "missing or not a whole number >= 0");
+  }
+}
+
+void checkGroup(const nlohmann::json& g, const std::string& file, const std::string& at) {
+  if (!g.is_object()) badField(file, at, "not an object");
+  for (const char* key : {"world", "scenario"})
+    if (!g.contains(key) || !g[key].is_string())
+      badField(file, at + "." + key, "missing or not a string");
+  if (!g.contains("sweep") || !g["sweep"].is_object())
+    badField(file, at + ".sweep", "missing or not an object");
+  for (const auto& [key, value] : g["sweep"].items())
+    if (!value.is_string()) badField(file, at + ".sweep." + key, "not a string");
+  if (!g.contains("trials") || !g["trials"].is_number_unsigned())
+    badField(file, at + ".trials", "missing or not a whole number >= 0");
+  checkMetrics(g.value("metrics", nlohmann::json()), file, at + ".metrics", false);
+  if (!g.contains("consistency")) return;
+  if (!g["consistency"].is_object()) badField(file, at + ".consistency", "not an object");
+  for (const auto& [key, value] : g["consistency"].items())
+    if (!value.is_number()) badField(file, at + ".consistency." + key, "not a number");
+}
+
+}  // namespace
+
+void checkSummaryShape(const nlohmann::json& summary, const std::string& file) {
+  if (!summary.is_object()) throw InputError(file, "a summary must be a JSON object");
+  if (!summary.contains("trials") || !summary["trials"].is_number_unsigned())
+    badField(file, "trials", "missing or not a whole number >= 0");
+  if (!summary.contains("missing") || !summary["missing"].is_array())
+    badField(file, "missing", "missing or not an array");
+  checkMetrics(summary.value("metrics", nlohmann::json()), file, "metrics", false);
+  if (!summary.contains("groups") || !summary["groups"].is_array())
+    badField(file, "groups", "missing or not an array");
+  for (std::size_t i = 0; i < summary["groups"].size(); ++i)
+    checkGroup(summary["groups"][i], file, "groups[" + std::to_string(i) + "]");
+}
+
+nlohmann::json loadBaseline(const std::filesystem::path& file) {
+  const nlohmann::json baseline = readJsonFile(file, "baseline summary");
+  if (!baseline.is_object()) throw InputError(file.string(), "a baseline must be a JSON object");
+  // Without "metrics" every toleranced metric is "missing from the baseline" (exit 3).
+  if (baseline.contains("metrics"))
+    checkMetrics(baseline["metrics"], file.string(), "metrics", true);
+  return baseline;
 }
 
 std::map<std::string, double> flattenMetrics(const nlohmann::json& result) {

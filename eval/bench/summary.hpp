@@ -16,10 +16,21 @@ namespace slamprep::eval {
 struct TrialSet {
   std::vector<nlohmann::json> results;
   std::vector<std::string> missing;
+  std::vector<std::string> stale;  ///< files made for another spec or suite settings (missing)
 };
 
-/// Reads trials_dir/<id>.json for every trial (all shards).
+/// Reads trials_dir/<id>.json for every trial (all shards). A result whose stored spec differs
+/// from the trial's (the suite was edited since; the input digests are not compared, so a merge
+/// needs no worlds) counts as missing and is listed in `stale`. Throws InputError naming the
+/// file and field for one that is not a trial result (checkTrialShape).
 TrialSet loadTrials(const std::vector<TrialSpec>& trials, const std::filesystem::path& trials_dir);
+
+/// Refuses a result that lacks what summaries and tables read: "trial" with a string id, world
+/// and scenario, a whole seed and a sweep object. Throws InputError("file: trial.key", ...).
+void checkTrialShape(const nlohmann::json& result, const std::string& file);
+
+/// A stored spec (specJson) without its "inputs" digests.
+nlohmann::json withoutInputs(nlohmann::json trial_spec);
 
 /// Numeric leaves of a result (bools as 0/1) by '/'-joined path, skipping the "trial" spec.
 std::map<std::string, double> flattenMetrics(const nlohmann::json& result);
@@ -45,6 +56,16 @@ struct Regression {
   double allowed = 0.0;  ///< the worst current value that would have passed
   std::string note;      ///< e.g. "missing from the current summary"
 };
+
+/// Refuses a summary.json unlike the ones bench writes (docs/results.md): "metrics" maps names to
+/// {n, mean, std, min, max}, "groups" lists objects with world, scenario, sweep, trials, metrics
+/// and an optional "consistency" of numbers. Throws InputError("file: field", ...).
+void checkSummaryShape(const nlohmann::json& summary, const std::string& file);
+
+/// The --compare baseline, read and checked before any trial runs: a JSON object whose "metrics"
+/// (if present) maps names to objects with a numeric "mean". Throws InputError naming the file
+/// and field.
+nlohmann::json loadBaseline(const std::filesystem::path& file);
 
 /// Compares the `mean` of each toleranced metric in its worse direction.
 std::vector<Regression> compareToBaseline(const nlohmann::json& summary,

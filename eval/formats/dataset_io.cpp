@@ -13,6 +13,7 @@
 #include "core/atomic_file.hpp"
 #include "core/dataset.hpp"
 #include "core/error.hpp"
+#include "core/input_file.hpp"
 #include "core/partial_cleanup.hpp"
 #include "eval/formats/csv_logs.hpp"
 #include "eval/formats/dataset_json.hpp"
@@ -207,7 +208,8 @@ Dataset readDataset(const std::filesystem::path& dir) {
   auto text = [&](const char* file) { return readTextFile(dir / file); };
   auto name = [&](const char* file) { return (dir / file).string(); };
   Dataset d;
-  d.info = parseDatasetInfo(text(kDatasetJson), name(kDatasetJson));
+  d.info = parseDatasetInfo(readInputFile(dir / kDatasetJson, kDatasetJson, kMaxConfigFileBytes),
+                            name(kDatasetJson));
   d.groundtruth = parseTum(text(kGroundTruthTum), name(kGroundTruthTum));
   d.odom_nominal = parseTum(text(kOdomNominalTum), name(kOdomNominalTum));
   if (std::filesystem::exists(dir / kOdometryLoggedTum, ec))

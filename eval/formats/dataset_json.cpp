@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "core/json_input.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -91,11 +92,6 @@ DiffDriveParams readGeometry(const json& object, const char* key, const std::str
 }
 
 // 1-based line of a byte offset, for JSON syntax errors.
-std::size_t lineOfByte(std::string_view text, std::size_t byte) {
-  const std::size_t end = std::min(byte, text.size());
-  return 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + end, '\n'));
-}
-
 DatasetInfo readInfo(const json& root, const std::string& file) {
   DatasetInfo info;
   const std::int64_t version = requiredInteger(root, "format_version", file);
@@ -152,15 +148,7 @@ std::string formatDatasetInfo(const DatasetInfo& info, const std::string& file) 
 }
 
 DatasetInfo parseDatasetInfo(std::string_view text, const std::string& file) {
-  json root;
-  try {
-    root = json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw InputError(file + ":" + std::to_string(lineOfByte(text, e.byte)),
-                     std::string("bad JSON: ") + e.what());
-  } catch (const json::exception& e) {  // out_of_range: a number like 1e999
-    throw InputError(file, std::string("bad JSON: ") + e.what());
-  }
+  const json root = parseJsonInput(text, file);  // nesting and repeated keys checked first
   if (!root.is_object()) throw InputError(file, "expected a JSON object");
   try {
     return readInfo(root, file);

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "core/input_file.hpp"
 
 namespace slamprep::eval {
 namespace fs = std::filesystem;
@@ -151,7 +152,9 @@ Rosbag2Bag readRosbag2(const fs::path& bag) {
                      "`ros2 bag reindex " +
                          bag.string() + " sqlite3` (or mcap)");
   try {
-    return fromMetadata(bag, YAML::LoadFile(yaml.string()), yaml.string());
+    // Read whole first: a device or an oversized file is refused before yaml-cpp sees it.
+    return fromMetadata(bag, YAML::Load(readInputFile(yaml, "bag metadata", kMaxYamlFileBytes)),
+                        yaml.string());
   } catch (const YAML::Exception& e) {
     throw InputError(yaml.string() + ":" + std::to_string(e.mark.line + 1), e.msg);
   }

@@ -4,8 +4,10 @@
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "core/error.hpp"
+#include "core/json_input.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -208,6 +210,24 @@ void readAngles(const json& object, std::size_t nrays, LaserScan& scan, const Te
   scan.angle_increment_rad = nrays > 1 ? (max_theta - scan.angle_min_rad) / (nrays - 1) : 0.0;
 }
 
+// A scan sweeps at most one revolution (and a beam) from within one revolution of 0: an increment
+// of 0 puts every beam on one ray, 1e300 turns no real way (both used to be read as given).
+void checkAngles(const json& object, const LaserScan& scan, const TextLocation& where) {
+  const bool csm = !find(object, "angle_min");
+  const char* min_key = csm ? "min_theta" : "angle_min";
+  const char* increment_key = csm ? "max_theta" : "angle_increment";
+  const double turn = 2.0 * std::numbers::pi;
+  const double step = std::abs(scan.angle_increment_rad);
+  if (std::abs(scan.angle_min_rad) > turn)
+    fail(where, min_key, "more than one revolution (2 pi) from 0");
+  if (scan.size() > 1 && step == 0.0)
+    fail(where, increment_key, "puts all " + std::to_string(scan.size()) + " beams at one angle");
+  if (step > turn || step * static_cast<double>(scan.size() - 1) > turn + step * (1.0 + 1e-9))
+    fail(where, increment_key,
+         "the beams span more than one revolution (2 pi plus one beam) with " +
+             std::to_string(scan.size()) + " beams");
+}
+
 void readRangeLimits(const json& object, LaserScan& scan, const TextLocation& where) {
   scan.range_min_m = optionalNumber(object, "range_min", 0.0, where);
   const json* max = find(object, "range_max");
@@ -234,6 +254,8 @@ void readRanges(const json& object, std::size_t nrays, LaserScan& scan, const Te
     const json& r = readings[i];
     scan.ranges_m[i] =
         r.is_null() ? inf : toFinite(r, where, "readings[" + std::to_string(i) + "]");
+    if (scan.ranges_m[i] < 0.0)  // a range is a distance; null marks no return
+      fail(where, "readings[" + std::to_string(i) + "]", "must not be negative (null: no return)");
     if (!valid) continue;
     const bool flagged_valid = readValidFlag((*valid)[i], where, i);
     if (flagged_valid && r.is_null())
@@ -291,6 +313,7 @@ ScanRecord readScanObject(const json& object, const TextLocation& where) {
   scan.scan_time_s = optionalNumber(object, "scan_time", 0.0, where);
   readRangeLimits(object, scan, where);
   readRanges(object, nrays, scan, where);
+  if (nrays > 0) checkAngles(object, scan, where);
   record.T_odom_base_nominal = optionalPose(object, "odometry", where);
   record.T_world_base_true = optionalPose(object, "true_pose", where);
   record.p_ref_true = readPoints(object, "p_ref_true", nrays, where);
@@ -347,6 +370,7 @@ void appendScanLine(std::string& out, const ScanRecord& record, const TextLocati
 
 ScanRecord parseScanLine(std::string_view line, const TextLocation& where) {
   json object;
+  checkJsonStructure(line, where.file, where.line);  // nesting and repeated keys
   try {
     object = json::parse(line);
   } catch (const json::exception& e) {  // parse_error, or out_of_range for 1e999

@@ -224,13 +224,18 @@ struct Checker {
   void nonNegative(const std::string& key, double value) const {
     if (!(value >= 0.0)) fail(key, "must not be negative", value);
   }
+  /// A fault's events per second: every event is drawn up front, so 1e9 Hz would never end.
+  void faultRate(const std::string& key, double value) const {
+    nonNegative(key, value);
+    if (value > kMaxFaultRate_hz) fail(key, "must be at most 100 (events per second)", value);
+  }
 };
 
 void validateFaults(const Checker& check, const FaultsConfig& f) {
-  check.nonNegative("faults.encoder_spikes.rate_hz", f.encoder_spike_rate_hz);
+  check.faultRate("faults.encoder_spikes.rate_hz", f.encoder_spike_rate_hz);
   if (f.encoder_spike_ticks < 1)
     check.fail("faults.encoder_spikes.ticks", "must be at least 1", f.encoder_spike_ticks);
-  check.nonNegative("faults.encoder_dropouts.rate_hz", f.encoder_dropout_rate_hz);
+  check.faultRate("faults.encoder_dropouts.rate_hz", f.encoder_dropout_rate_hz);
   check.positive("faults.encoder_dropouts.duration_s", f.encoder_dropout_duration_s);
   check.nonNegative("faults.stamp_jitter.sigma_s", f.stamp_jitter_sigma_s);
   if (!(std::abs(f.clock_offset_s) <= 1.0))
@@ -243,7 +248,7 @@ void validateFaults(const Checker& check, const FaultsConfig& f) {
   // The lasting faults: a rate, and a length drawn from [min, max] with min > 0.
   const auto lasting = [&check](const std::string& prefix, double rate_hz, const char* length,
                                 double min_s, double max_s) {
-    check.nonNegative(prefix + ".rate_hz", rate_hz);
+    check.faultRate(prefix + ".rate_hz", rate_hz);
     check.positive(prefix + ".min_" + length, min_s);
     if (!(max_s >= min_s))
       check.fail(prefix + ".max_" + length, "must not be below the minimum", max_s);
@@ -392,6 +397,10 @@ void validate(const SimConfig& c, const std::string& where) {
   }
   const LidarConfig& l = c.lidar;
   check.positive("lidar.rate_hz", l.rate_hz);
+  // Spinning 2D lidars turn at 5-50 Hz; 1e9 Hz used to end in bad_alloc (docs/simulate.md).
+  if (l.rate_hz > kMaxLidarRate_hz)
+    check.fail("lidar.rate_hz", "must be at most " + std::to_string(int(kMaxLidarRate_hz)),
+               l.rate_hz);
   // Real 2D lidars have up to a few thousand beams; 1e6 would be 1e7 ray casts per second.
   if (l.beams_per_revolution < 1 || l.beams_per_revolution > 100000) {
     check.fail("lidar.beams_per_revolution", "must be between 1 and 100000",
@@ -415,9 +424,31 @@ void validate(const SimConfig& c, const std::string& where) {
   }
   check.positive("encoders.rate_hz", c.encoders.rate_hz);
   check.positive("imu.rate_hz", c.imu.rate_hz);
+  // Wheel encoders and IMUs are logged at up to a few kHz.
+  if (c.encoders.rate_hz > kMaxSensorRate_hz)
+    check.fail("encoders.rate_hz", "must be at most " + std::to_string(int(kMaxSensorRate_hz)),
+               c.encoders.rate_hz);
+  if (c.imu.rate_hz > kMaxSensorRate_hz)
+    check.fail("imu.rate_hz", "must be at most " + std::to_string(int(kMaxSensorRate_hz)),
+               c.imu.rate_hz);
   check.nonNegative("imu.gyro_noise_radps", c.imu.gyro_noise_radps);
   check.nonNegative("imu.accel_noise_mps2", c.imu.accel_noise_mps2);
   validateFaults(check, c.faults);
+}
+
+void checkRunSize(const SimConfig& c, double duration_s) {
+  const auto refuse = [&](const std::string& keys, double count, double limit) {
+    if (count <= limit) return;
+    std::ostringstream msg;
+    msg << "a run of " << duration_s << " s would take " << count << " samples, more than " << limit
+        << ": lower the rate or the duration";
+    throw InputError(keys, msg.str());
+  };
+  refuse("physics_rate_hz", duration_s * c.physics_rate_hz, kMaxSamples);
+  refuse("encoders.rate_hz", duration_s * c.encoders.rate_hz, kMaxSamples);
+  refuse("imu.rate_hz", duration_s * c.imu.rate_hz, kMaxSamples);
+  refuse("lidar.rate_hz x lidar.beams_per_revolution",
+         duration_s * c.lidar.rate_hz * c.lidar.beams_per_revolution, kMaxBeams);
 }
 
 double footprintRadius(const RobotConfig& r) {

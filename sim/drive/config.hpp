@@ -86,8 +86,21 @@ SimConfig configFromJson(const nlohmann::json& json, const std::string& where);
 /// value of the wrong type, or a value that makes the configuration invalid.
 void applyOverride(SimConfig& config, const std::string& assignment);
 
+/// Sensor rates beyond any real sensor (docs/simulate.md, "Limits").
+inline constexpr double kMaxLidarRate_hz = 100.0;
+inline constexpr double kMaxSensorRate_hz = 10000.0;  ///< encoders and IMU
+inline constexpr double kMaxFaultRate_hz = 100.0;     ///< events of one fault per second
+/// Samples of one run: physics steps, encoder and IMU samples each (a day at 1 kHz is 8.6e7),
+/// and lidar beams (a day at 10 Hz x 720 beams is 6.2e8); more cannot be held in memory.
+inline constexpr double kMaxSamples = 1e8;
+inline constexpr double kMaxBeams = 1e9;
+
 /// Checks ranges (positive radii, at least one beam, ...). Throws InputError("where: key", ...).
 void validate(const SimConfig& config, const std::string& where);
+
+/// Refuses a run of `duration_s` whose streams would exceed kMaxSamples or kMaxBeams, naming the
+/// rate keys, before anything is simulated. Throws InputError.
+void checkRunSize(const SimConfig& config, double duration_s);
 
 /// Robot footprint: radius of the smallest circle about the base origin containing the chassis,
 /// wheels and casters.

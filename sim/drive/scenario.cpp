@@ -5,12 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <numbers>
 #include <set>
-#include <sstream>
 
 #include "core/error.hpp"
+#include "core/input_file.hpp"
 #include "sim/drive/explore.hpp"
 #include "sim/drive/segment_shapes.hpp"
 #include "sim/yaml/yaml_fields.hpp"
@@ -20,6 +19,15 @@ namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr int kMaxIncludeDepth = 16;
+// Files read for one scenario, includes of includes counted each time: a chain of files that
+// each include the next twice would otherwise read 2^16 files.
+constexpr int kMaxIncludedFiles = 256;
+
+/// The include chain being read (canonical paths, outermost first) and the files read so far.
+struct IncludeStack {
+  std::vector<std::string> files;
+  int loaded = 0;
+};
 
 // ---- Reading fields (sim/yaml: every error names file, line, column and key) -----------------
 
@@ -250,8 +258,7 @@ void parseTrack(const YAML::Node& seg, const std::string& p, const std::string& 
 
 // ---- The file ------------------------------------------------------------------------------
 
-CommandProfile loadProfile(const std::filesystem::path& file, std::vector<std::string>& stack,
-                           Scenario* top);
+CommandProfile loadProfile(const std::filesystem::path& file, IncludeStack& stack, Scenario* top);
 
 AccelerationLimits parseLimits(const Context& ctx, const YAML::Node& node) {
   AccelerationLimits limits;
@@ -268,8 +275,7 @@ AccelerationLimits parseLimits(const Context& ctx, const YAML::Node& node) {
 }
 
 void parseSegment(const Context& ctx, const YAML::Node& seg, const std::string& key,
-                  const AccelerationLimits& limits, std::vector<std::string>& stack,
-                  CommandProfile& profile) {
+                  const AccelerationLimits& limits, IncludeStack& stack, CommandProfile& profile) {
   ctx.doc.requireMap(seg, key);
   const std::string& p = key;
   const std::string type = stringField(ctx, seg, p, "type");
@@ -336,8 +342,8 @@ void parseSegment(const Context& ctx, const YAML::Node& seg, const std::string& 
   for (ProfileSegment& segment : out) profile.append(std::move(segment));
 }
 
-CommandProfile readProfile(const Context& ctx, const YAML::Node& root,
-                           std::vector<std::string>& stack, Scenario* top) {
+CommandProfile readProfile(const Context& ctx, const YAML::Node& root, IncludeStack& stack,
+                           Scenario* top) {
   if (!root.IsMap()) throw InputError(ctx.doc.file(), "expected a mapping with a 'segments' list");
   ctx.doc.checkKeys(root, "", {"name", "description", "limits", "segments"});
   const AccelerationLimits limits = parseLimits(ctx, root["limits"]);
@@ -362,32 +368,32 @@ CommandProfile readProfile(const Context& ctx, const YAML::Node& root,
   return profile;
 }
 
-CommandProfile parseProfile(const std::string& text, const Context& ctx,
-                            std::vector<std::string>& stack, Scenario* top) {
+CommandProfile parseProfile(const std::string& text, const Context& ctx, IncludeStack& stack,
+                            Scenario* top) {
   const YAML::Node root = parseYaml(text, ctx.doc);
   return ctx.doc.guard([&] { return readProfile(ctx, root, stack, top); });
 }
 
-std::string readText(const std::filesystem::path& file, const std::string& where_s) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(where_s, "cannot open scenario file '" + file.string() + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-CommandProfile loadProfile(const std::filesystem::path& file, std::vector<std::string>& stack,
-                           Scenario* top) {
-  const std::string where_s = stack.empty() ? file.string() : stack.back();
-  const std::string text = readText(file, where_s);
+CommandProfile loadProfile(const std::filesystem::path& file, IncludeStack& stack, Scenario* top) {
+  const std::string where_s = stack.files.empty() ? file.string() : stack.files.back();
+  if (++stack.loaded > kMaxIncludedFiles)
+    throw InputError(where_s, "includes more than " + std::to_string(kMaxIncludedFiles) +
+                                  " scenario files in all (includes of includes counted)");
+  std::string text;
+  try {
+    text = readInputFile(file, "scenario file", kMaxYamlFileBytes);
+  } catch (const InputError& e) {
+    if (stack.files.empty()) throw;
+    throw InputError(where_s, std::string("include: ") + e.what());
+  }
   const std::string id = std::filesystem::weakly_canonical(file).string();
-  if (std::find(stack.begin(), stack.end(), id) != stack.end() ||
-      static_cast<int>(stack.size()) >= kMaxIncludeDepth) {
+  if (std::find(stack.files.begin(), stack.files.end(), id) != stack.files.end() ||
+      static_cast<int>(stack.files.size()) >= kMaxIncludeDepth) {
     throw InputError(file.string(), "include cycle (or nesting deeper than 16)");
   }
-  stack.push_back(id);
+  stack.files.push_back(id);
   CommandProfile profile = parseProfile(text, {YamlDoc(file.string()), file}, stack, top);
-  stack.pop_back();
+  stack.files.pop_back();
   return profile;
 }
 
@@ -396,7 +402,7 @@ CommandProfile loadProfile(const std::filesystem::path& file, std::vector<std::s
 Scenario loadScenario(const std::filesystem::path& file) {
   Scenario scenario;
   scenario.source = file;
-  std::vector<std::string> stack;
+  IncludeStack stack;
   scenario.profile = loadProfile(file, stack, &scenario);
   return scenario;
 }
@@ -404,7 +410,7 @@ Scenario loadScenario(const std::filesystem::path& file) {
 Scenario parseScenario(const std::string& yaml_text, const std::filesystem::path& source) {
   Scenario scenario;
   scenario.source = source;
-  std::vector<std::string> stack{std::filesystem::weakly_canonical(source).string()};
+  IncludeStack stack{{std::filesystem::weakly_canonical(source).string()}, 1};
   scenario.profile = parseProfile(yaml_text, {YamlDoc(source.string()), source}, stack, &scenario);
   return scenario;
 }

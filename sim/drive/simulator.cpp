@@ -329,6 +329,7 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   validate(config, "config");
   const double duration_s =
       config.duration_s > 0.0 ? config.duration_s : written.profile.duration_s();
+  checkRunSize(config, duration_s);
   if (config.solver_iterations > 0) physics.solver_iterations = config.solver_iterations;
   Scene scene(worldWithFaults(world, config.faults.enable), physics);
   const SE2 T_world_start = config.startPose(world.T_world_start);

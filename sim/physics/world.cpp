@@ -18,6 +18,13 @@ constexpr double kMaxSize_m = 1e4;        ///< lengths: thickness, height, radiu
 const Bounds kCoordinate{-kMaxCoordinate_m, kMaxCoordinate_m};
 const Bounds kSize{0.0, kMaxSize_m, true};
 const Bounds kYaw{-360.0, 360.0};  ///< yaw_deg
+// Objects in one world (walls, boxes, cylinders, polygons, floor patches together): the path check
+// and the scene set-up grow faster than linearly in their number (10^5 walls took minutes), and
+// a hand-made or converted floor plan of 10^4 objects is already a large building.
+constexpr std::size_t kMaxObjects = 10000;
+// Outline vertices of all polygons and floor patches together: each outline's simplicity check
+// is quadratic in its vertices (at most 10^4 each), so 2 * 10^4 in all bounds it at 10^8 tests.
+constexpr std::size_t kMaxOutlineVertices = 20000;
 
 /// An optional size field: the default when the key is absent.
 double optionalSize(const YamlDoc& doc, const YAML::Node& parent, const std::string& name,
@@ -30,12 +37,19 @@ Eigen::Vector2d requiredPoint(const YamlDoc& doc, const YAML::Node& node, const 
   return doc.point(doc.required(node, name, key), key + "." + name, kCoordinate);
 }
 
-/// Calls parse(item, "key[i]") for every entry of the optional sequence `root[key]`.
+/// Calls parse(item, "key[i]") for every entry of the optional sequence `root[key]`; `objects`
+/// counts the entries of all lists, refused beyond kMaxObjects before any is parsed.
 template <typename Parse>
-void forEachItem(const YamlDoc& doc, const YAML::Node& root, const std::string& key, Parse parse) {
+void forEachItem(const YamlDoc& doc, const YAML::Node& root, const std::string& key,
+                 std::size_t& objects, Parse parse) {
   const YAML::Node list = root[key];
   if (!list || list.IsNull()) return;
   if (!list.IsSequence()) doc.fail(list, key, "expected a list");
+  objects += list.size();
+  if (objects > kMaxObjects)
+    doc.fail(list, key,
+             "the world has more than " + std::to_string(kMaxObjects) +
+                 " objects (walls, boxes, cylinders, polygons and floor patches together)");
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string item_key = key + "[" + std::to_string(i) + "]";
     doc.requireMap(list[i], item_key);
@@ -100,12 +114,17 @@ bool parseReturns(const YamlDoc& doc, const YAML::Node& node, const std::string&
 }
 
 std::vector<Eigen::Vector2d> parseOutline(const YamlDoc& doc, const YAML::Node& list,
-                                          const std::string& key) {
+                                          const std::string& key, std::size_t& vertices_so_far) {
   if (!list.IsSequence()) doc.fail(list, key, "expected a list of points [x, y]");
   // polygonProblem is O(n^2): 10^4 vertices (10^8 pair tests) is far beyond any hand-made world.
   constexpr std::size_t kMaxVertices = 10000;
   if (list.size() > kMaxVertices)
     doc.fail(list, key, "more than " + std::to_string(kMaxVertices) + " vertices");
+  vertices_so_far += list.size();
+  if (vertices_so_far > kMaxOutlineVertices)
+    doc.fail(list, key,
+             "the polygons and floor patches have more than " +
+                 std::to_string(kMaxOutlineVertices) + " vertices in all");
   std::vector<Eigen::Vector2d> vertices;
   for (std::size_t i = 0; i < list.size(); ++i)
     vertices.push_back(doc.point(list[i], key + "[" + std::to_string(i) + "]", kCoordinate));
@@ -152,19 +171,23 @@ Cylinder parseCylinder(const YamlDoc& doc, const YAML::Node& node, const std::st
   return cyl;
 }
 
-Polygon parsePolygon(const YamlDoc& doc, const YAML::Node& node, const std::string& key) {
+Polygon parsePolygon(const YamlDoc& doc, const YAML::Node& node, const std::string& key,
+                     std::size_t& vertices) {
   doc.checkKeys(node, key, {"vertices", "height", "returns"});
   Polygon poly;
-  poly.vertices_m = parseOutline(doc, doc.required(node, "vertices", key), key + ".vertices");
+  poly.vertices_m =
+      parseOutline(doc, doc.required(node, "vertices", key), key + ".vertices", vertices);
   poly.height_m = optionalSize(doc, node, "height", key, poly.height_m);
   poly.returns = parseReturns(doc, node, key);
   return poly;
 }
 
-FloorPatch parseFloorPatch(const YamlDoc& doc, const YAML::Node& node, const std::string& key) {
+FloorPatch parseFloorPatch(const YamlDoc& doc, const YAML::Node& node, const std::string& key,
+                           std::size_t& vertices) {
   doc.checkKeys(node, key, {"outline", "friction"});
   FloorPatch patch;
-  patch.outline_m = parseOutline(doc, doc.required(node, "outline", key), key + ".outline");
+  patch.outline_m =
+      parseOutline(doc, doc.required(node, "outline", key), key + ".outline", vertices);
   patch.friction = doc.number(doc.required(node, "friction", key), key + ".friction",
                               Bounds{0.0, 10.0});  // Bullet clamps combined friction at 10
   return patch;
@@ -188,20 +211,21 @@ World parseWorld(const YamlDoc& doc, const YAML::Node& root, const std::filesyst
   world.name = file.stem().string();
   if (const YAML::Node name = root["name"]) world.name = doc.string(name, "name");
   if (const YAML::Node start = root["start"]) world.T_world_start = parseStart(doc, start);
-  forEachItem(doc, root, "walls", [&](const YAML::Node& n, const std::string& k) {
+  std::size_t objects = 0, vertices = 0;
+  forEachItem(doc, root, "walls", objects, [&](const YAML::Node& n, const std::string& k) {
     world.walls.push_back(parseWall(doc, n, k));
   });
-  forEachItem(doc, root, "boxes", [&](const YAML::Node& n, const std::string& k) {
+  forEachItem(doc, root, "boxes", objects, [&](const YAML::Node& n, const std::string& k) {
     world.boxes.push_back(parseBox(doc, n, k));
   });
-  forEachItem(doc, root, "cylinders", [&](const YAML::Node& n, const std::string& k) {
+  forEachItem(doc, root, "cylinders", objects, [&](const YAML::Node& n, const std::string& k) {
     world.cylinders.push_back(parseCylinder(doc, n, k));
   });
-  forEachItem(doc, root, "polygons", [&](const YAML::Node& n, const std::string& k) {
-    world.polygons.push_back(parsePolygon(doc, n, k));
+  forEachItem(doc, root, "polygons", objects, [&](const YAML::Node& n, const std::string& k) {
+    world.polygons.push_back(parsePolygon(doc, n, k, vertices));
   });
-  forEachItem(doc, root, "floor_patches", [&](const YAML::Node& n, const std::string& k) {
-    world.floor_patches.push_back(parseFloorPatch(doc, n, k));
+  forEachItem(doc, root, "floor_patches", objects, [&](const YAML::Node& n, const std::string& k) {
+    world.floor_patches.push_back(parseFloorPatch(doc, n, k, vertices));
   });
   if (world.walls.empty() && world.boxes.empty() && world.cylinders.empty() &&
       world.polygons.empty())

@@ -1,11 +1,13 @@
 #include "sim/yaml/yaml_fields.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <sstream>
+#include <utility>
+#include <vector>
 
 #include "core/error.hpp"
+#include "core/input_file.hpp"
 
 namespace slamprep::sim {
 namespace {
@@ -59,6 +61,60 @@ std::string describe(const Bounds& bounds) {
     return "must be between " + formatNumber(bounds.min) + " and " + formatNumber(bounds.max);
   return has_min ? "must be at least " + formatNumber(bounds.min)
                  : "must be at most " + formatNumber(bounds.max);
+}
+
+/// A mapping's keys: refuses one that appears twice ("walls:" twice used to keep the first only).
+/// `keys` is scratch space, reused across mappings (most have a handful of keys).
+void checkUniqueKeys(const YAML::Node& map, const YamlDoc& doc,
+                     std::vector<std::pair<const std::string*, YAML::Mark>>& keys) {
+  keys.clear();
+  for (const auto& entry : map) {
+    if (!entry.first.IsScalar()) continue;  // keyName refuses it where the key is read
+    const std::string& name = entry.first.Scalar();
+    keys.emplace_back(&name, markOf(entry.first));
+  }
+  if (keys.size() > 1)
+    std::stable_sort(keys.begin(), keys.end(),
+                     [](const auto& a, const auto& b) { return *a.first < *b.first; });
+  for (std::size_t i = 1; i < keys.size(); ++i)
+    if (*keys[i].first == *keys[i - 1].first) {
+      const auto& [first, second] = keys[i - 1].second.pos <= keys[i].second.pos
+                                        ? std::pair(keys[i - 1].second, keys[i].second)
+                                        : std::pair(keys[i].second, keys[i - 1].second);
+      std::string at = doc.file();
+      at.append(":").append(std::to_string(second.line + 1)).append(":");
+      at.append(std::to_string(second.column + 1)).append(": ").append(*keys[i].first);
+      throw InputError(at, "key appears twice in one mapping (first on line " +
+                               std::to_string(first.line + 1) + ")");
+    }
+}
+
+/// Every node once per use (an alias counts each time it is used), depth first without recursion:
+/// nesting, node count and duplicate keys are checked before any reader walks the tree.
+void checkYamlTree(const YAML::Node& root, const YamlDoc& doc) {
+  std::vector<std::pair<YAML::Node, int>> stack{{root, 1}};
+  std::vector<std::pair<const std::string*, YAML::Mark>> keys;
+  std::size_t visited = 0;
+  while (!stack.empty()) {
+    const auto [node, depth] = stack.back();
+    stack.pop_back();
+    if (++visited > kMaxYamlNodes)
+      throw InputError(doc.file(), "more than " + std::to_string(kMaxYamlNodes) +
+                                       " YAML nodes (aliases count every time they are used)");
+    if (!node.IsMap() && !node.IsSequence()) continue;
+    if (depth > kMaxYamlDepth)
+      throw InputError(doc.where(node, ""),
+                       "YAML nested deeper than " + std::to_string(kMaxYamlDepth) + " levels");
+    if (node.IsMap()) checkUniqueKeys(node, doc, keys);
+    for (const auto& entry : node) {
+      if (node.IsSequence()) {
+        stack.emplace_back(entry, depth + 1);
+      } else {
+        stack.emplace_back(entry.first, depth + 1);
+        stack.emplace_back(entry.second, depth + 1);
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -188,7 +244,9 @@ double YamlDoc::optionalNumber(const YAML::Node& map, const std::string& name,
 
 YAML::Node parseYaml(const std::string& text, const YamlDoc& doc) {
   try {
-    return YAML::Load(text);
+    YAML::Node root = YAML::Load(text);
+    checkYamlTree(root, doc);
+    return root;
   } catch (const YAML::Exception& e) {
     doc.rethrow(e);
   }
@@ -196,14 +254,7 @@ YAML::Node parseYaml(const std::string& text, const YamlDoc& doc) {
 
 YAML::Node loadYamlFile(const std::filesystem::path& path, const YamlDoc& doc,
                         std::string_view what) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw InputError(path.string(), "cannot open " + std::string(what) + ": is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), "cannot open " + std::string(what));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parseYaml(text.str(), doc);
+  return parseYaml(readInputFile(path, what, kMaxYamlFileBytes), doc);
 }
 
 }  // namespace slamprep::sim

@@ -17,6 +17,12 @@
 
 namespace slamprep::sim {
 
+/// Mappings and lists nested deeper than this are refused (slamprep's files use at most 4).
+inline constexpr int kMaxYamlDepth = 64;
+/// Nodes in one document, an alias counted every time it is used (a "billion laughs" file is a
+/// few hundred bytes); a world of 10 000 walls has about 100 000.
+inline constexpr std::size_t kMaxYamlNodes = 1000000;
+
 /// Inclusive bounds of a number read from YAML.
 struct Bounds {
   double min = -std::numeric_limits<double>::max();  ///< smallest accepted value
@@ -88,9 +94,12 @@ class YamlDoc {
   std::string file_;
 };
 
-/// Parses `text`; a syntax error is InputError("file:line:col", "malformed YAML: ...").
+/// Parses `text`; a syntax error is InputError("file:line:col", "malformed YAML: ..."), and so
+/// are nesting beyond kMaxYamlDepth, more than kMaxYamlNodes nodes and a key repeated in one
+/// mapping.
 YAML::Node parseYaml(const std::string& text, const YamlDoc& doc);
-/// Reads and parses `path`; a missing file is InputError(path, "cannot open <what>").
+/// Reads and parses `path`; a missing file is InputError(path, "cannot open <what>"), and so is a
+/// device, a FIFO, a folder or a file over kMaxYamlFileBytes (core/input_file.hpp).
 YAML::Node loadYamlFile(const std::filesystem::path& path, const YamlDoc& doc,
                         std::string_view what);
 

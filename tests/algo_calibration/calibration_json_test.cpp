@@ -112,7 +112,11 @@ TEST(CalibrationJson, ErrorsNameTheFileAndTheField) {
   EXPECT_NE(message(R"([{"method":"magic","ok":false}])").find("[0].method"), std::string::npos);
   EXPECT_NE(message(R"([{"method":"model"}])").find("[0].ok"), std::string::npos);
   EXPECT_NE(message(R"([3])").find("[0]"), std::string::npos);
-  EXPECT_NE(message(R"([{"method":"model","ok":true,"r_L":0.1)").find("not JSON"),
+  EXPECT_NE(message(R"([{"method":"model","ok":true,"r_L":0.1)").find("cal.json:1: bad JSON"),
+            std::string::npos);
+  // Issue 26: a key given twice kept one value silently.
+  EXPECT_NE(message(R"([{"method":"model","ok":true,"ok":false}])")
+                .find("cal.json:1: key \"ok\" appears twice in one object"),
             std::string::npos);
   EXPECT_NE(message(R"("ceres")").find("cal.json"), std::string::npos);
   const CalibrationFile none = parseCalibrationJson(R"([{"method":"model","ok":false}])", "c.json");

@@ -1,5 +1,5 @@
 #!/bin/bash
-# The output guard (README, "Outputs"), one case per data loss issue 26 found: no command replaces,
+# The output guard (README, "Outputs"), one case per data loss a probe of 571 hostile inputs found: no command replaces,
 # deletes or writes into an input, one output never lands on another, an output that appears
 # during a run is not replaced without --force, --force replaces only what slamprep wrote, bench
 # writes only into a results folder it created, and an interrupted run leaves no partial behind.

@@ -40,6 +40,47 @@ deskew_methods: [none, oracle]
   for (std::size_t i = 0; i < trials.size(); ++i) EXPECT_EQ(trials[i].index, i);
 }
 
+// Issue 26, finding 9: three axes of 1000 values made 10^9 trials, and bad_alloc after 32 s of
+// expanding them. The product is refused when the suite is read, naming the key.
+TEST(Suite, RefusesMoreTrialsThanTheLimitBeforeExpandingThem) {
+  std::string values;
+  for (int i = 0; i < 1000; ++i) values += (i ? ", " : "") + std::to_string(i * 1e-4);
+  const auto file = writeTemp("huge.yaml", "worlds: [a]\nscenarios: [b]\nsweep:\n" +
+                                               std::string("  lidar.range_noise_m: [") + values +
+                                               "]\n  imu.gyro_noise_radps: [" + values +
+                                               "]\n  imu.accel_noise_mps2: [" + values + "]\n");
+  try {
+    loadSuite(file);
+    FAIL() << "accepted 10^9 trials";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), file.string() +
+                                         ": sweep: worlds x scenarios x sweep points x seeds is "
+                                         "1000000000 trials, more than the limit of 100000");
+  }
+  // At the limit exactly: read.
+  EXPECT_NO_THROW(
+      loadSuite(writeTemp("limit.yaml", "worlds: [a, b]\nscenarios: [c]\nseeds: 50000\n")));
+  EXPECT_THROW(
+      loadSuite(writeTemp("over.yaml", "worlds: [a, b, c]\nscenarios: [d]\nseeds: 50000\n")),
+      InputError);
+}
+
+// Issue 26, finding 11: the suite's settings travel with every trial, so an edited suite makes
+// the stored results stale.
+TEST(Suite, TrialsCarryTheSuiteSettings) {
+  const Suite suite =
+      loadSuite(writeTemp("settings.yaml",
+                          "worlds: [a]\nscenarios: [b]\nmode: kinematic\n"
+                          "calibration_methods: [joint]\ndeskew_methods: [none]\n"));
+  const auto trials = expandTrials(suite);
+  EXPECT_EQ(trials.front().settings["mode"], "kinematic");
+  EXPECT_EQ(trials.front().settings["calibration_methods"], nlohmann::json::array({"joint"}));
+  EXPECT_EQ(trials.front().settings["deskew_methods"], nlohmann::json::array({"none"}));
+  Suite edited = suite;
+  edited.mode = "physics";
+  EXPECT_NE(expandTrials(edited).front().settings, trials.front().settings);
+}
+
 TEST(Suite, RejectsUnknownKeyWithFileAndLine) {
   const auto file = writeTemp("bad.yaml", "worlds: [a.yaml]\nscenarios: [b.yaml]\nseedz: 3\n");
   try {

@@ -93,6 +93,34 @@ TEST(DatasetJson, SyntaxErrorsNameTheLine) {
   EXPECT_THROW(parseDatasetInfo("", "d.json"), InputError);
 }
 
+// Issue 26, finding 8: a config nested 200 000 deep crashed every reader (SIGSEGV), and 10 000
+// deep was written back as 200 MB; a repeated key kept one value silently.
+TEST(DatasetJson, DeepNestingAndRepeatedKeysAreRefusedNamingTheLine) {
+  const std::string good = formatDatasetInfo(sampleInfo(), "d.json");
+  for (int depth : {65, 10000, 200000}) {
+    std::string deep = good;
+    deep.replace(deep.find("\"config\": {") + 11, 0,
+                 "\"deep\": " + std::string(depth, '[') + std::string(depth, ']') + ",");
+    try {
+      parseDatasetInfo(deep, "d.json");
+      ADD_FAILURE() << "accepted depth " << depth;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("JSON nested deeper than 64 levels"), std::string::npos)
+          << e.what();
+    }
+  }
+  std::string twice = good;
+  twice.replace(twice.find("\"seed\""), 0, "\"seed\": 5,\n");
+  try {
+    parseDatasetInfo(twice, "d.json");
+    FAIL() << "accepted a repeated key";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("key \"seed\" appears twice in one object"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(DatasetJson, WriterRefusesInvalidGeometry) {
   DatasetInfo info = sampleInfo();
   info.nominal_geometry.wheel_base_m = 0.0;

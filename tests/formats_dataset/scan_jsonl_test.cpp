@@ -181,6 +181,26 @@ TEST(ScanJsonl, RefusesEmptyScansNegativeRangeMinAndBackwardTime) {
   // A single beam with range_min 0 and no range_max (unlimited) is fine.
   EXPECT_NO_THROW(parseScanLine(head + R"("nrays":1,"readings":[1],"range_min":0})", {"s", 1}));
 
+  // Issue 26: an increment of 0 or 1e300, a negative reading and a repeated key were read as
+  // given (beams on one ray, turning no real way, a distance below zero, one key ignored).
+  expectError(R"({"stamp_s":1,"angle_min":0,"angle_increment":0,"nrays":3,"readings":[1,1,1]})",
+              "s.jsonl:7: angle_increment: puts all 3 beams at one angle");
+  expectError(R"({"stamp_s":1,"angle_min":0,"angle_increment":1e300,"nrays":2,"readings":[1,1]})",
+              "s.jsonl:7: angle_increment: the beams span more than one revolution");
+  expectError(R"({"stamp_s":1,"min_theta":0,"max_theta":100,"nrays":3,"readings":[1,1,1]})",
+              "s.jsonl:7: max_theta: the beams span more than one revolution");
+  expectError(R"({"stamp_s":1,"angle_min":1e300,"angle_increment":0.1,"nrays":1,"readings":[1]})",
+              "s.jsonl:7: angle_min: more than one revolution (2 pi) from 0");
+  expectError(head + R"("nrays":2,"readings":[1,-2]})",
+              "s.jsonl:7: readings[1]: must not be negative (null: no return)");
+  expectError(head + R"("nrays":1,"readings":[1],"nrays":2})",
+              "s.jsonl:7: key \"nrays\" appears twice in one object");
+  // A full turn to the last beam is fine: 361 beams of 1 degree from -pi to pi.
+  std::string full = R"({"stamp_s":1,"angle_min":-3.141592653589793,"angle_increment":)" +
+                     std::to_string(3.141592653589793 / 180) + R"(,"nrays":361,"readings":[1)";
+  for (int i = 0; i < 360; ++i) full += ",1";
+  EXPECT_NO_THROW(parseScanLine(full + "]}", {"s", 1}));
+
   auto refusedOnWrite = [](auto change, const char* field) {
     ScanRecord r = smallRecord();
     change(r);

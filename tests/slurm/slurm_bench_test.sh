@@ -157,3 +157,20 @@ grep -q "shard(s) 2 of 4" "$dir/out3.txt" || fail "expected only shard 2 resubmi
 cmp "$dir/single/slurm-tiny/summary.json" "$dir/broken/slurm-tiny/summary.json" ||
   fail "resumed summary.json differs from the single-machine run"
 echo "ok: resubmission ran only shard 2 and gives the same bytes"
+
+# 4. Issue 26: names and paths are quoted for bash and for sbatch's #SBATCH parser. A suite whose
+#    name holds blanks, quotes, '#', '%' and a command substitution, under a results root with a
+#    blank: the job runs nothing the name holds, its log lands at the exact path (a '%' doubled
+#    for Slurm's patterns), and the merge completes.
+odd='odd name #1 $(touch pwned) '"'"'q'"'"' 50%'
+sed -e "s/^name: slurm-tiny/name: \"${odd//\"/\\\"}\"/" -e 's/^seeds: 4/seeds: 2/' \
+  "$dir/slurm-tiny.yaml" >"$dir/odd.yaml"
+"$slamprep" bench --suite "$dir/odd.yaml" --slurm --shards 2 --wait --no-plots \
+  --results "$dir/odd root" | tee "$dir/out4.txt" || fail "odd-name slurm run exited non-zero"
+[ -s "$dir/odd root/$odd/summary.json" ] || fail "odd-name merge wrote no summary"
+for k in 1 2; do
+  [ -f "$dir/odd root/$odd/slurm/shard-$k-of-2.log" ] || fail "shard $k's log is not at its path"
+done
+[ -f "$dir/odd root/$odd/slurm/merge.log" ] || fail "the merge log is not at its path"
+[ -z "$(find "$dir" "$source_dir" -maxdepth 3 -name pwned)" ] || fail "a name ran a command"
+echo "ok: an odd suite name stays one word for bash and sbatch"
