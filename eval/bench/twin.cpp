@@ -357,13 +357,15 @@ nlohmann::ordered_json worldJson(const WallMap& map, const WorldBuild& b) {
           {"world_cylinders", b.world.cylinders.size()}};
 }
 
-nlohmann::ordered_json driveJson(const TrackedDrive& d, double period_s) {
+nlohmann::ordered_json driveJson(const TrackedDrive& d, const TrackParams& p) {
   return {{"how",
            "commands: wheel rates every period_s (scenario type track) that a kinematic "
            "robot of the true geometry drives onto the matched trajectory; the physics "
            "adds its slip"},
-          {"period_s", period_s},
+          {"period_s", p.period_s},
           {"knots", d.wheel_rates.size()},
+          {"max_wheel_radps", p.max_wheel_radps},
+          {"ramp_s", p.ramp_s},
           {"distance_m", d.distance_m},
           {"replay_rms_position_m", d.rms_position_m},
           {"replay_max_position_m", d.max_position_m},
@@ -407,7 +409,12 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   nlohmann::ordered_json geometry_how;
   f.true_geometry = trueGeometry(real, name, p, geometry_how);
   f.robot = twinRobot(f.true_geometry);
-  const TrackedDrive drive = trackTrajectory(run.T_world_base, f.true_geometry, p.track);
+  f.odometry = fitOdometry(real);
+  TrackParams track = p.track;  // as fast as the recorded wheels turned, with a margin
+  if (f.odometry.wheel_rate_p99_radps > 0.0)
+    track.max_wheel_radps =
+        std::min(track.max_wheel_radps, p.wheel_rate_margin * f.odometry.wheel_rate_p99_radps);
+  const TrackedDrive drive = trackTrajectory(run.T_world_base, f.true_geometry, track);
   sim::SimConfig probe;
   probe.robot = f.robot;
   const double reach = sim::footprintRadius(f.robot) + probe.path_margin_m + p.path_clearance_m;
@@ -416,12 +423,13 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
     throw InputError(name, "the matched map has no walls to make a world of");
   const sim::PlanarCaster caster(built.world);
   f.against_map = compareWithMap(real, run.T_world_base, accepted, caster, f.layout, p.lidar);
-  f.odometry = fitOdometry(real);
   measureLag(real, run, f);
   TwinFit out;
   out.residual_median_m = matchedResidual(real);
+  out.replay = drive.replay;
   out.sets = twinSets(f, p.seed);
   for (const std::string& s : out.sets) sim::applyOverride(out.config, s);
+  const nlohmann::ordered_json world_json = worldJson(map, built);
   out.world = std::move(built.world);
   out.world_yaml = worldYaml(out.world, "The world of slamprep twin " + name + " (docs/twin.md)");
   out.scenario_yaml = scenarioYaml(drive, p.track.period_s,
@@ -432,8 +440,8 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
                 {"scans", run.tracked.scans.size()},
                 {"matched", run.tracked.matched},
                 {"accepted_for_the_map", std::count(accepted.begin(), accepted.end(), 1)}}},
-              {"world", worldJson(map, built)},
-              {"drive", driveJson(drive, p.track.period_s)},
+              {"world", world_json},
+              {"drive", driveJson(drive, track)},
               {"lidar", lidarJson(f)},
               {"odometry", odometryJson(f, geometry_how)},
               {"not_reproduced", kNotReproduced},
@@ -441,15 +449,78 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   return out;
 }
 
-/// Sets the range noise in the configuration, the --set list and twin.json's.
-void setRangeNoise(TwinFit& fit, double sigma) {
-  const std::string key = "lidar.range_noise_m=";
-  sim::applyOverride(fit.config, key + num(sigma));
-  for (std::string& s : fit.sets)
-    if (s.rfind(key, 0) == 0) s = key + num(sigma);
+namespace {
+
+/// Sets `key` in the configuration and the --set list (replaced, else appended).
+void setKey(TwinFit& fit, const std::string& key, const std::string& value) {
+  const std::string set = key + "=" + value;
+  sim::applyOverride(fit.config, set);
+  auto it = std::find_if(fit.sets.begin(), fit.sets.end(),
+                         [&](const std::string& s) { return s.rfind(key + "=", 0) == 0; });
+  if (it == fit.sets.end())
+    fit.sets.push_back(set);
+  else
+    *it = set;
   fit.json["sets"] = fit.sets;
+}
+
+void setRangeNoise(TwinFit& fit, double sigma) {
+  setKey(fit, "lidar.range_noise_m", num(sigma));
   fit.json["lidar"]["range_noise_m"]["value"] = sigma;
 }
+
+/// Largest distance of the simulated truth from the kinematic replay at its knots.
+double replayDeviation(const sim::SimResult& r, const PoseSeries& replay) {
+  double worst = 0.0;
+  for (const auto& knot : replay.samples())
+    if (const auto T = r.dataset.groundtruth.at(knot.stamp_s))
+      worst = std::max(worst, (T->translation() - knot.value.translation()).norm());
+  return worst;
+}
+
+/// The first run; in kinematic mode again when the physics' robot leaves the replay.
+sim::SimResult firstRun(TwinFit& fit, const sim::Scenario& scenario) {
+  sim::SimResult r = sim::simulate(fit.config, fit.world, scenario);
+  nlohmann::ordered_json& drive = fit.json["drive"];
+  drive["mode"] = "physics";
+  if (fit.config.mode != sim::SimMode::physics) return r;
+  const double deviation = replayDeviation(r, fit.replay);
+  drive["physics_max_deviation_m"] = deviation;
+  if (deviation <= fit.max_physics_deviation_m) return r;
+  setKey(fit, "mode", "kinematic");
+  drive["mode"] = "kinematic";
+  drive["mode_how"] =
+      "the physics' robot left the kinematic replay by more than " +
+      num(fit.max_physics_deviation_m) +
+      " m (open-loop slip piles up; a robot that touches a wall stops): the commands are driven "
+      "exactly (kinematic mode), the odometry errors are the nominal geometry's and the ticks'";
+  return sim::simulate(fit.config, fit.world, scenario);
+}
+
+}  // namespace
+
+namespace {
+
+/// The next noise to try: 0 after the first run, then the residual interpolated linearly between
+/// the runs that bracket the target (the residual grows with the noise and saturates, as the
+/// matcher trims what is far off), or extrapolated past the largest (at most 3x).
+double nextRangeNoise(std::vector<std::pair<double, double>> runs, double target) {
+  if (runs.size() == 1) return 0.0;
+  std::sort(runs.begin(), runs.end());
+  if (target <= runs.front().second) return runs.front().first;  // at 0 already above: 0
+  for (std::size_t i = 1; i < runs.size(); ++i) {
+    const auto [s0, r0] = runs[i - 1];
+    const auto [s1, r1] = runs[i];
+    if ((r0 - target) * (r1 - target) <= 0.0 && r1 != r0)
+      return s0 + (target - r0) * (s1 - s0) / (r1 - r0);
+  }
+  const auto [s0, r0] = runs[runs.size() - 2];
+  const auto [s1, r1] = runs.back();
+  const double slope = (r1 - r0) / (s1 - s0);
+  return slope > 0.0 ? std::min(3.0 * s1, s1 + (target - r1) / slope) : s1;
+}
+
+}  // namespace
 
 sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
   const double target = fit.residual_median_m;
@@ -458,24 +529,22 @@ sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
   nlohmann::ordered_json& j = fit.json["lidar"]["range_noise_m"];
   j["fitted_against_the_world_m"] = fit.config.lidar.range_noise_m;
   j["recording_residual_m"] = target;
-  for (int k = 0; k < 3; ++k) {
-    r = sim::simulate(fit.config, fit.world, scenario);
-    if (k == 2 || target <= 0.0) break;
+  constexpr int kRuns = 4;
+  for (int k = 0; k < kRuns; ++k) {
+    r = k == 0 ? firstRun(fit, scenario) : sim::simulate(fit.config, fit.world, scenario);
+    if (k == kRuns - 1 || target <= 0.0) break;
     runs.push_back({fit.config.lidar.range_noise_m, matchedResidual(r.dataset)});
-    const auto [s1, r1] = runs.back();
-    if (r1 <= 0.0) break;
-    // The residual is about a + b sigma: a step through zero first, then the secant.
-    double next = s1 * target / r1;
-    if (k == 1 && runs[1].second != runs[0].second)
-      next = s1 + (target - r1) * (s1 - runs[0].first) / (r1 - runs[0].second);
-    setRangeNoise(fit, std::max(0.0, next));
+    const double next = std::max(0.0, nextRangeNoise(runs, target));
+    if (k > 0 && std::abs(next - runs.back().first) < 1e-4) break;  // this run is the twin
+    setRangeNoise(fit, next);
   }
   j["tuning_runs"] = runs;
   j["how"] =
       "tuned so the twin's scan-to-map residual (match --deskew none, median) is the "
-      "recording's: started at the range residual against the world "
-      "(fitted_against_the_world_m), a step through zero, then a secant step; "
-      "tuning_runs: [noise, the twin's residual] of each run";
+      "recording's: a run at the range residual against the world "
+      "(fitted_against_the_world_m), one at zero noise, then the noise interpolated between the "
+      "runs that bracket the recording's residual (4 runs at most, the last is the twin); "
+      "tuning_runs: [noise, the twin's residual] of the runs before the last";
   return r;
 }
 

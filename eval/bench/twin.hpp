@@ -29,6 +29,9 @@ struct TwinParams {
   /// scan-to-map motion, 20 cm intervals: results/real's protocol), else the nominal one.
   std::optional<DiffDriveParams> true_geometry;
   bool calibrate = true;
+  /// The drive's wheel rates at most this times the recording's 99th percentile (a matching
+  /// glitch is not a drive: chasing it would make the twin's robot slip).
+  double wheel_rate_margin = 1.25;
   double path_clearance_m = 0.02;  ///< map geometry this close to the robot's path is cut away
   std::uint64_t seed = 1;
 };
@@ -43,9 +46,16 @@ struct TwinFit {
   /// The recording's scan-to-map residual (match --deskew none, median over the accepted
   /// scans): what simulateTwin tunes the range noise to.
   double residual_median_m = 0.0;
+  /// The kinematic robot's path at the knots (scenario time): what the physics must follow.
+  PoseSeries replay;
+  /// The physics' robot farther than this from `replay` (slip piled up over a long open-loop
+  /// drive, a wall touched): the twin is simulated in kinematic mode instead.
+  double max_physics_deviation_m = 0.3;
 };
 
-/// Simulates the twin. The range noise is tuned first: the point-to-line residual grows about
+/// Simulates the twin, in physics mode when its robot follows the replay within
+/// max_physics_deviation_m, else in kinematic mode (twin.json drive.mode says which and why).
+/// The range noise is tuned first: the point-to-line residual grows about
 /// in proportion to it, so one run at the fitted noise and one secant step make the twin's
 /// residual the recording's (twin.json "range_noise_m" says what each run measured).
 sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario);

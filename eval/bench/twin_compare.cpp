@@ -69,10 +69,12 @@ std::pair<std::optional<double>, std::optional<double>> calibratedB(const std::s
 
 }  // namespace
 
-TwinStatistics measureTwinStatistics(const std::string& dir) {
-  const Dataset d = readDataset(dir);
+TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
+  Dataset d = readDataset(dir);
+  if (!use_imu) d.imu.clear();
   const LidarLayout l = fitLidarLayout(d);
   TwinStatistics s;
+  s.has_imu = !d.imu.empty();
   const std::vector<Points2> points = matchScanPoints(d, "none", false);
   const MatchTrajectory run = matchTrajectory(d, points, {});
   for (std::size_t k = 1; k < run.tracked.scans.size(); ++k)
@@ -98,7 +100,7 @@ TwinStatistics measureTwinStatistics(const std::string& dir) {
 TwinComparison compareTwin(const std::string& real, const std::string& twin) {
   TwinComparison c{real, twin, {}, {}, {}};
   const TwinStatistics a = measureTwinStatistics(real);
-  const TwinStatistics b = measureTwinStatistics(twin);
+  const TwinStatistics b = measureTwinStatistics(twin, a.has_imu);
   for (std::size_t i = 0; i < a.values.size(); ++i) {
     TwinComparisonRow row{a.values[i].first, a.values[i].second, b.values[i].second, {}};
     if (row.real && row.twin && *row.real != 0.0) row.ratio = *row.twin / *row.real;

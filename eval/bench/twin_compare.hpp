@@ -14,10 +14,12 @@ namespace slamprep::eval {
 struct TwinStatistics {
   std::vector<std::pair<std::string, std::optional<double>>> values;  ///< in a fixed order
   std::vector<double> residuals_m;  ///< per accepted scan: RMS point-to-line residual
+  bool has_imu = false;  ///< the dataset has gyro samples (and the calibration used them)
 };
 
-/// Measures every statistic of docs/twin.md on a dataset folder.
-TwinStatistics measureTwinStatistics(const std::string& dataset);
+/// Measures every statistic of docs/twin.md on a dataset folder; without `use_imu` its gyro is
+/// left out (a twin always has one: measured as the recording without one is).
+TwinStatistics measureTwinStatistics(const std::string& dataset, bool use_imu = true);
 
 struct TwinComparisonRow {
   std::string name;

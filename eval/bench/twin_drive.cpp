@@ -29,6 +29,25 @@ Eigen::Vector2d meanTwist(const SE2& T_world_base, const SE2& T_world_target, do
   return {e.x / dt, (e.yaw + lateral * std::min(1.0, std::abs(e.x) / 0.01)) / dt};
 }
 
+/// The knot within the wheel-rate and acceleration limits (both scaled, so the turn's ratio stays).
+Eigen::Vector2d limitKnot(Eigen::Vector2d next, const Eigen::Vector2d& last, const TrackParams& p,
+                          TrackedDrive& drive) {
+  bool clamped = false;
+  const double peak = next.cwiseAbs().maxCoeff();
+  if (peak > p.max_wheel_radps) {
+    next *= p.max_wheel_radps / peak;
+    clamped = true;
+  }
+  const double max_change = p.max_wheel_radps * p.period_s / p.ramp_s;
+  const double change = (next - last).cwiseAbs().maxCoeff();
+  if (change > max_change) {
+    next = last + (next - last) * (max_change / change);
+    clamped = true;
+  }
+  if (clamped) ++drive.clamped;
+  return next;
+}
+
 }  // namespace
 
 SE2 driveKinematic(const SE2& T_world_base, const DiffDriveParams& geometry,
@@ -62,12 +81,7 @@ TrackedDrive trackTrajectory(const PoseSeries& T_world_base, const DiffDrivePara
     const SE2 target = recordedAt(T_world_base, drive.t0_s + tau);
     const Eigen::Vector2d twist = meanTwist(T, target, p.period_s, p);
     const Eigen::Vector2d mean = geometry.wheelRates(twist.x(), twist.y());
-    Eigen::Vector2d next = mean + kKnotDamping * (mean - last);
-    const double peak = next.cwiseAbs().maxCoeff();
-    if (peak > p.max_wheel_radps) {
-      next *= p.max_wheel_radps / peak;
-      ++drive.clamped;
-    }
+    const Eigen::Vector2d next = limitKnot(mean + kKnotDamping * (mean - last), last, p, drive);
     T = driveKinematic(T, geometry, last, next, p.period_s, steps);
     last = next;
     drive.wheel_rates.push_back(next);

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+
+#include "core/se2.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -40,6 +43,37 @@ void fitGyro(const Dataset& d, const OdometryFitParams& p, OdometryFit& f) {
   f.gyro_noise_radps = std::sqrt(sq / double(still.size() - 1));
 }
 
+/// |wheel rate| of every step of the encoders, else of the odometry poses (nominal geometry).
+std::vector<double> wheelRates(const Dataset& d) {
+  std::vector<double> rates;
+  const double rad_per_tick = 2.0 * std::numbers::pi / std::max(1, d.info.ticks_per_revolution);
+  for (std::size_t k = 1; k < d.encoders.size(); ++k) {
+    const double dt = d.encoders[k].stamp_s - d.encoders[k - 1].stamp_s;
+    if (dt <= 0.0) continue;
+    for (double ticks : {double(d.encoders[k].ticks_left - d.encoders[k - 1].ticks_left),
+                         double(d.encoders[k].ticks_right - d.encoders[k - 1].ticks_right)})
+      rates.push_back(std::abs(ticks) * rad_per_tick / dt);
+  }
+  if (!rates.empty()) return rates;
+  const auto& odom = d.odom_nominal.samples();
+  for (std::size_t k = 1; k < odom.size(); ++k) {
+    const double dt = odom[k].stamp_s - odom[k - 1].stamp_s;
+    if (dt <= 0.0) continue;
+    const SE2 step = between(odom[k - 1].value, odom[k].value);
+    const Eigen::Vector2d w = d.info.nominal_geometry.wheelRates(step.x / dt, step.yaw / dt);
+    rates.push_back(std::abs(w.x()));
+    rates.push_back(std::abs(w.y()));
+  }
+  return rates;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  const auto at = v.begin() + std::ptrdiff_t(q * double(v.size() - 1));
+  std::nth_element(v.begin(), at, v.end());
+  return *at;
+}
+
 }  // namespace
 
 OdometryFit fitOdometry(const Dataset& d, const OdometryFitParams& p) {
@@ -70,6 +104,7 @@ OdometryFit fitOdometry(const Dataset& d, const OdometryFitParams& p) {
     }
     if (f.gaps > 0) f.gap_mean_s = missing / double(f.gaps);
   }
+  f.wheel_rate_p99_radps = percentile(wheelRates(d), 0.99);
   f.has_imu = !d.imu.empty();
   if (f.has_imu) fitGyro(d, p, f);
   return f;

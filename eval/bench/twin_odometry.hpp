@@ -22,6 +22,9 @@ struct OdometryFit {
   std::size_t still_samples = 0;  ///< gyro samples where the wheels did not turn
   double gyro_bias_radps = 0.0;   ///< their mean ...
   double gyro_noise_radps = 0.0;  ///< ... and standard deviation
+  /// The wheels' rate the recording reaches: 99th percentile of |rate| over the encoder steps
+  /// (the odometry's poses with the nominal geometry where there are no ticks); 0: unknown.
+  double wheel_rate_p99_radps = 0.0;
 };
 
 struct OdometryFitParams {

@@ -57,8 +57,8 @@ void plotComparison(const TwinComparison& c, const std::filesystem::path& png) {
                     .log_y = true,
                     .legend = plot::LegendPosition::None};
   plot::Series bars{.label = "twin / real", .style = plot::Style::Bars};
-  const char* const shorts[] = {"rate",    "beams",   "no-return", "resid. med", "resid. p95",
-                                "conv. %", "drift/m", "sigma b",   "b"};
+  const char* const shorts[] = {"rate",  "beams", "no ret.", "res. md", "res. 95",
+                                "conv.", "drift", "sd b",    "b"};
   for (std::size_t i = 0; i < c.rows.size(); ++i) {
     ratios.categories.push_back(i < std::size(shorts) ? shorts[i] : c.rows[i].name);
     bars.x.push_back(double(i));
