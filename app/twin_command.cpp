@@ -150,9 +150,14 @@ Command addTwinCommand(CLI::App& app) {
       "beams, layout, range noise, no-returns, usable range) and the odometry (geometry, rate,\n"
       "gaps, clock lag, gyro), and writes DIR/world.yaml, DIR/scenario.yaml, DIR/twin.json\n"
       "(every value with how it was measured, and the --set list) and DIR/dataset/ (simulated).\n"
+      "The drive is simulated with physics, or kinematically when the physics' robot leaves the\n"
+      "commanded path by more than 0.3 m (twin.json drive.mode says which); the range noise is\n"
+      "tuned to the recording's scan-to-map residual.\n"
       "slamprep twin --compare REAL TWIN [--json FILE] [--plot FILE.png]: the statistics of\n"
       "docs/twin.md measured on both, side by side with their ratio (TWIN: a twin folder or a\n"
-      "dataset).");
+      "dataset): scan_rate_hz, beams_per_scan_mean, no_return_fraction,\n"
+      "scan_to_map_residual_median_m, scan_to_map_residual_p95_m, match_converged_percent,\n"
+      "odometry_drift_per_m, calibration_sigma_b, calibration_b_m.");
   cli->add_option("DATASET", flags->dataset, "the recording (an imported dataset; read only)");
   cli->add_option("--out", flags->out, "the twin's folder")->check(outputPath());
   cli->add_option("--calibration", flags->calibration,
