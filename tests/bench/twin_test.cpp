@@ -70,6 +70,12 @@ TEST(Twin, RecoversTheRoomsWallsAndTheLidar) {
   EXPECT_LT(fit.json["lidar"]["dropout_probability"]["value"].get<double>(), 0.01);
   EXPECT_LT(fit.json["drive"]["replay_rms_position_m"].get<double>(), 0.005);
   EXPECT_NEAR(fit.config.encoders.rate_hz, 100.0, 1e-6);
+  // The drive's cap: 1.25x the recorded wheels' 99th percentile, the outer wheel on the 0.8 m
+  // loops at 0.4 m/s: 0.4 (1 + 0.25 / 0.8) / 0.1 = 5.25 rad/s; a 10 ms step is 33 ticks, so
+  // one tick of quantisation is 3 %, and the physics' ripple adds to the top percentile.
+  const double cap = fit.json["drive"]["max_wheel_radps"].get<double>();
+  EXPECT_GT(cap, 1.25 * 5.25);
+  EXPECT_LT(cap, 1.25 * 5.25 * 1.08);
 }
 
 // The twin's own recording: simulated from the fitted world and drive, its scans match with
