@@ -27,6 +27,7 @@ std::string uriPath(const std::filesystem::path& file) {
 }
 
 using Statement = std::unique_ptr<sqlite3_stmt, decltype(&sqlite3_finalize)>;
+using Database = std::unique_ptr<sqlite3, decltype(&sqlite3_close)>;
 
 class SqliteStorage final : public BagStorage {
  public:
@@ -34,18 +35,15 @@ class SqliteStorage final : public BagStorage {
       : name_(name.empty() ? file.string() : name) {
     const std::string uri = "file:" + uriPath(file) + (immutable ? "?immutable=1" : "");
     const int flags = SQLITE_OPEN_URI | (immutable ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE);
-    const int rc = sqlite3_open_v2(uri.c_str(), &db_, flags, nullptr);
+    sqlite3* opened = nullptr;
+    const int rc = sqlite3_open_v2(uri.c_str(), &opened, flags, nullptr);
+    // Owned before anything can throw: a failed open or a corrupt topics table still closes it.
+    db_.reset(opened);
     if (rc != SQLITE_OK) {
-      const std::string why = db_ ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
-      sqlite3_close(db_);
-      db_ = nullptr;
+      const std::string why = opened ? sqlite3_errmsg(opened) : sqlite3_errstr(rc);
       throw InputError(name_, "cannot open as an SQLite database: " + why);
     }
     readTopics();
-  }
-  ~SqliteStorage() override {
-    rows_.reset();
-    sqlite3_close(db_);
   }
 
   const std::string& name() const override { return name_; }
@@ -76,7 +74,7 @@ class SqliteStorage final : public BagStorage {
     if (rc == SQLITE_DONE) return false;
     if (rc != SQLITE_ROW)
       throw InputError(name_, "messages after row " + std::to_string(last_row_) + ": " +
-                                  sqlite3_errmsg(db_) + " (a corrupt or truncated .db3)");
+                                  sqlite3_errmsg(db_.get()) + " (a corrupt or truncated .db3)");
     const sqlite3_int64 row = sqlite3_column_int64(rows_.get(), 0);
     const sqlite3_int64 topic = sqlite3_column_int64(rows_.get(), 1);
     const sqlite3_int64 stamp = sqlite3_column_int64(rows_.get(), 2);
@@ -102,9 +100,10 @@ class SqliteStorage final : public BagStorage {
  private:
   Statement prepare(const std::string& sql) {
     sqlite3_stmt* s = nullptr;
-    if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &s, nullptr) != SQLITE_OK) {
+    if (sqlite3_prepare_v2(db_.get(), sql.c_str(), -1, &s, nullptr) != SQLITE_OK) {
       sqlite3_finalize(s);
-      throw InputError(name_, std::string("not a rosbag2 sqlite3 file: ") + sqlite3_errmsg(db_));
+      throw InputError(name_,
+                       std::string("not a rosbag2 sqlite3 file: ") + sqlite3_errmsg(db_.get()));
     }
     return Statement(s, &sqlite3_finalize);
   }
@@ -123,12 +122,12 @@ class SqliteStorage final : public BagStorage {
       topics_[static_cast<std::uint32_t>(id)] = {text(1), normalType(text(2)), text(3)};
     }
     if (rc != SQLITE_DONE)
-      throw InputError(
-          name_, std::string("topics: ") + sqlite3_errmsg(db_) + " (a corrupt or truncated .db3)");
+      throw InputError(name_, std::string("topics: ") + sqlite3_errmsg(db_.get()) +
+                                  " (a corrupt or truncated .db3)");
   }
 
   std::string name_;
-  sqlite3* db_ = nullptr;
+  Database db_{nullptr, &sqlite3_close};  // declared before the statements: closed after them
   std::map<std::uint32_t, StorageTopic> topics_;
   std::map<std::uint32_t, std::uint32_t> sequences_;
   Statement rows_{nullptr, &sqlite3_finalize};

@@ -114,7 +114,7 @@ TEST(CalibrationJson, ErrorsNameTheFileAndTheField) {
   EXPECT_NE(message(R"([3])").find("[0]"), std::string::npos);
   EXPECT_NE(message(R"([{"method":"model","ok":true,"r_L":0.1)").find("cal.json:1: bad JSON"),
             std::string::npos);
-  // Issue 26: a key given twice kept one value silently.
+  // A key given twice kept one value silently.
   EXPECT_NE(message(R"([{"method":"model","ok":true,"ok":false}])")
                 .find("cal.json:1: key \"ok\" appears twice in one object"),
             std::string::npos);

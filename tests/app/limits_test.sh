@@ -1,5 +1,5 @@
 #!/bin/bash
-# Issue 26 (findings 3, 8-11 and the low items), through the binary: inputs that crashed, hung,
+# Input limits (docs/design.md "Input limits"), through the binary: inputs that crashed, hung,
 # ate gigabytes or ran a command are refused up front, exit 2, naming the file and key or the
 # option; --compare is read before any trial runs; an edited suite recomputes instead of mixing.
 source "$(dirname "$0")/cli_lib.sh"

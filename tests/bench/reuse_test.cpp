@@ -1,7 +1,7 @@
-// Issue 26, findings 10 and 11: a suite edited (physics to kinematic, methods added) and rerun
-// reused every stored trial and mixed them into the new summary; a malformed baseline, summary or
-// trial result ended in exit 1 with a raw JSON-library error, and --compare was read only after
-// the whole suite ran.
+// Bench reuse and malformed results: a suite edited (physics to kinematic, methods added) and
+// rerun reused every stored trial and mixed them into the new summary; a malformed baseline,
+// summary or trial result ended in exit 1 with a raw JSON-library error, and --compare was read
+// only after the whole suite ran.
 #include <gtest/gtest.h>
 
 #include <fstream>

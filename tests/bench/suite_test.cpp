@@ -40,7 +40,7 @@ deskew_methods: [none, oracle]
   for (std::size_t i = 0; i < trials.size(); ++i) EXPECT_EQ(trials[i].index, i);
 }
 
-// Issue 26, finding 9: three axes of 1000 values made 10^9 trials, and bad_alloc after 32 s of
+// Three axes of 1000 values made 10^9 trials, and bad_alloc after 32 s of
 // expanding them. The product is refused when the suite is read, naming the key.
 TEST(Suite, RefusesMoreTrialsThanTheLimitBeforeExpandingThem) {
   std::string values;
@@ -65,7 +65,7 @@ TEST(Suite, RefusesMoreTrialsThanTheLimitBeforeExpandingThem) {
       InputError);
 }
 
-// Issue 26, finding 11: the suite's settings travel with every trial, so an edited suite makes
+// The suite's settings travel with every trial, so an edited suite makes
 // the stored results stale.
 TEST(Suite, TrialsCarryTheSuiteSettings) {
   const Suite suite =

@@ -1,4 +1,4 @@
-// Issue 26, finding 8 and the low items: JSON nested deep enough to crash every reader by
+// Input limits (docs/design.md "Input limits"): JSON nested deep enough to crash every reader by
 // recursion (depth 200 000) or to grow 22 KB into a 200 MB rewrite (depth 10 000), keys repeated
 // in one object, and input files that never end (/dev/zero) or are larger than any real one.
 #include <gtest/gtest.h>

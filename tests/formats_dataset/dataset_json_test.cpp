@@ -93,7 +93,7 @@ TEST(DatasetJson, SyntaxErrorsNameTheLine) {
   EXPECT_THROW(parseDatasetInfo("", "d.json"), InputError);
 }
 
-// Issue 26, finding 8: a config nested 200 000 deep crashed every reader (SIGSEGV), and 10 000
+// A config nested 200 000 deep crashed every reader (SIGSEGV), and 10 000
 // deep was written back as 200 MB; a repeated key kept one value silently.
 TEST(DatasetJson, DeepNestingAndRepeatedKeysAreRefusedNamingTheLine) {
   const std::string good = formatDatasetInfo(sampleInfo(), "d.json");

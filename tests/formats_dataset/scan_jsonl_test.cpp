@@ -181,7 +181,7 @@ TEST(ScanJsonl, RefusesEmptyScansNegativeRangeMinAndBackwardTime) {
   // A single beam with range_min 0 and no range_max (unlimited) is fine.
   EXPECT_NO_THROW(parseScanLine(head + R"("nrays":1,"readings":[1],"range_min":0})", {"s", 1}));
 
-  // Issue 26: an increment of 0 or 1e300, a negative reading and a repeated key were read as
+  // An increment of 0 or 1e300, a negative reading and a repeated key were read as
   // given (beams on one ray, turning no real way, a distance below zero, one key ignored).
   expectError(R"({"stamp_s":1,"angle_min":0,"angle_increment":0,"nrays":3,"readings":[1,1,1]})",
               "s.jsonl:7: angle_increment: puts all 3 beams at one angle");

@@ -1,4 +1,4 @@
-// Issue 26, findings 9 and the low items, for the simulator's inputs: a second `walls:` block
+// Input limits of the simulator's inputs (docs/design.md "Input limits"): a second `walls:` block
 // that used to be ignored, nesting and aliases that multiply a small file, worlds of 10^5 walls
 // (quadratic set-up), scenario includes of /dev/zero or fanning out to 2^16 files, and sensor
 // rates that ended in bad_alloc. Each is an InputError naming the file (line) or the key.

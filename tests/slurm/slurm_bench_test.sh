@@ -158,7 +158,7 @@ cmp "$dir/single/slurm-tiny/summary.json" "$dir/broken/slurm-tiny/summary.json" 
   fail "resumed summary.json differs from the single-machine run"
 echo "ok: resubmission ran only shard 2 and gives the same bytes"
 
-# 4. Issue 26: names and paths are quoted for bash and for sbatch's #SBATCH parser. A suite whose
+# 4. Names and paths are quoted for bash and for sbatch's #SBATCH parser. A suite whose
 #    name holds blanks, quotes, '#', '%' and a command substitution, under a results root with a
 #    blank: the job runs nothing the name holds, its log lands at the exact path (a '%' doubled
 #    for Slurm's patterns), and the merge completes.

@@ -113,7 +113,7 @@ std::string lineStartingWith(const std::string& text, const std::string& prefix)
   return "";
 }
 
-// Issue 26, finding 3: a suite named "x'\ntouch pwned\n#" landed unquoted in the comments and
+// A suite named "x'\ntouch pwned\n#" landed unquoted in the comments and
 // #SBATCH lines, and the shard script ran `touch pwned`. Control characters are refused now.
 TEST(SlurmDriver, NamesWithANewlineAreRefused) {
   const test::ScratchDir scratch("slurm_newline");
