@@ -27,5 +27,6 @@ Command addMergeCommand(CLI::App& app);
 Command addPlotCommand(CLI::App& app);
 Command addScoreCommand(CLI::App& app);
 Command addSimulateCommand(CLI::App& app);
+Command addTwinCommand(CLI::App& app);
 
 }  // namespace slamprep::app

@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
   const std::vector<Command> commands = {
       addBenchCommand(app),  addCalibrateCommand(app), addDeskewCommand(app), addExportCommand(app),
       addImportCommand(app), addMatchCommand(app),     addMergeCommand(app),  addPlotCommand(app),
-      addScoreCommand(app),  addSimulateCommand(app),
+      addScoreCommand(app),  addSimulateCommand(app), addTwinCommand(app),
   };
 
   if (argc < 2) {

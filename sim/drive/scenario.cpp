@@ -232,6 +232,32 @@ void parseExplore(const YAML::Node& seg, const std::string& p, const std::string
   build.out.back().explore = std::move(params);
 }
 
+/// track: knots every period_s, linear between them, as a tool writes a recorded drive
+/// (slamprep twin); a zero knot before the first value and after the last keep it rest to rest.
+void parseTrack(const YAML::Node& seg, const std::string& p, const std::string& type,
+                const std::string& at, SegmentBuilder& build) {
+  const Context& ctx = build.ctx;
+  const std::string kind = stringField(ctx, seg, p, "kind");
+  if (kind != "twist" && kind != "wheel_rates")
+    ctx.doc.fail(seg["kind"], joinKey(p, "kind"),
+                 "must be twist or wheel_rates, not '" + kind + "'");
+  const double period_s = positiveField(ctx, seg, p, "period_s", std::nan(""));
+  const YAML::Node values = ctx.doc.required(seg, "values", p);
+  const std::string key = joinKey(p, "values");
+  if (!values.IsSequence() || values.size() == 0)
+    ctx.doc.fail(values, key, "must be a non-empty list of [a, b] pairs");
+  if (double(values.size() + 1) * period_s > kMaxDuration_s || double(values.size()) > kMaxKnots)
+    ctx.doc.fail(values, key, "longer than a day or more than 1e6 knots");
+  std::vector<CommandKnot> knots{{0.0, {0.0, 0.0}}};
+  const Bounds signed_value{-kMaxValue, kMaxValue};
+  for (std::size_t k = 0; k < values.size(); ++k)
+    knots.push_back({double(k + 1) * period_s,
+                     ctx.doc.point(values[k], key + "[" + std::to_string(k) + "]", signed_value)});
+  knots.push_back({double(values.size() + 1) * period_s, {0.0, 0.0}});
+  build.add(type, at, kind == "twist" ? CommandKind::twist : CommandKind::wheel_rates,
+            std::move(knots));
+}
+
 // ---- The file ------------------------------------------------------------------------------
 
 CommandProfile loadProfile(const std::filesystem::path& file, IncludeStack& stack, Scenario* top);
@@ -300,6 +326,9 @@ void parseSegment(const Context& ctx, const YAML::Node& seg, const std::string& 
           "clearance_m", "lookahead_m", "min_goal_distance_m", "grid_resolution_m",
           "control_period_s"});
     parseExplore(seg, p, type, at, build);
+  } else if (type == "track") {
+    keys({"kind", "period_s", "values"});
+    parseTrack(seg, p, type, at, build);
   } else if (type == "include") {
     keys({"file"});
     std::filesystem::path file = stringField(ctx, seg, p, "file");
@@ -310,7 +339,7 @@ void parseSegment(const Context& ctx, const YAML::Node& seg, const std::string& 
     ctx.doc.fail(seg["type"], joinKey(p, "type"),
                  "unknown segment type '" + type +
                      "' (expected straight, spin, arc, wheel_rates, stop, umbmark, "
-                     "figure_eight, stop_and_go, random_smooth, explore or include)");
+                     "figure_eight, stop_and_go, random_smooth, explore, track or include)");
   }
   for (ProfileSegment& segment : out) profile.append(std::move(segment));
 }

@@ -24,8 +24,9 @@ namespace {
 namespace fs = std::filesystem;
 using Flags = std::set<std::string>;
 
-const std::vector<std::string> kCommands = {"bench", "calibrate", "deskew", "export", "import",
-                                            "match", "merge",     "plot",   "score",  "simulate"};
+const std::vector<std::string> kCommands = {"bench",  "calibrate", "deskew", "export",
+                                            "import", "match",     "merge",  "plot",
+                                            "score",  "simulate",  "twin"};
 
 bool isCommand(const std::string& word) {
   return std::find(kCommands.begin(), kCommands.end(), word) != kCommands.end();

@@ -2,7 +2,7 @@
 # What slamprep says when it is used wrongly: an unknown choice lists the valid ones and the
 # closest; an unknown command or none lists the commands; --version; every --help clean.
 source "$(dirname "$0")/cli_lib.sh"
-commands="bench calibrate deskew export import match merge plot score simulate"
+commands="bench calibrate deskew export import match merge plot score simulate twin"
 ds=$dir/ds
 simulate_arc "$ds"
 

@@ -111,6 +111,32 @@ TEST(Scenario, FigureEightTurnsTwoFullCirclesAndBack) {
   EXPECT_LE(slope.y(), 2.0 + 1e-12);
 }
 
+TEST(Scenario, TrackIsItsKnotsRestToRest) {
+  const Scenario s = parseScenario(
+      "segments:\n  - {type: track, kind: wheel_rates, period_s: 0.5, values: [[1, 2], [3, -1]]}\n",
+      "t.yaml");
+  ASSERT_EQ(s.profile.segments().size(), 1u);
+  EXPECT_EQ(s.profile.segments()[0].kind, CommandKind::wheel_rates);
+  EXPECT_DOUBLE_EQ(s.profile.duration_s(), 1.5);  // a zero knot before and after the values
+  EXPECT_TRUE(s.profile.at(0.0).value.isZero());
+  EXPECT_EQ(s.profile.at(0.5).value, Eigen::Vector2d(1, 2));
+  EXPECT_EQ(s.profile.at(0.75).value, Eigen::Vector2d(2, 0.5));  // linear between knots
+  EXPECT_TRUE(s.profile.at(1.5).value.isZero());
+  // Area under the knots: trapezoids of 0.5 s.
+  EXPECT_NEAR(integral(s.profile).x(), 0.5 * (0.5 * 1 + 0.5 * (1 + 3) + 0.5 * 3), 1e-12);
+}
+
+TEST(Scenario, TrackRefusesAnUnknownKindAndBadValues) {
+  auto parse = [](const std::string& seg) {
+    return parseScenario("segments:\n  - {type: track, " + seg + "}\n", "t.yaml");
+  };
+  EXPECT_THROW(parse("kind: wheels, period_s: 0.1, values: [[1, 2]]"), InputError);
+  EXPECT_THROW(parse("kind: twist, period_s: 0, values: [[1, 2]]"), InputError);
+  EXPECT_THROW(parse("kind: twist, period_s: 0.1, values: []"), InputError);
+  EXPECT_THROW(parse("kind: twist, period_s: 0.1, values: [[1, 2, 3]]"), InputError);
+  EXPECT_NO_THROW(parse("kind: twist, period_s: 0.1, values: [[0.1, 0.2]]"));
+}
+
 TEST(Scenario, UmbmarkIsFourLegsAndFourRightAngles) {
   const Scenario s = loadScenario(kScenarios / "umbmark_cw.yaml");
   const Eigen::Vector2d total = integral(s.profile);

@@ -1,0 +1,182 @@
+// `slamprep twin DATASET --out DIR`: a simulation that reproduces a recording (world, drive,
+// lidar, odometry fitted to it), and `slamprep twin --compare REAL TWIN`: the same statistics
+// measured on both (docs/twin.md).
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "algo/calibration/calibration_json.hpp"
+#include "app/commands.hpp"
+#include "app/outputs.hpp"
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "eval/bench/command_progress.hpp"
+#include "eval/bench/twin.hpp"
+#include "eval/bench/twin_compare.hpp"
+#include "eval/formats/dataset_io.hpp"
+#include "sim/drive/scenario.hpp"
+#include "sim/drive/simulator.hpp"
+#include "sim/physics/world.hpp"
+
+namespace slamprep::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct TwinFlags {
+  std::string dataset;
+  std::string out;
+  std::string calibration;
+  std::vector<std::string> compare;
+  std::string json_out;
+  std::string plot;
+  eval::TwinParams params;
+  bool no_calibrate = false;
+  bool quiet = false;
+  bool force = false;
+};
+
+/// A folder `twin` wrote: it holds twin.json (or is empty).
+bool isTwinFolder(const fs::path& dir) {
+  return fs::is_directory(dir) && (fs::is_empty(dir) || fs::exists(dir / "twin.json"));
+}
+
+/// Simulates the fitted twin and writes DIR's files into `partial` (published as `out`).
+void writeTwin(eval::TwinFit& fit, const TwinFlags& flags, const fs::path& partial,
+               nlohmann::ordered_json& json) {
+  writeFileAtomic(partial / "world.yaml", fit.world_yaml);
+  writeFileAtomic(partial / "scenario.yaml", fit.scenario_yaml);
+  // Simulated from the files as written (rounded), so their --set list gives the same bytes.
+  fit.world = sim::loadWorld(partial / "world.yaml");
+  sim::SimConfig& config = fit.config;
+  config.world = (fs::path(flags.out) / "world.yaml").string();
+  config.scenario = (fs::path(flags.out) / "scenario.yaml").string();
+  const sim::Scenario scenario = sim::parseScenario(fit.scenario_yaml, config.scenario);
+  const auto begin = std::chrono::steady_clock::now();
+  const sim::SimResult r = eval::simulateTwin(fit, scenario);
+  json = fit.json;
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  fs::create_directories(partial / "dataset");
+  eval::writeDatasetFiles(partial / "dataset", r.dataset, fs::path(flags.out) / "dataset");
+  json["simulate"] = {{"command", "slamprep simulate --world " + config.world + " --scenario " +
+                                      config.scenario + " --set ... (sets) --out DIR"},
+                      {"scans", r.summary.scans},
+                      {"distance_m", r.summary.distance_m},
+                      {"true_geometry_drift_max_m", r.summary.drift_true.max_position_error_m},
+                      {"seconds", wall}};
+  writeFileAtomic(partial / "twin.json", json.dump(2) + "\n");
+}
+
+int runTwin(TwinFlags flags) {
+  checkInputDataset(flags.dataset, "DATASET");
+  if (!flags.calibration.empty()) checkInputFile(flags.calibration, "--calibration");
+  OutputGuard guard(flags.force);
+  guard.input(flags.dataset, "DATASET").input(flags.calibration, "--calibration");
+  guard.directory(flags.out, "--out", isTwinFolder, "a twin folder (with twin.json)");
+  guard.check();
+  if (!flags.calibration.empty()) {
+    const algo::CalibrationFile cal = algo::readCalibrationJson(flags.calibration);
+    cal.requireBest();
+    flags.params.true_geometry = cal.best()->result.geometry;
+  }
+  flags.params.calibrate = !flags.no_calibrate;
+  const auto begin = std::chrono::steady_clock::now();
+  const Dataset real = eval::readDataset(flags.dataset);
+  eval::TwinFit fit = [&] {
+    eval::CommandProgress progress(1, "runs", "twin", !flags.quiet);
+    return eval::fitTwin(real, flags.dataset, flags.params);
+  }();
+  nlohmann::ordered_json json;
+  eval::publishDirectoryAtomically(
+      flags.out, [&](const fs::path& partial) { writeTwin(fit, flags, partial, json); },
+      isTwinFolder);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  std::printf("%s", eval::twinText(json).c_str());
+  std::printf("twin of %s in %.1f s: wrote %s/{world.yaml, scenario.yaml, twin.json, dataset/}\n",
+              flags.dataset.c_str(), seconds, flags.out.c_str());
+  return 0;
+}
+
+int runCompare(const TwinFlags& flags) {
+  const std::string& real = flags.compare[0];
+  std::string twin = flags.compare[1];
+  if (fs::exists(fs::path(twin) / "twin.json")) twin = (fs::path(twin) / "dataset").string();
+  checkInputDataset(real, "--compare REAL");
+  checkInputDataset(twin, "--compare TWIN");
+  OutputGuard guard(flags.force);
+  guard.input(real, "--compare REAL").input(twin, "--compare TWIN");
+  if (!flags.json_out.empty()) guard.file(flags.json_out, "--json");
+  if (!flags.plot.empty()) guard.file(flags.plot, "--plot");
+  guard.check();
+  const eval::TwinComparison c = [&] {
+    eval::CommandProgress progress(1, "runs", "twin", !flags.quiet);
+    return eval::compareTwin(real, twin);
+  }();
+  std::printf("%s", eval::comparisonText(c).c_str());
+  if (!flags.json_out.empty())
+    writeFileAtomic(flags.json_out, eval::comparisonJson(c).dump(2) + "\n");
+  if (!flags.plot.empty()) eval::plotComparison(c, flags.plot);
+  for (const auto& [file, what] : {std::pair{flags.json_out, "comparison"}, {flags.plot, "plot"}})
+    if (!file.empty()) std::printf("wrote %s %s\n", what, file.c_str());
+  return 0;
+}
+
+int run(TwinFlags& flags) {
+  if (!flags.compare.empty()) {
+    if (!flags.dataset.empty() || !flags.out.empty())
+      throw InputError("--compare", "takes REAL and TWIN only: no DATASET and no --out");
+    return runCompare(flags);
+  }
+  if (flags.dataset.empty()) throw InputError("DATASET", "give a dataset (or --compare REAL TWIN)");
+  if (flags.out.empty()) throw InputError("--out", "required: the folder the twin is written to");
+  if (!flags.json_out.empty() || !flags.plot.empty())
+    throw InputError("--json", "--json and --plot go with --compare");
+  return runTwin(flags);
+}
+
+}  // namespace
+
+Command addTwinCommand(CLI::App& app) {
+  auto flags = std::make_shared<TwinFlags>();
+  auto* cli = app.add_subcommand(
+      "twin", "A simulation that reproduces a recording, and its comparison with the recording.");
+  cli->footer(
+      "slamprep twin DATASET --out DIR: matches the scans to a map (slamprep match), makes the\n"
+      "map's walls a world, the matched trajectory wheel-rate commands, fits the lidar (rate,\n"
+      "beams, layout, range noise, no-returns, usable range) and the odometry (geometry, rate,\n"
+      "gaps, clock lag, gyro), and writes DIR/world.yaml, DIR/scenario.yaml, DIR/twin.json\n"
+      "(every value with how it was measured, and the --set list) and DIR/dataset/ (simulated).\n"
+      "The drive is simulated with physics, or kinematically when the physics' robot leaves the\n"
+      "commanded path by more than 0.3 m (twin.json drive.mode says which); the range noise is\n"
+      "tuned to the recording's scan-to-map residual.\n"
+      "slamprep twin --compare REAL TWIN [--json FILE] [--plot FILE.png]: the statistics of\n"
+      "docs/twin.md measured on both, side by side with their ratio (TWIN: a twin folder or a\n"
+      "dataset): scan_rate_hz, beams_per_scan_mean, no_return_fraction,\n"
+      "scan_to_map_residual_median_m, scan_to_map_residual_p95_m, match_converged_percent,\n"
+      "odometry_drift_per_m, calibration_sigma_b, calibration_b_m.");
+  cli->add_option("DATASET", flags->dataset, "the recording (an imported dataset; read only)");
+  cli->add_option("--out", flags->out, "the twin's folder")->check(outputPath());
+  cli->add_option("--calibration", flags->calibration,
+                  "the twin's true geometry from this calibration JSON (calibrate --json)");
+  cli->add_flag("--no-calibrate", flags->no_calibrate,
+                "without --calibration: the nominal geometry is the truth (no calibration run)");
+  cli->add_option("--deskew", flags->params.deskew,
+                  "how the scans are matched for the map (slamprep match --deskew)")
+      ->capture_default_str();
+  cli->add_option("--seed", flags->params.seed, "the twin's noise seed")->capture_default_str();
+  cli->add_option("--compare", flags->compare, "REAL TWIN: compare a recording with its twin")
+      ->expected(2);
+  cli->add_option("--json", flags->json_out, "with --compare: write the comparison")
+      ->check(outputPath());
+  cli->add_option("--plot", flags->plot, "with --compare: draw the ratios (PNG)")
+      ->check(outputPath());
+  cli->add_flag("--force", flags->force, "replace existing outputs");
+  cli->add_flag("-q,--quiet", flags->quiet, "No progress output");
+  return {cli, [flags] { return run(*flags); }};
+}
+
+}  // namespace slamprep::app

@@ -1,0 +1,551 @@
+#include "eval/bench/twin.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "algo/agreement/dataset_sources.hpp"
+#include "algo/agreement/sensor_agreement.hpp"
+#include "core/error.hpp"
+#include "eval/bench/calibration_run.hpp"
+#include "eval/bench/match_trajectory.hpp"
+#include "eval/bench/twin_odometry.hpp"
+#include "eval/metrics/error_stats.hpp"
+#include "sim/drive/simulator.hpp"
+#include "sim/physics/planar_caster.hpp"
+
+namespace slamprep::eval {
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
+/// The accepted scans' points in the world (the first scan is the map's origin), nearer than
+/// the lidar's usable range; `accepted[k]` says which scans they came from.
+std::vector<MapPoint> mapPoints(const MatchTrajectory& run, const std::vector<Points2>& points,
+                                double usable_max_m, std::vector<char>& accepted) {
+  std::vector<MapPoint> map;
+  accepted.assign(points.size(), 0);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const algo::TrackedScan& t = run.tracked.scans[k];
+    if (k > 0 && t.fallback) continue;
+    accepted[k] = 1;
+    for (const Eigen::Vector2d& p : points[k])
+      if (p.norm() <= usable_max_m)
+        map.push_back({t.T_world_lidar * p, t.T_world_lidar.translation()});
+  }
+  return map;
+}
+
+/// The twin's true geometry: given, calibrated from the recording, or the nominal one.
+DiffDriveParams trueGeometry(const Dataset& real, const std::string& name, const TwinParams& p,
+                             nlohmann::ordered_json& how) {
+  if (p.true_geometry) {
+    how = {{"from", "given (--calibration)"}};
+    return *p.true_geometry;
+  }
+  if (p.calibrate) {
+    DatasetCalibrationParams c;
+    c.dataset = name;
+    c.methods = {algo::CalibrationMethod::kJoint};
+    c.motion.from_map = true;
+    c.motion.intervals.keyframe_translation_m = 0.2;
+    const DatasetCalibration cal = calibrateDataset(c, real);
+    if (!cal.runs.empty() && cal.runs.front().result.ok) {
+      const algo::CalibrationResult& r = cal.runs.front().result;
+      const Eigen::VectorXd sigma = r.sigma();
+      how = {{"from", "calibrate --method joint --motion map --keyframe-cm 20"},
+             {"sigma_m", {sigma(0), sigma(1), sigma(2)}},
+             {"intervals", r.intervals_used}};
+      return r.geometry;
+    }
+    how = {{"from", "nominal: calibration refused"},
+           {"reason", cal.runs.empty() ? "no run" : cal.runs.front().result.reason}};
+    return real.info.nominal_geometry;
+  }
+  how = {{"from", "nominal (no calibration asked)"}};
+  return real.info.nominal_geometry;
+}
+
+/// A robot of the recorded geometry: wheels 2 cm wide, a chassis between them.
+sim::RobotConfig twinRobot(const DiffDriveParams& g) {
+  sim::RobotConfig r;
+  r.geometry = g;
+  r.wheel_width_m = 0.02;
+  // At most 0.4 m: the --set list sets it before the wheel base, against the default 0.5 m.
+  r.chassis_width_m = std::clamp(g.wheel_base_m - r.wheel_width_m - 0.02, 0.02, 0.4);
+  r.chassis_length_m = std::min(0.4, g.wheel_base_m);
+  r.caster_offset_m = 0.4 * r.chassis_length_m;
+  r.caster_radius_m = std::min(0.03, 0.5 * std::min(g.radius_left_m, g.radius_right_m));
+  r.chassis_clearance_m = std::min(0.04, 0.5 * std::min(g.radius_left_m, g.radius_right_m));
+  return r;
+}
+
+}  // namespace
+
+namespace {
+
+/// The path of the kinematic replay, sampled at most `spacing_m` apart.
+std::vector<Eigen::Vector2d> pathSamples(const PoseSeries& replay, double spacing_m) {
+  std::vector<Eigen::Vector2d> out;
+  for (std::size_t i = 0; i < replay.size(); ++i) {
+    const Eigen::Vector2d b = replay[i].value.translation();
+    if (!out.empty()) {
+      const Eigen::Vector2d a = out.back();
+      const int n = static_cast<int>(std::ceil((b - a).norm() / spacing_m));
+      for (int s = 1; s < n; ++s) out.push_back(a + (b - a) * (double(s) / n));
+    }
+    out.push_back(b);
+  }
+  return out;
+}
+
+/// The pieces of the wall a -> b farther than `reach` (plus half its thickness) from every
+/// path sample: map geometry the recorded robot drove through (a person walking, a door that
+/// opened, a matching error) is cut away so the twin can drive where the robot did.
+std::vector<std::pair<double, double>> clearPieces(const sim::Wall& w,
+                                                   const std::vector<Eigen::Vector2d>& path,
+                                                   double reach) {
+  const Eigen::Vector2d d = (w.to_m - w.from_m).normalized();
+  const Eigen::Vector2d n(-d.y(), d.x());
+  const double length = (w.to_m - w.from_m).norm(), r = reach + 0.5 * w.thickness_m;
+  std::vector<std::pair<double, double>> blocked;
+  for (const Eigen::Vector2d& c : path) {
+    const double h = std::abs((c - w.from_m).dot(n));
+    if (h >= r) continue;
+    const double u = (c - w.from_m).dot(d), half = std::sqrt(r * r - h * h);
+    if (u + half > 0.0 && u - half < length) blocked.push_back({u - half, u + half});
+  }
+  std::sort(blocked.begin(), blocked.end());
+  std::vector<std::pair<double, double>> free;
+  double at = 0.0;
+  for (const auto& [lo, hi] : blocked) {
+    if (lo > at) free.push_back({at, lo});
+    at = std::max(at, hi);
+  }
+  if (at < length) free.push_back({at, length});
+  return free;
+}
+
+struct WorldBuild {
+  sim::World world;
+  int walls_cut = 0;  ///< walls (or clutter) the robot's path crossed, cut into pieces or removed
+  int posts_removed = 0;
+};
+
+/// The map's faces as walls whose centre lies half a thickness behind the face, cut away where
+/// the robot drove, and its posts as cylinders.
+WorldBuild buildWorld(const WallMap& map, const WallExtractionParams& wp, const TrackedDrive& drive,
+                      double reach_m) {
+  WorldBuild b;
+  b.world.name = "twin";
+  b.world.T_world_start = drive.replay[0].value;
+  const std::vector<Eigen::Vector2d> path = pathSamples(drive.replay, 0.02);
+  auto add = [&](const WallSegment& s) {
+    const Eigen::Vector2d shift = -0.5 * wp.thickness_m * s.normal;
+    const sim::Wall w{s.from_m + shift, s.to_m + shift, wp.thickness_m, 2.0, true};
+    const auto pieces = clearPieces(w, path, reach_m);
+    const Eigen::Vector2d d = (w.to_m - w.from_m).normalized();
+    if (pieces.size() != 1 || pieces[0].second - pieces[0].first < (w.to_m - w.from_m).norm())
+      ++b.walls_cut;
+    for (const auto& [lo, hi] : pieces)
+      if (hi - lo >= wp.cell_m)
+        b.world.walls.push_back({w.from_m + lo * d, w.from_m + hi * d, wp.thickness_m, 2.0, true});
+  };
+  for (const WallSegment& s : map.walls) add(s);
+  for (const WallSegment& s : map.clutter) add(s);
+  for (const Post& p : map.posts) {
+    const bool hit = std::any_of(path.begin(), path.end(), [&](const Eigen::Vector2d& c) {
+      return (c - p.center_m).norm() < reach_m + p.radius_m;
+    });
+    if (hit)
+      ++b.posts_removed;
+    else
+      b.world.cylinders.push_back({p.center_m, p.radius_m, 1.0, true});
+  }
+  return b;
+}
+
+}  // namespace
+
+namespace {
+
+std::string num(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", v);  // exact: 2 pi must stay <= 2 pi
+  return buf;
+}
+
+struct Fitted {
+  LidarLayout layout;
+  LidarAgainstMap against_map;
+  OdometryFit odometry;
+  DiffDriveParams true_geometry;
+  DiffDriveParams nominal;
+  SE2 T_base_lidar;
+  double scan_lag_s = 0.0;  ///< the scans' stamps behind the wheels' (sensor agreement)
+  bool lag_measured = false;
+  sim::RobotConfig robot;
+};
+
+/// The simulator settings that reproduce the fit, as `--set` assignments in order.
+std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
+  const DiffDriveParams& g = f.true_geometry;
+  const sim::RobotConfig& r = f.robot;
+  const LidarLayout& l = f.layout;
+  std::vector<std::string> s = {
+      "seed=" + std::to_string(seed),
+      // The chassis first: each assignment is checked, and it must fit between the wheels.
+      "robot.wheel_width_m=" + num(r.wheel_width_m),
+      "robot.chassis_width_m=" + num(r.chassis_width_m),
+      "robot.chassis_length_m=" + num(r.chassis_length_m),
+      "robot.caster_offset_m=" + num(r.caster_offset_m),
+      "robot.caster_radius_m=" + num(r.caster_radius_m),
+      "robot.chassis_clearance_m=" + num(r.chassis_clearance_m),
+      "robot.radius_left_m=" + num(g.radius_left_m),
+      "robot.radius_right_m=" + num(g.radius_right_m), "robot.wheel_base_m=" + num(g.wheel_base_m),
+      "nominal.radius_left_error=" + num(f.nominal.radius_left_m / g.radius_left_m - 1.0),
+      "nominal.radius_right_error=" + num(f.nominal.radius_right_m / g.radius_right_m - 1.0),
+      "nominal.wheel_base_error=" + num(f.nominal.wheel_base_m / g.wheel_base_m - 1.0),
+      "lidar.rate_hz=" + num(l.rate_hz),
+      "lidar.beams_per_revolution=" + std::to_string(l.beams_per_revolution),
+      "lidar.fov_rad=" + num(l.fov_rad),
+      std::string("lidar.clockwise=") + (l.angle_increment_rad < 0.0 ? "true" : "false"),
+      "lidar.range_min_m=" + num(l.range_min_m), "lidar.range_max_m=" + num(l.usable_max_m),
+      "lidar.range_noise_m=" + num(f.against_map.range_noise_m),
+      "lidar.mount.x_m=" + num(f.T_base_lidar.x), "lidar.mount.y_m=" + num(f.T_base_lidar.y),
+      "lidar.mount.yaw_rad=" + num(normalizeAngle(f.T_base_lidar.yaw + l.mount_yaw_shift_rad)),
+      "encoders.rate_hz=" + num(f.odometry.encoder_rate_hz),
+      "encoders.ticks_per_revolution=" + std::to_string(f.odometry.ticks_per_revolution)};
+  if (f.odometry.has_imu && f.odometry.gyro_noise_radps > 0.0) {
+    s.push_back("imu.rate_hz=" + num(f.odometry.imu_rate_hz));
+    s.push_back("imu.gyro_bias_radps=" + num(f.odometry.gyro_bias_radps));
+    s.push_back("imu.gyro_noise_radps=" + num(f.odometry.gyro_noise_radps));
+  }
+  std::vector<std::string> faults;
+  if (f.against_map.dropout_probability > 0.0) {
+    faults.push_back("dropped_beams");
+    s.push_back("faults.dropped_beams.probability=" + num(f.against_map.dropout_probability));
+  }
+  if (f.lag_measured && std::abs(f.scan_lag_s) >= 0.02) {
+    faults.push_back("clock_offset");
+    s.push_back("faults.clock_offset.offset_s=" + num(std::clamp(f.scan_lag_s, -1.0, 1.0)));
+  }
+  if (f.odometry.gaps > 0 && f.odometry.duration_s > 0.0) {
+    faults.push_back("encoder_dropouts");
+    s.push_back("faults.encoder_dropouts.rate_hz=" +
+                num(double(f.odometry.gaps) / f.odometry.duration_s));
+    s.push_back("faults.encoder_dropouts.duration_s=" + num(f.odometry.gap_mean_s));
+  }
+  std::string enable = "faults.enable=none";
+  for (std::size_t i = 0; i < faults.size(); ++i)
+    enable = (i == 0 ? "faults.enable=" : enable + ",") + faults[i];
+  s.push_back(enable);
+  return s;
+}
+
+/// The delay of the scans behind the wheels, from the accepted matches' turning.
+void measureLag(const Dataset& real, const MatchTrajectory& run, Fitted& f) {
+  PoseSeries accepted;
+  for (std::size_t k = 0; k < run.tracked.scans.size(); ++k)
+    if (k == 0 || !run.tracked.scans[k].fallback)
+      accepted.push_back(run.T_world_base[k].stamp_s, run.T_world_base[k].value);
+  const algo::SensorAgreement a =
+      algo::compareSensors(algo::datasetSources(real, algo::scanPieces({accepted})));
+  if (const algo::PairAgreement* p = a.pair("wheels", "scans"); p && p->kept > 0) {
+    f.scan_lag_s = p->lag_s;
+    f.lag_measured = true;
+  }
+}
+
+}  // namespace
+
+namespace {
+
+nlohmann::ordered_json fitted(nlohmann::ordered_json value, const std::string& how) {
+  return {{"value", std::move(value)}, {"how", how}};
+}
+
+nlohmann::ordered_json lidarJson(const Fitted& f) {
+  const LidarLayout& l = f.layout;
+  const LidarAgainstMap& m = f.against_map;
+  return {
+      {"rate_hz", fitted(l.rate_hz, "1 / median step between scan stamps")},
+      {"beams_per_scan", fitted({{"mean", l.beams_per_scan_mean},
+                                 {"min", l.beams_min},
+                                 {"max", l.beams_max},
+                                 {"most_common", l.beams_mode}},
+                                "counted per scan; the twin has one count, beams_per_revolution "
+                                "x fov / 2 pi")},
+      {"angle_min_deg", fitted(l.angle_min_rad * kDegPerRad, "of the most common layout")},
+      {"angle_increment_deg",
+       fitted(l.angle_increment_rad * kDegPerRad, "median; negative: clockwise")},
+      {"beams_per_revolution", fitted(l.beams_per_revolution, "round(360 deg / |increment|)")},
+      {"fov_deg", fitted(l.fov_rad * kDegPerRad, "most common count x increment, at most 360")},
+      {"mount_yaw_shift_deg", fitted(l.mount_yaw_shift_rad * kDegPerRad,
+                                     "added to the mount's yaw so the twin's beam i points "
+                                     "where the recorded beam i did")},
+      {"time_increment_s", fitted(l.time_increment_s,
+                                  "median of the scans' time_increment; the "
+                                  "twin's is 1 / (rate x beams_per_revolution)")},
+      {"stamp", fitted("first beam", "the dataset's convention (docs/dataset.md); the twin's too")},
+      {"range_min_m", fitted(l.range_min_m, "median of the scans' range_min")},
+      {"range_max_m", fitted(l.range_max_m, "median of the scans' range_max")},
+      {"usable_max_range_m", fitted(l.usable_max_m, "99.9th percentile of the valid readings")},
+      {"no_return_fraction", fitted(l.no_return_fraction, "invalid beams of all beams")},
+      {"range_noise_m", fitted(m.range_noise_m,
+                               "1.4826 MAD of measured - cast range of the "
+                               "accepted scans in the twin's world; includes the "
+                               "walls' fit and the matched poses' error")},
+      {"residual_median_m", fitted(m.residual_median_m, "signed median of the same residuals")},
+      {"residuals", m.residuals},
+      {"dropout_probability", fitted(m.dropout_probability,
+                                     "no return where the world predicts one within the usable "
+                                     "range; the twin drops beams uniformly at this rate")},
+      {"spurious_fraction", fitted(m.spurious_fraction,
+                                   "a return where the world predicts none "
+                                   "(people, what the walls missed)")},
+      {"dropout_by_angle", fitted(m.dropout_by_angle, "per 10 deg of beam angle from -180")},
+      {"dropout_by_range", fitted(m.dropout_by_range, "per 0.5 m of predicted range from 0")}};
+}
+
+nlohmann::ordered_json odometryJson(const Fitted& f, const nlohmann::ordered_json& geometry_how) {
+  const OdometryFit& o = f.odometry;
+  auto g = [](const DiffDriveParams& p) {
+    return nlohmann::ordered_json{{"radius_left_m", p.radius_left_m},
+                                  {"radius_right_m", p.radius_right_m},
+                                  {"wheel_base_m", p.wheel_base_m}};
+  };
+  nlohmann::ordered_json j = {
+      {"nominal", fitted(g(f.nominal), "dataset.json: what the odometry is told")},
+      {"true", fitted(g(f.true_geometry), geometry_how.value("from", ""))},
+      {"calibration", geometry_how},
+      {"rate_hz", fitted(o.encoder_rate_hz, "1 / median step of the encoder stamps")},
+      {"ticks_per_revolution", fitted(o.ticks_per_revolution, "dataset.json")},
+      {"gaps", fitted({{"count", o.gaps}, {"mean_s", o.gap_mean_s}, {"max_s", o.gap_max_s}},
+                      "encoder steps over 2.5 median steps: stale runs the import dropped, lost "
+                      "samples; the twin drops samples at this rate (encoder_dropouts)")},
+      {"scan_lag_s", fitted(f.lag_measured ? nlohmann::ordered_json(f.scan_lag_s) : nullptr,
+                            "sensor agreement: the scans' stamps behind the wheels' (the twin's "
+                            "clock_offset when at least 20 ms)")}};
+  j["gyro"] = o.has_imu ? nlohmann::ordered_json{{"rate_hz", o.imu_rate_hz},
+                                                 {"still_samples", o.still_samples},
+                                                 {"bias_radps", o.gyro_bias_radps},
+                                                 {"noise_radps", o.gyro_noise_radps},
+                                                 {"how", "mean and std where the wheels stood"}}
+                        : nlohmann::ordered_json(nullptr);
+  return j;
+}
+
+}  // namespace
+
+namespace {
+
+nlohmann::ordered_json worldJson(const WallMap& map, const WorldBuild& b) {
+  return {{"how",
+           "matched points in a 5 cm grid (cells with >= 2 returns), straight runs found "
+           "by a Hough transform, fitted by total least squares, split at 0.25 m gaps; "
+           "the rest as short walls and posts; geometry the robot's path crosses cut away"},
+          {"occupied_cells", map.occupied_cells},
+          {"cells_on_walls_percent",
+           map.occupied_cells ? 100.0 * map.cells_on_walls / map.occupied_cells : 0.0},
+          {"walls", map.walls.size()},
+          {"short_walls", map.clutter.size()},
+          {"posts", map.posts.size()},
+          {"cut_by_the_path", b.walls_cut},
+          {"posts_removed", b.posts_removed},
+          {"world_walls", b.world.walls.size()},
+          {"world_cylinders", b.world.cylinders.size()}};
+}
+
+nlohmann::ordered_json driveJson(const TrackedDrive& d, const TrackParams& p) {
+  return {{"how",
+           "commands: wheel rates every period_s (scenario type track) that a kinematic "
+           "robot of the true geometry drives onto the matched trajectory; the physics "
+           "adds its slip"},
+          {"period_s", p.period_s},
+          {"knots", d.wheel_rates.size()},
+          {"max_wheel_radps", p.max_wheel_radps},
+          {"ramp_s", p.ramp_s},
+          {"distance_m", d.distance_m},
+          {"replay_rms_position_m", d.rms_position_m},
+          {"replay_max_position_m", d.max_position_m},
+          {"replay_rms_heading_deg", d.rms_heading_deg},
+          {"clamped_knots", d.clamped}};
+}
+
+/// Median of the accepted scans' point-to-line RMS residual, scans as measured.
+double matchedResidual(const Dataset& d) {
+  const MatchTrajectory run = matchTrajectory(d, matchScanPoints(d, "none", false), {});
+  std::vector<double> rms;
+  for (std::size_t k = 1; k < run.tracked.scans.size(); ++k)
+    if (!run.tracked.scans[k].fallback) rms.push_back(run.tracked.scans[k].match.rms_residual_m);
+  const ErrorStats s = summarize(std::move(rms));
+  return s.ok ? s.median : 0.0;
+}
+
+const char* const kNotReproduced[] = {
+    "the beam count varies only where the recording's does not: the twin has one count",
+    "the no-return pattern by angle and range: the twin drops beams uniformly at its mean",
+    "twist spikes (import --json reports them; the dataset does not keep the twist)",
+    "slip in turns beyond the physics' own",
+    "moving people and objects: their returns are cut from the world where the robot drove"};
+
+}  // namespace
+
+TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& p) {
+  if (real.scans.size() < 2) throw InputError(name, "needs at least two scans to make a twin");
+  Fitted f;
+  f.layout = fitLidarLayout(real);
+  f.nominal = real.info.nominal_geometry;
+  f.T_base_lidar = real.info.T_base_lidar;
+  MatchTrajectoryOptions options;
+  const std::vector<Points2> points = matchScanPoints(real, p.deskew, false);
+  const MatchTrajectory run = matchTrajectory(real, points, options);
+  if (run.tracked.matched == 0)
+    throw InputError(name, "no scan matched: no map to make a world of");
+  std::vector<char> accepted;
+  const WallMap map =
+      extractWalls(mapPoints(run, points, f.layout.usable_max_m, accepted), p.walls);
+  nlohmann::ordered_json geometry_how;
+  f.true_geometry = trueGeometry(real, name, p, geometry_how);
+  f.robot = twinRobot(f.true_geometry);
+  f.odometry = fitOdometry(real);
+  TrackParams track = p.track;  // as fast as the recorded wheels turned, with a margin
+  if (f.odometry.wheel_rate_p99_radps > 0.0)
+    track.max_wheel_radps =
+        std::min(track.max_wheel_radps, p.wheel_rate_margin * f.odometry.wheel_rate_p99_radps);
+  const TrackedDrive drive = trackTrajectory(run.T_world_base, f.true_geometry, track);
+  sim::SimConfig probe;
+  probe.robot = f.robot;
+  const double reach = sim::footprintRadius(f.robot) + probe.path_margin_m + p.path_clearance_m;
+  WorldBuild built = buildWorld(map, p.walls, drive, reach);
+  if (built.world.walls.empty() && built.world.cylinders.empty())
+    throw InputError(name, "the matched map has no walls to make a world of");
+  const sim::PlanarCaster caster(built.world);
+  f.against_map = compareWithMap(real, run.T_world_base, accepted, caster, f.layout, p.lidar);
+  measureLag(real, run, f);
+  TwinFit out;
+  out.residual_median_m = matchedResidual(real);
+  out.replay = drive.replay;
+  out.sets = twinSets(f, p.seed);
+  for (const std::string& s : out.sets) sim::applyOverride(out.config, s);
+  const nlohmann::ordered_json world_json = worldJson(map, built);
+  out.world = std::move(built.world);
+  out.world_yaml = worldYaml(out.world, "The world of slamprep twin " + name + " (docs/twin.md)");
+  out.scenario_yaml = scenarioYaml(drive, p.track.period_s,
+                                   "The matched trajectory of " + name + " as wheel-rate commands");
+  out.json = {{"dataset", name},
+              {"match",
+               {{"deskew", p.deskew},
+                {"scans", run.tracked.scans.size()},
+                {"matched", run.tracked.matched},
+                {"accepted_for_the_map", std::count(accepted.begin(), accepted.end(), 1)}}},
+              {"world", world_json},
+              {"drive", driveJson(drive, track)},
+              {"lidar", lidarJson(f)},
+              {"odometry", odometryJson(f, geometry_how)},
+              {"not_reproduced", kNotReproduced},
+              {"sets", out.sets}};
+  return out;
+}
+
+namespace {
+
+/// Sets `key` in the configuration and the --set list (replaced, else appended).
+void setKey(TwinFit& fit, const std::string& key, const std::string& value) {
+  const std::string set = key + "=" + value;
+  sim::applyOverride(fit.config, set);
+  auto it = std::find_if(fit.sets.begin(), fit.sets.end(),
+                         [&](const std::string& s) { return s.rfind(key + "=", 0) == 0; });
+  if (it == fit.sets.end())
+    fit.sets.push_back(set);
+  else
+    *it = set;
+  fit.json["sets"] = fit.sets;
+}
+
+void setRangeNoise(TwinFit& fit, double sigma) {
+  setKey(fit, "lidar.range_noise_m", num(sigma));
+  fit.json["lidar"]["range_noise_m"]["value"] = sigma;
+}
+
+/// Largest distance of the simulated truth from the kinematic replay at its knots.
+double replayDeviation(const sim::SimResult& r, const PoseSeries& replay) {
+  double worst = 0.0;
+  for (const auto& knot : replay.samples())
+    if (const auto T = r.dataset.groundtruth.at(knot.stamp_s))
+      worst = std::max(worst, (T->translation() - knot.value.translation()).norm());
+  return worst;
+}
+
+/// The first run; in kinematic mode again when the physics' robot leaves the replay.
+sim::SimResult firstRun(TwinFit& fit, const sim::Scenario& scenario) {
+  sim::SimResult r = sim::simulate(fit.config, fit.world, scenario);
+  nlohmann::ordered_json& drive = fit.json["drive"];
+  drive["mode"] = "physics";
+  if (fit.config.mode != sim::SimMode::physics) return r;
+  const double deviation = replayDeviation(r, fit.replay);
+  drive["physics_max_deviation_m"] = deviation;
+  if (deviation <= fit.max_physics_deviation_m) return r;
+  setKey(fit, "mode", "kinematic");
+  drive["mode"] = "kinematic";
+  drive["mode_how"] =
+      "the physics' robot left the kinematic replay by more than " +
+      num(fit.max_physics_deviation_m) +
+      " m (open-loop slip piles up; a robot that touches a wall stops): the commands are driven "
+      "exactly (kinematic mode), the odometry errors are the nominal geometry's and the ticks'";
+  return sim::simulate(fit.config, fit.world, scenario);
+}
+
+}  // namespace
+
+namespace {
+
+/// The next noise to try: 0 after the first run, then the residual interpolated linearly between
+/// the runs that bracket the target (the residual grows with the noise and saturates, as the
+/// matcher trims what is far off), or extrapolated past the largest (at most 3x).
+double nextRangeNoise(std::vector<std::pair<double, double>> runs, double target) {
+  if (runs.size() == 1) return 0.0;
+  std::sort(runs.begin(), runs.end());
+  if (target <= runs.front().second) return runs.front().first;  // at 0 already above: 0
+  for (std::size_t i = 1; i < runs.size(); ++i) {
+    const auto [s0, r0] = runs[i - 1];
+    const auto [s1, r1] = runs[i];
+    if ((r0 - target) * (r1 - target) <= 0.0 && r1 != r0)
+      return s0 + (target - r0) * (s1 - s0) / (r1 - r0);
+  }
+  const auto [s0, r0] = runs[runs.size() - 2];
+  const auto [s1, r1] = runs.back();
+  const double slope = (r1 - r0) / (s1 - s0);
+  return slope > 0.0 ? std::min(3.0 * s1, s1 + (target - r1) / slope) : s1;
+}
+
+}  // namespace
+
+sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
+  const double target = fit.residual_median_m;
+  std::vector<std::pair<double, double>> runs;  // (range noise, the twin's residual)
+  sim::SimResult r;
+  nlohmann::ordered_json& j = fit.json["lidar"]["range_noise_m"];
+  j["fitted_against_the_world_m"] = fit.config.lidar.range_noise_m;
+  j["recording_residual_m"] = target;
+  constexpr int kRuns = 4;
+  for (int k = 0; k < kRuns; ++k) {
+    r = k == 0 ? firstRun(fit, scenario) : sim::simulate(fit.config, fit.world, scenario);
+    if (k == kRuns - 1 || target <= 0.0) break;
+    runs.push_back({fit.config.lidar.range_noise_m, matchedResidual(r.dataset)});
+    const double next = std::max(0.0, nextRangeNoise(runs, target));
+    if (k > 0 && std::abs(next - runs.back().first) < 1e-4) break;  // this run is the twin
+    setRangeNoise(fit, next);
+  }
+  j["tuning_runs"] = runs;
+  j["how"] =
+      "tuned so the twin's scan-to-map residual (match --deskew none, median) is the "
+      "recording's: a run at the range residual against the world "
+      "(fitted_against_the_world_m), one at zero noise, then the noise interpolated between the "
+      "runs that bracket the recording's residual (4 runs at most, the last is the twin); "
+      "tuning_runs: [noise, the twin's residual] of the runs before the last";
+  return r;
+}
+
+}  // namespace slamprep::eval

@@ -1,0 +1,73 @@
+#pragma once
+// `slamprep twin DATASET --out DIR` (docs/twin.md): a simulation that reproduces a recording.
+// The recording's scans matched to a map (slamprep match), the map's walls as a world, the
+// matched trajectory as wheel-rate commands, and the lidar, odometry and gyro fitted to what
+// the recording shows; every fitted value with how it was measured.
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/dataset.hpp"
+#include "eval/bench/twin_drive.hpp"
+#include "eval/bench/twin_lidar.hpp"
+#include "eval/bench/twin_walls.hpp"
+#include "sim/drive/config.hpp"
+#include "sim/drive/scenario.hpp"
+#include "sim/drive/simulator.hpp"
+#include "sim/physics/world.hpp"
+
+namespace slamprep::eval {
+
+struct TwinParams {
+  std::string deskew = "vicp";  ///< how the scans are matched (slamprep match --deskew)
+  WallExtractionParams walls;
+  TrackParams track;
+  LidarMapParams lidar;
+  /// The true geometry of the twin: given (--calibration), else calibrated here (joint, the
+  /// scan-to-map motion, 20 cm intervals: results/real's protocol), else the nominal one.
+  std::optional<DiffDriveParams> true_geometry;
+  bool calibrate = true;
+  /// The drive's wheel rates at most this times the recording's 99th percentile (a matching
+  /// glitch is not a drive: chasing it would make the twin's robot slip).
+  double wheel_rate_margin = 1.25;
+  double path_clearance_m = 0.02;  ///< map geometry this close to the robot's path is cut away
+  std::uint64_t seed = 1;
+};
+
+struct TwinFit {
+  sim::World world;
+  std::string world_yaml;
+  std::string scenario_yaml;
+  std::vector<std::string> sets;  ///< `--set key=value`, in order
+  sim::SimConfig config;          ///< the defaults with `sets` applied
+  nlohmann::ordered_json json;    ///< twin.json without the simulated run's part
+  /// The recording's scan-to-map residual (match --deskew none, median over the accepted
+  /// scans): what simulateTwin tunes the range noise to.
+  double residual_median_m = 0.0;
+  /// The kinematic robot's path at the knots (scenario time): what the physics must follow.
+  PoseSeries replay;
+  /// The physics' robot farther than this from `replay` (slip piled up over a long open-loop
+  /// drive, a wall touched): the twin is simulated in kinematic mode instead.
+  double max_physics_deviation_m = 0.3;
+};
+
+/// Simulates the twin, in physics mode when its robot follows the replay within
+/// max_physics_deviation_m, else in kinematic mode (twin.json drive.mode says which and why).
+/// The range noise is tuned first: the point-to-line residual grows about
+/// in proportion to it, so one run at the fitted noise and one secant step make the twin's
+/// residual the recording's (twin.json "range_noise_m" says what each run measured).
+sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario);
+
+/// Fits the twin of `real` (named `name` in the output). Throws InputError when the dataset
+/// cannot be matched (fewer than two scans, no accepted match).
+TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& params = {});
+
+/// The world as a world file (docs/worlds.md); the walls keep their faces where the returns lay.
+std::string worldYaml(const sim::World& world, const std::string& comment);
+
+/// The drive as a scenario file with one `track` segment of wheel rates (docs/simulate.md).
+std::string scenarioYaml(const TrackedDrive& drive, double period_s, const std::string& comment);
+
+}  // namespace slamprep::eval

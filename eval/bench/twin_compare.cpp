@@ -1,0 +1,149 @@
+#include "eval/bench/twin_compare.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "eval/bench/calibration_run.hpp"
+#include "eval/bench/match_trajectory.hpp"
+#include "eval/bench/twin_lidar.hpp"
+#include "eval/formats/dataset_io.hpp"
+#include "eval/metrics/error_stats.hpp"
+#include "eval/metrics/trajectory_error.hpp"
+#include "eval/plot/plot.hpp"
+
+namespace slamprep::eval {
+namespace {
+
+const std::map<std::string, const char*>& definitions() {
+  static const std::map<std::string, const char*> d = {
+      {"scan_rate_hz", "1 / median step between scan stamps"},
+      {"beams_per_scan_mean", "beams per scan, mean over the scans"},
+      {"no_return_fraction", "beams without a valid range, of all beams"},
+      {"scan_to_map_residual_median_m",
+       "slamprep match --deskew none: median over the accepted scans of their RMS point-to-line "
+       "residual"},
+      {"scan_to_map_residual_p95_m", "the same, 95th percentile"},
+      {"match_converged_percent",
+       "slamprep match --deskew none: accepted of all scans but the first"},
+      {"odometry_drift_per_m",
+       "the raw odometry against the matched trajectory: mean translation error of 1 m pieces of "
+       "path (RPE, metres), per metre"},
+      {"calibration_sigma_b",
+       "1-sigma of b in metres from calibrate --method joint --motion map --keyframe-cm 20 "
+       "(null: refused)"},
+      {"calibration_b_m",
+       "b from the same calibration: its spread over twin seeds against its spread over "
+       "recordings is the suite's (scripts/twins.sh)"}};
+  return d;
+}
+
+std::optional<double> driftPerMetre(const Dataset& d, const MatchTrajectory& run) {
+  RpeParams p;
+  p.delta = 1.0;
+  p.unit = DeltaUnit::kMeters;
+  p.pairs_from_reference = true;
+  p.max_time_difference_s = 0.1;
+  PoseSeries odom;
+  for (std::size_t k = 0; k < run.T_world_base.size(); ++k)
+    if (const auto T = d.odom_nominal.at(run.T_world_base[k].stamp_s))
+      odom.push_back(run.T_world_base[k].stamp_s, *T);
+  const RpeResult r = relativePoseError(odom, run.T_world_base, p);
+  if (!r.ok) return std::nullopt;
+  return r.translation_m.mean;  // pieces of 1 m: metres per metre
+}
+
+/// The joint calibration's b and its 1-sigma (both nullopt when refused).
+std::pair<std::optional<double>, std::optional<double>> calibratedB(const std::string& dir,
+                                                                    const Dataset& d) {
+  DatasetCalibrationParams c;
+  c.dataset = dir;
+  c.methods = {algo::CalibrationMethod::kJoint};
+  c.motion.from_map = true;
+  c.motion.intervals.keyframe_translation_m = 0.2;
+  const DatasetCalibration cal = calibrateDataset(c, d);
+  if (cal.runs.empty() || !cal.runs.front().result.ok) return {};
+  const algo::CalibrationResult& r = cal.runs.front().result;
+  return {r.geometry.wheel_base_m, r.sigma()(2)};
+}
+
+}  // namespace
+
+TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
+  Dataset d = readDataset(dir);
+  if (!use_imu) d.imu.clear();
+  const LidarLayout l = fitLidarLayout(d);
+  TwinStatistics s;
+  s.has_imu = !d.imu.empty();
+  const std::vector<Points2> points = matchScanPoints(d, "none", false);
+  const MatchTrajectory run = matchTrajectory(d, points, {});
+  for (std::size_t k = 1; k < run.tracked.scans.size(); ++k)
+    if (!run.tracked.scans[k].fallback)
+      s.residuals_m.push_back(run.tracked.scans[k].match.rms_residual_m);
+  const ErrorStats r = summarize(s.residuals_m);
+  const double attempted = double(run.tracked.scans.size()) - 1.0;
+  const auto [b, sigma_b] = calibratedB(dir, d);
+  auto opt = [](bool ok, double v) { return ok ? std::optional<double>(v) : std::nullopt; };
+  s.values = {
+      {"scan_rate_hz", l.rate_hz},
+      {"beams_per_scan_mean", l.beams_per_scan_mean},
+      {"no_return_fraction", l.no_return_fraction},
+      {"scan_to_map_residual_median_m", opt(r.ok, r.median)},
+      {"scan_to_map_residual_p95_m", opt(r.ok, r.p95)},
+      {"match_converged_percent", opt(attempted > 0, 100.0 * run.tracked.matched / attempted)},
+      {"odometry_drift_per_m", driftPerMetre(d, run)},
+      {"calibration_sigma_b", sigma_b},
+      {"calibration_b_m", b}};
+  return s;
+}
+
+TwinComparison compareTwin(const std::string& real, const std::string& twin) {
+  TwinComparison c{real, twin, {}, {}, {}};
+  const TwinStatistics a = measureTwinStatistics(real);
+  const TwinStatistics b = measureTwinStatistics(twin, a.has_imu);
+  for (std::size_t i = 0; i < a.values.size(); ++i) {
+    TwinComparisonRow row{a.values[i].first, a.values[i].second, b.values[i].second, {}};
+    if (row.real && row.twin && *row.real != 0.0) row.ratio = *row.twin / *row.real;
+    c.rows.push_back(row);
+  }
+  c.real_residuals_m = a.residuals_m;
+  c.twin_residuals_m = b.residuals_m;
+  return c;
+}
+
+const char* statisticDefinition(const std::string& name) {
+  const auto it = definitions().find(name);
+  return it == definitions().end() ? "" : it->second;
+}
+
+nlohmann::ordered_json comparisonJson(const TwinComparison& c) {
+  auto value = [](const std::optional<double>& v) {
+    return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr);
+  };
+  nlohmann::ordered_json stats = nlohmann::ordered_json::object();
+  for (const TwinComparisonRow& r : c.rows)
+    stats[r.name] = {{"real", value(r.real)},
+                     {"twin", value(r.twin)},
+                     {"ratio", value(r.ratio)},
+                     {"how", statisticDefinition(r.name)}};
+  return {{"real", c.real}, {"twin", c.twin}, {"statistics", stats}};
+}
+
+std::string comparisonText(const TwinComparison& c) {
+  std::string out = "statistic                          real          twin          ratio\n";
+  char line[200];
+  auto cell = [](const std::optional<double>& v) {
+    if (!v) return std::string("-            ");
+    char b[32];
+    std::snprintf(b, sizeof b, "%-13.5g", *v);
+    return std::string(b);
+  };
+  for (const TwinComparisonRow& r : c.rows) {
+    std::snprintf(line, sizeof line, "%-34s %s %s %s\n", r.name.c_str(), cell(r.real).c_str(),
+                  cell(r.twin).c_str(), cell(r.ratio).c_str());
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace slamprep::eval

@@ -1,0 +1,149 @@
+#include "eval/bench/twin_lidar.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+
+namespace slamprep::eval {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  const auto k = std::min(v.size() - 1, static_cast<std::size_t>(q * double(v.size())));
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
+  return v[k];
+}
+
+/// The simulator's beams start at -fov/2 (counter-clockwise) or +fov/2 (clockwise).
+void simulatorLayout(LidarLayout& l) {
+  const double inc = std::abs(l.angle_increment_rad);
+  if (inc <= 0.0) return;
+  l.beams_per_revolution = std::max(1, static_cast<int>(std::lround(kTwoPi / inc)));
+  // A full turn's beams (an RPLIDAR's 720 over 359.5 deg, a Neato's 361 over 360 inclusive):
+  // the count is the revolution's, whatever rounding the increment says.
+  if (double(l.beams_mode) * inc >= 0.98 * kTwoPi) l.beams_per_revolution = int(l.beams_mode);
+  const double step = kTwoPi / l.beams_per_revolution;
+  l.fov_rad = std::min(kTwoPi, double(l.beams_mode) * step);
+  const double sim_start = l.angle_increment_rad < 0.0 ? l.fov_rad / 2 : -l.fov_rad / 2;
+  l.mount_yaw_shift_rad = std::remainder(l.angle_min_rad - sim_start, kTwoPi);
+}
+
+}  // namespace
+
+LidarLayout fitLidarLayout(const Dataset& d) {
+  LidarLayout l;
+  l.scans = d.scans.size();
+  if (d.scans.empty()) return l;
+  std::vector<double> steps, increments, times, mins, maxs, readings;
+  std::map<std::size_t, std::size_t> counts;
+  std::size_t beams = 0, invalid = 0;
+  for (std::size_t k = 0; k < d.scans.size(); ++k) {
+    const LaserScan& s = d.scans[k].scan;
+    if (k > 0) steps.push_back(s.stamp_s - d.scans[k - 1].scan.stamp_s);
+    ++counts[s.size()];
+    beams += s.size();
+    increments.push_back(s.angle_increment_rad);
+    times.push_back(s.time_increment_s);
+    mins.push_back(s.range_min_m);
+    maxs.push_back(s.range_max_m);
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      if (s.valid(i))
+        readings.push_back(s.ranges_m[i]);
+      else
+        ++invalid;
+    }
+  }
+  const double step = median(steps);
+  l.rate_hz = step > 0.0 ? 1.0 / step : 0.0;
+  l.beams_per_scan_mean = double(beams) / double(d.scans.size());
+  l.beams_min = counts.begin()->first;
+  l.beams_max = counts.rbegin()->first;
+  l.beams_mode = std::max_element(counts.begin(), counts.end(), [](auto a, auto b) {
+                   return a.second < b.second;
+                 })->first;
+  for (const ScanRecord& r : d.scans)
+    if (r.scan.size() == l.beams_mode) {
+      l.angle_min_rad = r.scan.angle_min_rad;
+      break;
+    }
+  l.angle_increment_rad = median(increments);
+  l.time_increment_s = median(times);
+  l.range_min_m = median(mins);
+  l.range_max_m = median(maxs);
+  l.usable_max_m = std::min(l.range_max_m, percentile(readings, 0.999));
+  l.no_return_fraction = beams > 0 ? double(invalid) / double(beams) : 0.0;
+  simulatorLayout(l);
+  return l;
+}
+
+LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
+                               const std::vector<char>& use, const sim::PlanarCaster& world,
+                               const LidarLayout& layout, const LidarMapParams& p) {
+  LidarAgainstMap m;
+  const auto angle_bins = static_cast<std::size_t>(std::lround(360.0 / p.angle_bin_deg));
+  const auto range_bins = static_cast<std::size_t>(
+      std::ceil(std::max(layout.usable_max_m, p.range_bin_m) / p.range_bin_m));
+  std::vector<std::size_t> by_angle(angle_bins), drop_angle(angle_bins);
+  std::vector<std::size_t> drop_range(range_bins);
+  m.predicted_by_range.assign(range_bins, 0);
+  std::vector<double> residuals;
+  std::size_t predicted = 0, dropped = 0, unpredicted = 0, spurious = 0;
+  for (std::size_t k = 0; k < d.scans.size() && k < use.size(); ++k) {
+    if (!use[k]) continue;
+    const LaserScan& s = d.scans[k].scan;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      const auto T = T_world_base.at(s.beamTime(i));
+      if (!T) continue;
+      ++m.beams;
+      const SE2 T_world_lidar = *T * d.info.T_base_lidar;
+      const double a = T_world_lidar.yaw + s.beamAngle(i);
+      const auto hit = world.cast(T_world_lidar.translation(), {std::cos(a), std::sin(a)},
+                                  p.lidar_height_m, layout.usable_max_m);
+      const bool valid = s.valid(i) && s.ranges_m[i] <= layout.usable_max_m;
+      if (!hit) {
+        ++unpredicted;
+        if (valid) ++spurious;
+        continue;
+      }
+      ++predicted;
+      const double beam = std::remainder(s.beamAngle(i), kTwoPi) + std::numbers::pi;
+      const auto ab =
+          std::min(angle_bins - 1, static_cast<std::size_t>(beam / kTwoPi * angle_bins));
+      const auto rb = std::min(range_bins - 1, static_cast<std::size_t>(*hit / p.range_bin_m));
+      ++by_angle[ab];
+      ++m.predicted_by_range[rb];
+      if (!valid) {
+        ++dropped;
+        ++drop_angle[ab];
+        ++drop_range[rb];
+        continue;
+      }
+      const double r = s.ranges_m[i] - *hit;
+      if (std::abs(r) <= p.max_residual_m) residuals.push_back(r);
+    }
+  }
+  m.residuals = residuals.size();
+  m.residual_median_m = median(residuals);
+  for (double& r : residuals) r = std::abs(r - m.residual_median_m);
+  m.range_noise_m = 1.4826 * median(residuals);  // robust sigma: people and clutter are outliers
+  m.dropout_probability = predicted > 0 ? double(dropped) / double(predicted) : 0.0;
+  m.spurious_fraction = unpredicted > 0 ? double(spurious) / double(unpredicted) : 0.0;
+  for (std::size_t b = 0; b < angle_bins; ++b)
+    m.dropout_by_angle.push_back(by_angle[b] ? double(drop_angle[b]) / double(by_angle[b]) : 0.0);
+  for (std::size_t b = 0; b < range_bins; ++b)
+    m.dropout_by_range.push_back(
+        m.predicted_by_range[b] ? double(drop_range[b]) / double(m.predicted_by_range[b]) : 0.0);
+  return m;
+}
+
+}  // namespace slamprep::eval

@@ -1,0 +1,60 @@
+#pragma once
+// The lidar of a twin (docs/twin.md "Lidar"): what a recording's scans say of their sensor
+// (rate, beams, angular layout, timing, range limits) and, against the world made from its map,
+// how noisy its ranges are and where it returns nothing.
+
+#include <string>
+#include <vector>
+
+#include "core/dataset.hpp"
+#include "sim/physics/planar_caster.hpp"
+
+namespace slamprep::eval {
+
+struct LidarLayout {
+  std::size_t scans = 0;
+  double rate_hz = 0.0;  ///< 1 / median stamp step
+  double beams_per_scan_mean = 0.0;
+  std::size_t beams_min = 0, beams_max = 0, beams_mode = 0;
+  double angle_min_rad = 0.0;                   ///< of the most common layout
+  double angle_increment_rad = 0.0;             ///< negative: clockwise
+  double time_increment_s = 0.0;                ///< median; 0: instantaneous scans
+  double range_min_m = 0.0, range_max_m = 0.0;  ///< the scans' limits (median)
+  double usable_max_m = 0.0;                    ///< 99.9th percentile of the valid readings
+  double no_return_fraction = 0.0;              ///< invalid beams of all beams
+  // The simulator's layout that reproduces it.
+  int beams_per_revolution = 0;  ///< round(2 pi / |angle_increment|)
+  double fov_rad = 0.0;          ///< min(2 pi, beams_mode |increment|)
+  /// Added to the mount's yaw so the simulated beam i points where the recorded beam i did (the
+  /// simulator starts at -fov/2 counter-clockwise, +fov/2 clockwise).
+  double mount_yaw_shift_rad = 0.0;
+};
+
+LidarLayout fitLidarLayout(const Dataset& dataset);
+
+struct LidarMapParams {
+  double max_residual_m = 0.3;   ///< residuals beyond are outliers (clutter, people), not noise
+  double angle_bin_deg = 10.0;   ///< no-return pattern by beam angle ...
+  double range_bin_m = 0.5;      ///< ... and by the range the map predicts
+  double lidar_height_m = 0.25;  ///< the plane the world is cast in
+};
+
+struct LidarAgainstMap {
+  std::size_t beams = 0;             ///< beams of the scans compared
+  std::size_t residuals = 0;         ///< measured and predicted within max_residual_m
+  double range_noise_m = 0.0;        ///< 1.4826 MAD of measured - predicted range
+  double residual_median_m = 0.0;    ///< signed median (a bias of the world's walls)
+  double dropout_probability = 0.0;  ///< no return where the map predicts one within usable range
+  double spurious_fraction = 0.0;    ///< a return where the map predicts none
+  std::vector<double> dropout_by_angle;         ///< per angle bin from -180 deg (lidar frame)
+  std::vector<double> dropout_by_range;         ///< per predicted-range bin from 0
+  std::vector<std::size_t> predicted_by_range;  ///< beams per range bin (the denominators)
+};
+
+/// Casts every beam of the accepted scans (`use[k]`) in `world` from the matched trajectory
+/// (the base at the scans' first beams, interpolated to every beam's time).
+LidarAgainstMap compareWithMap(const Dataset& dataset, const PoseSeries& T_world_base,
+                               const std::vector<char>& use, const sim::PlanarCaster& world,
+                               const LidarLayout& layout, const LidarMapParams& params = {});
+
+}  // namespace slamprep::eval

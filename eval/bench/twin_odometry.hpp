@@ -1,0 +1,37 @@
+#pragma once
+// The odometry and gyro of a twin (docs/twin.md "Odometry"): the encoder stream's rate and
+// resolution, its gaps (where the import dropped stale odometry, or samples were lost), and the
+// gyro's bias and noise where the robot stood still.
+
+#include <cstddef>
+
+#include "core/dataset.hpp"
+
+namespace slamprep::eval {
+
+struct OdometryFit {
+  double duration_s = 0.0;
+  double encoder_rate_hz = 0.0;  ///< 1 / median stamp step
+  int ticks_per_revolution = 0;  ///< dataset.json's (derived encoders: the derivation's)
+  /// Steps longer than gap_periods median steps: stale runs the import dropped, lost samples.
+  std::size_t gaps = 0;
+  double gap_mean_s = 0.0;  ///< missing time per gap (the step minus one period)
+  double gap_max_s = 0.0;
+  bool has_imu = false;
+  double imu_rate_hz = 0.0;
+  std::size_t still_samples = 0;  ///< gyro samples where the wheels did not turn
+  double gyro_bias_radps = 0.0;   ///< their mean ...
+  double gyro_noise_radps = 0.0;  ///< ... and standard deviation
+  /// The wheels' rate the recording reaches: 99th percentile of |rate| over the encoder steps
+  /// (the odometry's poses with the nominal geometry where there are no ticks); 0: unknown.
+  double wheel_rate_p99_radps = 0.0;
+};
+
+struct OdometryFitParams {
+  double gap_periods = 2.5;    ///< a step this many median steps long is a gap
+  std::size_t min_still = 50;  ///< fewer still gyro samples: bias and noise are not fitted
+};
+
+OdometryFit fitOdometry(const Dataset& dataset, const OdometryFitParams& params = {});
+
+}  // namespace slamprep::eval

@@ -1,0 +1,91 @@
+// What `slamprep twin` prints and draws (docs/twin.md): the fit's summary lines and the
+// comparison's figure.
+#include <cmath>
+#include <cstdio>
+#include <iterator>
+
+#include "eval/bench/twin_compare.hpp"
+#include "eval/plot/plot.hpp"
+
+namespace slamprep::eval {
+
+std::string twinText(const nlohmann::ordered_json& j) {
+  char buf[512];
+  std::string out;
+  const auto& w = j["world"];
+  std::snprintf(buf, sizeof buf,
+                "world: %d walls, %d short walls, %d posts from %d occupied cells (%.1f %% on "
+                "walls); %d cut where the robot drove\n",
+                w["walls"].get<int>(), w["short_walls"].get<int>(), w["posts"].get<int>(),
+                w["occupied_cells"].get<int>(), w["cells_on_walls_percent"].get<double>(),
+                w["cut_by_the_path"].get<int>());
+  out += buf;
+  const auto& d = j["drive"];
+  std::snprintf(buf, sizeof buf,
+                "drive: %zu wheel-rate knots over %.2f m; kinematic replay %.4f m RMS (max %.4f "
+                "m), %.3f deg RMS from the matched trajectory\n",
+                d["knots"].get<std::size_t>(), d["distance_m"].get<double>(),
+                d["replay_rms_position_m"].get<double>(), d["replay_max_position_m"].get<double>(),
+                d["replay_rms_heading_deg"].get<double>());
+  out += buf;
+  const auto& l = j["lidar"];
+  std::snprintf(
+      buf, sizeof buf,
+      "lidar: %.2f Hz, %.1f beams per scan, %d per revolution, usable range %.2f m, "
+      "range noise %.4f m, dropout %.3f where the world has a wall\n",
+      l["rate_hz"]["value"].get<double>(), l["beams_per_scan"]["value"]["mean"].get<double>(),
+      l["beams_per_revolution"]["value"].get<int>(), l["usable_max_range_m"]["value"].get<double>(),
+      l["range_noise_m"]["value"].get<double>(), l["dropout_probability"]["value"].get<double>());
+  out += buf;
+  const auto& o = j["odometry"];
+  const auto& t = o["true"]["value"];
+  std::snprintf(buf, sizeof buf,
+                "odometry: %.2f Hz, %zu gaps; true geometry r_L %.2f mm, r_R %.2f mm, b %.2f mm "
+                "(%s)\n",
+                o["rate_hz"]["value"].get<double>(), o["gaps"]["value"]["count"].get<std::size_t>(),
+                t["radius_left_m"].get<double>() * 1e3, t["radius_right_m"].get<double>() * 1e3,
+                t["wheel_base_m"].get<double>() * 1e3, o["true"]["how"].get<std::string>().c_str());
+  out += buf;
+  return out;
+}
+
+void plotComparison(const TwinComparison& c, const std::filesystem::path& png) {
+  plot::Figure fig{
+      .width_px = 1400, .height_px = 700, .title = "twin against recording", .cols = 2};
+  plot::Axes ratios{.title = "twin / real per statistic (band: +-25 %)",
+                    .y_label = "twin / real",
+                    .log_y = true,
+                    .legend = plot::LegendPosition::None};
+  plot::Series bars{.label = "twin / real", .style = plot::Style::Bars};
+  const char* const shorts[] = {"rate",  "beams", "no ret.", "res. md", "res. 95",
+                                "conv.", "drift", "sd b",    "b"};
+  for (std::size_t i = 0; i < c.rows.size(); ++i) {
+    ratios.categories.push_back(i < std::size(shorts) ? shorts[i] : c.rows[i].name);
+    bars.x.push_back(double(i));
+    bars.y.push_back(c.rows[i].ratio ? *c.rows[i].ratio : NAN);
+  }
+  const double right = double(c.rows.size()) - 0.5;
+  for (double level : {0.75, 1.0, 1.25})
+    ratios.series.push_back({.x = {-0.5, right},
+                             .y = {level, level},
+                             .color = plot::rgb(0x555555),
+                             .line_width_px = 1.5,
+                             .dashed = level != 1.0});
+  ratios.series.push_back(bars);
+  ratios.dodge = false;
+  ratios.y_range = plot::Range{0.1, 10.0};
+  plot::Axes box{.title = "per-scan RMS residual against the map",
+                 .y_label = "residual [m]",
+                 .legend = plot::LegendPosition::None,
+                 .categories = {"real", "twin"}};
+  plot::Series a{.x = {}, .y = c.real_residuals_m, .style = plot::Style::Box};
+  a.x.assign(c.real_residuals_m.size(), 0.0);
+  plot::Series b{.x = {}, .y = c.twin_residuals_m, .style = plot::Style::Box};
+  b.x.assign(c.twin_residuals_m.size(), 1.0);
+  box.dodge = false;
+  box.series = {a, b};
+  fig.axes = {ratios, box};
+  plot::renderPng(fig, png);
+}
+
+}  // namespace slamprep::eval

@@ -1,0 +1,126 @@
+// slamprep twin on a simulated recording, where the world and the sensors are known: the twin's
+// world has the room's walls, its lidar the simulated one's settings, its drive the path.
+#include "eval/bench/twin.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "eval/bench/match_trajectory.hpp"
+#include "eval/metrics/error_stats.hpp"
+#include "sim/drive/scenario.hpp"
+#include "sim/drive/simulator.hpp"
+#include "sim/physics/world.hpp"
+
+namespace slamprep::eval {
+namespace {
+
+const std::filesystem::path kWorlds = std::filesystem::path(SLAMPREP_SOURCE_DIR) / "worlds";
+
+/// A figure eight in box_room.yaml (inner faces x = +-3, y = +-2), 10 mm range noise.
+const Dataset& recording() {
+  static const Dataset d = [] {
+    sim::SimConfig c;
+    c.lidar.beams_per_revolution = 360;
+    const sim::World world = sim::loadWorld(kWorlds / "box_room.yaml");
+    const sim::Scenario s = sim::parseScenario(
+        "segments:\n  - {type: figure_eight, radius_m: 0.8, speed_mps: 0.4}\n", "t.yaml");
+    return sim::simulate(c, world, s).dataset;
+  }();
+  return d;
+}
+
+/// Length of the twin's wall faces within 1 cm and 1 degree of the face a -> b.
+double coveredLength(const sim::World& w, Eigen::Vector2d a, Eigen::Vector2d b) {
+  const Eigen::Vector2d d = (b - a).normalized(), n(-d.y(), d.x());
+  double covered = 0.0;
+  for (const sim::Wall& wall : w.walls) {
+    const Eigen::Vector2d wd = (wall.to_m - wall.from_m).normalized();
+    if (std::abs(wd.dot(n)) > std::sin(std::numbers::pi / 180.0)) continue;
+    const double off = std::abs((0.5 * (wall.from_m + wall.to_m) - a).dot(n));
+    if (std::abs(off - 0.5 * wall.thickness_m) > 0.01) continue;  // its face, not its centre
+    covered += (wall.to_m - wall.from_m).norm();
+  }
+  return covered;
+}
+
+TEST(Twin, RecoversTheRoomsWallsAndTheLidar) {
+  TwinParams p;
+  p.calibrate = false;
+  const TwinFit fit = fitTwin(recording(), "figure-eight", p);
+  // The match's world frame is the odometry's at the first scan: the start pose, (0, 0, 0) in
+  // box_room.yaml, so the room's faces are where the file has them.
+  EXPECT_GT(coveredLength(fit.world, {-3, -2}, {3, -2}), 0.8 * 6.0);
+  EXPECT_GT(coveredLength(fit.world, {-3, 2}, {3, 2}), 0.8 * 6.0);
+  EXPECT_GT(coveredLength(fit.world, {-3, -2}, {-3, 2}), 0.8 * 4.0);
+  EXPECT_GT(coveredLength(fit.world, {3, -2}, {3, 2}), 0.8 * 4.0);
+  EXPECT_LE(fit.world.walls.size(), 12u);  // a few walls, not one per grid cell
+  const sim::LidarConfig& l = fit.config.lidar;
+  EXPECT_NEAR(l.rate_hz, 10.0, 1e-6);
+  EXPECT_EQ(l.beams_per_revolution, 360);
+  EXPECT_NEAR(l.fov_rad, 2 * std::numbers::pi, 1e-9);
+  EXPECT_FALSE(l.clockwise);
+  EXPECT_NEAR(l.T_base_lidar.yaw, std::numbers::pi / 180.0, 1e-9);  // the mount, no shift
+  // Against the world: 10 mm simulated, the walls' fit and the matched poses add a little.
+  const double fitted = fit.json["lidar"]["range_noise_m"]["value"].get<double>();
+  EXPECT_GT(fitted, 0.008);
+  EXPECT_LT(fitted, 0.014);
+  EXPECT_LT(fit.json["lidar"]["dropout_probability"]["value"].get<double>(), 0.01);
+  EXPECT_LT(fit.json["drive"]["replay_rms_position_m"].get<double>(), 0.005);
+  EXPECT_NEAR(fit.config.encoders.rate_hz, 100.0, 1e-6);
+  // The drive's cap: 1.25x the recorded wheels' 99th percentile, the outer wheel on the 0.8 m
+  // loops at 0.4 m/s: 0.4 (1 + 0.25 / 0.8) / 0.1 = 5.25 rad/s; a 10 ms step is 33 ticks, so
+  // one tick of quantisation is 3 %, and the physics' ripple adds to the top percentile.
+  const double cap = fit.json["drive"]["max_wheel_radps"].get<double>();
+  EXPECT_GT(cap, 1.25 * 5.25);
+  EXPECT_LT(cap, 1.25 * 5.25 * 1.08);
+}
+
+// The twin's own recording: simulated from the fitted world and drive, its scans match with
+// the recording's residual (the range noise is tuned to it) and its truth follows the path.
+TEST(Twin, SimulatesWhatItFitted) {
+  TwinParams p;
+  p.calibrate = false;
+  TwinFit fit = fitTwin(recording(), "figure-eight", p);
+  const sim::Scenario s = sim::parseScenario(fit.scenario_yaml, "twin-scenario.yaml");
+  const sim::SimResult r = simulateTwin(fit, s);
+  EXPECT_EQ(r.dataset.scans.size() / 10, recording().scans.size() / 10);  // the same length
+  const auto& runs = fit.json["lidar"]["range_noise_m"]["tuning_runs"];
+  ASSERT_GE(runs.size(), 2u);
+  EXPECT_EQ(runs[1][0].get<double>(), 0.0);         // the second run is at zero noise
+  EXPECT_EQ(fit.json["drive"]["mode"], "physics");  // a 60 s figure eight: the physics follows
+  EXPECT_LT(fit.json["drive"]["physics_max_deviation_m"].get<double>(), 0.05);
+  // The twin's residual, measured as the recording's: within 25 % of it.
+  const MatchTrajectory run = matchTrajectory(r.dataset, matchScanPoints(r.dataset, "none", false));
+  std::vector<double> rms;
+  for (std::size_t k = 1; k < run.tracked.scans.size(); ++k)
+    if (!run.tracked.scans[k].fallback) rms.push_back(run.tracked.scans[k].match.rms_residual_m);
+  const ErrorStats twin = summarize(rms);
+  EXPECT_NEAR(twin.median, fit.residual_median_m, 0.25 * fit.residual_median_m);
+  const SE2 end_real = recording().groundtruth.samples().back().value;
+  const SE2 end_twin = r.dataset.groundtruth.samples().back().value;
+  EXPECT_LT((end_real.translation() - end_twin.translation()).norm(), 0.03);
+}
+
+// A robot the physics cannot keep on the replay (here: any deviation) is driven kinematically,
+// and the --set list says so: the truth is then the replay up to the integration steps.
+TEST(Twin, FallsBackToKinematicWhenThePhysicsLeavesTheReplay) {
+  TwinParams p;
+  p.calibrate = false;
+  TwinFit fit = fitTwin(recording(), "figure-eight", p);
+  fit.max_physics_deviation_m = 0.0;
+  const sim::SimResult r =
+      simulateTwin(fit, sim::parseScenario(fit.scenario_yaml, "twin-scenario.yaml"));
+  EXPECT_EQ(fit.json["drive"]["mode"], "kinematic");
+  EXPECT_NE(std::find(fit.sets.begin(), fit.sets.end(), "mode=kinematic"), fit.sets.end());
+  double worst = 0.0;
+  for (const auto& knot : fit.replay.samples())
+    if (const auto T = r.dataset.groundtruth.at(knot.stamp_s))
+      worst = std::max(worst, (T->translation() - knot.value.translation()).norm());
+  EXPECT_LT(worst, 1e-4);  // the tracker integrates in 10 ms steps, the simulator in 1 ms
+}
+
+}  // namespace
+}  // namespace slamprep::eval
