@@ -11,6 +11,7 @@
 #include "algo/calibration/calibration_json.hpp"
 #include "algo/timing/dataset_stamps.hpp"
 #include "app/choices.hpp"
+#include "app/command_progress.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
 #include "app/outputs.hpp"
@@ -18,10 +19,9 @@
 #include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "core/odometry.hpp"
-#include "eval/bench/command_progress.hpp"
-#include "eval/bench/dataset_deskew.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "eval/formats/scan_jsonl.hpp"
+#include "eval/pipeline/dataset_deskew.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -123,7 +123,7 @@ struct MethodRun {
 
 MethodRun runMethod(algo::DeskewMethod method, const Dataset& d, const PoseSeries& odometry,
                     const Geometry& geometry, const DeskewFlags& flags) {
-  eval::StageReporter stages(std::string(algo::deskewMethodName(method)), 1);
+  StageReporter stages(std::string(algo::deskewMethodName(method)), 1);
   stages.begin("deskew");
   eval::DatasetDeskewOptions options;
   options.on_scan = [&](std::size_t done, std::size_t total) {
@@ -280,7 +280,7 @@ int runDeskew(const DeskewFlags& given) {
   std::vector<std::string> written;
   // Every method in turn; with --out its scans go into the folder being published.
   auto runAll = [&](const fs::path* partial) {
-    eval::CommandProgress progress(methods.run.size(), "methods", "deskew", !flags.quiet);
+    CommandProgress progress(methods.run.size(), "methods", "deskew", !flags.quiet);
     for (const auto m : methods.run) {
       const MethodRun run = runMethod(m, d, odometry, geometry, flags);
       progress.advance(std::string(algo::deskewMethodName(m)));
