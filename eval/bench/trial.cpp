@@ -232,15 +232,11 @@ json artifactsJson(const Dataset& dataset, const DiffDriveParams* calibrated,
   const double step_s = 0.1;
   json out;
   out["trajectory"]["true"] = decimated(dataset.groundtruth, step_s);
-  const auto anchored = [&](const PoseSeries& odom) {  // start odometry on the true start pose
-    PoseSeries world;
-    const SE2 T_world_odom = dataset.groundtruth[0].value * odom[0].value.inverse();
-    for (const auto& s : odom.samples()) world.push_back(s.stamp_s, T_world_odom * s.value);
-    return world;
-  };
   const int ticks = dataset.info.ticks_per_revolution;
   const auto addOdometry = [&](const char* name, const DiffDriveParams& geometry) {
-    const PoseSeries world = anchored(integrateEncoders(dataset.encoders, geometry, ticks));
+    const PoseSeries odom = integrateEncoders(dataset.encoders, geometry, ticks);
+    const PoseSeries world =
+        inWorld(odom, anchorOnTruth(odom, dataset.groundtruth).value_or(SE2()));
     out["trajectory"][name] = decimated(world, step_s);
     out["odometry_error"][name] = odometryErrorJson(dataset.groundtruth, world, step_s);
   };
