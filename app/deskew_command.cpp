@@ -72,16 +72,19 @@ Geometry chooseGeometry(const DeskewFlags& flags, const Dataset& dataset) {
   return {dataset.info.nominal_geometry, dataset.info.T_base_lidar, "nominal"};
 }
 
-/// Why `method` cannot run on this dataset at all; nullopt when its inputs are there.
+/// Why `method` cannot run on this dataset at all (algo::deskewMissingInput decides); nullopt
+/// when its inputs are there.
 std::optional<std::string> notApplicable(algo::DeskewMethod method, const Dataset& d,
                                          bool has_odometry) {
-  using M = algo::DeskewMethod;
-  if (method == M::kOracle && d.groundtruth.empty()) return "no ground truth (a real log?)";
-  if (method == M::kImu && d.imu.empty()) return "no IMU samples (imu.csv is empty)";
-  const bool odometry_based = method == M::kOdomLinear || method == M::kOdomQuadratic ||
-                              method == M::kOdomIcp || method == M::kImu;
-  if (odometry_based && !has_odometry) return "no odometry (neither encoders nor odom_nominal)";
-  return std::nullopt;
+  const auto missing =
+      algo::deskewMissingInput(method, {!d.groundtruth.empty(), has_odometry, !d.imu.empty()});
+  if (!missing) return std::nullopt;
+  // Where the dataset would have had it.
+  static const std::map<algo::DeskewInput, std::string> kWhere = {
+      {algo::DeskewInput::kGroundTruth, " (a real log?)"},
+      {algo::DeskewInput::kOdometry, " (neither encoders nor odom_nominal)"},
+      {algo::DeskewInput::kImu, " (imu.csv is empty)"}};
+  return "no " + std::string(algo::deskewInputName(*missing)) + kWhere.at(*missing);
 }
 
 /// Flags and paths, before any data is read: --geometry's deprecated FILE form becomes
