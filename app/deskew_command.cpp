@@ -22,6 +22,7 @@
 #include "eval/formats/dataset_io.hpp"
 #include "eval/formats/scan_jsonl.hpp"
 #include "eval/pipeline/dataset_deskew.hpp"
+#include "eval/pipeline/deskew_json.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -116,8 +117,6 @@ DeskewFlags checkFlags(DeskewFlags flags) {
   return flags;
 }
 
-using eval::ErrorStats;
-
 struct MethodRun {
   algo::DeskewMethod method;
   eval::DatasetDeskew result;
@@ -158,42 +157,20 @@ MethodRun runMethod(algo::DeskewMethod method, const Dataset& d, const PoseSerie
   return run;
 }
 
-/// Every refused scan, `{"scan", "method", "reason", "detail"}` (docs/deskew.md).
-nlohmann::ordered_json refusalsJson(const MethodRun& run) {
-  nlohmann::ordered_json out = nlohmann::ordered_json::array();
-  for (const auto& r : run.result.refusals)
-    out.push_back({{"scan", r.scan},
-                   {"method", std::string(algo::deskewMethodName(run.method))},
-                   {"reason", std::string(algo::deskewRefusalName(r.reason))},
-                   {"detail", r.detail}});
-  return out;
-}
-
+/// One method's object in --json (docs/deskew.md): its name, the figures (null without truth),
+/// then the counts and the refusals.
 nlohmann::ordered_json toJson(const MethodRun& run) {
-  const auto& e = run.result.error_m;
-  auto num = [&](const std::optional<ErrorStats>& stats, double ErrorStats::*field) {
-    return stats ? nlohmann::ordered_json((*stats).*field) : nlohmann::ordered_json(nullptr);
-  };
+  const std::string method(algo::deskewMethodName(run.method));
   const std::size_t scans = run.result.scans.size();
-  return {{"method", std::string(algo::deskewMethodName(run.method))},
-          {"mean_m", num(e, &ErrorStats::mean)},
-          {"rms_m", num(e, &ErrorStats::rmse)},
-          {"p95_m", num(e, &ErrorStats::p95)},
-          {"max_m", num(e, &ErrorStats::max)},
-          {"rotation_mean_m", num(run.result.rotation_induced_m, &ErrorStats::mean)},
-          {"translation_mean_m", num(run.result.translation_induced_m, &ErrorStats::mean)},
-          {"repacked_mean_m", num(run.result.repacked_error_m, &ErrorStats::mean)},
-          {"repacked_p95_m", num(run.result.repacked_error_m, &ErrorStats::p95)},
-          {"repacked_lost_beams", run.result.repacked_error_m
-                                      ? nlohmann::ordered_json(run.result.repacked_lost_beams)
-                                      : nlohmann::ordered_json(nullptr)},
-          {"beams", e ? e->count : 0},
-          {"seconds", run.result.seconds},
-          {"scans", scans},
-          {"refused", run.result.refused},
-          {"ok", scans - run.result.refused},
-          {"refused_by_reason", eval::refusedByReason(run.result.refusals)},
-          {"refusals", refusalsJson(run)}};
+  nlohmann::ordered_json out = {{"method", method}};
+  out.update(eval::deskewFiguresJson(run.result, eval::AbsentFigure::kNull));
+  out.update({{"seconds", run.result.seconds},
+              {"scans", scans},
+              {"refused", run.result.refused},
+              {"ok", scans - run.result.refused},
+              {"refused_by_reason", eval::refusedByReason(run.result.refusals)},
+              {"refusals", eval::deskewRefusalsJson(run.result, method)}});
+  return out;
 }
 
 /// "not-bracketed 3, sample-gap 1": refused scans counted by reason.

@@ -17,6 +17,7 @@
 #include "eval/metrics/trajectory_error.hpp"
 #include "eval/pipeline/calibration_run.hpp"
 #include "eval/pipeline/dataset_deskew.hpp"
+#include "eval/pipeline/deskew_json.hpp"
 #include "eval/pipeline/match_run.hpp"
 #include "sim/drive/simulator.hpp"
 
@@ -133,35 +134,16 @@ json calibrationJson(const Dataset& dataset, const algo::CalibrationResult& resu
   return out;
 }
 
-// `refusals` is an array (never summarised); `refused_by_reason` counts enter the summary.
+// `refusals` is an array (never summarised); `refused_by_reason` counts enter the summary, and
+// only the figures measured do (no nulls).
 json deskewJson(const DatasetDeskew& d, const std::string& method) {
   json out = {{"ok", d.refused == 0}};
   if (d.refused) {
     out["refused_scans"] = d.refused;
     out["refused_by_reason"] = refusedByReason(d.refusals);
-    out["refusals"] = json::array();
-    for (const auto& r : d.refusals)
-      out["refusals"].push_back({{"scan", r.scan},
-                                 {"method", method},
-                                 {"reason", std::string(algo::deskewRefusalName(r.reason))},
-                                 {"detail", r.detail}});
+    out["refusals"] = json(deskewRefusalsJson(d, method));
   }
-  if (!d.error_m) return out;
-  out.update({{"mean_m", d.error_m->mean},
-              {"rms_m", d.error_m->rmse},
-              {"p95_m", d.error_m->p95},
-              {"max_m", d.error_m->max},
-              {"beams", d.error_m->count}});
-  if (d.rotation_induced_m && d.translation_induced_m)
-    out.update({{"rotation_mean_m", d.rotation_induced_m->mean},
-                {"rotation_p95_m", d.rotation_induced_m->p95},
-                {"translation_mean_m", d.translation_induced_m->mean},
-                {"translation_p95_m", d.translation_induced_m->p95},
-                {"split_residual_max_m", d.max_split_residual_m}});
-  if (d.repacked_error_m)
-    out.update({{"repacked_mean_m", d.repacked_error_m->mean},
-                {"repacked_p95_m", d.repacked_error_m->p95},
-                {"repacked_lost_beams", d.repacked_lost_beams}});
+  out.update(json(deskewFiguresJson(d, AbsentFigure::kOmitted)));
   return out;
 }
 
