@@ -9,8 +9,8 @@
 #include "app/outputs.hpp"
 #include "core/error.hpp"
 #include "core/paths.hpp"
+#include "core/progress.hpp"
 #include "eval/bench/bench.hpp"
-#include "eval/bench/progress.hpp"
 #include "eval/bench/report.hpp"
 #include "eval/bench/slurm.hpp"
 #include "eval/bench/trial.hpp"
@@ -112,7 +112,7 @@ int runBenchCommand(BenchFlags& flags) {
   const auto& run = outcome.run;
   std::cerr << "suite " << outcome.suite.name << ": " << run.selected << " trials (" << run.reused
             << " reused, " << run.computed << " computed, " << run.failed.size() << " failed) in "
-            << eval::formatDuration(run.seconds) << "\n";
+            << formatDuration(run.seconds) << "\n";
   for (const auto& id : run.failed) std::cerr << "  failed: " << id << "\n";
   if (flags.options.shard) {
     std::cout << "shard " << flags.options.shard->name() << " written to "

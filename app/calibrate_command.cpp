@@ -13,17 +13,17 @@
 #include "algo/timing/dataset_stamps.hpp"
 #include "app/calibration_tables.hpp"
 #include "app/choices.hpp"
+#include "app/command_progress.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
 #include "app/icp_options.hpp"
 #include "app/outputs.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
-#include "eval/bench/calibration_run.hpp"
-#include "eval/bench/command_progress.hpp"
-#include "eval/bench/recordings_calibration.hpp"
-#include "eval/bench/ros2_params.hpp"
+#include "eval/formats/ros2_params.hpp"
 #include "eval/formats/tum.hpp"
+#include "eval/pipeline/calibration_run.hpp"
+#include "eval/pipeline/recordings_calibration.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -273,8 +273,8 @@ int runCalibrate(const CalibrateFlags& flags) {
   checkPaths(flags);
   const std::size_t n = std::max<std::size_t>(1, flags.datasets.size());
   const eval::RecordingsCalibration r = [&] {
-    eval::CommandProgress progress(n, "recordings", "calibrate", !flags.quiet);
-    eval::StageReporter stages(flags.datasets.empty() ? "calibrate" : flags.datasets.front(), 1);
+    CommandProgress progress(n, "recordings", "calibrate", !flags.quiet);
+    StageReporter stages(flags.datasets.empty() ? "calibrate" : flags.datasets.front(), 1);
     stages.begin("calibrate");
     return eval::calibrateRecordings(paramsOf(flags),
                                      [&](const std::string& done) { progress.advance(done); });

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "algo/calibration/calibration_report.hpp"
-#include "eval/bench/recordings_calibration.hpp"
+#include "eval/pipeline/recordings_calibration.hpp"
 
 namespace slamprep::app {
 

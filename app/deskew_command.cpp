@@ -11,6 +11,7 @@
 #include "algo/calibration/calibration_json.hpp"
 #include "algo/timing/dataset_stamps.hpp"
 #include "app/choices.hpp"
+#include "app/command_progress.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
 #include "app/outputs.hpp"
@@ -18,10 +19,10 @@
 #include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "core/odometry.hpp"
-#include "eval/bench/command_progress.hpp"
-#include "eval/bench/dataset_deskew.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "eval/formats/scan_jsonl.hpp"
+#include "eval/pipeline/dataset_deskew.hpp"
+#include "eval/pipeline/deskew_json.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -72,16 +73,19 @@ Geometry chooseGeometry(const DeskewFlags& flags, const Dataset& dataset) {
   return {dataset.info.nominal_geometry, dataset.info.T_base_lidar, "nominal"};
 }
 
-/// Why `method` cannot run on this dataset at all; nullopt when its inputs are there.
+/// Why `method` cannot run on this dataset at all (algo::deskewMissingInput decides); nullopt
+/// when its inputs are there.
 std::optional<std::string> notApplicable(algo::DeskewMethod method, const Dataset& d,
                                          bool has_odometry) {
-  using M = algo::DeskewMethod;
-  if (method == M::kOracle && d.groundtruth.empty()) return "no ground truth (a real log?)";
-  if (method == M::kImu && d.imu.empty()) return "no IMU samples (imu.csv is empty)";
-  const bool odometry_based = method == M::kOdomLinear || method == M::kOdomQuadratic ||
-                              method == M::kOdomIcp || method == M::kImu;
-  if (odometry_based && !has_odometry) return "no odometry (neither encoders nor odom_nominal)";
-  return std::nullopt;
+  const auto missing =
+      algo::deskewMissingInput(method, {!d.groundtruth.empty(), has_odometry, !d.imu.empty()});
+  if (!missing) return std::nullopt;
+  // Where the dataset would have had it.
+  static const std::map<algo::DeskewInput, std::string> kWhere = {
+      {algo::DeskewInput::kGroundTruth, " (a real log?)"},
+      {algo::DeskewInput::kOdometry, " (neither encoders nor odom_nominal)"},
+      {algo::DeskewInput::kImu, " (imu.csv is empty)"}};
+  return "no " + std::string(algo::deskewInputName(*missing)) + kWhere.at(*missing);
 }
 
 /// Flags and paths, before any data is read: --geometry's deprecated FILE form becomes
@@ -113,8 +117,6 @@ DeskewFlags checkFlags(DeskewFlags flags) {
   return flags;
 }
 
-using eval::ErrorStats;
-
 struct MethodRun {
   algo::DeskewMethod method;
   eval::DatasetDeskew result;
@@ -123,7 +125,7 @@ struct MethodRun {
 
 MethodRun runMethod(algo::DeskewMethod method, const Dataset& d, const PoseSeries& odometry,
                     const Geometry& geometry, const DeskewFlags& flags) {
-  eval::StageReporter stages(std::string(algo::deskewMethodName(method)), 1);
+  StageReporter stages(std::string(algo::deskewMethodName(method)), 1);
   stages.begin("deskew");
   eval::DatasetDeskewOptions options;
   options.on_scan = [&](std::size_t done, std::size_t total) {
@@ -155,42 +157,20 @@ MethodRun runMethod(algo::DeskewMethod method, const Dataset& d, const PoseSerie
   return run;
 }
 
-/// Every refused scan, `{"scan", "method", "reason", "detail"}` (docs/deskew.md).
-nlohmann::ordered_json refusalsJson(const MethodRun& run) {
-  nlohmann::ordered_json out = nlohmann::ordered_json::array();
-  for (const auto& r : run.result.refusals)
-    out.push_back({{"scan", r.scan},
-                   {"method", std::string(algo::deskewMethodName(run.method))},
-                   {"reason", std::string(algo::deskewRefusalName(r.reason))},
-                   {"detail", r.detail}});
-  return out;
-}
-
+/// One method's object in --json (docs/deskew.md): its name, the figures (null without truth),
+/// then the counts and the refusals.
 nlohmann::ordered_json toJson(const MethodRun& run) {
-  const auto& e = run.result.error_m;
-  auto num = [&](const std::optional<ErrorStats>& stats, double ErrorStats::*field) {
-    return stats ? nlohmann::ordered_json((*stats).*field) : nlohmann::ordered_json(nullptr);
-  };
+  const std::string method(algo::deskewMethodName(run.method));
   const std::size_t scans = run.result.scans.size();
-  return {{"method", std::string(algo::deskewMethodName(run.method))},
-          {"mean_m", num(e, &ErrorStats::mean)},
-          {"rms_m", num(e, &ErrorStats::rmse)},
-          {"p95_m", num(e, &ErrorStats::p95)},
-          {"max_m", num(e, &ErrorStats::max)},
-          {"rotation_mean_m", num(run.result.rotation_induced_m, &ErrorStats::mean)},
-          {"translation_mean_m", num(run.result.translation_induced_m, &ErrorStats::mean)},
-          {"repacked_mean_m", num(run.result.repacked_error_m, &ErrorStats::mean)},
-          {"repacked_p95_m", num(run.result.repacked_error_m, &ErrorStats::p95)},
-          {"repacked_lost_beams", run.result.repacked_error_m
-                                      ? nlohmann::ordered_json(run.result.repacked_lost_beams)
-                                      : nlohmann::ordered_json(nullptr)},
-          {"beams", e ? e->count : 0},
-          {"seconds", run.result.seconds},
-          {"scans", scans},
-          {"refused", run.result.refused},
-          {"ok", scans - run.result.refused},
-          {"refused_by_reason", eval::refusedByReason(run.result.refusals)},
-          {"refusals", refusalsJson(run)}};
+  nlohmann::ordered_json out = {{"method", method}};
+  out.update(eval::deskewFiguresJson(run.result, eval::AbsentFigure::kNull));
+  out.update({{"seconds", run.result.seconds},
+              {"scans", scans},
+              {"refused", run.result.refused},
+              {"ok", scans - run.result.refused},
+              {"refused_by_reason", eval::refusedByReason(run.result.refusals)},
+              {"refusals", eval::deskewRefusalsJson(run.result, method)}});
+  return out;
 }
 
 /// "not-bracketed 3, sample-gap 1": refused scans counted by reason.
@@ -280,7 +260,7 @@ int runDeskew(const DeskewFlags& given) {
   std::vector<std::string> written;
   // Every method in turn; with --out its scans go into the folder being published.
   auto runAll = [&](const fs::path* partial) {
-    eval::CommandProgress progress(methods.run.size(), "methods", "deskew", !flags.quiet);
+    CommandProgress progress(methods.run.size(), "methods", "deskew", !flags.quiet);
     for (const auto m : methods.run) {
       const MethodRun run = runMethod(m, d, odometry, geometry, flags);
       progress.advance(std::string(algo::deskewMethodName(m)));

@@ -14,18 +14,18 @@
 #include "algo/agreement/dataset_sources.hpp"
 #include "algo/deskew/deskew.hpp"
 #include "app/choices.hpp"
+#include "app/command_progress.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
 #include "app/icp_options.hpp"
 #include "app/outputs.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
-#include "eval/bench/command_progress.hpp"
-#include "eval/bench/dataset_deskew.hpp"
-#include "eval/bench/match_trajectory.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "eval/formats/tum.hpp"
 #include "eval/metrics/error_stats.hpp"
+#include "eval/pipeline/dataset_deskew.hpp"
+#include "eval/pipeline/match_trajectory.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -160,8 +160,8 @@ int runMatch(MatchFlags flags) {
       eval::matchScanPoints(d, flags.deskew, flags.stamp_is_last_beam, &refused);
   eval::MatchTrajectoryOptions options{flags.params, flags.stamp_is_last_beam};
   const eval::MatchTrajectory run = [&] {
-    eval::CommandProgress progress(1, "runs", "match", !flags.quiet);
-    eval::StageReporter stages(flags.dataset, 1);
+    CommandProgress progress(1, "runs", "match", !flags.quiet);
+    StageReporter stages(flags.dataset, 1);
     stages.begin("match");
     return eval::matchTrajectory(d, points, options);
   }();

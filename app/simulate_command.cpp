@@ -10,13 +10,13 @@
 #include <sstream>
 
 #include "app/choices.hpp"
+#include "app/command_progress.hpp"
 #include "app/commands.hpp"
 #include "app/outputs.hpp"
 #include "core/error.hpp"
 #include "core/input_file.hpp"
 #include "core/json_input.hpp"
 #include "core/paths.hpp"
-#include "eval/bench/command_progress.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "sim/drive/scenario.hpp"
 #include "sim/drive/simulator.hpp"
@@ -118,8 +118,8 @@ int run(const SimulateFlags& flags, const CLI::App& cli) {
 
   const auto start = std::chrono::steady_clock::now();  // for the summary only
   const sim::SimResult result = [&] {
-    eval::CommandProgress progress(1, "runs", "simulate", !flags.quiet);
-    eval::StageReporter stages(flags.out, 1);
+    CommandProgress progress(1, "runs", "simulate", !flags.quiet);
+    StageReporter stages(flags.out, 1);
     stages.begin("simulate");
     return sim::simulate(config, [&](double t_s, double duration_s) {
       if (duration_s > 0.0) stages.update(t_s / duration_s);

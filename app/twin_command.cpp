@@ -8,11 +8,11 @@
 #include <iostream>
 
 #include "algo/calibration/calibration_json.hpp"
+#include "app/command_progress.hpp"
 #include "app/commands.hpp"
 #include "app/outputs.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
-#include "eval/bench/command_progress.hpp"
 #include "eval/bench/twin.hpp"
 #include "eval/bench/twin_compare.hpp"
 #include "eval/formats/dataset_io.hpp"
@@ -86,7 +86,7 @@ int runTwin(TwinFlags flags) {
   const auto begin = std::chrono::steady_clock::now();
   const Dataset real = eval::readDataset(flags.dataset);
   eval::TwinFit fit = [&] {
-    eval::CommandProgress progress(1, "runs", "twin", !flags.quiet);
+    CommandProgress progress(1, "runs", "twin", !flags.quiet);
     return eval::fitTwin(real, flags.dataset, flags.params);
   }();
   nlohmann::ordered_json json;
@@ -113,7 +113,7 @@ int runCompare(const TwinFlags& flags) {
   if (!flags.plot.empty()) guard.file(flags.plot, "--plot");
   guard.check();
   const eval::TwinComparison c = [&] {
-    eval::CommandProgress progress(1, "runs", "twin", !flags.quiet);
+    CommandProgress progress(1, "runs", "twin", !flags.quiet);
     return eval::compareTwin(real, twin);
   }();
   std::printf("%s", eval::comparisonText(c).c_str());

@@ -31,4 +31,17 @@ PoseSeries integrateEncoders(const EncoderLog& encoders, const DiffDriveParams& 
   return odometry;
 }
 
+std::optional<SE2> anchorOnTruth(const PoseSeries& odometry, const PoseSeries& truth) {
+  if (odometry.empty()) return std::nullopt;
+  const std::optional<SE2> T_world_base0 = truth.at(odometry.frontStamp());
+  if (!T_world_base0) return std::nullopt;
+  return *T_world_base0 * odometry[0].value.inverse();
+}
+
+PoseSeries inWorld(const PoseSeries& odometry, const SE2& T_world_odom) {
+  PoseSeries world;
+  for (const auto& s : odometry.samples()) world.push_back(s.stamp_s, T_world_odom * s.value);
+  return world;
+}
+
 }  // namespace slamprep

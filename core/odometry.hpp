@@ -1,6 +1,8 @@
 #pragma once
 // Wheel odometry: integrating encoder ticks with a wheel geometry.
 
+#include <optional>
+
 #include "core/diff_drive.hpp"
 #include "core/samples.hpp"
 #include "core/time_series.hpp"
@@ -17,5 +19,14 @@ SE2 wheelIncrement(const DiffDriveParams& geometry, double dphi_left_rad, double
 /// Dead-reckoned T_odom_base at every encoder stamp, starting at `T_odom_base0`.
 PoseSeries integrateEncoders(const EncoderLog& encoders, const DiffDriveParams& geometry,
                              int ticks_per_revolution, const SE2& T_odom_base0 = SE2());
+
+/// T_world_odom that starts `odometry` on the true pose at its first stamp t0, so that it can be
+/// compared with the truth without alignment (evo's --align_origin):
+/// T_world_odom = T_world_base(t0) * T_odom_base(t0)^-1. nullopt when either series is empty or
+/// the truth does not cover t0.
+std::optional<SE2> anchorOnTruth(const PoseSeries& odometry, const PoseSeries& truth);
+
+/// Every pose of `odometry` in the world frame: T_world_base = T_world_odom * T_odom_base.
+PoseSeries inWorld(const PoseSeries& odometry, const SE2& T_world_odom);
 
 }  // namespace slamprep

@@ -10,21 +10,25 @@
 namespace slamprep::algo {
 namespace {
 
+/// The series a method needs, as bits.
+enum Needs : unsigned { kNoSeries = 0, kTruth = 1, kOdometry = 2, kImu = 4 };
+
 struct MethodEntry {
   DeskewMethod method;
   std::string_view name;
   Trajectory (*knots)(const MethodCall&);
   bool uses_previous_scan;
+  unsigned needs;  ///< Needs bits: deskewMissingInput()
 };
 constexpr std::array<MethodEntry, 8> kMethods{{
-    {DeskewMethod::kNone, "none", noneKnots, false},
-    {DeskewMethod::kOracle, "oracle", oracleKnots, false},
-    {DeskewMethod::kConstVelocity, "const-velocity", constVelocityKnots, true},
-    {DeskewMethod::kVicp, "vicp", vicpKnots, true},
-    {DeskewMethod::kOdomLinear, "odom-linear", odomLinearKnots, false},
-    {DeskewMethod::kOdomQuadratic, "odom-quadratic", odomQuadraticKnots, false},
-    {DeskewMethod::kImu, "imu", imuKnots, false},
-    {DeskewMethod::kOdomIcp, "odom-icp", odomIcpKnots, true},
+    {DeskewMethod::kNone, "none", noneKnots, false, kNoSeries},
+    {DeskewMethod::kOracle, "oracle", oracleKnots, false, kTruth},
+    {DeskewMethod::kConstVelocity, "const-velocity", constVelocityKnots, true, kNoSeries},
+    {DeskewMethod::kVicp, "vicp", vicpKnots, true, kNoSeries},
+    {DeskewMethod::kOdomLinear, "odom-linear", odomLinearKnots, false, kOdometry},
+    {DeskewMethod::kOdomQuadratic, "odom-quadratic", odomQuadraticKnots, false, kOdometry},
+    {DeskewMethod::kImu, "imu", imuKnots, false, kOdometry | kImu},
+    {DeskewMethod::kOdomIcp, "odom-icp", odomIcpKnots, true, kOdometry},
 }};
 
 const MethodEntry* entry(DeskewMethod method) {
@@ -58,6 +62,27 @@ std::optional<DeskewMethod> parseDeskewMethod(std::string_view name) {
 bool deskewMethodUsesPreviousScan(DeskewMethod method) {
   const MethodEntry* m = entry(method);
   return m && m->uses_previous_scan;
+}
+
+std::string_view deskewInputName(DeskewInput input) {
+  switch (input) {
+    case DeskewInput::kGroundTruth:
+      return "ground truth";
+    case DeskewInput::kOdometry:
+      return "odometry";
+    case DeskewInput::kImu:
+      return "IMU samples";
+  }
+  return "unknown";
+}
+
+std::optional<DeskewInput> deskewMissingInput(DeskewMethod method, DeskewInputsGiven given) {
+  const MethodEntry* m = entry(method);
+  const unsigned needs = m ? m->needs : kNoSeries;
+  if ((needs & kTruth) && !given.groundtruth) return DeskewInput::kGroundTruth;
+  if ((needs & kOdometry) && !given.odometry) return DeskewInput::kOdometry;
+  if ((needs & kImu) && !given.imu) return DeskewInput::kImu;
+  return std::nullopt;
 }
 
 const std::vector<DeskewRefusal>& allDeskewRefusals() {
@@ -156,6 +181,14 @@ DeskewResult deskew(DeskewMethod method, const LaserScan& scan, const DeskewInpu
   const ScanTimes t = scanTimes(scan, inputs.stamp_is_last_beam, inputs.reference);
   result.first_beam_s = t.first_s;
   result.reference_s = t.ref_s;
+  const DeskewInputsGiven given{!inputs.groundtruth.empty(), !inputs.odometry.empty(),
+                                !inputs.imu.empty()};
+  if (const auto missing = deskewMissingInput(method, given)) {
+    result.refusal = DeskewRefusal::kMissingInput;
+    result.reason = std::string(m->name) + " needs " + std::string(deskewInputName(*missing)) +
+                    ", none was given";
+    return result;
+  }
   try {
     result.T_ref_lidar = m->knots({method, scan, t, inputs, params, result});
     transformBeams(scan, t.first_s, result.T_ref_lidar, result.p_ref);

@@ -44,6 +44,25 @@ std::optional<DeskewMethod> parseDeskewMethod(std::string_view name);
 /// Whether the method needs the previous scan (drive it with DeskewSequence).
 bool deskewMethodUsesPreviousScan(DeskewMethod method);
 
+/// A series a method needs beside the scans (the previous scan aside: every method but the first
+/// scan's has one).
+enum class DeskewInput {
+  kGroundTruth,  ///< "ground truth": oracle
+  kOdometry,     ///< "odometry": odom-linear, odom-quadratic, imu (translation), odom-icp
+  kImu,          ///< "IMU samples": imu
+};
+std::string_view deskewInputName(DeskewInput input);
+/// Which of those series a log has (not empty).
+struct DeskewInputsGiven {
+  bool groundtruth = false;
+  bool odometry = false;
+  bool imu = false;
+};
+/// The first series `method` needs that is not given, in the order above; nullopt when it has
+/// them all. The one place that says which method needs what: deskew() refuses such a scan
+/// (missing-input), and `slamprep deskew --method all` leaves the method out as not applicable.
+std::optional<DeskewInput> deskewMissingInput(DeskewMethod method, DeskewInputsGiven given);
+
 /// Which instant the de-skewed points describe.
 enum class ReferenceTime { kFirst, kMiddle, kLast };
 std::string_view referenceTimeName(ReferenceTime reference);

@@ -42,8 +42,6 @@ std::vector<std::pair<double, double>> gyroSamples(const ImuLog& imu, const Scan
 }  // namespace
 
 Trajectory imuKnots(const MethodCall& call) {
-  call.need(!call.in.odometry.empty(), "odometry (for translation)");
-  call.need(!call.in.imu.empty(), "an IMU log");
   // The odometry samples around the scan (base frame), checked for bracketing and gaps.
   const Trajectory T_odom_base = lidarKnots(call, call.in.odometry, SE2(), "odometry");
   const auto samples = gyroSamples(call.in.imu, call.t, call.params.max_sample_gap_s);

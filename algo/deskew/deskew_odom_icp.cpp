@@ -11,7 +11,6 @@ namespace slamprep::algo {
 
 Trajectory odomIcpKnots(const MethodCall& call) {
   const DeskewInputs& in = call.in;
-  call.need(!in.odometry.empty(), "odometry");
   const ScanTimes& t = call.t;
   if (!in.previous) {
     call.result.warnings.push_back("odom-icp: no previous scan; de-skewed by odometry alone");

@@ -38,13 +38,11 @@ Trajectory quadraticKnots(const PoseSeries& odometry, const SE2& T_base_lidar, c
 }  // namespace
 
 Trajectory odomLinearKnots(const MethodCall& call) {
-  call.need(!call.in.odometry.empty(), "odometry");
   return relativeTo(lidarKnots(call, call.in.odometry, call.in.T_base_lidar, "odometry"),
                     call.t.ref_s);
 }
 
 Trajectory odomQuadraticKnots(const MethodCall& call) {
-  call.need(!call.in.odometry.empty(), "odometry");
   lidarKnots(call, call.in.odometry, call.in.T_base_lidar, "odometry");  // bracketing and gaps
   return relativeTo(
       quadraticKnots(call.in.odometry, call.in.T_base_lidar, call.t, call.params.quadratic_pieces),

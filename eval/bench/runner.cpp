@@ -15,8 +15,8 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/json_input.hpp"
-#include "eval/bench/progress.hpp"
-#include "eval/bench/stage_report.hpp"
+#include "core/progress.hpp"
+#include "core/stage_report.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -9,15 +9,16 @@
 #include "algo/timing/dataset_stamps.hpp"
 #include "core/error.hpp"
 #include "core/odometry.hpp"
-#include "eval/bench/calibration_run.hpp"
-#include "eval/bench/dataset_deskew.hpp"
+#include "core/stage_report.hpp"
 #include "eval/bench/fault_score.hpp"
-#include "eval/bench/match_run.hpp"
-#include "eval/bench/stage_report.hpp"
 #include "eval/metrics/calibration_error.hpp"
 #include "eval/metrics/consistency.hpp"
 #include "eval/metrics/odometry_drift.hpp"
 #include "eval/metrics/trajectory_error.hpp"
+#include "eval/pipeline/calibration_run.hpp"
+#include "eval/pipeline/dataset_deskew.hpp"
+#include "eval/pipeline/deskew_json.hpp"
+#include "eval/pipeline/match_run.hpp"
 #include "sim/drive/simulator.hpp"
 
 namespace slamprep::eval {
@@ -133,35 +134,16 @@ json calibrationJson(const Dataset& dataset, const algo::CalibrationResult& resu
   return out;
 }
 
-// `refusals` is an array (never summarised); `refused_by_reason` counts enter the summary.
+// `refusals` is an array (never summarised); `refused_by_reason` counts enter the summary, and
+// only the figures measured do (no nulls).
 json deskewJson(const DatasetDeskew& d, const std::string& method) {
   json out = {{"ok", d.refused == 0}};
   if (d.refused) {
     out["refused_scans"] = d.refused;
     out["refused_by_reason"] = refusedByReason(d.refusals);
-    out["refusals"] = json::array();
-    for (const auto& r : d.refusals)
-      out["refusals"].push_back({{"scan", r.scan},
-                                 {"method", method},
-                                 {"reason", std::string(algo::deskewRefusalName(r.reason))},
-                                 {"detail", r.detail}});
+    out["refusals"] = json(deskewRefusalsJson(d, method));
   }
-  if (!d.error_m) return out;
-  out.update({{"mean_m", d.error_m->mean},
-              {"rms_m", d.error_m->rmse},
-              {"p95_m", d.error_m->p95},
-              {"max_m", d.error_m->max},
-              {"beams", d.error_m->count}});
-  if (d.rotation_induced_m && d.translation_induced_m)
-    out.update({{"rotation_mean_m", d.rotation_induced_m->mean},
-                {"rotation_p95_m", d.rotation_induced_m->p95},
-                {"translation_mean_m", d.translation_induced_m->mean},
-                {"translation_p95_m", d.translation_induced_m->p95},
-                {"split_residual_max_m", d.max_split_residual_m}});
-  if (d.repacked_error_m)
-    out.update({{"repacked_mean_m", d.repacked_error_m->mean},
-                {"repacked_p95_m", d.repacked_error_m->p95},
-                {"repacked_lost_beams", d.repacked_lost_beams}});
+  out.update(json(deskewFiguresJson(d, AbsentFigure::kOmitted)));
   return out;
 }
 
@@ -232,15 +214,11 @@ json artifactsJson(const Dataset& dataset, const DiffDriveParams* calibrated,
   const double step_s = 0.1;
   json out;
   out["trajectory"]["true"] = decimated(dataset.groundtruth, step_s);
-  const auto anchored = [&](const PoseSeries& odom) {  // start odometry on the true start pose
-    PoseSeries world;
-    const SE2 T_world_odom = dataset.groundtruth[0].value * odom[0].value.inverse();
-    for (const auto& s : odom.samples()) world.push_back(s.stamp_s, T_world_odom * s.value);
-    return world;
-  };
   const int ticks = dataset.info.ticks_per_revolution;
   const auto addOdometry = [&](const char* name, const DiffDriveParams& geometry) {
-    const PoseSeries world = anchored(integrateEncoders(dataset.encoders, geometry, ticks));
+    const PoseSeries odom = integrateEncoders(dataset.encoders, geometry, ticks);
+    const PoseSeries world =
+        inWorld(odom, anchorOnTruth(odom, dataset.groundtruth).value_or(SE2()));
     out["trajectory"][name] = decimated(world, step_s);
     out["odometry_error"][name] = odometryErrorJson(dataset.groundtruth, world, step_s);
   };

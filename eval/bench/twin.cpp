@@ -7,10 +7,10 @@
 #include "algo/agreement/dataset_sources.hpp"
 #include "algo/agreement/sensor_agreement.hpp"
 #include "core/error.hpp"
-#include "eval/bench/calibration_run.hpp"
-#include "eval/bench/match_trajectory.hpp"
 #include "eval/bench/twin_odometry.hpp"
 #include "eval/metrics/error_stats.hpp"
+#include "eval/pipeline/calibration_run.hpp"
+#include "eval/pipeline/match_trajectory.hpp"
 #include "sim/drive/simulator.hpp"
 #include "sim/physics/planar_caster.hpp"
 

@@ -4,12 +4,12 @@
 #include <cstdio>
 #include <map>
 
-#include "eval/bench/calibration_run.hpp"
-#include "eval/bench/match_trajectory.hpp"
 #include "eval/bench/twin_lidar.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "eval/metrics/error_stats.hpp"
 #include "eval/metrics/trajectory_error.hpp"
+#include "eval/pipeline/calibration_run.hpp"
+#include "eval/pipeline/match_trajectory.hpp"
 #include "eval/plot/plot.hpp"
 
 namespace slamprep::eval {

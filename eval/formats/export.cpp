@@ -328,19 +328,11 @@ ExportResult exportDataset(const ExportInput& input, ExportFormat format, const 
     }
     case ExportFormat::kTum: {
       // Odometry is anchored at the true start pose (when there is truth) so that evo compares
-      // it with the ground truth without alignment: T_world_odom = T_world_base(t0)
-      // T_odom_base(t0)^-1.
-      std::optional<SE2> T_world_odom;
-      if (d.hasTruth() && !d.odom_nominal.empty()) {
-        if (const auto g = d.groundtruth.at(d.odom_nominal.frontStamp()))
-          T_world_odom = *g * d.odom_nominal[0].value.inverse();
-      }
+      // it with the ground truth without alignment; the calibrated odometry shares the frame.
+      const std::optional<SE2> T_world_odom =
+          d.hasTruth() ? anchorOnTruth(d.odom_nominal, d.groundtruth) : std::nullopt;
       auto anchored = [&](const PoseSeries& poses) {
-        if (!T_world_odom) return poses;
-        PoseSeries out_poses;
-        for (const auto& s : poses.samples())
-          out_poses.push_back(s.stamp_s, *T_world_odom * s.value);
-        return out_poses;
+        return T_world_odom ? inWorld(poses, *T_world_odom) : poses;
       };
       if (d.hasTruth()) {
         write(out / "groundtruth.tum", slamprep::eval::formatTum(d.groundtruth, "groundtruth.tum"));

@@ -8,8 +8,8 @@
 #include <exception>
 
 #include "algo/calibration/joint_censi.hpp"
-#include "eval/bench/calibration_run.hpp"
 #include "eval/formats/dataset_io.hpp"
+#include "eval/pipeline/calibration_run.hpp"
 
 namespace {
 

@@ -6,7 +6,7 @@
 #include <random>
 
 #include "core/atomic_file.hpp"
-#include "eval/bench/stage_report.hpp"
+#include "core/stage_report.hpp"
 #include "eval/bench/summary.hpp"
 #include "tests/support/scratch_dir.hpp"
 

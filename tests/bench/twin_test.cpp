@@ -8,8 +8,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "eval/bench/match_trajectory.hpp"
 #include "eval/metrics/error_stats.hpp"
+#include "eval/pipeline/match_trajectory.hpp"
 #include "sim/drive/scenario.hpp"
 #include "sim/drive/simulator.hpp"
 #include "sim/physics/world.hpp"

@@ -95,5 +95,31 @@ TEST(GyroOdometry, HeadingFromTheGyroTranslationFromTheWheels) {
   EXPECT_NEAR((odom.samples().back().value.translation() - centre).norm(), radius, 1e-12);
 }
 
+TEST(Odometry, AnchoredOnTruthStartsOnTheTruePoseAndKeepsItsShape) {
+  // Odometry in its own frame from (5, 0, 0) at t = 1; the truth starts elsewhere, turned.
+  PoseSeries odom, truth;
+  for (int k = 0; k <= 10; ++k) {
+    odom.push_back(1.0 + 0.1 * k, SE2(5.0 + 0.1 * k, 0.0, 0.0));
+    truth.push_back(0.5 + 0.1 * k, SE2(1.0, 2.0 + 0.1 * k, std::numbers::pi / 2));
+  }
+  const auto T_world_odom = anchorOnTruth(odom, truth);
+  ASSERT_TRUE(T_world_odom.has_value());
+  const PoseSeries world = inWorld(odom, *T_world_odom);
+  ASSERT_EQ(world.size(), odom.size());
+  // At t0 = 1 the truth is at (1, 2.5, pi/2) (interpolated), and so is the anchored odometry.
+  EXPECT_NEAR(world[0].value.x, 1.0, 1e-12);
+  EXPECT_NEAR(world[0].value.y, 2.5, 1e-12);
+  EXPECT_NEAR(world[0].value.yaw, std::numbers::pi / 2, 1e-12);
+  // 0.5 m forward in the odometry is 0.5 m along the true heading (+y) in the world.
+  EXPECT_NEAR(world[5].value.x, 1.0, 1e-12);
+  EXPECT_NEAR(world[5].value.y, 3.0, 1e-12);
+  // No anchor where the truth does not cover the odometry's first stamp, or nothing to anchor.
+  PoseSeries late;
+  late.push_back(2.0, SE2());
+  late.push_back(3.0, SE2());
+  EXPECT_FALSE(anchorOnTruth(odom, late).has_value());
+  EXPECT_FALSE(anchorOnTruth(PoseSeries(), truth).has_value());
+}
+
 }  // namespace
 }  // namespace slamprep

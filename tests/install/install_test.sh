@@ -4,10 +4,12 @@
 # from an unrelated working directory and without SLAMPREP_DATA_DIR:
 #   1. `slamprep simulate` (default world and scenario) and one shard of `slamprep bench`
 #      (suite by name) find their data beside the moved binary;
-#   2. examples/consumer configures with find_package(slamprep) against the moved prefix, builds
-#      with the same generator and compiler, and calibrates the simulated dataset: r_L, r_R and b
-#      within 1 % of the truth (the odometry's nominal errors are 2, 1.5 and 4 %), the lidar
-#      mount within 2 mm and 0.25 deg (measured: 0.15 mm, 0.57 mm, 0.073 deg).
+#   2. examples/consumer configures with find_package(slamprep COMPONENTS pipeline) against the
+#      moved prefix while pkg-config finds neither Bullet nor OSMesa, builds with the same
+#      generator and compiler without naming either (build.ninja, the binary's NEEDED entries),
+#      and calibrates the simulated dataset: r_L, r_R and b within 1 % of the truth (the
+#      odometry's nominal errors are 2, 1.5 and 4 %), the lidar mount within 2 mm and 0.25 deg
+#      (measured: 0.15 mm, 0.57 mm, 0.073 deg).
 set -euo pipefail
 usage="usage: install_test.sh CMAKE BUILD_DIR SOURCE_DIR GENERATOR CXX_COMPILER [LAUNCHER]"
 cmake=${1:?$usage}
@@ -30,7 +32,7 @@ for f in bin/slamprep lib/cmake/slamprep/slamprepConfig.cmake \
   share/slamprep/worlds/scenarios/default.yaml share/slamprep/eval/suites/default.yaml; do
   [ -e "$dir/staged/$f" ] || fail "not installed: $f"
 done
-for lib in core algo sim formats metrics plot bench; do
+for lib in core algo sim formats metrics plot pipeline bench; do
   ls "$dir"/staged/lib*/libslamprep_$lib.a >/dev/null 2>&1 || fail "not installed: $lib library"
 done
 mv "$dir/staged" "$dir/prefix"
@@ -46,12 +48,28 @@ mkdir "$dir/work" && cd "$dir/work"
 [ -d "$dir/results/default/shards/2-of-3" ] || fail "bench wrote no shard"
 echo "ok: the moved binary finds worlds, scenarios and suites"
 
-# 2. The consumer project against the moved prefix.
+# 2. The consumer project against the moved prefix, on a machine as if it had neither Bullet nor
+# OSMesa: pkg-config sees every module but those.
+hidden=$dir/pkgconfig
+mkdir "$hidden"
+search=${PKG_CONFIG_PATH:+$PKG_CONFIG_PATH:}$(pkg-config --variable pc_path pkg-config)
+for d in ${search//:/ }; do
+  for f in "$d"/*.pc; do
+    case ${f##*/} in
+      bullet*.pc | osmesa.pc | '*.pc') ;;
+      *) [ -e "$hidden/${f##*/}" ] || ln -s "$f" "$hidden/" ;;
+    esac
+  done
+done
+for module in bullet-float64 osmesa; do
+  ! PKG_CONFIG_LIBDIR=$hidden PKG_CONFIG_PATH= pkg-config --exists $module ||
+    fail "could not hide $module from pkg-config"
+done
 consumer=(-S "$source_dir/examples/consumer" -B "$dir/consumer" -G "$generator"
   -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_CXX_COMPILER="$cxx")
 [ -n "$launcher" ] && consumer+=(-DCMAKE_CXX_COMPILER_LAUNCHER="$launcher")
-"$cmake" "${consumer[@]}" >"$dir/consumer.log" 2>&1 || {
-  tail -30 "$dir/consumer.log"; fail "configuring examples/consumer"; }
+PKG_CONFIG_LIBDIR=$hidden PKG_CONFIG_PATH= "$cmake" "${consumer[@]}" >"$dir/consumer.log" 2>&1 || {
+  tail -30 "$dir/consumer.log"; fail "configuring examples/consumer without Bullet and OSMesa"; }
 found=$(sed -n 's/^slamprep_DIR:PATH=//p' "$dir/consumer/CMakeCache.txt")
 [ "$found" = "$prefix/lib/cmake/slamprep" ] ||
   [ "$found" = "$prefix/lib64/cmake/slamprep" ] || fail "found slamprep in '$found', not $prefix"
@@ -60,6 +78,13 @@ found=$(sed -n 's/^slamprep_DIR:PATH=//p' "$dir/consumer/CMakeCache.txt")
 if grep -q "warning:" "$dir/consumer.log"; then
   grep -A3 "warning:" "$dir/consumer.log"; fail "examples/consumer builds with warnings"
 fi
+if grep -sil 'bullet\|osmesa' "$dir/consumer/build.ninja" "$dir/consumer/CMakeCache.txt"; then
+  fail "examples/consumer names Bullet or OSMesa in its build"
+fi
+if readelf -d "$dir/consumer/calibrate_dataset" | grep -i 'NEEDED.*\(bullet\|osmesa\)'; then
+  fail "calibrate_dataset links Bullet or OSMesa"
+fi
+echo "ok: examples/consumer builds with neither Bullet nor OSMesa"
 "$dir/consumer/calibrate_dataset" "$dir/ds" | tee "$dir/calibration.txt" ||
   fail "calibrate_dataset exited non-zero"
 

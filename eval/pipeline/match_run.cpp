@@ -1,4 +1,4 @@
-#include "eval/bench/match_run.hpp"
+#include "eval/pipeline/match_run.hpp"
 
 #include <cmath>
 #include <nlohmann/json.hpp>

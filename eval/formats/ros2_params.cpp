@@ -1,4 +1,4 @@
-#include "eval/bench/ros2_params.hpp"
+#include "eval/formats/ros2_params.hpp"
 
 #include <yaml-cpp/yaml.h>
 

@@ -1,4 +1,4 @@
-#include "eval/bench/progress.hpp"
+#include "core/progress.hpp"
 
 #include <unistd.h>
 
@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 
-namespace slamprep::eval {
+namespace slamprep {
 namespace {}  // namespace
 
 double steadySeconds() {
@@ -150,4 +150,4 @@ void Progress::finish(const std::string& message) {
   if (!message.empty()) write_(message + "\n");
 }
 
-}  // namespace slamprep::eval
+}  // namespace slamprep

@@ -8,10 +8,10 @@
 #include <string>
 #include <thread>
 
-#include "eval/bench/progress.hpp"
-#include "eval/bench/stage_report.hpp"
+#include "core/progress.hpp"
+#include "core/stage_report.hpp"
 
-namespace slamprep::eval {
+namespace slamprep::app {
 
 class CommandProgress {
  public:
@@ -34,4 +34,4 @@ class CommandProgress {
   std::jthread ticker_;
 };
 
-}  // namespace slamprep::eval
+}  // namespace slamprep::app

@@ -1,6 +1,6 @@
 // The interval policy `slamprep calibrate` (calibrateDataset) and the bench (calibrationMotion
 // with default options) share: the same log gives both the same intervals, one per scan match.
-#include "eval/bench/calibration_run.hpp"
+#include "eval/pipeline/calibration_run.hpp"
 
 #include <gtest/gtest.h>
 

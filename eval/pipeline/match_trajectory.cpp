@@ -1,4 +1,4 @@
-#include "eval/bench/match_trajectory.hpp"
+#include "eval/pipeline/match_trajectory.hpp"
 
 #include <chrono>
 #include <nlohmann/json.hpp>
@@ -8,8 +8,8 @@
 #include "algo/deskew/deskew.hpp"
 #include "core/error.hpp"
 #include "core/heading.hpp"
-#include "eval/bench/dataset_deskew.hpp"
-#include "eval/bench/match_run.hpp"
+#include "eval/pipeline/dataset_deskew.hpp"
+#include "eval/pipeline/match_run.hpp"
 
 namespace slamprep::eval {
 namespace {

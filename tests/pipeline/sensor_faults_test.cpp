@@ -9,10 +9,10 @@
 
 #include "algo/agreement/agreement_report.hpp"
 #include "algo/agreement/dataset_sources.hpp"
-#include "eval/bench/calibration_run.hpp"
-#include "eval/bench/match_trajectory.hpp"
 #include "eval/formats/export.hpp"
 #include "eval/formats/import.hpp"
+#include "eval/pipeline/calibration_run.hpp"
+#include "eval/pipeline/match_trajectory.hpp"
 #include "sim/drive/config.hpp"
 #include "sim/drive/simulator.hpp"
 

@@ -1,4 +1,4 @@
-#include "eval/bench/recordings_calibration.hpp"
+#include "eval/pipeline/recordings_calibration.hpp"
 
 #include <algorithm>
 #include <filesystem>

@@ -1,11 +1,11 @@
-#include "eval/bench/calibration_validation.hpp"
+#include "eval/pipeline/calibration_validation.hpp"
 
 #include <cmath>
 #include <numbers>
 #include <utility>
 
 #include "core/error.hpp"
-#include "eval/bench/match_trajectory.hpp"
+#include "eval/pipeline/match_trajectory.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -12,8 +12,8 @@
 #include "algo/calibration/calibration_report.hpp"
 #include "algo/calibration/combine_recordings.hpp"
 #include "algo/calibration/nominal_flags.hpp"
-#include "eval/bench/calibration_run.hpp"
-#include "eval/bench/calibration_validation.hpp"
+#include "eval/pipeline/calibration_run.hpp"
+#include "eval/pipeline/calibration_validation.hpp"
 
 namespace slamprep::eval {
 

@@ -1,7 +1,7 @@
 // calibrate --validate-fraction: the held-out error's definition on a drive computed by hand,
 // and on a short simulated drive the calibrated geometry beating the simulator's deliberately
 // wrong nominal one (r_L +2 %, r_R -1.5 %, b +4 %) on scans the calibration never saw.
-#include "eval/bench/calibration_validation.hpp"
+#include "eval/pipeline/calibration_validation.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <numbers>
 
 #include "core/error.hpp"
-#include "eval/bench/recordings_calibration.hpp"
 #include "eval/formats/dataset_io.hpp"
+#include "eval/pipeline/recordings_calibration.hpp"
 #include "sim/drive/simulator.hpp"
 #include "tests/support/scratch_dir.hpp"
 

@@ -1,13 +1,13 @@
 // Progress lines with a fake clock: what a CI log shows, throttled, and the bar on a terminal.
-#include "eval/bench/progress.hpp"
+#include "core/progress.hpp"
 
 #include <gtest/gtest.h>
 
 #include <vector>
 
-#include "eval/bench/stage_report.hpp"
+#include "core/stage_report.hpp"
 
-namespace slamprep::eval {
+namespace slamprep {
 namespace {
 
 struct Fake {
@@ -141,4 +141,4 @@ TEST(StageReport, ReporterSendsStartUpdateFinishToTheSink) {
 }
 
 }  // namespace
-}  // namespace slamprep::eval
+}  // namespace slamprep

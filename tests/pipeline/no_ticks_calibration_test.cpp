@@ -9,12 +9,12 @@
 #include "algo/calibration/calibration_json.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
-#include "eval/bench/calibration_run.hpp"
-#include "eval/bench/ros2_params.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "eval/formats/export.hpp"
 #include "eval/formats/import.hpp"
+#include "eval/formats/ros2_params.hpp"
 #include "eval/formats/tum.hpp"
+#include "eval/pipeline/calibration_run.hpp"
 #include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {

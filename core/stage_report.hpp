@@ -6,9 +6,9 @@
 #include <functional>
 #include <string>
 
-#include "eval/bench/progress.hpp"
+#include "core/progress.hpp"
 
-namespace slamprep::eval {
+namespace slamprep {
 
 using StageSink = std::function<void(const StageEvent&)>;
 
@@ -46,4 +46,4 @@ class StageReporter {
 std::string encodeStageEvent(const StageEvent& event);
 bool decodeStageEvent(const std::string& line, StageEvent& event);
 
-}  // namespace slamprep::eval
+}  // namespace slamprep

@@ -1,8 +1,8 @@
-#include "eval/bench/command_progress.hpp"
+#include "app/command_progress.hpp"
 
 #include <chrono>
 
-namespace slamprep::eval {
+namespace slamprep::app {
 namespace {
 
 ProgressOptions commandOptions(std::string label, bool enabled) {
@@ -50,4 +50,4 @@ void CommandProgress::clearLine() {
   progress_.clearLine();
 }
 
-}  // namespace slamprep::eval
+}  // namespace slamprep::app

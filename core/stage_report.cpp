@@ -1,8 +1,8 @@
-#include "eval/bench/stage_report.hpp"
+#include "core/stage_report.hpp"
 
 #include <sstream>
 
-namespace slamprep::eval {
+namespace slamprep {
 namespace {
 
 StageSink& currentSink() {
@@ -65,4 +65,4 @@ bool decodeStageEvent(const std::string& line, StageEvent& e) {
   return true;
 }
 
-}  // namespace slamprep::eval
+}  // namespace slamprep

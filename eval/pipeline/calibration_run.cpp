@@ -1,4 +1,4 @@
-#include "eval/bench/calibration_run.hpp"
+#include "eval/pipeline/calibration_run.hpp"
 
 #include <algorithm>
 
@@ -7,9 +7,9 @@
 #include "algo/calibration/dataset_motion.hpp"
 #include "core/error.hpp"
 #include "core/odometry.hpp"
-#include "eval/bench/dataset_deskew.hpp"
-#include "eval/bench/match_trajectory.hpp"
 #include "eval/formats/dataset_io.hpp"
+#include "eval/pipeline/dataset_deskew.hpp"
+#include "eval/pipeline/match_trajectory.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -1,4 +1,4 @@
-#include "eval/bench/dataset_deskew.hpp"
+#include "eval/pipeline/dataset_deskew.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -9,7 +9,7 @@
 #include <map>
 #include <string>
 
-namespace slamprep::eval {
+namespace slamprep {
 
 enum class ProgressStyle {
   kSilent,
@@ -86,4 +86,4 @@ double steadySeconds();
 /// "1:05" / "12:03:07" for a duration in seconds.
 std::string formatDuration(double seconds);
 
-}  // namespace slamprep::eval
+}  // namespace slamprep

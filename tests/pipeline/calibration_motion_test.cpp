@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "eval/bench/calibration_run.hpp"
+#include "eval/pipeline/calibration_run.hpp"
 #include "sim/drive/simulator.hpp"
 
 namespace slamprep::eval {

@@ -1,0 +1,27 @@
+#pragma once
+// A method's de-skew of a dataset as JSON: the figures against the truth and the refused scans,
+// written once for `slamprep deskew --json` (docs/deskew.md) and a bench trial's "deskew"
+// (docs/results.md).
+
+#include <nlohmann/json.hpp>
+#include <string_view>
+
+#include "eval/pipeline/dataset_deskew.hpp"
+
+namespace slamprep::eval {
+
+/// How a figure the dataset cannot give (no truth, scans not repacked) is written.
+enum class AbsentFigure {
+  kNull,     ///< as null, so that every method's object has the same keys (deskew --json)
+  kOmitted,  ///< left out, so that only measured numbers enter a suite's summary (bench)
+};
+
+/// The error figures, keys in this order: mean_m, rms_m, p95_m, max_m, rotation_mean_m,
+/// rotation_p95_m, translation_mean_m, translation_p95_m, split_residual_max_m, repacked_mean_m,
+/// repacked_p95_m, repacked_lost_beams, beams (with kNull, 0 beams without truth).
+nlohmann::ordered_json deskewFiguresJson(const DatasetDeskew& deskewed, AbsentFigure absent);
+
+/// Every refused scan in order, [{"scan", "method", "reason", "detail"}]; [] when none.
+nlohmann::ordered_json deskewRefusalsJson(const DatasetDeskew& deskewed, std::string_view method);
+
+}  // namespace slamprep::eval
