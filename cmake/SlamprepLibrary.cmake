@@ -16,6 +16,7 @@ function(slamprep_library name)
   add_library(${target} STATIC ${sources})
   add_library(slamprep::${name} ALIAS ${target})
   set_target_properties(${target} PROPERTIES EXPORT_NAME ${name} POSITION_INDEPENDENT_CODE ON)
+  slamprep_unity_build(${target})
   target_compile_features(${target} PUBLIC cxx_std_20)
   target_compile_options(${target} PRIVATE ${SLAMPREP_WARNINGS})
   target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${SLAMPREP_ROOT}>
@@ -27,4 +28,18 @@ function(slamprep_library name)
     get_filename_component(dir ${header} DIRECTORY)
     install(FILES ${SLAMPREP_ROOT}/${header} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/slamprep/${dir})
   endforeach()
+endfunction()
+
+# slamprep_unity_build(TARGET): batches TARGET's sources when SLAMPREP_UNITY_BUILD is on. A file
+# whose file-local names (anonymous namespace) clash with another file's of the same target is
+# kept out of the batches with set_source_files_properties(... SKIP_UNITY_BUILD_INCLUSION ON)
+# in its folder's CMakeLists.txt.
+function(slamprep_unity_build target)
+  set_target_properties(${target} PROPERTIES UNITY_BUILD ${SLAMPREP_UNITY_BUILD}
+                                             UNITY_BUILD_BATCH_SIZE ${SLAMPREP_UNITY_BATCH_SIZE})
+  # GCC takes an included .cpp for a header and warns when a class of it holds a file-local type
+  # (-Wsubobject-linkage); in a unity batch that is every file, so the warning means nothing.
+  if(SLAMPREP_UNITY_BUILD AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE -Wno-subobject-linkage)
+  endif()
 endfunction()
