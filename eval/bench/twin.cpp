@@ -44,16 +44,11 @@ DiffDriveParams trueGeometry(const Dataset& real, const std::string& name, const
     return *p.true_geometry;
   }
   if (p.calibrate) {
-    DatasetCalibrationParams c;
-    c.dataset = name;
-    c.methods = {algo::CalibrationMethod::kJoint};
-    c.motion.from_map = true;
-    c.motion.intervals.keyframe_translation_m = 0.2;
-    const DatasetCalibration cal = calibrateDataset(c, real);
+    const DatasetCalibration cal = calibrateForTwin(name, real);
     if (!cal.runs.empty() && cal.runs.front().result.ok) {
       const algo::CalibrationResult& r = cal.runs.front().result;
       const Eigen::VectorXd sigma = r.sigma();
-      how = {{"from", "calibrate --method joint --motion map --keyframe-cm 20"},
+      how = {{"from", kTwinCalibrationFlags},
              {"sigma_m", {sigma(0), sigma(1), sigma(2)}},
              {"intervals", r.intervals_used}};
       return r.geometry;

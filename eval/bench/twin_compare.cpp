@@ -5,6 +5,7 @@
 #include <map>
 
 #include "eval/bench/twin_lidar.hpp"
+#include "eval/bench/twin_odometry.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "eval/metrics/error_stats.hpp"
 #include "eval/metrics/trajectory_error.hpp"
@@ -56,12 +57,7 @@ std::optional<double> driftPerMetre(const Dataset& d, const MatchTrajectory& run
 /// The joint calibration's b and its 1-sigma (both nullopt when refused).
 std::pair<std::optional<double>, std::optional<double>> calibratedB(const std::string& dir,
                                                                     const Dataset& d) {
-  DatasetCalibrationParams c;
-  c.dataset = dir;
-  c.methods = {algo::CalibrationMethod::kJoint};
-  c.motion.from_map = true;
-  c.motion.intervals.keyframe_translation_m = 0.2;
-  const DatasetCalibration cal = calibrateDataset(c, d);
+  const DatasetCalibration cal = calibrateForTwin(dir, d);
   if (cal.runs.empty() || !cal.runs.front().result.ok) return {};
   const algo::CalibrationResult& r = cal.runs.front().result;
   return {r.geometry.wheel_base_m, r.sigma()(2)};

@@ -110,4 +110,13 @@ OdometryFit fitOdometry(const Dataset& d, const OdometryFitParams& p) {
   return f;
 }
 
+DatasetCalibration calibrateForTwin(const std::string& dir, const Dataset& dataset) {
+  DatasetCalibrationParams c;
+  c.dataset = dir;
+  c.methods = {algo::CalibrationMethod::kJoint};
+  c.motion.from_map = true;
+  c.motion.intervals.keyframe_translation_m = 0.2;
+  return calibrateDataset(c, dataset);
+}
+
 }  // namespace slamprep::eval

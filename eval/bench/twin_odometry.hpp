@@ -4,8 +4,10 @@
 // gyro's bias and noise where the robot stood still.
 
 #include <cstddef>
+#include <string>
 
 #include "core/dataset.hpp"
+#include "eval/pipeline/calibration_run.hpp"
 
 namespace slamprep::eval {
 
@@ -33,5 +35,13 @@ struct OdometryFitParams {
 };
 
 OdometryFit fitOdometry(const Dataset& dataset, const OdometryFitParams& params = {});
+
+/// How `twin` calibrates, the recording for its true geometry and both sides for --compare's
+/// b and sigma_b: one method, the same flags on both, so the two figures compare.
+inline constexpr const char* kTwinCalibrationFlags =
+    "calibrate --method joint --motion map --keyframe-cm 20";
+
+/// The joint calibration of kTwinCalibrationFlags on `dataset` (read from the folder `dir`).
+DatasetCalibration calibrateForTwin(const std::string& dir, const Dataset& dataset);
 
 }  // namespace slamprep::eval
