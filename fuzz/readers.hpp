@@ -3,8 +3,6 @@
 // ctest replay of the corpus and regressions (tests/formats/fuzz_regression_test.cpp). A reader
 // passes an input when it returns or throws InputError.
 
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -13,17 +11,9 @@
 #include "algo/calibration/calibration_json.hpp"
 #include "algo/calibration/interval.hpp"
 #include "eval/bench/suite.hpp"
-#include "eval/formats/csv_logs.hpp"
-#include "eval/formats/dataset_json.hpp"
-#include "eval/formats/import.hpp"
-#include "eval/formats/mcap.hpp"
-#include "eval/formats/relations.hpp"
-#include "eval/formats/rosbag2.hpp"
-#include "eval/formats/scan_jsonl.hpp"
-#include "eval/formats/tum.hpp"
+#include "fuzz/format_readers.hpp"
 #include "sim/drive/scenario.hpp"
 #include "sim/physics/world.hpp"
-#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::fuzz {
 
@@ -34,49 +24,10 @@ inline const std::vector<std::string>& readerNames() {
   return names;
 }
 
-/// A per-process scratch file for the readers that only take a path (world, suite); its folder
-/// is removed when the process exits.
-inline std::filesystem::path scratchFile(const char* name) {
-  static const test::ScratchDir dir("fuzz");
-  return dir / name;
-}
-
-inline void writeScratch(const std::filesystem::path& file, std::string_view text) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  out.write(text.data(), static_cast<std::streamsize>(text.size()));
-}
-
 /// Feeds `bytes` to reader `name`. Throws whatever the reader throws.
 inline void readAs(const std::string& name, std::string_view bytes) {
-  if (name == "mcap") {
-    eval::readMcap(bytes, "fuzz.mcap");
-    eval::ImportParams params;  // a geometry, so the import goes on past that check
-    params.nominal_geometry = DiffDriveParams{};
-    eval::importMcap(bytes, "fuzz.mcap", params);
-  } else if (name == "carmen") {
-    eval::importCarmen(bytes, "fuzz.clf");
-  } else if (name == "dataset") {
-    // The first byte picks the dataset file parser.
-    if (bytes.empty()) return;
-    const std::string_view text = bytes.substr(1);
-    switch (static_cast<unsigned char>(bytes[0]) % 5) {
-      case 0:
-        eval::parseTum(text, "fuzz.tum");
-        break;
-      case 1:
-        eval::parseEncoders(text, "encoders.csv");
-        break;
-      case 2:
-        eval::parseImu(text, "imu.csv");
-        break;
-      case 3:
-        eval::parseScans(text, "scans.jsonl");
-        break;
-      default:
-        eval::parseDatasetInfo(text, "dataset.json");
-        break;
-    }
-  } else if (name == "world") {
+  if (readFormatAs(name, bytes)) return;
+  if (name == "world") {
     static const auto file = scratchFile("world.yaml");
     writeScratch(file, bytes);
     sim::loadWorld(file);
@@ -91,20 +42,8 @@ inline void readAs(const std::string& name, std::string_view bytes) {
   } else if (name == "censi") {
     std::istringstream in{std::string(bytes)};
     algo::readIntervalRecords(in, "tuples.json");
-  } else if (name == "relations") {
-    eval::parseRelations(bytes, "fuzz.relations");
   } else if (name == "calibration") {
     algo::parseCalibrationJson(bytes, "calibration.json");
-  } else if (name == "bag") {
-    // A bag folder whose metadata.yaml is the input, beside one (empty) storage file, bag_0.mcap.
-    static const auto folder = [] {
-      const auto dir = scratchFile("bag");
-      std::filesystem::create_directories(dir);
-      writeScratch(dir / "bag_0.mcap", "");
-      return dir;
-    }();
-    writeScratch(folder / "metadata.yaml", bytes);
-    eval::readRosbag2(folder);
   }
 }
 

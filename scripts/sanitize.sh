@@ -4,10 +4,11 @@
 # in (UBSan does not recover; ASan aborts), so a clean run is a passing ctest.
 #   scripts/sanitize.sh            the whole test suite
 #   scripts/sanitize.sh --fast     every test except the Bullet ones (ctest label `sim`)
-#   scripts/sanitize.sh --ci       only the reader-facing tests (tests/formats_dataset, tests/formats
-#                                  without Bullet, incl. the fuzz corpus replay), built against the
-#                                  reader libraries with the sanitizers (fuzz/CMakeLists.txt) into build-asan-ci/:
-#                                  the subset .ci/run can afford
+#   scripts/sanitize.sh --ci       only the tests of slamprep::formats (tests/formats_dataset,
+#                                  tests/formats, the corpus replay of its readers: mcap, carmen,
+#                                  dataset, relations, bag), built against formats and metrics
+#                                  alone (fuzz/CMakeLists.txt) into build-asan-ci/: the subset
+#                                  .ci/run can afford in its 10 minutes
 #   scripts/sanitize.sh -- ARGS    extra ctest arguments, e.g. -- -L export
 set -euo pipefail
 cd "$(dirname "$0")/.."
