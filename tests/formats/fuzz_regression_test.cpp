@@ -21,11 +21,19 @@ namespace {
 namespace fs = std::filesystem;
 
 #ifdef SLAMPREP_FUZZ_FORMATS_ONLY
-const std::vector<std::string>& replayedReaders() { return formatReaderNames(); }
-void read(const std::string& reader, std::string_view bytes) { readFormatAs(reader, bytes); }
+const std::vector<std::string>& replayedReaders() {
+  return formatReaderNames();
+}
+void read(const std::string& reader, std::string_view bytes) {
+  readFormatAs(reader, bytes);
+}
 #else
-const std::vector<std::string>& replayedReaders() { return readerNames(); }
-void read(const std::string& reader, std::string_view bytes) { readAs(reader, bytes); }
+const std::vector<std::string>& replayedReaders() {
+  return readerNames();
+}
+void read(const std::string& reader, std::string_view bytes) {
+  readAs(reader, bytes);
+}
 #endif
 
 std::vector<fs::path> inputs(const std::string& folder, const std::string& reader) {
