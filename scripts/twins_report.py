@@ -170,8 +170,22 @@ def tables(recs, spread, seeds):
     return "\n".join(out) + "\n"
 
 
+def relative_to_work(results, work):
+    """The commands wrote WORK's absolute path into the JSON kept in RESULTS: name it WORK_DIR."""
+    escaped = json.dumps(os.path.abspath(work).rstrip("/") + "/")[1:-1]
+    for name in sorted(os.listdir(results)):
+        path = os.path.join(results, name)
+        if not name.endswith(".json"):
+            continue
+        text = open(path).read()
+        if escaped in text:
+            with open(path, "w") as f:
+                f.write(text.replace(escaped, "WORK_DIR/"))
+
+
 def main():
     work, results, seeds = sys.argv[1], sys.argv[2], sys.argv[3].split()
+    relative_to_work(results, work)
     recs = []
     for line in open(os.path.join(results, "recordings.tsv")):
         name, robot = line.split("\t")[:2]
@@ -190,7 +204,8 @@ def main():
     head = ("# twins: real recordings and their simulated twins\n\n"
             "Made by `scripts/twins.sh DATA_DIR WORK_DIR results/twins` (docs/twin.md, \"The "
             "twins suite\"); the recordings and their sources are in `recordings.tsv` and "
-            "/work/data/MANIFEST.md (not in the repository). Per recording and seed: "
+            "DATA_DIR/MANIFEST.md (not in the repository; paths in the JSON files are "
+            "relative to WORK_DIR). Per recording and seed: "
             "`NAME.seedS.json` (`twin --compare --json`); per recording: `NAME.png` "
             "(`--plot`, first seed), `NAME.twin.json` (the first seed's twin.json); all of it "
             "in `summary.json`. A statistic is ok when the twin's mean over the seeds is within "
