@@ -7,6 +7,8 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/order_statistics.hpp"
+
 namespace slamprep::algo {
 namespace {
 
@@ -81,13 +83,6 @@ std::vector<Row> rowsOf(const Source& a, const Source& b, double lag_s, const Ag
     if (auto row = rowAt(a, b, t0, t0 + p.window_s, lag_s, p)) rows.push_back(std::move(*row));
   }
   return rows;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
 }
 
 struct Fit {

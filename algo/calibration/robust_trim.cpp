@@ -5,15 +5,10 @@
 #include <cstdio>
 #include <numbers>
 
+#include "core/order_statistics.hpp"
+
 namespace slamprep::algo {
 namespace {
-
-double median(std::vector<double> v) {
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  if (v.size() % 2 == 1) return *mid;
-  return 0.5 * (*mid + *std::max_element(v.begin(), mid));
-}
 
 // Eq. (1): median and MAD-based sigma of one residual component.
 std::pair<double, double> robustScale(const std::vector<Eigen::Vector3d>& r, int c, double floor) {

@@ -4,17 +4,12 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/order_statistics.hpp"
+
 namespace slamprep::algo {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-double medianPeriod(std::span<const double> t) {
-  std::vector<double> d(t.size() - 1);
-  for (std::size_t i = 0; i + 1 < t.size(); ++i) d[i] = t[i + 1] - t[i];
-  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-  return d[d.size() / 2];
-}
 
 // Sample i's grid index: its stamp less the grid's phase there, in periods. The phase is the
 // circular mean of t mod T over the samples around i, which jitter below T/2 cannot bias by a
@@ -107,7 +102,7 @@ StampGrid leftAlone(std::span<const double> t, std::string reason) {
 
 StampGrid fitStampGrid(std::span<const double> t, const StampGridParams& params) {
   if (t.size() < 8) return leftAlone(t, "fewer than 8 stamps");
-  double period = medianPeriod(t);
+  double period = medianSpacing({t.begin(), t.end()});
   if (!(period > 0.0)) return leftAlone(t, "stamps do not increase");
   // The median step misses the period by ~0.1 % under jitter, which over hundreds of samples
   // shifts the phase at the ends of the stream; a second pass with the fitted period does not.

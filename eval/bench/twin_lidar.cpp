@@ -5,24 +5,12 @@
 #include <map>
 #include <numbers>
 
+#include "core/order_statistics.hpp"
+
 namespace slamprep::eval {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  const auto k = std::min(v.size() - 1, static_cast<std::size_t>(q * double(v.size())));
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
-  return v[k];
-}
 
 /// The simulator's beams start at -fov/2 (counter-clockwise) or +fov/2 (clockwise).
 void simulatorLayout(LidarLayout& l) {
@@ -80,7 +68,7 @@ LidarLayout fitLidarLayout(const Dataset& d) {
   l.time_increment_s = median(times);
   l.range_min_m = median(mins);
   l.range_max_m = median(maxs);
-  l.usable_max_m = std::min(l.range_max_m, percentile(readings, 0.999));
+  l.usable_max_m = std::min(l.range_max_m, quantile(readings, 0.999));
   l.no_return_fraction = beams > 0 ? double(invalid) / double(beams) : 0.0;
   simulatorLayout(l);
   return l;

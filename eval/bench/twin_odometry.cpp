@@ -4,25 +4,18 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/order_statistics.hpp"
 #include "core/se2.hpp"
 
 namespace slamprep::eval {
 namespace {
 
-template <typename Samples>
-double medianStep(const Samples& s) {
-  std::vector<double> steps;
-  for (std::size_t k = 1; k < s.size(); ++k) steps.push_back(s[k].stamp_s - s[k - 1].stamp_s);
-  if (steps.empty()) return 0.0;
-  const auto mid = steps.begin() + std::ptrdiff_t(steps.size() / 2);
-  std::nth_element(steps.begin(), mid, steps.end());
-  return *mid;
-}
-
 /// Mean and standard deviation of the gyro where the wheels did not turn between two
 /// encoder samples.
 void fitGyro(const Dataset& d, const OdometryFitParams& p, OdometryFit& f) {
-  const double imu_step = medianStep(d.imu);
+  std::vector<double> imu_stamps;
+  for (const ImuSample& s : d.imu) imu_stamps.push_back(s.stamp_s);
+  const double imu_step = medianSpacing(imu_stamps);
   f.imu_rate_hz = imu_step > 0.0 ? 1.0 / imu_step : 0.0;
   std::vector<double> still;
   std::size_t e = 0;
@@ -67,13 +60,6 @@ std::vector<double> wheelRates(const Dataset& d) {
   return rates;
 }
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  const auto at = v.begin() + std::ptrdiff_t(q * double(v.size() - 1));
-  std::nth_element(v.begin(), at, v.end());
-  return *at;
-}
-
 }  // namespace
 
 OdometryFit fitOdometry(const Dataset& d, const OdometryFitParams& p) {
@@ -90,10 +76,7 @@ OdometryFit fitOdometry(const Dataset& d, const OdometryFitParams& p) {
     f.duration_s = stamps.back() - stamps.front();
     std::vector<double> steps;
     for (std::size_t k = 1; k < stamps.size(); ++k) steps.push_back(stamps[k] - stamps[k - 1]);
-    std::vector<double> sorted = steps;
-    std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(sorted.size() / 2),
-                     sorted.end());
-    const double step = sorted[sorted.size() / 2];
+    const double step = median(steps);
     f.encoder_rate_hz = step > 0.0 ? 1.0 / step : 0.0;
     double missing = 0.0;
     for (double dt : steps) {
@@ -104,7 +87,7 @@ OdometryFit fitOdometry(const Dataset& d, const OdometryFitParams& p) {
     }
     if (f.gaps > 0) f.gap_mean_s = missing / double(f.gaps);
   }
-  f.wheel_rate_p99_radps = percentile(wheelRates(d), 0.99);
+  f.wheel_rate_p99_radps = quantile(wheelRates(d), 0.99);
   f.has_imu = !d.imu.empty();
   if (f.has_imu) fitGyro(d, p, f);
   return f;

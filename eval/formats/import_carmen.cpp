@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/order_statistics.hpp"
 #include "eval/formats/carmen.hpp"
 #include "eval/formats/import.hpp"
 #include "eval/formats/import_common.hpp"
@@ -27,16 +28,6 @@ std::string number(double v) {
 std::string poseText(const SE2& T) {
   return "x " + number(T.x) + " m, y " + number(T.y) + " m, yaw " + number(T.yaw / kDegree) +
          " deg";
-}
-
-/// The median spacing of the scan stamps: CARMEN has no scan_time.
-double medianSpacing(const std::vector<ScanRecord>& scans) {
-  std::vector<double> dt;
-  for (std::size_t i = 1; i < scans.size(); ++i)
-    dt.push_back(scans[i].scan.stamp_s - scans[i - 1].scan.stamp_s);
-  if (dt.empty()) return 0.0;
-  std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
-  return dt[dt.size() / 2];
 }
 
 /// A PARAM value of a CARMEN log as a finite number; nullopt when the log has no such PARAM.
@@ -285,7 +276,9 @@ ImportResult importCarmen(std::string_view text, const std::string& file, const 
     where.push_back(file + ":" + std::to_string(l.line));
   }
   noteRange(rangeReport(ranges, p.max_range_m, cut), result);
-  const double scan_time = medianSpacing(d.scans);
+  std::vector<double> stamps;
+  for (const ScanRecord& r : d.scans) stamps.push_back(r.scan.stamp_s);
+  const double scan_time = medianSpacing(stamps);
   for (auto& r : d.scans) r.scan.scan_time_s = scan_time;
   attachOdometry(d, p.trim, where, result.notes);
   if (d.scans.size() < lasers.size())

@@ -5,15 +5,10 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/order_statistics.hpp"
+
 namespace slamprep::eval {
 namespace {
-
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  const auto k = static_cast<std::size_t>(std::floor(q * double(v.size() - 1)));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[k];
-}
 
 /// The typical period (median dt) and, per component, the speed percentile over moving steps.
 std::array<double, 2> thresholds(const std::vector<double>& t,

@@ -5,15 +5,10 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/order_statistics.hpp"
+
 namespace slamprep::eval {
 namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const std::size_t k = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[k];
-}
 
 std::string number(double v) {
   std::ostringstream s;

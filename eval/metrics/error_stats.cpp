@@ -4,15 +4,9 @@
 #include <cassert>
 #include <cmath>
 
-namespace slamprep::eval {
+#include "core/order_statistics.hpp"
 
-double quantileOfSorted(const std::vector<double>& sorted, double p) {
-  assert(!sorted.empty() && p >= 0.0 && p <= 1.0);
-  const double h = (sorted.size() - 1) * p;
-  const std::size_t lo = static_cast<std::size_t>(std::floor(h));
-  if (lo + 1 >= sorted.size()) return sorted.back();
-  return sorted[lo] + (h - lo) * (sorted[lo + 1] - sorted[lo]);
-}
+namespace slamprep::eval {
 
 ErrorStats summarize(std::vector<double> values) {
   ErrorStats s;

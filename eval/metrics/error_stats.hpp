@@ -25,8 +25,4 @@ struct ErrorStats {
 
 ErrorStats summarize(std::vector<double> values);
 
-/// The p-quantile (p in [0, 1]) of values sorted ascending, type-7 interpolation:
-/// h = (n - 1) p, q = x[floor h] + (h - floor h) (x[floor h + 1] - x[floor h]).
-double quantileOfSorted(const std::vector<double>& sorted, double p);
-
 }  // namespace slamprep::eval

@@ -5,20 +5,11 @@
 
 #include "algo/deskew/repack.hpp"
 #include "core/odometry.hpp"
+#include "core/order_statistics.hpp"
 #include "eval/metrics/deskew_error.hpp"
 
 namespace slamprep::eval {
 namespace {
-
-/// The median time between consecutive stamps (0 for fewer than two).
-template <typename Stamps>
-double medianPeriod(const Stamps& stamps) {
-  std::vector<double> dt;
-  for (std::size_t k = 1; k < stamps.size(); ++k) dt.push_back(stamps[k] - stamps[k - 1]);
-  if (dt.empty()) return 0.0;
-  std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
-  return dt[dt.size() / 2];
-}
 
 /// A gap is a dropout when it is long for the stream that has it: the configured limit, or 2.5
 /// of the slower stream's median periods where that is longer (a real robot's 5 Hz odometry
@@ -27,7 +18,7 @@ double sampleGapLimit(const algo::DeskewInputs& in, double limit_s) {
   std::vector<double> odometry, imu;
   for (const auto& s : in.odometry.samples()) odometry.push_back(s.stamp_s);
   for (const ImuSample& s : in.imu) imu.push_back(s.stamp_s);
-  return std::max({limit_s, 2.5 * medianPeriod(odometry), 2.5 * medianPeriod(imu)});
+  return std::max({limit_s, 2.5 * medianSpacing(odometry), 2.5 * medianSpacing(imu)});
 }
 
 // The true undistorted points moved from the first-beam frame to the result's reference frame,

@@ -1,20 +1,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/order_statistics.hpp"
 #include "eval/plot/plot.hpp"
 
 namespace slamprep::eval::plot {
-namespace {
-
-// Type 7 quantile of an ascending, non-empty sample.
-double quantile(const std::vector<double>& sorted, double p) {
-  const double h = p * static_cast<double>(sorted.size() - 1);
-  const auto below = static_cast<std::size_t>(std::floor(h));
-  const std::size_t above = std::min(below + 1, sorted.size() - 1);
-  return sorted[below] + (h - static_cast<double>(below)) * (sorted[above] - sorted[below]);
-}
-
-}  // namespace
+namespace {}  // namespace
 
 BoxStats boxStats(std::vector<double> sample) {
   std::erase_if(sample, [](double v) { return !std::isfinite(v); });
@@ -22,9 +13,9 @@ BoxStats boxStats(std::vector<double> sample) {
   if (sample.empty()) return b;
   std::sort(sample.begin(), sample.end());
   b.n = sample.size();
-  b.q1 = quantile(sample, 0.25);
-  b.median = quantile(sample, 0.5);
-  b.q3 = quantile(sample, 0.75);
+  b.q1 = quantileOfSorted(sample, 0.25);
+  b.median = quantileOfSorted(sample, 0.5);
+  b.q3 = quantileOfSorted(sample, 0.75);
   const double reach = 1.5 * (b.q3 - b.q1);
   b.whisker_low = b.q1;  // the box itself when no value lies below it within reach
   b.whisker_high = b.q3;

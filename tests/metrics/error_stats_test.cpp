@@ -54,12 +54,5 @@ TEST(ErrorStats, RefusesEmptyAndNonFinite) {
   EXPECT_FALSE(summarize({std::numeric_limits<double>::infinity()}).ok);
 }
 
-TEST(ErrorStats, QuantileEndpoints) {
-  const std::vector<double> x = {0.0, 10.0, 20.0};
-  EXPECT_EQ(quantileOfSorted(x, 0.0), 0.0);
-  EXPECT_EQ(quantileOfSorted(x, 1.0), 20.0);
-  EXPECT_DOUBLE_EQ(quantileOfSorted(x, 0.25), 5.0);
-}
-
 }  // namespace
 }  // namespace slamprep::eval
