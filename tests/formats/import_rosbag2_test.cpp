@@ -80,7 +80,7 @@ std::map<std::string, std::string> snapshot(const fs::path& dir) {
   return files;
 }
 
-std::string errorOf(const fs::path& bag, const ImportParams& p = source().params) {
+std::string importErrorOf(const fs::path& bag, const ImportParams& p = source().params) {
   try {
     importRosbag2(bag, p);
   } catch (const InputError& e) {
@@ -241,7 +241,7 @@ TEST(ImportRosbag2, BrokenBagsAreRefusedNamingTheFile) {
   const std::string db = readTextFile(dir / "b_0.db3");
   auto refused = [&](const std::string& yaml, const std::string& expected) {
     writeFileAtomic(dir / "metadata.yaml", yaml);
-    const std::string what = errorOf(dir);
+    const std::string what = importErrorOf(dir);
     EXPECT_NE(what.find(expected), std::string::npos) << what;
   };
   refused(test::metadataYaml(5, "sqlite3", {"b_0.db3", "b_1.db3"}), "b_1.db3 not found");
@@ -256,16 +256,16 @@ TEST(ImportRosbag2, BrokenBagsAreRefusedNamingTheFile) {
   // A .db3 that is not a database, one cut short, one whose pages are overwritten.
   writeFileAtomic(dir / "metadata.yaml", test::metadataYaml(5, "sqlite3", {"b_0.db3"}));
   writeFileAtomic(dir / "b_0.db3", "this is not an SQLite database, only text: 0123456789");
-  EXPECT_NE(errorOf(dir).find("b_0.db3: "), std::string::npos) << errorOf(dir);
+  EXPECT_NE(importErrorOf(dir).find("b_0.db3: "), std::string::npos) << importErrorOf(dir);
   writeFileAtomic(dir / "b_0.db3", db.substr(0, db.size() / 2));
-  EXPECT_NE(errorOf(dir).find("b_0.db3"), std::string::npos) << errorOf(dir);
+  EXPECT_NE(importErrorOf(dir).find("b_0.db3"), std::string::npos) << importErrorOf(dir);
   std::string scrambled = db;
   for (std::size_t i = 4096; i < scrambled.size(); i += 7) scrambled[i] = char(i * 31);
   writeFileAtomic(dir / "b_0.db3", scrambled);
-  EXPECT_NE(errorOf(dir).find("b_0.db3"), std::string::npos) << errorOf(dir);
+  EXPECT_NE(importErrorOf(dir).find("b_0.db3"), std::string::npos) << importErrorOf(dir);
   // A folder without metadata.yaml says how to rebuild it.
   fs::remove(dir / "metadata.yaml");
-  EXPECT_NE(errorOf(dir).find("ros2 bag reindex"), std::string::npos);
+  EXPECT_NE(importErrorOf(dir).find("ros2 bag reindex"), std::string::npos);
 }
 
 }  // namespace

@@ -22,7 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // 4 ODOM lines along x with a turn, 2 scans inside them; laser 0.15 m ahead of the base.
-const char* kLog =
+const char* kImportLog =
     "ODOM 1 2 0 0 0 0 100.0 host 100.0\n"
     "ROBOTLASER1 0 -1.5707963267948966 3.141592653589793 0.7853981633974483 20 0.01 0 5 "
     "1.0 2.0 20 3.0 4.5 0 1.2 2 0 1.05 2 0 0.5 0 0 0 0 100.1 host 100.1\n"
@@ -37,7 +37,7 @@ TEST(ImportCarmen, HandWrittenLogBecomesADatasetThatReadsBack) {
   p.time_increment_s = 1e-3;
   p.nominal_geometry = DiffDriveParams{0.1, 0.1, 0.5};
   p.lidar_mount_from_poses = true;  // the log has no mount PARAM
-  const ImportResult r = importCarmen(kLog, "run.clf", p);
+  const ImportResult r = importCarmen(kImportLog, "run.clf", p);
   const Dataset& d = r.dataset;
   ASSERT_EQ(d.scans.size(), 2u);
   EXPECT_EQ(d.odom_nominal.size(), 4u);
@@ -67,7 +67,7 @@ TEST(ImportCarmen, HandWrittenLogBecomesADatasetThatReadsBack) {
 }
 
 TEST(ImportCarmen, TheMountIsNeverTakenFromThePosesUnlessAsked) {
-  const ImportResult r = importCarmen(kLog, "run.clf");
+  const ImportResult r = importCarmen(kImportLog, "run.clf");
   EXPECT_EQ(r.dataset.info.T_base_lidar.x, 0.0);
   EXPECT_EQ(r.dataset.info.T_base_lidar.yaw, 0.0);
   EXPECT_NE(r.summary.lidar_mount.find("identity used"), std::string::npos)
@@ -84,11 +84,11 @@ TEST(ImportCarmen, TheMountIsNeverTakenFromThePosesUnlessAsked) {
   ImportParams p;
   p.T_base_lidar = SE2(0.1, 0.02, 0.5);
   p.lidar_mount_from_poses = true;
-  EXPECT_EQ(importCarmen(kLog, "run.clf", p).dataset.info.T_base_lidar.y, 0.02);
+  EXPECT_EQ(importCarmen(kImportLog, "run.clf", p).dataset.info.T_base_lidar.y, 0.02);
 }
 
 TEST(ImportCarmen, ScansOutsideTheOdometryAreRefusedOrTrimmed) {
-  const std::string log = std::string(kLog) +
+  const std::string log = std::string(kImportLog) +
                           "ROBOTLASER1 0 -1.5707963267948966 3.141592653589793 "
                           "0.7853981633974483 20 0.01 0 5 1 1 1 1 1 0 0 0 0 0 0 0 0 0 0 0 0 "
                           "101 host 101\n";

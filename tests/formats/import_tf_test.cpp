@@ -13,8 +13,6 @@ namespace {
 using test::pose3;
 using test::transform;
 
-constexpr double kPi = std::numbers::pi;
-
 ImportParams withGeometry() {
   ImportParams p;
   p.nominal_geometry = DiffDriveParams{0.1, 0.1, 0.5};
@@ -88,7 +86,7 @@ void expectPointsInBase(const ImportResult& r, const Eigen::Isometry3d& T_base_l
 
 TEST(ImportTf, UpsideDownLidarBecomesAMirroredScanWithTheSamePointsInTheBase) {
   const Eigen::Isometry3d T_up = pose3(0.2, -0.1, 0.3, 0.0, 0.0, 0.4);
-  const Eigen::Isometry3d T_down = pose3(0.2, -0.1, 0.3, kPi, 0.0, 0.4);  // roll = pi
+  const Eigen::Isometry3d T_down = pose3(0.2, -0.1, 0.3, std::numbers::pi, 0.0, 0.4);  // roll = pi
   test::RobotBagParams b;
   b.tf_static = {transform("base_link", "laser", T_down)};
   const ImportResult r = importMcap(test::robotBag(b), "tf.mcap", withGeometry());
@@ -120,17 +118,21 @@ TEST(ImportTf, UpsideDownLidarBecomesAMirroredScanWithTheSamePointsInTheBase) {
 
 TEST(ImportTf, ATiltOverTwoDegreesIsRefusedNamingTheFrames) {
   test::RobotBagParams b;
-  b.tf_static = {transform("base_link", "laser", pose3(0.2, 0.0, 0.3, 0.0, 5 * kPi / 180, 0.0))};
+  b.tf_static = {
+      transform("base_link", "laser", pose3(0.2, 0.0, 0.3, 0.0, 5 * std::numbers::pi / 180, 0.0))};
   const std::string e = errorOf(test::robotBag(b), withGeometry());
   EXPECT_NE(e.find("tf base_link -> laser"), std::string::npos) << e;
   EXPECT_NE(e.find("tilted 5.00 deg"), std::string::npos) << e;
   EXPECT_NE(e.find("pitch 5.00 deg"), std::string::npos) << e;
   // 1.5 degrees of roll is inside the bound: read as level.
-  b.tf_static = {transform("base_link", "laser", pose3(0.2, 0.0, 0.3, 1.5 * kPi / 180, 0, 0))};
+  b.tf_static = {
+      transform("base_link", "laser", pose3(0.2, 0.0, 0.3, 1.5 * std::numbers::pi / 180, 0, 0))};
   EXPECT_NEAR(importMcap(test::robotBag(b), "tf.mcap", withGeometry()).dataset.info.T_base_lidar.x,
               0.2, 1e-12);
   // Upside down and tilted 5 degrees is refused as well.
-  b.tf_static = {transform("base_link", "laser", pose3(0.2, 0.0, 0.3, kPi - 5 * kPi / 180, 0, 0))};
+  b.tf_static = {
+      transform("base_link", "laser",
+                pose3(0.2, 0.0, 0.3, std::numbers::pi - 5 * std::numbers::pi / 180, 0, 0))};
   EXPECT_NE(errorOf(test::robotBag(b), withGeometry()).find("tilted 5.00 deg"), std::string::npos);
 }
 

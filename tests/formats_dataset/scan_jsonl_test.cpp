@@ -94,7 +94,7 @@ TEST(ScanJsonl, ReadsPlainCsmLinesWithoutSlamprepFields) {
   EXPECT_FALSE(r.T_odom_base_nominal.has_value());
 }
 
-void expectError(const std::string& text, const std::string& expected) {
+void expectScanError(const std::string& text, const std::string& expected) {
   try {
     parseScanLine(text, {"s.jsonl", 7});
     ADD_FAILURE() << "accepted: " << text;
@@ -106,36 +106,38 @@ void expectError(const std::string& text, const std::string& expected) {
 
 TEST(ScanJsonl, RejectsMalformedLinesNamingTheField) {
   const std::string head = R"({"stamp_s":1,"angle_min":0,"angle_increment":0.1,)";
-  expectError("{\"nrays\":2,", "s.jsonl:7: bad JSON");
-  expectError("[1,2]", "s.jsonl:7: expected a JSON object");
-  expectError(head + R"("readings":[1,2]})", "s.jsonl:7: nrays: missing required key");
-  expectError(head + R"("nrays":-1,"readings":[]})", "s.jsonl:7: nrays: expected a non-negative");
-  expectError(head + R"("nrays":2.5,"readings":[]})", "s.jsonl:7: nrays: expected a non-negative");
-  expectError(head + R"("nrays":3,"readings":[1,2]})",
-              "s.jsonl:7: readings: has 2 entries but nrays is 3");
-  expectError(head + R"("nrays":2})", "s.jsonl:7: readings: missing required key");
-  expectError(head + R"("nrays":2,"readings":[1,"x"]})",
-              "s.jsonl:7: readings[1]: expected a number");
-  expectError(head + R"("nrays":2,"readings":[1,2],"valid":[1]})",
-              "s.jsonl:7: valid: has 1 entries but nrays is 2");
-  expectError(head + R"("nrays":2,"readings":[1,null],"valid":[1,1]})",
-              "s.jsonl:7: valid[1]: is 1 but readings[i] is null");
-  expectError(head + R"("nrays":2,"readings":[1,2],"valid":[1,2]})",
-              "s.jsonl:7: valid[1]: expected 0 or 1");
-  expectError(head + R"("nrays":2,"readings":[1,2],"theta":[0]})", "s.jsonl:7: theta: has 1");
-  expectError(head + R"("nrays":2,"readings":[1,2],"p_ref_true":[[1,2]]})",
-              "s.jsonl:7: p_ref_true: has 1 entries but nrays is 2");
-  expectError(head + R"("nrays":1,"readings":[1],"p_ref_true":[[1]]})",
-              "s.jsonl:7: p_ref_true[0]: expected [x, y] or null");
-  expectError(head + R"("nrays":1,"readings":[1],"odometry":[1,2]})",
-              "s.jsonl:7: odometry: expected [x, y, th]");
-  expectError(head + R"("nrays":1,"readings":[1e999]})", "s.jsonl:7: bad JSON");
-  expectError(R"({"angle_min":0,"angle_increment":0.1,"nrays":1,"readings":[1]})",
-              "s.jsonl:7: stamp_s: missing required key");
-  expectError(R"({"stamp_s":1,"angle_increment":0.1,"nrays":1,"readings":[1]})",
-              "s.jsonl:7: min_theta: missing required key");
-  expectError(R"({"stamp_s":"1","angle_min":0,"angle_increment":0.1,"nrays":1,"readings":[1]})",
-              "s.jsonl:7: stamp_s: expected a number, got string");
+  expectScanError("{\"nrays\":2,", "s.jsonl:7: bad JSON");
+  expectScanError("[1,2]", "s.jsonl:7: expected a JSON object");
+  expectScanError(head + R"("readings":[1,2]})", "s.jsonl:7: nrays: missing required key");
+  expectScanError(head + R"("nrays":-1,"readings":[]})",
+                  "s.jsonl:7: nrays: expected a non-negative");
+  expectScanError(head + R"("nrays":2.5,"readings":[]})",
+                  "s.jsonl:7: nrays: expected a non-negative");
+  expectScanError(head + R"("nrays":3,"readings":[1,2]})",
+                  "s.jsonl:7: readings: has 2 entries but nrays is 3");
+  expectScanError(head + R"("nrays":2})", "s.jsonl:7: readings: missing required key");
+  expectScanError(head + R"("nrays":2,"readings":[1,"x"]})",
+                  "s.jsonl:7: readings[1]: expected a number");
+  expectScanError(head + R"("nrays":2,"readings":[1,2],"valid":[1]})",
+                  "s.jsonl:7: valid: has 1 entries but nrays is 2");
+  expectScanError(head + R"("nrays":2,"readings":[1,null],"valid":[1,1]})",
+                  "s.jsonl:7: valid[1]: is 1 but readings[i] is null");
+  expectScanError(head + R"("nrays":2,"readings":[1,2],"valid":[1,2]})",
+                  "s.jsonl:7: valid[1]: expected 0 or 1");
+  expectScanError(head + R"("nrays":2,"readings":[1,2],"theta":[0]})", "s.jsonl:7: theta: has 1");
+  expectScanError(head + R"("nrays":2,"readings":[1,2],"p_ref_true":[[1,2]]})",
+                  "s.jsonl:7: p_ref_true: has 1 entries but nrays is 2");
+  expectScanError(head + R"("nrays":1,"readings":[1],"p_ref_true":[[1]]})",
+                  "s.jsonl:7: p_ref_true[0]: expected [x, y] or null");
+  expectScanError(head + R"("nrays":1,"readings":[1],"odometry":[1,2]})",
+                  "s.jsonl:7: odometry: expected [x, y, th]");
+  expectScanError(head + R"("nrays":1,"readings":[1e999]})", "s.jsonl:7: bad JSON");
+  expectScanError(R"({"angle_min":0,"angle_increment":0.1,"nrays":1,"readings":[1]})",
+                  "s.jsonl:7: stamp_s: missing required key");
+  expectScanError(R"({"stamp_s":1,"angle_increment":0.1,"nrays":1,"readings":[1]})",
+                  "s.jsonl:7: min_theta: missing required key");
+  expectScanError(R"({"stamp_s":"1","angle_min":0,"angle_increment":0.1,"nrays":1,"readings":[1]})",
+                  "s.jsonl:7: stamp_s: expected a number, got string");
 }
 
 TEST(ScanJsonl, ParseScansChecksOrderAcrossLines) {
@@ -169,32 +171,34 @@ TEST(ScanJsonl, WriterRefusesUnreadableValues) {
 // writeDataset never publishes what readDataset refuses). Each check was once missing.
 TEST(ScanJsonl, RefusesEmptyScansNegativeRangeMinAndBackwardTime) {
   const std::string head = R"({"stamp_s":1,"angle_min":0,"angle_increment":0.1,)";
-  expectError(head + R"("nrays":0,"readings":[]})", "s.jsonl:7: nrays: an empty scan");
-  expectError(head + R"("nrays":1,"readings":[1],"range_min":-1})",
-              "s.jsonl:7: range_min: must not be negative");
-  expectError(head + R"("nrays":1,"readings":[1],"range_min":2,"range_max":2})",
-              "s.jsonl:7: range_max: must be greater than range_min");
-  expectError(head + R"("nrays":1,"readings":[1],"time_increment":-0.001})",
-              "s.jsonl:7: time_increment: must not be negative");
-  expectError(head + R"("nrays":1,"readings":[1],"scan_time":-0.1})",
-              "s.jsonl:7: scan_time: must not be negative");
+  expectScanError(head + R"("nrays":0,"readings":[]})", "s.jsonl:7: nrays: an empty scan");
+  expectScanError(head + R"("nrays":1,"readings":[1],"range_min":-1})",
+                  "s.jsonl:7: range_min: must not be negative");
+  expectScanError(head + R"("nrays":1,"readings":[1],"range_min":2,"range_max":2})",
+                  "s.jsonl:7: range_max: must be greater than range_min");
+  expectScanError(head + R"("nrays":1,"readings":[1],"time_increment":-0.001})",
+                  "s.jsonl:7: time_increment: must not be negative");
+  expectScanError(head + R"("nrays":1,"readings":[1],"scan_time":-0.1})",
+                  "s.jsonl:7: scan_time: must not be negative");
   // A single beam with range_min 0 and no range_max (unlimited) is fine.
   EXPECT_NO_THROW(parseScanLine(head + R"("nrays":1,"readings":[1],"range_min":0})", {"s", 1}));
 
   // An increment of 0 or 1e300, a negative reading and a repeated key were read as
   // given (beams on one ray, turning no real way, a distance below zero, one key ignored).
-  expectError(R"({"stamp_s":1,"angle_min":0,"angle_increment":0,"nrays":3,"readings":[1,1,1]})",
-              "s.jsonl:7: angle_increment: puts all 3 beams at one angle");
-  expectError(R"({"stamp_s":1,"angle_min":0,"angle_increment":1e300,"nrays":2,"readings":[1,1]})",
-              "s.jsonl:7: angle_increment: the beams span more than one revolution");
-  expectError(R"({"stamp_s":1,"min_theta":0,"max_theta":100,"nrays":3,"readings":[1,1,1]})",
-              "s.jsonl:7: max_theta: the beams span more than one revolution");
-  expectError(R"({"stamp_s":1,"angle_min":1e300,"angle_increment":0.1,"nrays":1,"readings":[1]})",
-              "s.jsonl:7: angle_min: more than one revolution (2 pi) from 0");
-  expectError(head + R"("nrays":2,"readings":[1,-2]})",
-              "s.jsonl:7: readings[1]: must not be negative (null: no return)");
-  expectError(head + R"("nrays":1,"readings":[1],"nrays":2})",
-              "s.jsonl:7: key \"nrays\" appears twice in one object");
+  expectScanError(R"({"stamp_s":1,"angle_min":0,"angle_increment":0,"nrays":3,"readings":[1,1,1]})",
+                  "s.jsonl:7: angle_increment: puts all 3 beams at one angle");
+  expectScanError(
+      R"({"stamp_s":1,"angle_min":0,"angle_increment":1e300,"nrays":2,"readings":[1,1]})",
+      "s.jsonl:7: angle_increment: the beams span more than one revolution");
+  expectScanError(R"({"stamp_s":1,"min_theta":0,"max_theta":100,"nrays":3,"readings":[1,1,1]})",
+                  "s.jsonl:7: max_theta: the beams span more than one revolution");
+  expectScanError(
+      R"({"stamp_s":1,"angle_min":1e300,"angle_increment":0.1,"nrays":1,"readings":[1]})",
+      "s.jsonl:7: angle_min: more than one revolution (2 pi) from 0");
+  expectScanError(head + R"("nrays":2,"readings":[1,-2]})",
+                  "s.jsonl:7: readings[1]: must not be negative (null: no return)");
+  expectScanError(head + R"("nrays":1,"readings":[1],"nrays":2})",
+                  "s.jsonl:7: key \"nrays\" appears twice in one object");
   // A full turn to the last beam is fine: 361 beams of 1 degree from -pi to pi.
   std::string full = R"({"stamp_s":1,"angle_min":-3.141592653589793,"angle_increment":)" +
                      std::to_string(3.141592653589793 / 180) + R"(,"nrays":361,"readings":[1)";

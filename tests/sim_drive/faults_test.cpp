@@ -15,23 +15,14 @@
 #include "sim/drive/fault_injection.hpp"
 #include "sim/drive/simulator.hpp"
 #include "sim/physics/planar_caster.hpp"
+#include "tests/sim_drive/square_room.hpp"
 #include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::sim {
 namespace {
 
-World squareRoom(double half_m) {
-  World world;
-  world.name = "square";
-  const double c = half_m + 0.1;
-  const Eigen::Vector2d corners[4] = {{-c, -c}, {c, -c}, {c, c}, {-c, c}};
-  for (int k = 0; k < 4; ++k) world.walls.push_back({corners[k], corners[(k + 1) % 4], 0.2, 2.0});
-  return world;
-}
-
-Scenario scenario(const std::string& segments_yaml) {
-  return parseScenario("segments:\n" + segments_yaml, "test_scenario.yaml");
-}
+using test::scenario;
+using test::squareRoom;
 
 // A long, cheap run: kinematic, standing still, 90 beams, 100 Hz steps.
 SimConfig longRun(const std::string& faults, double duration_s = 400.0) {

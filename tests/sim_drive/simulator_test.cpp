@@ -13,31 +13,20 @@
 #include "core/odometry.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "sim/drive/controller.hpp"
+#include "tests/sim_drive/square_room.hpp"
 #include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::sim {
 namespace {
 
-/// An empty square room, inner faces at +-half_m, robot starting at the origin facing +x.
-World squareRoom(double half_m) {
-  World world;
-  world.name = "square";
-  world.source = "square_room(test)";
-  const double c = half_m + 0.1;  // centre line of 0.2 m thick walls
-  const Eigen::Vector2d corners[4] = {{-c, -c}, {c, -c}, {c, c}, {-c, c}};
-  for (int k = 0; k < 4; ++k) world.walls.push_back({corners[k], corners[(k + 1) % 4], 0.2, 2.0});
-  return world;
-}
+using test::scenario;
+using test::squareRoom;
 
 SimConfig config(SimMode mode, int beams = 90) {
   SimConfig c;
   c.mode = mode;
   c.lidar.beams_per_revolution = beams;  // keeps the tests fast where beams don't matter
   return c;
-}
-
-Scenario scenario(const std::string& segments_yaml) {
-  return parseScenario("segments:\n" + segments_yaml, "test_scenario.yaml");
 }
 
 double tickAngle(const SimConfig& c) {
