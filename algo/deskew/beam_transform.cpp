@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/se2_cos_sin.hpp"
+
 namespace slamprep::algo {
 namespace {
 
@@ -30,20 +32,6 @@ std::size_t segmentIndex(const Trajectory& knots, double t) {
   const std::size_t i = it == knots.begin() ? 0 : static_cast<std::size_t>(it - knots.begin()) - 1;
   return std::min(i, knots.size() - 2);
 }
-
-/// The kernel's working form of a pose: the cosine and sine of its yaw kept, so that advancing
-/// by one beam is a product of 2x2 rotations with no trigonometry and no angle wrapping.
-struct CosSinPose {
-  double c = 1.0, s = 0.0, x = 0.0, y = 0.0;
-
-  static CosSinPose from(const SE2& T) { return {std::cos(T.yaw), std::sin(T.yaw), T.x, T.y}; }
-  CosSinPose operator*(const CosSinPose& b) const {
-    return {c * b.c - s * b.s, s * b.c + c * b.s, c * b.x - s * b.y + x, s * b.x + c * b.y + y};
-  }
-  Eigen::Vector2d apply(double px, double py) const {
-    return {c * px - s * py + x, s * px + c * py + y};
-  }
-};
 
 }  // namespace
 
@@ -76,8 +64,8 @@ void transformBeams(const LaserScan& scan, double first_beam_s, const Trajectory
   const std::size_t knots = trajectory.size();
   std::size_t k = knots >= 2 ? segmentIndex(trajectory, first_beam_s) : 0;
   Segment seg;
-  CosSinPose T_x_start, T_x_beam = CosSinPose::from(trajectory.front().T);
-  CosSinPose T_beam_next;  // the increment over one beam
+  SE2CosSin T_x_start, T_x_beam = SE2CosSin::from(trajectory.front().T);
+  SE2CosSin T_beam_next;  // the increment over one beam
   double ca = 0.0, sa = 0.0;
   bool anchor = true;
   for (std::size_t i = 0; i < n; ++i) {
@@ -87,19 +75,20 @@ void transformBeams(const LaserScan& scan, double first_beam_s, const Trajectory
       while (k + 2 < knots && trajectory[k + 1].stamp_s < t) ++k;
       if (k != k_old || i == 0) {
         seg = segment(trajectory, k);
-        T_x_start = CosSinPose::from(seg.T_x_start);
-        T_beam_next = CosSinPose::from(SE2::exp(seg.twist_per_s * dt));
+        T_x_start = SE2CosSin::from(seg.T_x_start);
+        T_beam_next = SE2CosSin::from(SE2::exp(seg.twist_per_s * dt));
         anchor = true;
       }
     }
     if (anchor || i % kReanchorEvery == 0) {  // exact pose and direction: no drift
       if (knots >= 2)
-        T_x_beam = T_x_start * CosSinPose::from(SE2::exp(seg.twist_per_s * (t - seg.t_start)));
+        T_x_beam = T_x_start * SE2CosSin::from(SE2::exp(seg.twist_per_s * (t - seg.t_start)));
       ca = std::cos(scan.beamAngle(i));
       sa = std::sin(scan.beamAngle(i));
       anchor = false;
     }
-    if (scan.valid(i)) out[i] = T_x_beam.apply(scan.ranges_m[i] * ca, scan.ranges_m[i] * sa);
+    if (scan.valid(i))
+      out[i] = T_x_beam * Eigen::Vector2d(scan.ranges_m[i] * ca, scan.ranges_m[i] * sa);
     if (knots >= 2) T_x_beam = T_x_beam * T_beam_next;
     const double c_next = ca * cd - sa * sd;
     sa = sa * cd + ca * sd;

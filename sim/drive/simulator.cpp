@@ -10,6 +10,7 @@
 #include "core/gyro_odometry.hpp"
 #include "core/odometry.hpp"
 #include "core/paths.hpp"
+#include "core/se2_cos_sin.hpp"
 #include "sim/drive/controller.hpp"
 #include "sim/drive/explore.hpp"
 #include "sim/drive/fault_injection.hpp"
@@ -162,53 +163,12 @@ class KinematicMotion : public Motion {
 
 // ---- Sensors, streamed step by step ---------------------------------------------------------
 
-/// A planar rigid transform with its rotation's cosine and sine cached, so composing and
-/// applying it costs no trigonometry. The hot path of the lidar stream.
-struct Frame2 {
-  double c = 1.0, s = 0.0, x = 0.0, y = 0.0, yaw = 0.0;
-
-  static Frame2 from(const SE2& T) { return {std::cos(T.yaw), std::sin(T.yaw), T.x, T.y, T.yaw}; }
-  /// SE2::exp of the twist (rho_x, rho_y, theta): translation V(theta) rho (core/se2.cpp).
-  static Frame2 exp(const Eigen::Vector3d& xi) {
-    const double th = xi.z();
-    // Beams interpolate within one physics step (|t| ~ 1e-3 rad): Taylor series to t^9 are exact
-    // to rounding below 0.05 rad (next term < 1e-19) and spare the sincos of every beam.
-    if (std::abs(th) < 0.05) {
-      const double t2 = th * th;
-      const double a = 1 - t2 / 6 * (1 - t2 / 20 * (1 - t2 / 42 * (1 - t2 / 72)));  // sin(t) / t
-      const double b = th / 2 * (1 - t2 / 12 * (1 - t2 / 30 * (1 - t2 / 56)));  // (1 - cos t) / t
-      return {1 - th * b, th * a, a * xi.x() - b * xi.y(), b * xi.x() + a * xi.y(), th};
-    }
-    const double c = std::cos(th), s = std::sin(th);
-    return {c, s, s / th * xi.x() - (1 - c) / th * xi.y(), (1 - c) / th * xi.x() + s / th * xi.y(),
-            th};
-  }
-  Frame2 operator*(const Frame2& o) const {
-    return {c * o.c - s * o.s, s * o.c + c * o.s, x + c * o.x - s * o.y, y + s * o.x + c * o.y,
-            yaw + o.yaw};
-  }
-  Eigen::Vector2d operator*(const Eigen::Vector2d& p) const {
-    return {x + c * p.x() - s * p.y(), y + s * p.x() + c * p.y()};
-  }
-  Eigen::Vector2d rotate(const Eigen::Vector2d& v) const {
-    return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
-  }
-  Frame2 inverse() const { return {c, -s, -(c * x + s * y), s * x - c * y, -yaw}; }
-  SE2 se2() const {
-    SE2 T;
-    T.x = x;
-    T.y = y;
-    T.yaw = normalizeAngle(yaw);
-    return T;
-  }
-};
-
 /// The rotating lidar: every beam whose time falls into a step is cast from the pose
 /// interpolated to that time; the ground-truth undistorted point uses the measured range.
 class LidarStream {
  public:
   LidarStream(const LidarConfig& config, std::uint64_t seed, std::vector<ScanRecord>& out)
-      : lidar_(config, seed), T_base_lidar_(Frame2::from(config.T_base_lidar)), out_(out) {
+      : lidar_(config, seed), T_base_lidar_(SE2CosSin::from(config.T_base_lidar)), out_(out) {
     const LaserScan header = lidar_.header(0.0);
     for (std::size_t i = 0; i < header.size(); ++i) {
       const double angle = header.beamAngle(i);  // as LaserScan::point computes it
@@ -224,10 +184,10 @@ class LidarStream {
     const double t_limit = std::min(step.b.t_s, t_end_s);
     double t = nextTime();
     if (t > t_limit) return;
-    const Frame2 T_a = Frame2::from(step.a.T_world_base);
+    const SE2CosSin T_a = SE2CosSin::from(step.a.T_world_base);
     const Eigen::Vector3d xi = between(step.a.T_world_base, step.b.T_world_base).log();
     for (; t <= t_limit; t = nextTime()) {
-      const Frame2 T_world_base = T_a * Frame2::exp(step.fraction(t) * xi);
+      const SE2CosSin T_world_base = T_a * SE2CosSin::exp(step.fraction(t) * xi);
       castBeam(scene, T_world_base);
     }
   }
@@ -242,8 +202,8 @@ class LidarStream {
     beam_ = 0;
   }
 
-  void castBeam(const Scene& scene, const Frame2& T_world_base) {
-    const Frame2 T_world_lidar = T_world_base * T_base_lidar_;
+  void castBeam(const Scene& scene, const SE2CosSin& T_world_base) {
+    const SE2CosSin T_world_lidar = T_world_base * T_base_lidar_;
     if (beam_ == 0) {
       T_lidar0_world_ = T_world_lidar.inverse();
       current_.T_world_base_true = T_world_base.se2();
@@ -267,13 +227,13 @@ class LidarStream {
   }
 
   Lidar lidar_;
-  Frame2 T_base_lidar_;
+  SE2CosSin T_base_lidar_;
   std::vector<Eigen::Vector2d> beam_dir_;  ///< (cos, sin) of every beam angle
   std::vector<ScanRecord>& out_;
   std::int64_t scan_index_ = 0;
   ScanRecord current_;
   std::size_t beam_ = 0;
-  Frame2 T_lidar0_world_;
+  SE2CosSin T_lidar0_world_;
 };
 
 class EncoderStream {
