@@ -11,6 +11,8 @@
 #include <optional>
 #include <string>
 
+#include "core/rigid_alignment.hpp"
+
 namespace slamprep::algo {
 namespace {
 
@@ -143,26 +145,15 @@ std::vector<Pair> findPairs(const IcpReference& ref, const Points2& cur, std::si
   return pairs;
 }
 
-/// Closed-form point-to-point step from pairs (docs/design.md#point-to-point-icp): centroids,
-/// H = sum p' q'^T = U S V^T, R = V U^T with the reflection fixed, t = u_q - R u_p.
+/// Closed-form point-to-point step from pairs (docs/design.md#point-to-point-icp):
+/// core/rigid_alignment.hpp's solution of argmin_T sum |q - T p|^2.
 std::optional<SE2> solvePointToPoint(const std::vector<Pair>& pairs) {
-  if (pairs.size() < 2) return std::nullopt;
-  Eigen::Vector2d u_p = Eigen::Vector2d::Zero(), u_q = Eigen::Vector2d::Zero();
-  for (const Pair& pr : pairs) u_p += pr.p_cur, u_q += pr.q_ref;
-  u_p /= static_cast<double>(pairs.size());
-  u_q /= static_cast<double>(pairs.size());
-  Eigen::Matrix2d H = Eigen::Matrix2d::Zero();
-  for (const Pair& pr : pairs) H += (pr.p_cur - u_p) * (pr.q_ref - u_q).transpose();
-  if (H.norm() <= 0.0) return std::nullopt;
-  Eigen::JacobiSVD<Eigen::Matrix2d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix2d V = svd.matrixV();
-  Eigen::Matrix2d R = V * svd.matrixU().transpose();
-  if (R.determinant() < 0.0) {  // a reflection: flip the axis of the smallest singular value
-    V.col(1) *= -1.0;
-    R = V * svd.matrixU().transpose();
+  std::vector<Eigen::Vector2d> p_cur(pairs.size()), q_ref(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    p_cur[i] = pairs[i].p_cur;
+    q_ref[i] = pairs[i].q_ref;
   }
-  const Eigen::Vector2d t = u_q - R * u_p;
-  return SE2(t.x(), t.y(), std::atan2(R(1, 0), R(0, 0)));
+  return solveRigid2D(p_cur, q_ref).T_q_p;
 }
 
 /// Largest real root of the monic-free quartic c4 x^4 + ... + c0 (companion-matrix eigenvalues).

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/rigid_alignment.hpp"
+
 namespace slamprep::eval {
 namespace {
 
@@ -94,38 +96,16 @@ AssociatedPoses associateByTime(const PoseSeries& estimate, const PoseSeries& re
 
 AlignmentResult alignRigid2D(const Points2& p_est, const Points2& q_ref) {
   AlignmentResult r;
-  if (p_est.size() != q_ref.size() || p_est.size() < 2) {
-    r.reason = "need at least two corresponding positions";
+  const RigidAlignment2D solved = solveRigid2D(p_est, q_ref);
+  if (!solved.T_q_p) {
+    r.reason = "estimate positions: " + solved.reason;
     return r;
   }
-  const double n = static_cast<double>(p_est.size());
-  Eigen::Vector2d p_mean = Eigen::Vector2d::Zero(), q_mean = Eigen::Vector2d::Zero();
-  for (std::size_t i = 0; i < p_est.size(); ++i) {
-    p_mean += p_est[i] / n;
-    q_mean += q_ref[i] / n;
-  }
-  // Cross-covariance terms of the centred sets; in 2D the SVD of H = sum p' q'^T reduces to
-  // theta = atan2(sum p' x q', sum p' . q') (Umeyama 1991 Eq. (40)-(42) with c = 1, no reflection
-  // possible for a rotation angle).
-  double dot = 0.0, cross = 0.0, spread = 0.0;
-  for (std::size_t i = 0; i < p_est.size(); ++i) {
-    const Eigen::Vector2d p = p_est[i] - p_mean, q = q_ref[i] - q_mean;
-    dot += p.dot(q);
-    cross += p.x() * q.y() - p.y() * q.x();
-    spread += p.squaredNorm();
-  }
-  if (!(spread > 1e-18 * n) || !std::isfinite(dot + cross)) {
-    r.reason = "estimate positions coincide (or are not finite): rotation unobservable";
-    return r;
-  }
-  const double theta = std::atan2(cross, dot);
-  const SE2 R(0.0, 0.0, theta);
-  const Eigen::Vector2d t = q_mean - R.rotation() * p_mean;  // t = mu_q - R mu_p
-  r.T_ref_est = SE2(t.x(), t.y(), theta);
+  r.T_ref_est = *solved.T_q_p;
   double sq = 0.0;
   for (std::size_t i = 0; i < p_est.size(); ++i)
     sq += (q_ref[i] - r.T_ref_est * p_est[i]).squaredNorm();
-  r.rmse_m = std::sqrt(sq / n);
+  r.rmse_m = std::sqrt(sq / static_cast<double>(p_est.size()));
   r.ok = true;
   return r;
 }
