@@ -260,12 +260,12 @@ algo::CalibrationParams calibrationParams(const Suite& suite) {
   return params;
 }
 
-TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
-  TrialOutput out;
-  const bool calibrates = !suite.calibration_methods.empty();
-  StageReporter stages(spec.id, 1 + (calibrates ? 2 : 0) + (suite.deskew_methods.empty() ? 0 : 1));
+/// Simulates the trial's drive; its stamps regularised as calibrate and deskew do, its fault
+/// events and its raw odometry (nominal and true geometry) reported.
+Dataset simulateStage(const Suite& suite, const TrialSpec& spec, StageReporter& stages,
+                      TrialOutput& out) {
   stages.begin("simulate");
-  auto start = Clock::now();
+  const auto start = Clock::now();
   const sim::SimResult sim =
       sim::simulate(simConfig(suite, spec), [&](double t_s, double duration_s) {
         if (duration_s > 0.0) stages.update(t_s / duration_s);
@@ -283,43 +283,55 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
                                        std::pair{"true", *dataset.info.true_geometry}})
     out.result["odometry"][name] =
         odometryJson(integrateEncoders(dataset.encoders, geometry, ticks), dataset.groundtruth);
+  return dataset;
+}
 
+/// The suite's calibration methods on the trial's motion (ground truth or scan matching).
+std::vector<algo::CalibrationRun> calibrateStage(const Suite& suite, const Dataset& dataset,
+                                                 StageReporter& stages, TrialOutput& out) {
   std::vector<algo::CalibrationRun> calibrated;
-  if (calibrates) {
-    stages.begin("match");
+  stages.begin("match");
+  auto start = Clock::now();
+  CalibrationMotionOptions motion_options;
+  motion_options.from_icp = suite.motion == "icp";
+  motion_options.loop_closure = suite.calibration_loop_closure;
+  CalibrationMotion motion = calibrationMotion(dataset, motion_options);
+  out.timing["motion_s"] = secondsSince(start);
+  if (motion_options.from_icp) out.result["matching"] = matchingJson(dataset, motion);
+  algo::CalibrationInput input;
+  input.intervals = std::move(motion.intervals.intervals);
+  input.heading_loops = std::move(motion.heading_loops);
+  input.nominal = dataset.info.nominal_geometry;
+  stages.begin("calibrate");
+  const algo::CalibrationParams params = calibrationParams(suite);
+  for (const algo::CalibrationMethod method : suite.calibration_methods) {
+    stages.update(static_cast<double>(calibrated.size()) / suite.calibration_methods.size());
+    const std::string name(algo::calibrationMethodName(method));
     start = Clock::now();
-    CalibrationMotionOptions motion_options;
-    motion_options.from_icp = suite.motion == "icp";
-    motion_options.loop_closure = suite.calibration_loop_closure;
-    CalibrationMotion motion = calibrationMotion(dataset, motion_options);
-    out.timing["motion_s"] = secondsSince(start);
-    if (motion_options.from_icp) out.result["matching"] = matchingJson(dataset, motion);
-    algo::CalibrationInput input;
-    input.intervals = std::move(motion.intervals.intervals);
-    input.heading_loops = std::move(motion.heading_loops);
-    input.nominal = dataset.info.nominal_geometry;
-    stages.begin("calibrate");
-    const algo::CalibrationParams params = calibrationParams(suite);
-    for (const algo::CalibrationMethod method : suite.calibration_methods) {
-      stages.update(static_cast<double>(calibrated.size()) / suite.calibration_methods.size());
-      const std::string name(algo::calibrationMethodName(method));
-      start = Clock::now();
-      calibrated.push_back(algo::calibrate(method, input, params));
-      out.timing["calibration"][name] = secondsSince(start);
-      out.result["calibration"][name] = calibrationJson(dataset, calibrated.back().result);
-      if (const auto& k = calibrated.back().sideslip_s)  // with calibration_sideslip
-        out.result["calibration"][name]["sideslip_ms"] = {
-            {"value", *k * 1e3}, {"sigma", calibrated.back().sideslip_sigma_s * 1e3}};
-    }
+    calibrated.push_back(algo::calibrate(method, input, params));
+    out.timing["calibration"][name] = secondsSince(start);
+    out.result["calibration"][name] = calibrationJson(dataset, calibrated.back().result);
+    if (const auto& k = calibrated.back().sideslip_s)  // with calibration_sideslip
+      out.result["calibration"][name]["sideslip_ms"] = {
+          {"value", *k * 1e3}, {"sigma", calibrated.back().sideslip_sigma_s * 1e3}};
   }
-  const algo::CalibrationRun* best = algo::bestRun(calibrated);
+  return calibrated;
+}
 
+/// What the scan plot shows: the last de-skew method run that is neither none nor the oracle.
+struct ShownDeskew {
+  std::optional<DatasetDeskew> deskew;
+  std::string method;
+};
+
+/// The suite's de-skew methods with the best calibrated geometry (else the suite's).
+ShownDeskew deskewStage(const Suite& suite, const Dataset& dataset,
+                        const algo::CalibrationRun* best, StageReporter& stages, TrialOutput& out) {
   DatasetDeskewOptions deskew_options = nominalDeskewOptions(dataset);
   deskew_options.geometry = deskewGeometry(suite, dataset, best);
   deskew_options.odometry = integrateEncoders(  // once, not once per method
       dataset.encoders, deskew_options.geometry, dataset.info.ticks_per_revolution);
-  std::optional<DatasetDeskew> shown;  // the scan plot shows the last method run
-  std::string shown_method;
+  ShownDeskew shown;
   if (!suite.deskew_methods.empty()) stages.begin("deskew");
   for (std::size_t i = 0; i < suite.deskew_methods.size(); ++i) {
     const std::string& name = suite.deskew_methods[i];
@@ -331,11 +343,22 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
     DatasetDeskew d = deskewDataset(dataset, *method, deskew_options);
     out.timing["deskew"][name] = d.seconds;
     out.result["deskew"][name] = deskewJson(d, name);
-    if (*method != algo::DeskewMethod::kNone && *method != algo::DeskewMethod::kOracle) {
-      shown = std::move(d);
-      shown_method = name;
-    }
+    if (*method != algo::DeskewMethod::kNone && *method != algo::DeskewMethod::kOracle)
+      shown = {std::move(d), name};
   }
+  return shown;
+}
+
+TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
+  TrialOutput out;
+  const bool calibrates = !suite.calibration_methods.empty();
+  StageReporter stages(spec.id, 1 + (calibrates ? 2 : 0) + (suite.deskew_methods.empty() ? 0 : 1));
+  const Dataset dataset = simulateStage(suite, spec, stages, out);
+  const std::vector<algo::CalibrationRun> calibrated =
+      calibrates ? calibrateStage(suite, dataset, stages, out)
+                 : std::vector<algo::CalibrationRun>{};
+  const algo::CalibrationRun* best = algo::bestRun(calibrated);
+  const ShownDeskew shown = deskewStage(suite, dataset, best, stages, out);
   stages.end();
   // Artifacts for the plots: only the first trial, to keep results small. Arrays never enter
   // the summary (only numeric leaves of objects do).
@@ -343,7 +366,7 @@ TrialOutput runTrial(const Suite& suite, const TrialSpec& spec) {
     out.result["artifacts"] =
         artifactsJson(dataset, best ? &best->result.geometry : nullptr,
                       best ? std::string(algo::calibrationMethodName(best->method)) : std::string(),
-                      shown ? &*shown : nullptr, shown_method);
+                      shown.deskew ? &*shown.deskew : nullptr, shown.method);
   return out;
 }
 
