@@ -348,8 +348,10 @@ void applyOverride(SimConfig& config, const std::string& assignment) {
   config = updated;
 }
 
-void validate(const SimConfig& c, const std::string& where) {
-  const Checker check{where};
+namespace {
+
+/// The run: its duration, physics rate and solver, path margin and start jitter.
+void validateRun(const Checker& check, const SimConfig& c) {
   check.nonNegative("duration_s", c.duration_s);
   if (c.duration_s > 86400.0)
     check.fail("duration_s", "must be at most 86400 (one day)", c.duration_s);
@@ -364,7 +366,9 @@ void validate(const SimConfig& c, const std::string& where) {
   check.nonNegative("start_jitter.position_m", c.start_jitter.position_m);
   if (c.start_jitter.yaw_deg < 0.0 || c.start_jitter.yaw_deg > 180.0)
     check.fail("start_jitter.yaw_deg", "must be in [0, 180]", c.start_jitter.yaw_deg);
-  const RobotConfig& r = c.robot;
+}
+
+void validateRobot(const Checker& check, const RobotConfig& r) {
   check.positive("robot.radius_left_m", r.geometry.radius_left_m);
   check.positive("robot.radius_right_m", r.geometry.radius_right_m);
   check.positive("robot.wheel_base_m", r.geometry.wheel_base_m);
@@ -384,7 +388,10 @@ void validate(const SimConfig& c, const std::string& where) {
     check.fail("robot.chassis_width_m", "must be less than wheel_base_m - wheel_width_m",
                r.chassis_width_m);
   }
-  // Nominal geometry must stay positive: error > -1.
+}
+
+/// The geometry odometry believes must stay positive: each relative error > -1.
+void validateNominal(const Checker& check, const SimConfig& c) {
   if (!(c.nominal.radius_left_error > -1.0)) {
     check.fail("nominal.radius_left_error", "must be greater than -1", c.nominal.radius_left_error);
   }
@@ -395,7 +402,9 @@ void validate(const SimConfig& c, const std::string& where) {
   if (!(c.nominal.wheel_base_error > -1.0)) {
     check.fail("nominal.wheel_base_error", "must be greater than -1", c.nominal.wheel_base_error);
   }
-  const LidarConfig& l = c.lidar;
+}
+
+void validateLidar(const Checker& check, const LidarConfig& l) {
   check.positive("lidar.rate_hz", l.rate_hz);
   // Spinning 2D lidars turn at 5-50 Hz; 1e9 Hz used to end in bad_alloc (docs/simulate.md).
   if (l.rate_hz > kMaxLidarRate_hz)
@@ -418,6 +427,10 @@ void validate(const SimConfig& c, const std::string& where) {
   }
   check.nonNegative("lidar.range_noise_m", l.range_noise_m);
   check.positive("lidar.height_m", l.height_m);
+}
+
+/// Encoders and IMU.
+void validateSensors(const Checker& check, const SimConfig& c) {
   if (c.encoders.ticks_per_revolution < 1) {
     check.fail("encoders.ticks_per_revolution", "must be at least 1",
                c.encoders.ticks_per_revolution);
@@ -433,6 +446,17 @@ void validate(const SimConfig& c, const std::string& where) {
                c.imu.rate_hz);
   check.nonNegative("imu.gyro_noise_radps", c.imu.gyro_noise_radps);
   check.nonNegative("imu.accel_noise_mps2", c.imu.accel_noise_mps2);
+}
+
+}  // namespace
+
+void validate(const SimConfig& c, const std::string& where) {
+  const Checker check{where};
+  validateRun(check, c);
+  validateRobot(check, c.robot);
+  validateNominal(check, c);
+  validateLidar(check, c.lidar);
+  validateSensors(check, c);
   validateFaults(check, c.faults);
 }
 
