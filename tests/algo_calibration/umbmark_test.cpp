@@ -15,7 +15,7 @@ namespace {
 
 using testing::rel;
 
-constexpr double kExact = 1e-9;
+constexpr double kExactRel = 1e-9;
 
 TEST(Umbmark, RecoversAlphaBetaExactlyFromFirstOrderErrors) {
   UmbmarkParams params;
@@ -26,13 +26,13 @@ TEST(Umbmark, RecoversAlphaBetaExactlyFromFirstOrderErrors) {
   const Eigen::Vector2d ccw(2 * L * (beta - alpha), -2 * L * (beta - alpha));
   const UmbmarkResult r = umbmarkFromErrors(cw, ccw, params);
   ASSERT_TRUE(r.ok) << r.reason;
-  EXPECT_LT(rel(r.alpha_rad, alpha), kExact);
-  EXPECT_LT(rel(r.beta_rad, beta), kExact);
+  EXPECT_LT(rel(r.alpha_rad, alpha), kExactRel);
+  EXPECT_LT(rel(r.beta_rad, beta), kExactRel);
   const double sb = std::sin(beta / 2), b = params.nominal.wheel_base_m;
-  EXPECT_LT(rel(r.E_d, (L + b * sb) / (L - b * sb)), kExact);
-  EXPECT_LT(rel(r.E_b, (std::numbers::pi / 2) / (std::numbers::pi / 2 - alpha)), kExact);
-  EXPECT_LT(rel(r.geometry.wheel_base_m, r.E_b * b), kExact);
-  EXPECT_LT(rel(r.geometry.radius_right_m / r.geometry.radius_left_m, r.E_d), kExact);
+  EXPECT_LT(rel(r.E_d, (L + b * sb) / (L - b * sb)), kExactRel);
+  EXPECT_LT(rel(r.E_b, (std::numbers::pi / 2) / (std::numbers::pi / 2 - alpha)), kExactRel);
+  EXPECT_LT(rel(r.geometry.wheel_base_m, r.E_b * b), kExactRel);
+  EXPECT_LT(rel(r.geometry.radius_right_m / r.geometry.radius_left_m, r.E_d), kExactRel);
 }
 
 // Drives an odometry-controlled L x L square with the exact arc model: the controller turns and
@@ -121,9 +121,9 @@ TEST(Umbmark, IterationKeepsThePapersStepAndRemovesItsSecondOrderError) {
   const UmbmarkResult r = calibrateUmbmark(runs, params);
   ASSERT_TRUE(r.ok) << r.reason;
   // The first correction is the paper's, to rounding.
-  EXPECT_LT(rel(r.first_order.radius_left_m, paper.geometry.radius_left_m), kExact);
-  EXPECT_LT(rel(r.first_order.radius_right_m, paper.geometry.radius_right_m), kExact);
-  EXPECT_LT(rel(r.first_order.wheel_base_m, paper.geometry.wheel_base_m), kExact);
+  EXPECT_LT(rel(r.first_order.radius_left_m, paper.geometry.radius_left_m), kExactRel);
+  EXPECT_LT(rel(r.first_order.radius_right_m, paper.geometry.radius_right_m), kExactRel);
+  EXPECT_LT(rel(r.first_order.wheel_base_m, paper.geometry.wheel_base_m), kExactRel);
   EXPECT_EQ(r.alpha_rad, paper.alpha_rad);
   EXPECT_EQ(r.beta_rad, paper.beta_rad);
   // Iterated it is exact: the mean of r / r_nominal is one here, the scale UMBmark keeps.

@@ -14,7 +14,7 @@ void append(std::vector<double>& errors_m, const eval::DeskewErrorResult& scan) 
 
 using namespace slamprep::testing;
 
-const SE2 kTbaseLidar(0.1, 0.0, 0.0);
+const SE2 kTbaseLidarAhead(0.1, 0.0, 0.0);
 
 /// 15 scans at 10 Hz, 720 beams, 1 cm range noise, on the constant arc v = 1 m/s, w = 1 rad/s.
 /// Odometry believes a geometry 3% too long in v and 5% too short in w (the nominal geometry
@@ -35,7 +35,7 @@ const Run& run() {
     LidarConfig cfg;
     cfg.range_noise_m = 0.01;
     for (int k = 0; k < 15; ++k)
-      r.scans.push_back(castScan(roomWorld(), r.truth, kTbaseLidar, 1.0 + 0.1 * k, cfg, &rng));
+      r.scans.push_back(castScan(roomWorld(), r.truth, kTbaseLidarAhead, 1.0 + 0.1 * k, cfg, &rng));
     return r;
   }();
   return r;
@@ -47,7 +47,7 @@ eval::ErrorStats runMethod(DeskewMethod method, const PoseSeries& odometry) {
   DeskewInputs in;
   in.odometry = odometry;
   in.groundtruth = run().truth;
-  in.T_base_lidar = kTbaseLidar;
+  in.T_base_lidar = kTbaseLidarAhead;
   DeskewSequence seq(method, in, {});
   std::vector<double> errors_m;  // every beam of every counted scan
   for (std::size_t k = 0; k < run().scans.size(); ++k) {
@@ -107,7 +107,7 @@ TEST(DeskewSequence, MatchesAreTheTrueMotion) {
     ASSERT_TRUE(r.match) << k;
     const double t0 = run().scans[k - 1].scan.stamp_s, t1 = run().scans[k].scan.stamp_s;
     const SE2 T_true =
-        between(*run().truth.at(t0) * kTbaseLidar, *run().truth.at(t1) * kTbaseLidar);
+        between(*run().truth.at(t0) * kTbaseLidarAhead, *run().truth.at(t1) * kTbaseLidarAhead);
     const SE2 err = between(T_true, r.match->T_ref_cur);
     EXPECT_LT(err.translation().norm(), 0.005) << k;
     EXPECT_LT(std::abs(err.yaw), 0.002) << k;

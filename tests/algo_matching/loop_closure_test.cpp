@@ -27,7 +27,7 @@ TEST(HeadingCorrections, NoLoopsNoCorrection) {
 }
 
 // A scan from a standing lidar: 720 beams over the full turn, exact ranges.
-Points2 scanAt(const SE2& T_world_lidar) {
+Points2 fullTurnScan(const SE2& T_world_lidar) {
   return standingScan(roomWorld(), T_world_lidar, 720);
 }
 
@@ -43,7 +43,7 @@ TwoLaps twoLaps(double drift_rad) {
   for (int i = 0; i <= 200; ++i) {
     const double phi = 2.0 * std::numbers::pi * i / 100.0;
     out.truth.push_back(0.1 * i, SE2(std::cos(phi), std::sin(phi), phi + std::numbers::pi / 2));
-    out.scans.push_back(scanAt(out.truth[i].value));
+    out.scans.push_back(fullTurnScan(out.truth[i].value));
   }
   out.chain.push_back(0.0, out.truth[0].value);
   for (std::size_t i = 0; i + 1 < out.truth.size(); ++i) {

@@ -12,15 +12,15 @@
 #include "eval/bench/bench.hpp"
 #include "eval/bench/runner.hpp"
 #include "eval/bench/summary.hpp"
-#include "tests/support/scratch_dir.hpp"
 #include "tests/support/error_of.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {
 
 namespace fs = std::filesystem;
 
-TrialOutput fakeTrial(const TrialSpec& spec) {
+TrialOutput seededTrial(const TrialSpec& spec) {
   std::mt19937_64 rng(spec.seed);
   return {{{"deskew", {{"none", {{"mean_m", std::uniform_real_distribution<>(0, 1)(rng)}}}}}},
           {{"seconds", 0.1}}};
@@ -49,7 +49,7 @@ class Reuse : public ::testing::Test {
     o.progress = false;
     return o;
   }
-  RunReport run() { return runBench(options(), fakeTrial).run; }
+  RunReport run() { return runBench(options(), seededTrial).run; }
 
   test::ScratchDir scratch_{"reuse"};
 };
@@ -91,10 +91,10 @@ TEST_F(Reuse, ABadBaselineIsRefusedBeforeAnyTrialRuns) {
   BenchOptions o = options();
   o.compare = scratch_ / "garbage.json";
   std::ofstream(*o.compare) << "{\"metrics\": [1,,]";
-  EXPECT_NE(errorOf([&] { runBench(o, fakeTrial); }).find("garbage.json:1: bad JSON"),
+  EXPECT_NE(errorOf([&] { runBench(o, seededTrial); }).find("garbage.json:1: bad JSON"),
             std::string::npos);
   std::ofstream(*o.compare) << "{\"metrics\": {\"deskew/none/mean_m\": {\"mean\": \"low\"}}}";
-  EXPECT_EQ(errorOf([&] { runBench(o, fakeTrial); }),
+  EXPECT_EQ(errorOf([&] { runBench(o, seededTrial); }),
             o.compare->string() + ": metrics.deskew/none/mean_m.mean: missing or not a number");
   EXPECT_FALSE(fs::exists(scratch_ / "results" / "reuse"));  // nothing ran, nothing written
 }

@@ -7,18 +7,12 @@
 
 #include "sim/physics/robot.hpp"
 #include "test_util.hpp"
+#include "tests/sim_physics/box_room.hpp"
 
 namespace slamprep::sim {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
-/// Analytic distance from p (inside) along unit d to the box_room walls x = +-3, y = +-2.
-double boxRoomDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& d) {
-  const double tx = d.x() > 0 ? (3 - p.x()) / d.x() : d.x() < 0 ? (-3 - p.x()) / d.x() : 1e300;
-  const double ty = d.y() > 0 ? (2 - p.y()) / d.y() : d.y() < 0 ? (-2 - p.y()) / d.y() : 1e300;
-  return std::min(tx, ty);
-}
+using ::slamprep::test::boxRoomDistance;
 
 TEST(Lidar, HeaderFollowsRosConvention) {
   const Lidar lidar(LidarConfig{}, 1);
@@ -26,8 +20,8 @@ TEST(Lidar, HeaderFollowsRosConvention) {
   EXPECT_EQ(lidar.beamsPerScan(), 720u);
   EXPECT_EQ(scan.size(), 720u);
   EXPECT_DOUBLE_EQ(scan.stamp_s, 12.5);
-  EXPECT_DOUBLE_EQ(scan.angle_min_rad, -kPi);
-  EXPECT_DOUBLE_EQ(scan.angle_increment_rad, 2 * kPi / 720);
+  EXPECT_DOUBLE_EQ(scan.angle_min_rad, -std::numbers::pi);
+  EXPECT_DOUBLE_EQ(scan.angle_increment_rad, 2 * std::numbers::pi / 720);
   EXPECT_DOUBLE_EQ(scan.time_increment_s, 1.0 / 7200);
   EXPECT_DOUBLE_EQ(scan.scan_time_s, 0.1);
   EXPECT_DOUBLE_EQ(scan.range_min_m, 0.05);
@@ -37,13 +31,13 @@ TEST(Lidar, HeaderFollowsRosConvention) {
   EXPECT_NEAR(scan.endTime() - scan.stamp_s, 0.1 - 1.0 / 7200, 1e-15);
 
   LidarConfig half;
-  half.fov_rad = kPi;
+  half.fov_rad = std::numbers::pi;
   half.clockwise = true;
   const Lidar cw(half, 1);
   const LaserScan s = cw.header(0.0);
   EXPECT_EQ(cw.beamsPerScan(), 360u);
-  EXPECT_DOUBLE_EQ(s.angle_min_rad, kPi / 2);
-  EXPECT_DOUBLE_EQ(s.angle_increment_rad, -2 * kPi / 720);
+  EXPECT_DOUBLE_EQ(s.angle_min_rad, std::numbers::pi / 2);
+  EXPECT_DOUBLE_EQ(s.angle_increment_rad, -2 * std::numbers::pi / 720);
   EXPECT_DOUBLE_EQ(cw.beamAngle(359), s.beamAngle(359));
 }
 

@@ -13,8 +13,6 @@
 namespace slamprep::sim {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 /// Every shipped world.
 const char* const kWorlds[] = {"box_room.yaml", "corridor.yaml", "hall.yaml", "room.yaml"};
 
@@ -89,8 +87,8 @@ TEST(PlanarCaster, AgreesWithBulletRayTestOnRandomRaysInEveryWorld) {
   for (const char* name : kWorlds) {
     const Scene scene(loadWorld(test::worldFile(name)));
     const auto [lo, hi] = bounds(scene.world(), 1.0);
-    std::uniform_real_distribution<double> ux(lo.x(), hi.x()), uy(lo.y(), hi.y()), ua(-kPi, kPi),
-        uz(0.01, 4.5), ur(0.5, 40.0);
+    std::uniform_real_distribution<double> ux(lo.x(), hi.x()), uy(lo.y(), hi.y()),
+        ua(-std::numbers::pi, std::numbers::pi), uz(0.01, 4.5), ur(0.5, 40.0);
     Agreement agree{scene};
     while (agree.rays < 4000) {
       const double z = agree.rays % 2 == 0 ? 0.25 : uz(rng);
@@ -122,7 +120,7 @@ TEST(PlanarCaster, AgreesWithBulletRayTestOnRandomRaysInEveryWorld) {
 // Bullet's tolerance band (Agreement), ranges agree to 1e-9 m where both hit the same face.
 TEST(PlanarCaster, AgreesWithBulletRayTestOnRaysGrazingEveryCorner) {
   std::mt19937_64 rng(99);
-  std::uniform_real_distribution<double> ud(0.5, 5.0), ua(0.05, kPi - 0.05);
+  std::uniform_real_distribution<double> ud(0.5, 5.0), ua(0.05, std::numbers::pi - 0.05);
   const double offsets[] = {-1e-3, -1e-6, -1e-12, 0.0, 1e-12, 1e-6, 8e-5, 2e-4, 1e-3};
   for (const char* name : kWorlds) {
     const World world = loadWorld(test::worldFile(name));
@@ -164,7 +162,7 @@ TEST(PlanarCaster, AgreesWithBulletRayTestOnRaysGrazingEveryCorner) {
 // miss and is refined by the same root. Rays passing 1e-3 r inside and outside the rim agree.
 TEST(PlanarCaster, CylinderTangentsAgreeWithBullet) {
   std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> ua(-kPi, kPi), ud(0.6, 8.0);
+  std::uniform_real_distribution<double> ua(-std::numbers::pi, std::numbers::pi), ud(0.6, 8.0);
   for (const Cylinder& c : {Cylinder{{2.0, 1.0}, 0.35, 1.0}, Cylinder{{-3.0, 4.0}, 1.2, 2.0}}) {
     World world;
     world.cylinders.push_back(c);

@@ -8,23 +8,18 @@
 
 #include "sim/physics/robot.hpp"
 #include "test_util.hpp"
+#include "tests/sim_physics/box_room.hpp"
 
 namespace slamprep::sim {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
-/// Analytic distance from p (inside) along unit d to the box_room walls x = +-3, y = +-2.
-double boxRoomDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& d) {
-  const double tx = d.x() > 0 ? (3 - p.x()) / d.x() : d.x() < 0 ? (-3 - p.x()) / d.x() : 1e300;
-  const double ty = d.y() > 0 ? (2 - p.y()) / d.y() : d.y() < 0 ? (-2 - p.y()) / d.y() : 1e300;
-  return std::min(tx, ty);
-}
+using ::slamprep::test::boxRoomDistance;
 
 TEST(Scene, CastRayMatchesAnalyticBoxRoom) {
   const Scene scene(loadWorld(test::worldFile("box_room.yaml")));
   std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> ux(-2.5, 2.5), uy(-1.5, 1.5), ua(-kPi, kPi);
+  std::uniform_real_distribution<double> ux(-2.5, 2.5), uy(-1.5, 1.5),
+      ua(-std::numbers::pi, std::numbers::pi);
   double worst = 0.0;
   for (int k = 0; k < 2000; ++k) {
     const Eigen::Vector2d p(ux(rng), uy(rng));
@@ -70,17 +65,18 @@ TEST(Scene, CastRayAgainstCylinderIsAnalytic) {
 
 TEST(Scene, CastRayAgainstRotatedBoxAndNonConvexPolygon) {
   World world;
-  world.boxes.push_back({SE2(0.0, 0.0, kPi / 4), {2.0, 1.0}, 0.5});
+  world.boxes.push_back({SE2(0.0, 0.0, std::numbers::pi / 4), {2.0, 1.0}, 0.5});
   // An L: the notch's inner corner is at (6, 1).
   world.polygons.push_back({{{5, 0}, {8, 0}, {8, 3}, {7, 3}, {7, 1}, {5, 1}}, 1.0});
   const Scene scene(world);
   // Along the box's x axis from 3 m away: hits the end face at half length 1.0.
-  EXPECT_NEAR(*scene.castRay({-3 / std::sqrt(2.0), -3 / std::sqrt(2.0)}, kPi / 4, 0.3, 30.0), 2.0,
-              1e-12);
+  EXPECT_NEAR(
+      *scene.castRay({-3 / std::sqrt(2.0), -3 / std::sqrt(2.0)}, std::numbers::pi / 4, 0.3, 30.0),
+      2.0, 1e-12);
   // Over the box (0.5 m tall): nothing.
-  EXPECT_FALSE(scene.castRay({-3.0, -3.0}, kPi / 4, 0.6, 30.0).has_value());
+  EXPECT_FALSE(scene.castRay({-3.0, -3.0}, std::numbers::pi / 4, 0.6, 30.0).has_value());
   // Down into the notch of the L from above its top: hits y = 1 at x = 6.
-  EXPECT_NEAR(*scene.castRay({6.0, 5.0}, -kPi / 2, 0.5, 30.0), 4.0, 1e-12);
+  EXPECT_NEAR(*scene.castRay({6.0, 5.0}, -std::numbers::pi / 2, 0.5, 30.0), 4.0, 1e-12);
   // Horizontally into the notch: the inner face x = 7.
   EXPECT_NEAR(*scene.castRay({5.5, 2.0}, 0.0, 0.5, 30.0), 1.5, 1e-12);
 }
