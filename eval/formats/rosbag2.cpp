@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/input_file.hpp"
+#include "eval/formats/yaml_tree.hpp"
 
 namespace slamprep::eval {
 namespace fs = std::filesystem;
@@ -153,8 +154,9 @@ Rosbag2Bag readRosbag2(const fs::path& bag) {
                          bag.string() + " sqlite3` (or mcap)");
   try {
     // Read whole first: a device or an oversized file is refused before yaml-cpp sees it.
-    return fromMetadata(bag, YAML::Load(readInputFile(yaml, "bag metadata", kMaxYamlFileBytes)),
-                        yaml.string());
+    const YAML::Node metadata = YAML::Load(readInputFile(yaml, "bag metadata", kMaxYamlFileBytes));
+    checkYamlTree(metadata, yaml.string());
+    return fromMetadata(bag, metadata, yaml.string());
   } catch (const YAML::Exception& e) {
     throw InputError(yaml.string() + ":" + std::to_string(e.mark.line + 1), e.msg);
   }

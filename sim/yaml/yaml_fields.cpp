@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/input_file.hpp"
+#include "eval/formats/yaml_tree.hpp"
 
 namespace slamprep::sim {
 namespace {
@@ -17,15 +18,6 @@ std::string formatNumber(double value) {
   char buffer[32];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
   return std::string(buffer, result.ptr);
-}
-
-/// The node's position, or a null mark for nodes without one (absent or invalid nodes).
-YAML::Mark markOf(const YAML::Node& node) {
-  try {
-    return node.Mark();
-  } catch (const YAML::Exception&) {  // an invalid (zombie) node has no position
-    return YAML::Mark::null_mark();
-  }
 }
 
 /// "got '<scalar>'" or "got a list/a mapping/null" for messages about the wrong type.
@@ -63,60 +55,6 @@ std::string describe(const Bounds& bounds) {
                  : "must be at most " + formatNumber(bounds.max);
 }
 
-/// A mapping's keys: refuses one that appears twice ("walls:" twice used to keep the first only).
-/// `keys` is scratch space, reused across mappings (most have a handful of keys).
-void checkUniqueKeys(const YAML::Node& map, const YamlDoc& doc,
-                     std::vector<std::pair<const std::string*, YAML::Mark>>& keys) {
-  keys.clear();
-  for (const auto& entry : map) {
-    if (!entry.first.IsScalar()) continue;  // keyName refuses it where the key is read
-    const std::string& name = entry.first.Scalar();
-    keys.emplace_back(&name, markOf(entry.first));
-  }
-  if (keys.size() > 1)
-    std::stable_sort(keys.begin(), keys.end(),
-                     [](const auto& a, const auto& b) { return *a.first < *b.first; });
-  for (std::size_t i = 1; i < keys.size(); ++i)
-    if (*keys[i].first == *keys[i - 1].first) {
-      const auto& [first, second] = keys[i - 1].second.pos <= keys[i].second.pos
-                                        ? std::pair(keys[i - 1].second, keys[i].second)
-                                        : std::pair(keys[i].second, keys[i - 1].second);
-      std::string at = doc.file();
-      at.append(":").append(std::to_string(second.line + 1)).append(":");
-      at.append(std::to_string(second.column + 1)).append(": ").append(*keys[i].first);
-      throw InputError(at, "key appears twice in one mapping (first on line " +
-                               std::to_string(first.line + 1) + ")");
-    }
-}
-
-/// Every node once per use (an alias counts each time it is used), depth first without recursion:
-/// nesting, node count and duplicate keys are checked before any reader walks the tree.
-void checkYamlTree(const YAML::Node& root, const YamlDoc& doc) {
-  std::vector<std::pair<YAML::Node, int>> stack{{root, 1}};
-  std::vector<std::pair<const std::string*, YAML::Mark>> keys;
-  std::size_t visited = 0;
-  while (!stack.empty()) {
-    const auto [node, depth] = stack.back();
-    stack.pop_back();
-    if (++visited > kMaxYamlNodes)
-      throw InputError(doc.file(), "more than " + std::to_string(kMaxYamlNodes) +
-                                       " YAML nodes (aliases count every time they are used)");
-    if (!node.IsMap() && !node.IsSequence()) continue;
-    if (depth > kMaxYamlDepth)
-      throw InputError(doc.where(node, ""),
-                       "YAML nested deeper than " + std::to_string(kMaxYamlDepth) + " levels");
-    if (node.IsMap()) checkUniqueKeys(node, doc, keys);
-    for (const auto& entry : node) {
-      if (node.IsSequence()) {
-        stack.emplace_back(entry, depth + 1);
-      } else {
-        stack.emplace_back(entry.first, depth + 1);
-        stack.emplace_back(entry.second, depth + 1);
-      }
-    }
-  }
-}
-
 }  // namespace
 
 std::string joinKey(std::string_view prefix, std::string_view name) {
@@ -125,7 +63,7 @@ std::string joinKey(std::string_view prefix, std::string_view name) {
 }
 
 std::string YamlDoc::where(const YAML::Node& node, std::string_view key) const {
-  const YAML::Mark mark = markOf(node);
+  const YAML::Mark mark = eval::yamlMark(node);
   std::string out = file_;
   appendPosition(out, mark, true);
   if (!key.empty()) out.append(": ").append(key);
@@ -133,7 +71,7 @@ std::string YamlDoc::where(const YAML::Node& node, std::string_view key) const {
 }
 
 std::string YamlDoc::whereLine(const YAML::Node& node, std::string_view key) const {
-  const YAML::Mark mark = markOf(node);
+  const YAML::Mark mark = eval::yamlMark(node);
   std::string out = file_;
   appendPosition(out, mark, false);
   if (!key.empty()) out.append(": ").append(key);
@@ -245,7 +183,7 @@ double YamlDoc::optionalNumber(const YAML::Node& map, const std::string& name,
 YAML::Node parseYaml(const std::string& text, const YamlDoc& doc) {
   try {
     YAML::Node root = YAML::Load(text);
-    checkYamlTree(root, doc);
+    eval::checkYamlTree(root, doc.file());
     return root;
   } catch (const YAML::Exception& e) {
     doc.rethrow(e);

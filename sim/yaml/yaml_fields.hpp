@@ -15,13 +15,13 @@
 #include <string_view>
 #include <vector>
 
+#include "eval/formats/yaml_tree.hpp"
+
 namespace slamprep::sim {
 
-/// Mappings and lists nested deeper than this are refused (slamprep's files use at most 4).
-inline constexpr int kMaxYamlDepth = 64;
-/// Nodes in one document, an alias counted every time it is used (a "billion laughs" file is a
-/// few hundred bytes); a world of 10 000 walls has about 100 000.
-inline constexpr std::size_t kMaxYamlNodes = 1000000;
+// The tree limits every YAML input shares (eval/formats/yaml_tree.hpp).
+using eval::kMaxYamlDepth;
+using eval::kMaxYamlNodes;
 
 /// Inclusive bounds of a number read from YAML.
 struct Bounds {

@@ -114,6 +114,20 @@ TEST(ImportBag, FoldersThatAreNotBagsAreRefusedSayingWhy) {
                   "  relative_file_paths: [a_0.mcap.zstd]\n");
   EXPECT_NE(errorOf(dir).find("a_0.mcap.zstd not found"), std::string::npos) << errorOf(dir);
   EXPECT_NE(errorOf(dir / "missing.mcap").find("no such file"), std::string::npos);
+  // A repeated key is refused, not read as one of its values (which one yaml-cpp keeps is not
+  // documented): the second storage_identifier, line 3, column 3.
+  writeFileAtomic(dir / "metadata.yaml",
+                  "rosbag2_bagfile_information:\n  storage_identifier: mcap\n"
+                  "  storage_identifier: sqlite3\n  relative_file_paths: [a_0.mcap]\n");
+  EXPECT_NE(errorOf(dir).find("metadata.yaml:3:3: storage_identifier: key appears twice in one "
+                              "mapping (first on line 2)"),
+            std::string::npos)
+      << errorOf(dir);
+  std::string deep = "rosbag2_bagfile_information: ";
+  for (int i = 0; i < 70; ++i) deep += "[";
+  writeFileAtomic(dir / "metadata.yaml", deep + std::string(70, ']') + "\n");
+  EXPECT_NE(errorOf(dir).find("YAML nested deeper than 64 levels"), std::string::npos)
+      << errorOf(dir);
 }
 
 /// A source that records how much it is asked for at once.
