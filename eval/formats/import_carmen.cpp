@@ -223,16 +223,10 @@ void noteRange(RangeReport range, ImportResult& r) {
   if (range.max_range_m) r.dataset.info.config["max_range_m"] = *range.max_range_m;
 }
 
-}  // namespace
-
-ImportResult importCarmen(std::string_view text, const std::string& file, const ImportParams& p) {
-  checkParams(p);
-  const CarmenLog log = parseCarmen(text, file, {p.reorder_tolerance_s, p.drop_late_stamps});
-  const CarmenLaserType type = chooseLaser(log, p.laser, file);
-  const std::vector<CarmenLaser>& lasers = log.lasers.at(type);
-  ImportResult result;
-  ImportSummary& s = result.summary;
-  Dataset& d = result.dataset;
+/// What the import did not take from the log as written: reordered or dropped late stamps, the
+/// other lasers, messages not read, repeated lines.
+void countLeftOut(const CarmenLog& log, CarmenLaserType type, const ImportParams& p,
+                  ImportSummary& s) {
   for (const auto& [stream, lines] : log.out_of_order)
     if (p.drop_late_stamps)
       s.dropped[stream + ": stamped at or after a later " + stream +
@@ -246,6 +240,43 @@ ImportResult importCarmen(std::string_view text, const std::string& file, const 
   for (const auto& [message, lines] : log.skipped) s.dropped[message + ": not read"] = lines;
   for (const auto& [stream, lines] : log.repeated)
     s.dropped[stream + ": identical to the previous " + stream + " line"] = lines;
+}
+
+/// The laser's scans with the log's beam timing and the --max-range rule; `where` names each
+/// scan's line. CARMEN has no scan_time: the scans' median spacing.
+void addScans(const std::vector<CarmenLaser>& lasers, double time_increment,
+              const std::string& file, const ImportParams& p, ImportResult& result,
+              std::vector<std::string>& where) {
+  Dataset& d = result.dataset;
+  RangeHistogram ranges;
+  std::size_t cut = 0;
+  std::vector<double> stamps;
+  for (const auto& l : lasers) {
+    ScanRecord r;
+    r.scan = l.scan;
+    r.scan.time_increment_s = time_increment;
+    ranges.add(r.scan);
+    if (p.max_range_m) cut += applyMaxRange(r.scan, *p.max_range_m);
+    stamps.push_back(r.scan.stamp_s);
+    d.scans.push_back(std::move(r));
+    where.push_back(file + ":" + std::to_string(l.line));
+  }
+  noteRange(rangeReport(ranges, p.max_range_m, cut), result);
+  const double scan_time = medianSpacing(stamps);
+  for (auto& r : d.scans) r.scan.scan_time_s = scan_time;
+}
+
+}  // namespace
+
+ImportResult importCarmen(std::string_view text, const std::string& file, const ImportParams& p) {
+  checkParams(p);
+  const CarmenLog log = parseCarmen(text, file, {p.reorder_tolerance_s, p.drop_late_stamps});
+  const CarmenLaserType type = chooseLaser(log, p.laser, file);
+  const std::vector<CarmenLaser>& lasers = log.lasers.at(type);
+  ImportResult result;
+  ImportSummary& s = result.summary;
+  Dataset& d = result.dataset;
+  countLeftOut(log, type, p, s);
   const PoseSeries odometry = odometryOf(log, lasers, p, file, s);
   d.odom_nominal = dropStaleOdometry(odometry, staleReport(s));
   const std::optional<DiffDriveParams> nominal = nominalGeometry(log, p, file, s);
@@ -264,22 +295,7 @@ ImportResult importCarmen(std::string_view text, const std::string& file, const 
   s.time_increment = timeIncrement(log, p, file, time_increment);
   s.scans = scansText(lasers);
   std::vector<std::string> where;
-  RangeHistogram ranges;
-  std::size_t cut = 0;
-  for (const auto& l : lasers) {
-    ScanRecord r;
-    r.scan = l.scan;
-    r.scan.time_increment_s = time_increment;
-    ranges.add(r.scan);
-    if (p.max_range_m) cut += applyMaxRange(r.scan, *p.max_range_m);
-    d.scans.push_back(std::move(r));
-    where.push_back(file + ":" + std::to_string(l.line));
-  }
-  noteRange(rangeReport(ranges, p.max_range_m, cut), result);
-  std::vector<double> stamps;
-  for (const ScanRecord& r : d.scans) stamps.push_back(r.scan.stamp_s);
-  const double scan_time = medianSpacing(stamps);
-  for (auto& r : d.scans) r.scan.scan_time_s = scan_time;
+  addScans(lasers, time_increment, file, p, result, where);
   attachOdometry(d, p.trim, where, result.notes);
   if (d.scans.size() < lasers.size())
     s.dropped["scans outside the odometry (--trim)"] = lasers.size() - d.scans.size();
