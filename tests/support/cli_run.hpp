@@ -10,8 +10,9 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <string_view>
 #include <vector>
+
+#include "core/shell_quote.hpp"
 
 namespace slamprep::test {
 
@@ -21,19 +22,6 @@ struct CliRun {
   std::string out;     ///< stdout
   std::string err;     ///< stderr
 };
-
-/// `text` as one POSIX shell word: inside single quotes, where only ' needs care ('\'').
-inline std::string shellQuoted(std::string_view text) {
-  std::string quoted = "'";
-  for (const char c : text) {
-    if (c == '\'')
-      quoted += "'\\''";  // close the quotes, an escaped quote, open them again
-    else
-      quoted += c;
-  }
-  quoted += '\'';
-  return quoted;
-}
 
 /// The whole of `file`; empty when it cannot be read.
 inline std::string slurp(const std::filesystem::path& file) {
@@ -49,10 +37,10 @@ inline CliRun runSlamprep(const std::vector<std::string>& args,
                           const std::filesystem::path& scratch) {
   // Appended piecewise: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string.
   std::string command =
-      shellQuoted((std::filesystem::path(SLAMPREP_BINARY_DIR) / "slamprep").string());
-  for (const std::string& arg : args) command.append(" ").append(shellQuoted(arg));
-  command.append(" >").append(shellQuoted((scratch / "stdout").string()));
-  command.append(" 2>").append(shellQuoted((scratch / "stderr").string()));
+      shellQuote((std::filesystem::path(SLAMPREP_BINARY_DIR) / "slamprep").string());
+  for (const std::string& arg : args) command.append(" ").append(shellQuote(arg));
+  command.append(" >").append(shellQuote((scratch / "stdout").string()));
+  command.append(" 2>").append(shellQuote((scratch / "stderr").string()));
   const int status = std::system(command.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(scratch / "stdout"),
           slurp(scratch / "stderr")};
