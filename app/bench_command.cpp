@@ -5,6 +5,7 @@
 
 #include "app/choices.hpp"
 #include "app/commands.hpp"
+#include "app/common_flags.hpp"
 #include "app/exit_codes.hpp"
 #include "app/outputs.hpp"
 #include "core/error.hpp"
@@ -18,7 +19,7 @@
 namespace slamprep::app {
 namespace {
 
-struct BenchFlags {
+struct BenchFlags : CommonFlags {
   eval::BenchOptions options;
   std::string shard;
   std::string compare;
@@ -100,6 +101,7 @@ void checkJobs(int jobs) {
 }
 
 int runBenchCommand(BenchFlags& flags) {
+  flags.options.progress = !flags.quiet;
   if (flags.slurm) return runOnSlurm(flags);
   checkJobs(flags.options.jobs);
   if (!flags.shard.empty()) flags.options.shard = eval::Shard::parse(flags.shard);
@@ -167,8 +169,7 @@ Command addBenchCommand(CLI::App& app) {
   cli->add_flag("--fresh", flags->options.fresh,
                 "Recompute every trial (by default an interrupted run resumes, reusing trials "
                 "this same build already finished)");
-  cli->add_flag_callback(
-      "-q,--quiet", [flags] { flags->options.progress = false; }, "No progress output");
+  addQuiet(cli, *flags);
   cli->add_flag("--slurm", flags->slurm,
                 "Submit the suite to Slurm: a job array (one shard per task) and a merge job "
                 "that depends on it; shards already complete are not resubmitted");

@@ -15,6 +15,7 @@
 #include "app/choices.hpp"
 #include "app/command_progress.hpp"
 #include "app/commands.hpp"
+#include "app/common_flags.hpp"
 #include "app/exit_codes.hpp"
 #include "app/icp_options.hpp"
 #include "app/outputs.hpp"
@@ -28,14 +29,13 @@
 namespace slamprep::app {
 namespace {
 
-struct CalibrateFlags {
+struct CalibrateFlags : CommonFlags {
   std::vector<std::string> datasets;  // several: recordings of one robot, combined
   std::string method = "all";
   std::string motion = "icp";   // what real logs have; groundtruth is the oracle
   std::string deskew = "auto";  // --deskew: how scans are de-skewed before matching
   std::string intervals_out;    // --intervals: write the intervals used as Censi records
   std::string tuples_in;        // --tuples: run on Censi records instead of the dataset's motion
-  std::string json_out;
   std::string odometry_out;     // --odometry-out: the odometry re-integrated with the best result
   std::string ros2_out;         // --ros2-params: diff_drive_controller + static transform YAML
   std::string nominal;          // --nominal r_L,r_R,b
@@ -54,9 +54,6 @@ struct CalibrateFlags {
   bool exclude_disagreement = false;  // --exclude-disagreement
   std::string sync = "auto";          // --sync
   bool stamp_is_last_beam = false;
-  bool strict = false;
-  bool quiet = false;
-  bool force = false;
 };
 
 std::optional<DiffDriveParams> nominalOf(const CalibrateFlags& flags) {
@@ -356,11 +353,10 @@ Command addCalibrateCommand(CLI::App& app) {
   cli->add_option("--tuples", flags->tuples_in,
                   "run on Censi interval records instead (JSON objects, one or several per "
                   "line); one DATASET at most");
-  cli->add_option("--json", flags->json_out,
-                  "write one object per method to FILE (what deskew and export read with "
-                  "--calibration); with several DATASETs an object of recordings, combined "
-                  "methods and consistency (those read its combined methods)")
-      ->check(outputPath());
+  addJson(cli, *flags,
+          "one object per method (what deskew and export read with --calibration); with "
+          "several DATASETs an object of recordings, combined methods and consistency (those "
+          "read its combined methods)");
   cli->add_option("--odometry-out", flags->odometry_out,
                   "write the odometry re-integrated with the best result's geometry to FILE "
                   "(TUM; score it with `slamprep score relations`); one DATASET only")
@@ -384,11 +380,9 @@ Command addCalibrateCommand(CLI::App& app) {
                   "sigmas, refit until the kept set repeats; 0: keep every interval")
       ->check(nonNegative())
       ->capture_default_str();
-  cli->add_flag("--force", flags->force,
-                "replace existing output files; the old ones stay until the new are complete");
-  cli->add_flag("--strict", flags->strict,
-                "exit 3 when any method refused, not only all, or any estimate is flagged");
-  cli->add_flag("-q,--quiet", flags->quiet, "No progress output");
+  addForce(cli, *flags, "existing output files");
+  addStrict(cli, *flags, "when any method refused, not only all, or any estimate is flagged");
+  addQuiet(cli, *flags);
   cli->add_option("--keyframe-cm", flags->keyframe_cm,
                   "new interval every N cm of lidar motion (0: every scan match, as the bench)")
       ->check(nonNegative())

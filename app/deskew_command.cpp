@@ -13,6 +13,7 @@
 #include "app/choices.hpp"
 #include "app/command_progress.hpp"
 #include "app/commands.hpp"
+#include "app/common_flags.hpp"
 #include "app/exit_codes.hpp"
 #include "app/outputs.hpp"
 #include "core/atomic_file.hpp"
@@ -29,21 +30,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct DeskewFlags {
+struct DeskewFlags : CommonFlags {
   std::string dataset;
   std::string method = "all";
   std::string reference = "first";
-  std::string geometry;     // nominal (default) or true; a file here is the deprecated alias
-  std::string calibration;  // calibrate --json output
-  std::string out;          // nothing is written without it
-  std::string json_out;
+  std::string geometry;         // nominal (default) or true; a file here is the deprecated alias
+  std::string calibration;      // calibrate --json output
+  std::string out;              // nothing is written without it
   std::vector<double> window;   // --window T0 T1: scans whose stamp is inside count in the metrics
   std::string stamps = "auto";  // auto: jittered constant-rate streams back on their grids
   bool stamp_is_last_beam = false;
   bool no_write = false;  // deprecated: nothing is written without --out anyway
-  bool strict = false;
-  bool quiet = false;
-  bool force = false;
   int quadratic_pieces = 4;
 };
 
@@ -344,11 +341,8 @@ Command addDeskewCommand(CLI::App& app) {
                   "write a copy of the dataset plus deskewed_<method>.jsonl into this new "
                   "directory (without it nothing is written)")
       ->check(outputPath());
-  cli->add_option("--json", flags->json_out, "write one object per method to FILE")
-      ->check(outputPath());
-  cli->add_flag("--force", flags->force,
-                "replace an existing --out or --json; the old one stays until the new is "
-                "complete");
+  addJson(cli, *flags, "one object per method");
+  addForce(cli, *flags, "an existing --out dataset or --json file");
   cli->add_option("--pieces", flags->quadratic_pieces, "odom-quadratic: linear pieces k")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
@@ -357,8 +351,8 @@ Command addDeskewCommand(CLI::App& app) {
       ->expected(2);
   cli->add_flag("--stamp-is-last-beam", flags->stamp_is_last_beam,
                 "the scans' stamps mark their last beam, not their first");
-  cli->add_flag("--strict", flags->strict, "exit 3 when any scan was refused, not only all");
-  cli->add_flag("-q,--quiet", flags->quiet, "No progress output");
+  addStrict(cli, *flags, "when any scan was refused, not only all");
+  addQuiet(cli, *flags);
   cli->add_flag("--no-write", flags->no_write,
                 "deprecated: nothing is written without --out; this drops --out");
   return {cli, [flags] { return runDeskew(*flags); }};

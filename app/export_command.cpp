@@ -8,6 +8,7 @@
 #include "algo/deskew/deskew.hpp"
 #include "app/choices.hpp"
 #include "app/commands.hpp"
+#include "app/common_flags.hpp"
 #include "app/outputs.hpp"
 #include "eval/formats/dataset_io.hpp"
 #include "eval/formats/export.hpp"
@@ -17,14 +18,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct ExportFlags {
+struct ExportFlags : CommonFlags {
   std::string dataset;
   std::string compression = "zstd";
   std::string format;
   std::string out;
   std::string calibration;  // default DATASET/calibration.json, when present
   eval::ExportParams params;
-  bool force = false;
 };
 
 bool isDirectoryFormat(eval::ExportFormat format) {
@@ -123,8 +123,7 @@ Command addExportCommand(CLI::App& app) {
                   "is refused unless --force")
       ->required()
       ->check(outputPath());
-  cli->add_flag("--force", flags->force,
-                "replace an existing --out; the old one stays until the new is complete");
+  addForce(cli, *flags, "an existing --out");
   cli->add_option("--calibration", flags->calibration,
                   "calibrate --json output for the calibrated odometry (default: "
                   "DATASET/calibration.json if present)");

@@ -8,6 +8,7 @@
 #include "algo/agreement/dataset_sources.hpp"
 #include "app/choices.hpp"
 #include "app/commands.hpp"
+#include "app/common_flags.hpp"
 #include "app/outputs.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -19,11 +20,10 @@
 namespace slamprep::app {
 namespace {
 
-struct ImportFlags {
+struct ImportFlags : CommonFlags {
   std::string format;
   std::string input;
   std::string out;
-  std::string json_out;
   double wheel_radius_m = 0.0;  // 0: use the left/right ones
   DiffDriveParams geometry;
   double time_increment_s = 0.0;
@@ -32,7 +32,6 @@ struct ImportFlags {
   std::string lidar_mount;  // "x,y,yaw_deg"
   std::string nominal;      // "r_L,r_R,b"
   eval::ImportParams params;
-  bool force = false;
 };
 
 /// --lidar-mount x,y,yaw: metres and degrees on the command line.
@@ -144,12 +143,8 @@ Command addImportCommand(CLI::App& app) {
                   "dataset directory to write; an existing one is refused unless --force")
       ->required()
       ->check(outputPath());
-  cli->add_flag("--force", flags->force,
-                "replace an existing --out dataset (and --json file); the old one stays until the "
-                "new is complete");
-  cli->add_option("--json", flags->json_out,
-                  "write what the import read and decided as JSON (docs/export.md)")
-      ->check(outputPath());
+  addForce(cli, *flags, "an existing --out dataset (and --json file)");
+  addJson(cli, *flags, "what the import read and decided (docs/export.md)");
   cli->add_option_function<double>(
          "--max-range", [flags](double m) { flags->params.max_range_m = m; },
          "readings beyond this (m) become no return and range_max is set to it (default: the "

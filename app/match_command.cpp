@@ -16,6 +16,7 @@
 #include "app/choices.hpp"
 #include "app/command_progress.hpp"
 #include "app/commands.hpp"
+#include "app/common_flags.hpp"
 #include "app/exit_codes.hpp"
 #include "app/icp_options.hpp"
 #include "app/outputs.hpp"
@@ -32,19 +33,15 @@ namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
-struct MatchFlags {
+struct MatchFlags : CommonFlags {
   std::string dataset;
   std::string out;  // nothing is written without an output flag
   std::string trajectory;
-  std::string json_out;
   std::string deskew = "vicp";
   algo::KeyframeOdometryParams params;
   double keyframe_angle_deg = params.keyframe_angle_rad * kDegPerRad;
   double odometry_sigma_deg = params.odometry_sigma_rad * kDegPerRad;
   bool stamp_is_last_beam = false;
-  bool strict = false;
-  bool quiet = false;
-  bool force = false;
 };
 
 /// The point-to-line RMS residual of the accepted matches (docs/matching.md): how well the
@@ -221,12 +218,10 @@ Command addMatchCommand(CLI::App& app) {
   cli->add_option("--trajectory", flags->trajectory,
                   "write the base trajectory at the scans' first beams to FILE (TUM)")
       ->check(outputPath());
-  cli->add_option("--json", flags->json_out, "write the summary (counts, timing, parameters)")
-      ->check(outputPath());
-  cli->add_flag("--force", flags->force,
-                "replace existing output files; the old ones stay until the new are complete");
-  cli->add_flag("--strict", flags->strict, "exit 3 when any scan fell back, not only all");
-  cli->add_flag("-q,--quiet", flags->quiet, "No progress output");
+  addJson(cli, *flags, "the summary (counts, timing, parameters)");
+  addForce(cli, *flags, "existing output files");
+  addStrict(cli, *flags, "when any scan fell back, not only all");
+  addQuiet(cli, *flags);
   std::vector<std::string> deskews = {"none"};
   for (auto m : algo::allDeskewMethods()) deskews.emplace_back(algo::deskewMethodName(m));
   cli->add_option("--deskew", flags->deskew,

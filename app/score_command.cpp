@@ -7,6 +7,7 @@
 
 #include "app/choices.hpp"
 #include "app/commands.hpp"
+#include "app/common_flags.hpp"
 #include "app/outputs.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -18,10 +19,8 @@
 namespace slamprep::app {
 namespace {
 
-struct ScoreFlags {
+struct ScoreFlags : CommonFlags {
   std::string first, second;  // relations or ground truth; trajectory or estimate
-  std::string json_out;
-  bool force = false;
   eval::RelationErrorParams relations;
   std::string align = "rigid";
   eval::ApeParams ape;
@@ -186,11 +185,8 @@ Command addScoreCommand(CLI::App& app) {
       ->check(nonNegative())
       ->capture_default_str();
   for (auto* sub : {rel, ape, rpe}) {
-    sub->add_option("--json", flags->json_out,
-                    "also write the figures as JSON to FILE; an existing one is refused unless "
-                    "--force")
-        ->check(outputPath());
-    sub->add_flag("--force", flags->force, "replace an existing --json file");
+    addJson(sub, *flags, "the figures");
+    addForce(sub, *flags, "an existing --json file");
   }
   return {cli, [flags, rel, ape] {
             if (!flags->json_out.empty())

@@ -12,6 +12,7 @@
 #include "app/choices.hpp"
 #include "app/command_progress.hpp"
 #include "app/commands.hpp"
+#include "app/common_flags.hpp"
 #include "app/outputs.hpp"
 #include "core/error.hpp"
 #include "core/input_file.hpp"
@@ -24,7 +25,7 @@
 namespace slamprep::app {
 namespace {
 
-struct SimulateFlags {
+struct SimulateFlags : CommonFlags {
   std::string world;
   std::string scenario;
   std::string config_file;
@@ -33,8 +34,6 @@ struct SimulateFlags {
   double duration_s = 0.0;
   std::uint64_t seed = 0;
   std::vector<std::string> overrides;
-  bool quiet = false;
-  bool force = false;
 };
 
 /// Every configuration key with its default, for --help.
@@ -170,9 +169,8 @@ Command addSimulateCommand(CLI::App& app) {
                   "unless --force")
       ->required()
       ->check(outputPath());
-  cli->add_flag("--force", flags->force,
-                "Replace an existing --out dataset; the old one stays until the new is complete");
-  cli->add_flag("-q,--quiet", flags->quiet, "No progress output");
+  addForce(cli, *flags, "an existing --out dataset");
+  addQuiet(cli, *flags);
   cli->footer(
       "Writes a dataset directory (docs/dataset.md) with wheel encoders, IMU, a rotating lidar\n"
       "whose scans are distorted by the motion, and exact ground truth: the true pose at every\n"

@@ -10,6 +10,7 @@
 #include "algo/calibration/calibration_json.hpp"
 #include "app/command_progress.hpp"
 #include "app/commands.hpp"
+#include "app/common_flags.hpp"
 #include "app/outputs.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -25,17 +26,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct TwinFlags {
+struct TwinFlags : CommonFlags {
   std::string dataset;
   std::string out;
   std::string calibration;
   std::vector<std::string> compare;
-  std::string json_out;
   std::string plot;
   eval::TwinParams params;
   bool no_calibrate = false;
-  bool quiet = false;
-  bool force = false;
 };
 
 /// A folder `twin` wrote: it holds twin.json (or is empty).
@@ -170,12 +168,11 @@ Command addTwinCommand(CLI::App& app) {
   cli->add_option("--seed", flags->params.seed, "the twin's noise seed")->capture_default_str();
   cli->add_option("--compare", flags->compare, "REAL TWIN: compare a recording with its twin")
       ->expected(2);
-  cli->add_option("--json", flags->json_out, "with --compare: write the comparison")
-      ->check(outputPath());
+  addJson(cli, *flags, "the comparison (with --compare only)");
   cli->add_option("--plot", flags->plot, "with --compare: draw the ratios (PNG)")
       ->check(outputPath());
-  cli->add_flag("--force", flags->force, "replace existing outputs");
-  cli->add_flag("-q,--quiet", flags->quiet, "No progress output");
+  addForce(cli, *flags, "an existing --out twin folder, or --json and --plot files");
+  addQuiet(cli, *flags);
   return {cli, [flags] { return run(*flags); }};
 }
 

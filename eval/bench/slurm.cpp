@@ -20,6 +20,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/paths.hpp"
+#include "core/shell_quote.hpp"
 #include "eval/bench/bench.hpp"
 #include "eval/bench/results_folder.hpp"
 #include "eval/bench/runner.hpp"
@@ -266,12 +267,6 @@ std::string mergeScript(const SlurmParams& params, const fs::path& out_dir, cons
 }
 
 }  // namespace
-
-std::string shellQuote(const std::string& word) {
-  std::string q = "'";
-  for (char c : word) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
 
 std::vector<SlurmJobRecord> parseScontrolJobs(const std::string& text) {
   std::vector<SlurmJobRecord> records;

@@ -67,7 +67,4 @@ struct SlurmJobRecord {
 /// Parses `scontrol show job` output (records separated by blank lines).
 std::vector<SlurmJobRecord> parseScontrolJobs(const std::string& text);
 
-/// Quotes `word` for bash: '...' with embedded quotes as '\''.
-std::string shellQuote(const std::string& word);
-
 }  // namespace slamprep::eval

@@ -1,32 +1,23 @@
 // End-to-end: `slamprep simulate` a short arc, then `slamprep deskew` and `slamprep match` on it:
 // files written, JSON keys, exit codes and messages for bad input.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <sstream>
+#include <string>
+#include <vector>
 
+#include "tests/support/cli_run.hpp"
 #include "tests/support/scratch_dir.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using slamprep::test::CliRun;
+using slamprep::test::slurp;
 
 class DeskewCommand : public ::testing::Test {
  protected:
@@ -37,21 +28,14 @@ class DeskewCommand : public ::testing::Test {
   static void SetUpTestSuite() {
     scratch_.emplace("deskew_cli");
     // 3 s of the arc (ramp included), kinematic: fast and exact.
-    const CliRun r =
-        cli("simulate --scenario worlds/scenarios/arc.yaml --duration 3 --mode "
-            "kinematic --quiet --out " +
-            (dir() / "data").string());
+    const CliRun r = cli({"simulate", "--scenario", "worlds/scenarios/arc.yaml", "--duration", "3",
+                          "--mode", "kinematic", "--quiet", "--out", data()});
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   static void TearDownTestSuite() { scratch_.reset(); }
 
-  static CliRun cli(const std::string& args) {
-    const fs::path binary = fs::path(SLAMPREP_BINARY_DIR) / "slamprep";
-    const std::string command = binary.string() + " " + args + " >" + (dir() / "stdout").string() +
-                                " 2>" + (dir() / "stderr").string();
-    const int status = std::system(command.c_str());
-    return CliRun{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir() / "stdout"),
-                  slurp(dir() / "stderr")};
+  static CliRun cli(const std::vector<std::string>& args) {
+    return slamprep::test::runSlamprep(args, dir());
   }
   static std::string data() { return (dir() / "data").string(); }
 };
@@ -59,8 +43,8 @@ class DeskewCommand : public ::testing::Test {
 TEST_F(DeskewCommand, AllMethodsWriteScansAndJson) {
   const fs::path json = dir() / "deskew.json";
   const fs::path out = dir() / "deskewed";
-  const CliRun r = cli("deskew " + data() + " --method all --force --json " + json.string() +
-                       " --out " + out.string());
+  const CliRun r = cli({"deskew", data(), "--method", "all", "--force", "--json", json.string(),
+                        "--out", out.string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(slurp(json));
   ASSERT_EQ(j.size(), 8u);  // every method: the dataset has truth, so the oracle too
@@ -103,7 +87,7 @@ TEST_F(DeskewCommand, AllMethodsWriteScansAndJson) {
 }
 
 TEST_F(DeskewCommand, MatchWritesOneLinePerPair) {
-  const CliRun r = cli("match " + data() + " --force --out " + (dir() / "matches.jsonl").string());
+  const CliRun r = cli({"match", data(), "--force", "--out", (dir() / "matches.jsonl").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::ifstream in(dir() / "matches.jsonl");
   std::string line;
@@ -119,20 +103,20 @@ TEST_F(DeskewCommand, MatchWritesOneLinePerPair) {
 }
 
 TEST_F(DeskewCommand, BadInputNamesTheProblem) {
-  CliRun r = cli("deskew " + (dir() / "missing").string());
+  CliRun r = cli({"deskew", (dir() / "missing").string()});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("missing"), std::string::npos) << r.err;
   std::ofstream(dir() / "cal.json")
       << R"([{"method": "model", "ok": true, "r_L": 0, "r_R": 0.1, "b": 0.5}])";
-  r = cli("deskew " + data() + " --calibration " + (dir() / "cal.json").string());
+  r = cli({"deskew", data(), "--calibration", (dir() / "cal.json").string()});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("r_L"), std::string::npos) << r.err;
   std::ofstream(dir() / "cal2.json")
       << R"([{"method": "x", "ok": true, "r_L": 0.1, "r_R": 0.1, "b": 0.5}])";
-  r = cli("deskew " + data() + " --calibration " + (dir() / "cal2.json").string());
+  r = cli({"deskew", data(), "--calibration", (dir() / "cal2.json").string()});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("[0].method"), std::string::npos) << r.err;
-  r = cli("deskew " + data() + " --method linear");
+  r = cli({"deskew", data(), "--method", "linear"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("did you mean 'odom-linear'?"), std::string::npos) << r.err;
 }
@@ -141,8 +125,8 @@ TEST_F(DeskewCommand, BadInputNamesTheProblem) {
 // refused, listed with their reason, counted in `ok`, and the mean covers the others.
 TEST_F(DeskewCommand, EveryRefusalIsListedAndCounted) {
   const fs::path json = dir() / "refusals.json";
-  const CliRun r = cli("deskew " + data() + " --method odom-linear --stamp-is-last-beam --force " +
-                       "--json " + json.string());
+  const CliRun r = cli({"deskew", data(), "--method", "odom-linear", "--stamp-is-last-beam",
+                        "--force", "--json", json.string()});
   const auto m = nlohmann::json::parse(slurp(json)).at(0);
   const int refused = m["refused"], scans = m["scans"];
   ASSERT_GT(refused, 0) << r.out;
@@ -161,8 +145,9 @@ TEST_F(DeskewCommand, EveryRefusalIsListedAndCounted) {
                               std::to_string(scans) + " scans; refused: not-bracketed " +
                               std::to_string(refused);
   EXPECT_NE(r.out.find(counted), std::string::npos) << r.out;
-  EXPECT_EQ(
-      cli("deskew " + data() + " --method odom-linear --stamp-is-last-beam --strict").exit_code, 3);
+  EXPECT_EQ(cli({"deskew", data(), "--method", "odom-linear", "--stamp-is-last-beam", "--strict"})
+                .exit_code,
+            3);
 }
 
 // 1 ms of stamp jitter on every stream: odom-icp's error on the 3 s arc (seeds 1, 2, 4, 5) was
@@ -170,15 +155,15 @@ TEST_F(DeskewCommand, EveryRefusalIsListedAndCounted) {
 // 0.22-0.25); the clean dataset's stamps are left alone and nothing is printed for them.
 TEST_F(DeskewCommand, JitteredStampsGoBackOnTheirGrid) {
   const std::string jittered = (dir() / "jittered").string();
-  ASSERT_EQ(cli("simulate --scenario worlds/scenarios/arc.yaml --duration 3 --mode kinematic "
-                "--quiet --seed 1 --set faults.enable=stamp_jitter --out " +
-                jittered)
+  ASSERT_EQ(cli({"simulate", "--scenario", "worlds/scenarios/arc.yaml", "--duration", "3", "--mode",
+                 "kinematic", "--quiet", "--seed", "1", "--set", "faults.enable=stamp_jitter",
+                 "--out", jittered})
                 .exit_code,
             0);
   auto mean = [&](const std::string& stamps, std::string* out) {
     const fs::path json = dir() / "jitter.json";
-    const CliRun r = cli("deskew " + jittered + " --method odom-icp --force --stamps " + stamps +
-                         " --json " + json.string());
+    const CliRun r = cli({"deskew", jittered, "--method", "odom-icp", "--force", "--stamps", stamps,
+                          "--json", json.string()});
     EXPECT_EQ(r.exit_code, 0) << r.err;
     *out = r.out;
     return nlohmann::json::parse(slurp(json))[0]["mean_m"].get<double>();
@@ -189,7 +174,7 @@ TEST_F(DeskewCommand, JitteredStampsGoBackOnTheirGrid) {
   EXPECT_LT(regular, 1.5e-3);
   EXPECT_NE(out_auto.find("stamps: scans put on their"), std::string::npos) << out_auto;
   EXPECT_EQ(out_raw.find("stamps:"), std::string::npos);
-  EXPECT_EQ(cli("deskew " + data() + " --method odom-icp").out.find("stamps:"), std::string::npos);
+  EXPECT_EQ(cli({"deskew", data(), "--method", "odom-icp"}).out.find("stamps:"), std::string::npos);
 }
 
 }  // namespace

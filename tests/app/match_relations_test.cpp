@@ -2,14 +2,14 @@
 // `import --format carmen` -> `match --trajectory` -> `score relations`, with bounds 3-5x what the
 // method measured on them (docs/matching.md "Measured"), and match's JSON summary.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
+#include <vector>
 
+#include "tests/support/cli_run.hpp"
 #include "tests/support/scratch_dir.hpp"
 
 namespace {
@@ -22,22 +22,11 @@ fs::path dir() {
   return d.path();
 }
 
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using slamprep::test::CliRun;
+using slamprep::test::slurp;
 
-/// Runs `slamprep ARGS`; returns the exit status, stdout in `out`.
-int cli(const std::string& args, std::string* out = nullptr) {
-  const fs::path binary = fs::path(SLAMPREP_BINARY_DIR) / "slamprep";
-  const std::string command = binary.string() + " " + args + " >" + (dir() / "stdout").string() +
-                              " 2>" + (dir() / "stderr").string();
-  const int status = std::system(command.c_str());
-  if (out) *out = slurp(dir() / "stdout");
-  if (status != 0) ADD_FAILURE() << args << "\n" << slurp(dir() / "stderr");
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+CliRun cli(const std::vector<std::string>& args) {
+  return slamprep::test::runSlamprep(args, dir());
 }
 
 std::string data(const std::string& name) {
@@ -45,7 +34,7 @@ std::string data(const std::string& name) {
 }
 
 struct Excerpt {
-  std::string name, log, relations, import_flags;
+  std::string name, log, relations, import_flags;  // import_flags: words split at spaces
   std::size_t scans;
   double min_converged_percent;
   double all_mean_m, all_max_m, short_mean_m;  // bounds: 3-5x the measured figures
@@ -74,16 +63,17 @@ TEST_F(MatchRelations, ImportMatchScoreOnEachExcerptStaysWithinItsBounds) {
     const std::string tum = (dir() / (e.name + ".tum")).string();
     const std::string match_json = (dir() / (e.name + "_match.json")).string();
     const std::string score_json = (dir() / (e.name + "_score.json")).string();
-    ASSERT_EQ(cli("import --format carmen " + data(e.log) + " --out " + d.string() + " " +
-                  e.import_flags),
-              0);
-    std::string printed;
-    ASSERT_EQ(
-        cli("match " + d.string() + " --deskew none --trajectory " + tum + " --json " + match_json,
-            &printed),
-        0);
-    EXPECT_NE(printed.find("wrote trajectory " + tum), std::string::npos) << printed;
-    ASSERT_EQ(cli("score relations " + data(e.relations) + " " + tum + " --json " + score_json), 0);
+    std::vector<std::string> import = {"import",    "--format", "carmen",
+                                       data(e.log), "--out",    d.string()};
+    std::istringstream words(e.import_flags);
+    for (std::string word; words >> word;) import.push_back(word);
+    CliRun r = cli(import);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = cli({"match", d.string(), "--deskew", "none", "--trajectory", tum, "--json", match_json});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("wrote trajectory " + tum), std::string::npos) << r.out;
+    r = cli({"score", "relations", data(e.relations), tum, "--json", score_json});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto m = nlohmann::json::parse(slurp(match_json));
     const auto s = nlohmann::json::parse(slurp(score_json));
     EXPECT_EQ(m["scans"], e.scans);

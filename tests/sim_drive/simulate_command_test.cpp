@@ -1,41 +1,29 @@
 // End-to-end: the `slamprep simulate` command, its exit codes and messages, and that a refused
 // run leaves nothing behind.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
+#include <string>
+#include <vector>
 
+#include "tests/support/cli_run.hpp"
 #include "tests/support/scratch_dir.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandRun {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using slamprep::test::CliRun;
+using slamprep::test::slurp;
 
 class SimulateCommand : public ::testing::Test {
  protected:
-  CommandRun simulate(const std::string& args) {
-    const fs::path binary = fs::path(SLAMPREP_BINARY_DIR) / "slamprep";
-    const std::string command = binary.string() + " simulate " + args + " >" +
-                                (dir_ / "stdout").string() + " 2>" + (dir_ / "stderr").string();
-    const int status = std::system(command.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir_ / "stdout"),
-            slurp(dir_ / "stderr")};
+  /// `slamprep simulate ARGS --quiet --out DIR/data`.
+  CliRun simulate(std::vector<std::string> args) {
+    args.insert(args.begin(), "simulate");
+    args.insert(args.end(), {"--quiet", "--out", (dir_ / "data").string()});
+    return slamprep::test::runSlamprep(args, dir_);
   }
   fs::path write(const std::string& name, const std::string& text) {
     std::ofstream(dir_ / name) << text;
@@ -48,14 +36,13 @@ class SimulateCommand : public ::testing::Test {
       EXPECT_TRUE(name == "stdout" || name == "stderr" || name.ends_with(".yaml")) << name;
     }
   }
-  std::string out() const { return "--quiet --out " + (dir_ / "data").string(); }
 
   const slamprep::test::ScratchDir scratch_{"simulate_cli"};
   const fs::path dir_ = scratch_.path();
 };
 
 TEST_F(SimulateCommand, DefaultsRunAndPrintASummary) {
-  const CommandRun run = simulate("--duration 1 --mode kinematic " + out());
+  const CliRun run = simulate({"--duration", "1", "--mode", "kinematic"});
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_TRUE(fs::exists(dir_ / "data" / "dataset.json"));
   EXPECT_TRUE(fs::exists(dir_ / "data" / "scans.jsonl"));
@@ -70,7 +57,7 @@ TEST_F(SimulateCommand, DefaultsRunAndPrintASummary) {
 
 TEST_F(SimulateCommand, MalformedScenarioNamesFileAndLine) {
   const fs::path bad = write("bad.yaml", "segments:\n  - {type: straight, distance_m: [1\n");
-  const CommandRun run = simulate("--scenario " + bad.string() + " " + out());
+  const CliRun run = simulate({"--scenario", bad.string()});
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find(bad.string() + ":"), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("malformed YAML"), std::string::npos) << run.err;
@@ -78,14 +65,14 @@ TEST_F(SimulateCommand, MalformedScenarioNamesFileAndLine) {
 }
 
 TEST_F(SimulateCommand, UnknownKeyIsNamed) {
-  const CommandRun run = simulate("--set lidar.rat_hz=5 " + out());
+  const CliRun run = simulate({"--set", "lidar.rat_hz=5"});
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("lidar.rat_hz"), std::string::npos) << run.err;
   expectNothingWritten();
 }
 
 TEST_F(SimulateCommand, NegativeRadiusIsNamed) {
-  const CommandRun run = simulate("--set robot.radius_right_m=-0.1 " + out());
+  const CliRun run = simulate({"--set", "robot.radius_right_m=-0.1"});
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("robot.radius_right_m"), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("positive"), std::string::npos) << run.err;
@@ -93,7 +80,7 @@ TEST_F(SimulateCommand, NegativeRadiusIsNamed) {
 }
 
 TEST_F(SimulateCommand, ZeroBeamsIsNamed) {
-  const CommandRun run = simulate("--set lidar.beams_per_revolution=0 " + out());
+  const CliRun run = simulate({"--set", "lidar.beams_per_revolution=0"});
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("lidar.beams_per_revolution"), std::string::npos) << run.err;
   expectNothingWritten();
@@ -103,7 +90,7 @@ TEST_F(SimulateCommand, ScenarioTooLongForTheWorldIsRefused) {
   const fs::path far = write("far.yaml",
                              "segments:\n  - {type: spin, angle_deg: 30}\n"
                              "  - {type: straight, distance_m: 20, speed_mps: 1.0}\n");
-  const CommandRun run = simulate("--scenario " + far.string() + " " + out());
+  const CliRun run = simulate({"--scenario", far.string()});
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find(far.string() + ":3: segments[1] (straight)"), std::string::npos)
       << run.err;
@@ -112,7 +99,7 @@ TEST_F(SimulateCommand, ScenarioTooLongForTheWorldIsRefused) {
 }
 
 TEST_F(SimulateCommand, MissingWorldFileIsNamed) {
-  const CommandRun run = simulate("--world nowhere.yaml " + out());
+  const CliRun run = simulate({"--world", "nowhere.yaml"});
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("nowhere.yaml"), std::string::npos) << run.err;
   expectNothingWritten();

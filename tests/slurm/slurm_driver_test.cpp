@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/shell_quote.hpp"
 #include "eval/bench/bench.hpp"
 #include "eval/bench/runner.hpp"
 #include "eval/bench/slurm.hpp"
