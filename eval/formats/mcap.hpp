@@ -153,6 +153,7 @@ class McapReader {
  private:
   void checkEnds();
   bool dataRecord(McapMessage& m);
+  void applyDefinition(std::uint8_t op, std::uint64_t at);
   bool chunkRecord(McapMessage& m);
   void readChunk(std::uint64_t offset);
   void skipBody(std::uint64_t offset, std::uint64_t length);

@@ -254,6 +254,33 @@ void McapReader::skipBody(std::uint64_t offset, std::uint64_t length) {
   }
 }
 
+// Header, Schema, Channel and Metadata records (in record_, read at `at`): what later records
+// refer to or the file says of itself. Other records are left to the caller.
+void McapReader::applyDefinition(std::uint8_t op, std::uint64_t at) {
+  Cursor c(record_, file_, at + 9, opName(op));
+  switch (op) {
+    case kHeader:
+      profile_ = c.string("profile");
+      library_ = c.string("library");
+      break;
+    case kSchema:
+      addSchema(parseSchema(c), at);
+      break;
+    case kChannel:
+      addChannel(parseChannel(c), at);
+      break;
+    case kMetadata: {
+      McapMetadata meta;
+      meta.name = c.string("name");
+      meta.entries = parseMap(c, "metadata");
+      metadata_.push_back(std::move(meta));
+      break;
+    }
+    default:
+      break;
+  }
+}
+
 // One record of the data section, at pos_. True when it was a message (written to `m`).
 bool McapReader::dataRecord(McapMessage& m) {
   const std::uint64_t at = pos_, room = size_ - kMagic.size() - at;
@@ -286,35 +313,15 @@ bool McapReader::dataRecord(McapMessage& m) {
   }
   source_.read(at + 9, static_cast<std::size_t>(len), record_);
   Cursor c(record_, file_, at + 9, opName(op));
-  switch (op) {
-    case kDataEnd: {
-      const auto crc = c.le<std::uint32_t>("data_section_crc");
-      if (crc != 0 && crc != data_crc_)
-        c.fail("data_section_crc does not match the data section (corrupt file)");
-      data_crc_checked_ = crc != 0;
-      done_ = true;
-      return false;
-    }
-    case kHeader:
-      profile_ = c.string("profile");
-      library_ = c.string("library");
-      break;
-    case kSchema:
-      addSchema(parseSchema(c), at);
-      break;
-    case kChannel:
-      addChannel(parseChannel(c), at);
-      break;
-    case kMetadata: {
-      McapMetadata meta;
-      meta.name = c.string("name");
-      meta.entries = parseMap(c, "metadata");
-      metadata_.push_back(std::move(meta));
-      break;
-    }
-    default:
-      break;
+  if (op == kDataEnd) {
+    const auto crc = c.le<std::uint32_t>("data_section_crc");
+    if (crc != 0 && crc != data_crc_)
+      c.fail("data_section_crc does not match the data section (corrupt file)");
+    data_crc_checked_ = crc != 0;
+    done_ = true;
+    return false;
   }
+  applyDefinition(op, at);
   data_crc_ = crc32(record_, crc32(head, data_crc_));
   if (op == kMessage) {
     readMessage(c, at, channels_, m);
