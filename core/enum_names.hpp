@@ -50,6 +50,14 @@ std::vector<std::string> namesOf(const EnumNames<E, N>& table) {
   return names;
 }
 
+/// The names in table order joined with `separator` ("a, b", "a|b").
+template <typename E, std::size_t N>
+std::string joinedNames(const EnumNames<E, N>& table, std::string_view separator) {
+  std::string out;
+  for (std::size_t i = 0; i < N; ++i) out.append(i ? separator : "").append(table[i].second);
+  return out;
+}
+
 /// "unknown mode 'c' (valid: a, b)": the one wording for a name not in a list.
 std::string unknownNameMessage(std::string_view what, std::string_view text,
                                const std::vector<std::string>& valid);

@@ -30,6 +30,7 @@ TEST(EnumNames, UnknownValuesAndNames) {
 
 TEST(EnumNames, NamesInTableOrder) {
   EXPECT_EQ(namesOf(kColourNames), (std::vector<std::string>{"red", "green", "blue"}));
+  EXPECT_EQ(joinedNames(kColourNames, "|"), "red|green|blue");
 }
 
 TEST(EnumNames, ParseThrowsNamingWhereTheTextAndTheValidNames) {
