@@ -70,12 +70,12 @@ eval::RecordingsCalibrationParams paramsOf(const CalibrateFlags& flags) {
   recordings.validate_fraction = flags.validate_fraction;
   recordings.held_out.stamp_is_last_beam = flags.stamp_is_last_beam;
   eval::DatasetCalibrationParams& p = recordings.base;
-  if (flags.method != "all") p.methods = {*algo::parseCalibrationMethod(flags.method)};
+  if (flags.method != "all")
+    p.methods = {parseName(algo::kCalibrationMethodNames, flags.method, "method", "--method")};
   p.only_applicable = flags.method == "all";
   p.tuples = flags.tuples_in;
   p.squares = flags.squares;
-  p.motion.from_icp = flags.motion != "groundtruth";
-  p.motion.from_map = flags.motion == "map";
+  p.motion.source = parseName(eval::kMotionSourceNames, flags.motion, "motion", "--motion");
   p.regularize_stamps = flags.stamps == "auto";
   p.motion.deskew = flags.deskew;
   p.motion.stamp_is_last_beam = flags.stamp_is_last_beam;
@@ -326,7 +326,7 @@ Command addCalibrateCommand(CLI::App& app) {
   cli->add_option("--motion", flags->motion,
                   "lidar motion from chained scan-to-scan ICP, from scan-to-map matching (map: "
                   "what `match` tracks, for sparse real scans), or from ground truth (oracle)")
-      ->check(oneOf("motion", {"icp", "map", "groundtruth"}))
+      ->check(oneOf("motion", namesOf(eval::kMotionSourceNames)))
       ->capture_default_str();
   cli->add_option("--stamps", flags->stamps,
                   "auto: match scans on stamps put back on their constant-rate grid where a "
@@ -336,7 +336,7 @@ Command addCalibrateCommand(CLI::App& app) {
       ->check(oneOf("stamps", {"auto", "raw"}))
       ->capture_default_str();
   std::vector<std::string> deskews = {"auto"};
-  for (auto m : algo::allDeskewMethods()) deskews.emplace_back(algo::deskewMethodName(m));
+  for (const std::string& m : namesOf(algo::kDeskewMethodNames)) deskews.push_back(m);
   cli->add_option("--deskew", flags->deskew,
                   "with --motion icp: de-skew scans with this method before matching them. auto: "
                   "imu when the log has one (independent of the wheel geometry being "

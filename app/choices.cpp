@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/enum_names.hpp"
 #include "core/error.hpp"
 #include "eval/formats/text_io.hpp"
 
@@ -56,7 +57,7 @@ std::string joined(const std::vector<std::string>& names, const std::string& sep
 
 std::string unknownChoice(const std::string& what, const std::string& typed,
                           const std::vector<std::string>& valid) {
-  std::string message = "unknown " + what + " '" + typed + "' (valid: " + joined(valid, ", ") + ")";
+  std::string message = unknownNameMessage(what, typed, valid);
   if (const auto closest = closestName(typed, valid))
     message += "; did you mean '" + *closest + "'?";
   return message;

@@ -131,7 +131,8 @@ MethodRun runMethod(algo::DeskewMethod method, const Dataset& d, const PoseSerie
   options.geometry = geometry.wheels;
   options.odometry = odometry;
   options.T_base_lidar = geometry.T_base_lidar;
-  options.reference = *algo::parseReferenceTime(flags.reference);
+  options.reference =
+      parseName(algo::kReferenceTimeNames, flags.reference, "reference", "--reference");
   options.stamp_is_last_beam = flags.stamp_is_last_beam;
   options.params.quadratic_pieces = flags.quadratic_pieces;
   if (!flags.window.empty()) {
@@ -213,9 +214,9 @@ struct MethodChoice {
 MethodChoice chooseMethods(const DeskewFlags& flags, const Dataset& d, bool has_odometry) {
   MethodChoice choice;
   const std::vector<algo::DeskewMethod> asked =
-      flags.method == "all"
-          ? algo::allDeskewMethods()
-          : std::vector<algo::DeskewMethod>{*algo::parseDeskewMethod(flags.method)};
+      flags.method == "all" ? algo::allDeskewMethods()
+                            : std::vector<algo::DeskewMethod>{parseName(
+                                  algo::kDeskewMethodNames, flags.method, "method", "--method")};
   for (const auto m : asked) {
     if (auto reason = notApplicable(m, d, has_odometry))
       choice.not_applicable.emplace_back(m, std::move(*reason));
@@ -316,8 +317,7 @@ Command addDeskewCommand(CLI::App& app) {
       "of the dataset plus deskewed_<method>.jsonl. Exit 3 when every method refused every\n"
       "scan, or with --strict when any scan was refused.");
   cli->add_option("DATASET", flags->dataset, "dataset directory (read only)")->required();
-  std::vector<std::string> names;
-  for (auto m : algo::allDeskewMethods()) names.emplace_back(algo::deskewMethodName(m));
+  std::vector<std::string> names = namesOf(algo::kDeskewMethodNames);
   names.emplace_back("all");
   cli->add_option("--method", flags->method, "de-skew method, or all: the ones that apply")
       ->check(oneOf("method", names))
@@ -329,7 +329,7 @@ Command addDeskewCommand(CLI::App& app) {
       ->check(oneOf("stamps", {"auto", "raw"}))
       ->capture_default_str();
   cli->add_option("--reference", flags->reference, "time the corrected points describe")
-      ->check(oneOf("reference", {"first", "middle", "last"}))
+      ->check(oneOf("reference", namesOf(algo::kReferenceTimeNames)))
       ->capture_default_str();
   cli->add_option("--geometry", flags->geometry,
                   "wheel geometry and lidar mount for odometry methods: nominal (default) or "

@@ -115,9 +115,9 @@ Command addExportCommand(CLI::App& app) {
   auto* cli = app.add_subcommand(
       "export", "Write a dataset as MCAP, CARMEN, TUM or KITTI trajectories, or CSM JSON.");
   cli->add_option("DATASET", flags->dataset, "dataset directory")->required();
-  cli->add_option("--format", flags->format, "mcap|carmen|tum|kitti|csm")
+  cli->add_option("--format", flags->format, joinedNames(eval::kExportFormatNames, "|"))
       ->required()
-      ->check(oneOf("format", {"mcap", "carmen", "tum", "kitti", "csm"}));
+      ->check(oneOf("format", namesOf(eval::kExportFormatNames)));
   cli->add_option("--out", flags->out,
                   "output file (mcap, carmen, csm) or directory (tum, kitti); an existing one "
                   "is refused unless --force")
@@ -128,7 +128,7 @@ Command addExportCommand(CLI::App& app) {
                   "calibrate --json output for the calibrated odometry (default: "
                   "DATASET/calibration.json if present)");
   std::vector<std::string> scans = {"scans"};
-  for (auto m : algo::allDeskewMethods()) scans.emplace_back(algo::deskewMethodName(m));
+  for (const std::string& m : namesOf(algo::kDeskewMethodNames)) scans.push_back(m);
   cli->add_option("--scans", flags->params.scans,
                   "carmen/csm: 'scans' or a de-skew method (reads deskewed_<method>.jsonl, "
                   "which `slamprep deskew --out` writes)")
@@ -138,7 +138,7 @@ Command addExportCommand(CLI::App& app) {
                   "mcap: bytes per chunk; 0 writes an unchunked file")
       ->capture_default_str();
   cli->add_option("--compression", flags->compression, "mcap: chunk compression")
-      ->check(oneOf("compression", {"none", "zstd", "lz4"}))
+      ->check(oneOf("compression", namesOf(eval::kCompressionNames)))
       ->capture_default_str();
   cli->add_option("--ground-truth-frame", flags->params.world_frame,
                   "mcap: frame of /ground_truth (e.g. map or world)")

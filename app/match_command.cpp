@@ -57,8 +57,8 @@ eval::ErrorStats acceptedResiduals(const algo::KeyframeOdometry& t) {
 nlohmann::ordered_json hypothesesJson(const eval::MatchTrajectory& run) {
   const algo::KeyframeOdometry& t = run.tracked;
   nlohmann::ordered_json won = nlohmann::ordered_json::object();
-  for (std::size_t i = 0; i < algo::kGuessSources; ++i)
-    won[algo::guessSourceName(static_cast<algo::GuessSource>(i))] = t.won_by[i];
+  for (const auto& [source, name] : algo::kGuessSourceNames)
+    won[std::string(name)] = t.won_by[static_cast<std::size_t>(source)];
   return {{"odometry_guesses", run.odometry_guesses},
           {"gyro_guesses", run.gyro_guesses},
           {"multi_hypothesis", t.multi_hypothesis},
@@ -132,9 +132,12 @@ void printGuesses(const eval::MatchTrajectory& run) {
       "guesses: odometry for %zu scans, gyro for %zu; they disagreed on %zu, matched from "
       "each; poses taken from",
       run.odometry_guesses, run.gyro_guesses, t.multi_hypothesis);
-  for (std::size_t i = 0; i < algo::kGuessSources; ++i)
-    std::printf("%s %s %zu", i == 0 ? "" : ",", algo::guessSourceName(algo::GuessSource(i)),
-                t.won_by[i]);
+  const char* separator = "";
+  for (const auto& [source, name] : algo::kGuessSourceNames) {
+    std::printf("%s %.*s %zu", separator, static_cast<int>(name.size()), name.data(),
+                t.won_by[static_cast<std::size_t>(source)]);
+    separator = ",";
+  }
   std::printf("\n");
 }
 
@@ -222,8 +225,7 @@ Command addMatchCommand(CLI::App& app) {
   addForce(cli, *flags, "existing output files");
   addStrict(cli, *flags, "when any scan fell back, not only all");
   addQuiet(cli, *flags);
-  std::vector<std::string> deskews = {"none"};
-  for (auto m : algo::allDeskewMethods()) deskews.emplace_back(algo::deskewMethodName(m));
+  const std::vector<std::string> deskews = namesOf(algo::kDeskewMethodNames);  // "none" first
   cli->add_option("--deskew", flags->deskew,
                   "de-skew each scan with this method first (scans it refuses are matched as "
                   "measured; docs/deskew.md); none: match the scans as measured")

@@ -119,7 +119,7 @@ int runApe(ScoreFlags f) {
 }
 
 int runRpe(ScoreFlags f) {
-  f.rpe.unit = f.unit == "m" ? eval::DeltaUnit::kMeters : eval::DeltaUnit::kFrames;
+  f.rpe.unit = parseName(eval::kDeltaUnitNames, f.unit, "delta unit", "--unit");
   const eval::RpeResult r =
       eval::relativePoseError(eval::readTum(f.second), eval::readTum(f.first), f.rpe);
   if (!r.ok) throw InputError(f.second + " against " + f.first, r.reason);
@@ -177,7 +177,7 @@ Command addScoreCommand(CLI::App& app) {
       ->check(positive())
       ->capture_default_str();
   rpe->add_option("--unit", flags->unit, "frames or m")
-      ->check(oneOf("delta unit", {"frames", "m"}))
+      ->check(oneOf("delta unit", namesOf(eval::kDeltaUnitNames)))
       ->capture_default_str();
   rpe->add_flag("--all-pairs", flags->rpe.all_pairs, "every start pose, not consecutive segments");
   rpe->add_option("--max-time-difference", flags->rpe.max_time_difference_s,

@@ -71,7 +71,7 @@ void printSummary(const sim::SimSummary& s, double wall_s, const std::string& ou
   const double rtf = wall_s > 0.0 ? s.duration_s / wall_s : 0.0;
   const double deg = 180.0 / std::numbers::pi;
   std::printf("simulated %.2f s (%s, %zu physics steps) in %.2f s wall: %.0fx real time\n",
-              s.duration_s, s.mode == sim::SimMode::physics ? "physics" : "kinematic",
+              s.duration_s, std::string(nameOf(sim::kSimModeNames, s.mode)).c_str(),
               s.physics_steps, wall_s, rtf);
   std::printf("scans %zu, beams %zu (%.1f %% returns)\n", s.scans, s.beams,
               s.beams > 0 ? 100.0 * s.returns / s.beams : 0.0);
@@ -155,7 +155,7 @@ Command addSimulateCommand(CLI::App& app) {
   cli->add_option("--mode", flags->mode,
                   "physics (default): Bullet rigid bodies, motors, contacts, slip. kinematic: "
                   "exact integration of the commanded wheel rates with the true geometry")
-      ->check(oneOf("mode", {"physics", "kinematic"}));
+      ->check(oneOf("mode", namesOf(sim::kSimModeNames)));
   cli->add_option("--config", flags->config_file,
                   "JSON configuration applied before the other flags: a configuration object or "
                   "a dataset.json (reruns the configuration a dataset was made with)");

@@ -119,11 +119,8 @@ class EntryReader {
   CalibrationMethod method() const {
     if (!e_.contains("method") || !e_["method"].is_string())
       fail("method", "missing or not a string");
-    const auto m = parseCalibrationMethod(e_["method"].get<std::string>());
-    if (!m)
-      fail("method", "unknown method \"" + e_["method"].get<std::string>() + "\" (" +
-                         joinCalibrationMethodNames(allCalibrationMethods(), ", ") + ")");
-    return *m;
+    return parseName(kCalibrationMethodNames, e_["method"].get<std::string>(), "method",
+                     where_ + ".method");
   }
 
   bool ok() const {

@@ -3,46 +3,25 @@
 #include <algorithm>
 
 namespace slamprep::algo {
-namespace {
-
-struct MethodName {
-  CalibrationMethod method;
-  std::string_view name;
-};
-
-constexpr MethodName kMethodNames[] = {
-    {CalibrationMethod::kDirect, "direct"},   {CalibrationMethod::kModel, "model"},
-    {CalibrationMethod::kJoint, "joint"},     {CalibrationMethod::kCeres, "ceres"},
-    {CalibrationMethod::kUmbmark, "umbmark"},
-};
-
-}  // namespace
-
 const std::vector<CalibrationMethod>& allCalibrationMethods() {
   static const std::vector<CalibrationMethod> all = [] {
     std::vector<CalibrationMethod> v;
-    for (const auto& m : kMethodNames) v.push_back(m.method);
+    for (const auto& [method, name] : kCalibrationMethodNames) v.push_back(method);
     return v;
   }();
   return all;
 }
 
 std::string_view calibrationMethodName(CalibrationMethod method) {
-  for (const auto& m : kMethodNames)
-    if (m.method == method) return m.name;
-  return "unknown";
+  return nameOf(kCalibrationMethodNames, method);
 }
 
 std::optional<CalibrationMethod> parseCalibrationMethod(std::string_view name) {
-  for (const auto& m : kMethodNames)
-    if (m.name == name) return m.method;
-  return std::nullopt;
+  return findName(kCalibrationMethodNames, name);
 }
 
 std::vector<std::string> calibrationMethodNames() {
-  std::vector<std::string> names;
-  for (const auto& m : kMethodNames) names.emplace_back(m.name);
-  return names;
+  return namesOf(kCalibrationMethodNames);
 }
 
 std::string joinCalibrationMethodNames(const std::vector<CalibrationMethod>& methods,

@@ -14,6 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/enum_names.hpp"
+
 namespace slamprep::algo {
 
 enum class CalibrationMethod {
@@ -23,6 +25,13 @@ enum class CalibrationMethod {
   kCeres,    ///< "ceres": nonlinear refinement of joint (ceres_refine.hpp)
   kUmbmark,  ///< "umbmark": square runs, Borenstein & Feng (umbmark.hpp)
 };
+inline constexpr auto kCalibrationMethodNames = std::to_array<EnumName<CalibrationMethod>>({
+    {CalibrationMethod::kDirect, "direct"},
+    {CalibrationMethod::kModel, "model"},
+    {CalibrationMethod::kJoint, "joint"},
+    {CalibrationMethod::kCeres, "ceres"},
+    {CalibrationMethod::kUmbmark, "umbmark"},
+});
 
 /// Every method in the order above: the order `calibrate --method all` runs and writes them.
 const std::vector<CalibrationMethod>& allCalibrationMethods();

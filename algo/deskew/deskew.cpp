@@ -15,21 +15,26 @@ enum Needs : unsigned { kNoSeries = 0, kTruth = 1, kOdometry = 2, kImu = 4 };
 
 struct MethodEntry {
   DeskewMethod method;
-  std::string_view name;
   Trajectory (*knots)(const MethodCall&);
   bool uses_previous_scan;
   unsigned needs;  ///< Needs bits: deskewMissingInput()
 };
 constexpr std::array<MethodEntry, 8> kMethods{{
-    {DeskewMethod::kNone, "none", noneKnots, false, kNoSeries},
-    {DeskewMethod::kOracle, "oracle", oracleKnots, false, kTruth},
-    {DeskewMethod::kConstVelocity, "const-velocity", constVelocityKnots, true, kNoSeries},
-    {DeskewMethod::kVicp, "vicp", vicpKnots, true, kNoSeries},
-    {DeskewMethod::kOdomLinear, "odom-linear", odomLinearKnots, false, kOdometry},
-    {DeskewMethod::kOdomQuadratic, "odom-quadratic", odomQuadraticKnots, false, kOdometry},
-    {DeskewMethod::kImu, "imu", imuKnots, false, kOdometry | kImu},
-    {DeskewMethod::kOdomIcp, "odom-icp", odomIcpKnots, true, kOdometry},
+    {DeskewMethod::kNone, noneKnots, false, kNoSeries},
+    {DeskewMethod::kOracle, oracleKnots, false, kTruth},
+    {DeskewMethod::kConstVelocity, constVelocityKnots, true, kNoSeries},
+    {DeskewMethod::kVicp, vicpKnots, true, kNoSeries},
+    {DeskewMethod::kOdomLinear, odomLinearKnots, false, kOdometry},
+    {DeskewMethod::kOdomQuadratic, odomQuadraticKnots, false, kOdometry},
+    {DeskewMethod::kImu, imuKnots, false, kOdometry | kImu},
+    {DeskewMethod::kOdomIcp, odomIcpKnots, true, kOdometry},
 }};
+// One order for the methods: allDeskewMethods() follows kMethods, the names kDeskewMethodNames.
+static_assert([] {
+  for (std::size_t i = 0; i < kMethods.size(); ++i)
+    if (kMethods[i].method != kDeskewMethodNames.at(i).first) return false;
+  return kMethods.size() == kDeskewMethodNames.size();
+}());
 
 const MethodEntry* entry(DeskewMethod method) {
   for (const auto& m : kMethods)
@@ -49,14 +54,11 @@ const std::vector<DeskewMethod>& allDeskewMethods() {
 }
 
 std::string_view deskewMethodName(DeskewMethod method) {
-  const MethodEntry* m = entry(method);
-  return m ? m->name : "unknown";
+  return nameOf(kDeskewMethodNames, method);
 }
 
 std::optional<DeskewMethod> parseDeskewMethod(std::string_view name) {
-  for (const auto& m : kMethods)
-    if (m.name == name) return m.method;
-  return std::nullopt;
+  return findName(kDeskewMethodNames, name);
 }
 
 bool deskewMethodUsesPreviousScan(DeskewMethod method) {
@@ -65,15 +67,7 @@ bool deskewMethodUsesPreviousScan(DeskewMethod method) {
 }
 
 std::string_view deskewInputName(DeskewInput input) {
-  switch (input) {
-    case DeskewInput::kGroundTruth:
-      return "ground truth";
-    case DeskewInput::kOdometry:
-      return "odometry";
-    case DeskewInput::kImu:
-      return "IMU samples";
-  }
-  return "unknown";
+  return nameOf(kDeskewInputNames, input);
 }
 
 std::optional<DeskewInput> deskewMissingInput(DeskewMethod method, DeskewInputsGiven given) {
@@ -86,53 +80,25 @@ std::optional<DeskewInput> deskewMissingInput(DeskewMethod method, DeskewInputsG
 }
 
 const std::vector<DeskewRefusal>& allDeskewRefusals() {
-  static const std::vector<DeskewRefusal> all = {
-      DeskewRefusal::kNoBeams,         DeskewRefusal::kNoBeamTimes,  DeskewRefusal::kUnknownMethod,
-      DeskewRefusal::kMissingInput,    DeskewRefusal::kNotBracketed, DeskewRefusal::kSampleGap,
-      DeskewRefusal::kBadPreviousScan, DeskewRefusal::kMatchFailed};
+  static const std::vector<DeskewRefusal> all = [] {
+    std::vector<DeskewRefusal> v;
+    for (const auto& [reason, name] : kDeskewRefusalNames)
+      if (reason != DeskewRefusal::kNone) v.push_back(reason);
+    return v;
+  }();
   return all;
 }
 
 std::string_view deskewRefusalName(DeskewRefusal reason) {
-  switch (reason) {
-    case DeskewRefusal::kNone:
-      return "";
-    case DeskewRefusal::kNoBeams:
-      return "no-beams";
-    case DeskewRefusal::kNoBeamTimes:
-      return "no-beam-times";
-    case DeskewRefusal::kUnknownMethod:
-      return "unknown-method";
-    case DeskewRefusal::kMissingInput:
-      return "missing-input";
-    case DeskewRefusal::kNotBracketed:
-      return "not-bracketed";
-    case DeskewRefusal::kSampleGap:
-      return "sample-gap";
-    case DeskewRefusal::kBadPreviousScan:
-      return "bad-previous-scan";
-    case DeskewRefusal::kMatchFailed:
-      return "match-failed";
-  }
-  return "unknown";
+  return nameOf(kDeskewRefusalNames, reason);
 }
 
 std::string_view referenceTimeName(ReferenceTime reference) {
-  switch (reference) {
-    case ReferenceTime::kFirst:
-      return "first";
-    case ReferenceTime::kMiddle:
-      return "middle";
-    case ReferenceTime::kLast:
-      return "last";
-  }
-  return "unknown";
+  return nameOf(kReferenceTimeNames, reference);
 }
 
 std::optional<ReferenceTime> parseReferenceTime(std::string_view name) {
-  for (ReferenceTime r : {ReferenceTime::kFirst, ReferenceTime::kMiddle, ReferenceTime::kLast})
-    if (referenceTimeName(r) == name) return r;
-  return std::nullopt;
+  return findName(kReferenceTimeNames, name);
 }
 
 double firstBeamTime(const LaserScan& scan, bool stamp_is_last_beam) {
@@ -185,8 +151,8 @@ DeskewResult deskew(DeskewMethod method, const LaserScan& scan, const DeskewInpu
                                 !inputs.imu.empty()};
   if (const auto missing = deskewMissingInput(method, given)) {
     result.refusal = DeskewRefusal::kMissingInput;
-    result.reason = std::string(m->name) + " needs " + std::string(deskewInputName(*missing)) +
-                    ", none was given";
+    result.reason = std::string(deskewMethodName(method)) + " needs " +
+                    std::string(deskewInputName(*missing)) + ", none was given";
     return result;
   }
   try {

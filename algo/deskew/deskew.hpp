@@ -17,6 +17,7 @@
 #include "algo/deskew/beam_transform.hpp"
 #include "algo/deskew/repack.hpp"
 #include "algo/matching/icp.hpp"
+#include "core/enum_names.hpp"
 #include "core/laser_scan.hpp"
 #include "core/samples.hpp"
 #include "core/se2.hpp"
@@ -36,6 +37,17 @@ enum class DeskewMethod {
   kOdomIcp,        ///< "odom-icp": odometry de-skew, then odometry error from ICP, iterated
 };
 
+inline constexpr auto kDeskewMethodNames = std::to_array<EnumName<DeskewMethod>>({
+    {DeskewMethod::kNone, "none"},
+    {DeskewMethod::kOracle, "oracle"},
+    {DeskewMethod::kConstVelocity, "const-velocity"},
+    {DeskewMethod::kVicp, "vicp"},
+    {DeskewMethod::kOdomLinear, "odom-linear"},
+    {DeskewMethod::kOdomQuadratic, "odom-quadratic"},
+    {DeskewMethod::kImu, "imu"},
+    {DeskewMethod::kOdomIcp, "odom-icp"},
+});
+
 /// Every method in the order above.
 const std::vector<DeskewMethod>& allDeskewMethods();
 std::string_view deskewMethodName(DeskewMethod method);
@@ -51,6 +63,11 @@ enum class DeskewInput {
   kOdometry,     ///< "odometry": odom-linear, odom-quadratic, imu (translation), odom-icp
   kImu,          ///< "IMU samples": imu
 };
+inline constexpr auto kDeskewInputNames = std::to_array<EnumName<DeskewInput>>({
+    {DeskewInput::kGroundTruth, "ground truth"},
+    {DeskewInput::kOdometry, "odometry"},
+    {DeskewInput::kImu, "IMU samples"},
+});
 std::string_view deskewInputName(DeskewInput input);
 /// Which of those series a log has (not empty).
 struct DeskewInputsGiven {
@@ -65,6 +82,11 @@ std::optional<DeskewInput> deskewMissingInput(DeskewMethod method, DeskewInputsG
 
 /// Which instant the de-skewed points describe.
 enum class ReferenceTime { kFirst, kMiddle, kLast };
+inline constexpr auto kReferenceTimeNames = std::to_array<EnumName<ReferenceTime>>({
+    {ReferenceTime::kFirst, "first"},
+    {ReferenceTime::kMiddle, "middle"},
+    {ReferenceTime::kLast, "last"},
+});
 std::string_view referenceTimeName(ReferenceTime reference);
 std::optional<ReferenceTime> parseReferenceTime(std::string_view name);
 
@@ -80,6 +102,17 @@ enum class DeskewRefusal {
   kBadPreviousScan,  ///< "bad-previous-scan": not earlier, or without beam times
   kMatchFailed,      ///< "match-failed": the scan-to-scan match did not converge
 };
+inline constexpr auto kDeskewRefusalNames = std::to_array<EnumName<DeskewRefusal>>({
+    {DeskewRefusal::kNone, ""},
+    {DeskewRefusal::kNoBeams, "no-beams"},
+    {DeskewRefusal::kNoBeamTimes, "no-beam-times"},
+    {DeskewRefusal::kUnknownMethod, "unknown-method"},
+    {DeskewRefusal::kMissingInput, "missing-input"},
+    {DeskewRefusal::kNotBracketed, "not-bracketed"},
+    {DeskewRefusal::kSampleGap, "sample-gap"},
+    {DeskewRefusal::kBadPreviousScan, "bad-previous-scan"},
+    {DeskewRefusal::kMatchFailed, "match-failed"},
+});
 /// Every refusal reason but kNone, in the order above.
 const std::vector<DeskewRefusal>& allDeskewRefusals();
 std::string_view deskewRefusalName(DeskewRefusal reason);

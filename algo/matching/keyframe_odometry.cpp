@@ -192,18 +192,8 @@ TrackedScan trackScan(const Points2& points, const StepPrior& prior, const SE2& 
 
 }  // namespace
 
-const char* guessSourceName(GuessSource source) {
-  switch (source) {
-    case GuessSource::kOdometry:
-      return "odometry";
-    case GuessSource::kGyro:
-      return "gyro";
-    case GuessSource::kConstantVelocity:
-      return "constant_velocity";
-    case GuessSource::kStill:
-      return "still";
-  }
-  return "?";
+std::string_view guessSourceName(GuessSource source) {
+  return nameOf(kGuessSourceNames, source);
 }
 
 SE2 fuseWithGuess(const SE2& T_kf_match, const Eigen::Matrix3d& match_covariance,

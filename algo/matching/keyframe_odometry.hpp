@@ -28,6 +28,7 @@
 #include "algo/matching/icp.hpp"
 #include "algo/matching/local_submap.hpp"
 #include "algo/matching/scan_support.hpp"
+#include "core/enum_names.hpp"
 #include "core/laser_scan.hpp"
 #include "core/se2.hpp"
 
@@ -94,8 +95,15 @@ struct KeyframeOdometryParams {
 
 /// Where a guess of the motion between two scans came from, in the order near-ties are broken.
 enum class GuessSource { kOdometry, kGyro, kConstantVelocity, kStill };
-inline constexpr std::size_t kGuessSources = 4;
-const char* guessSourceName(GuessSource source);
+/// As the match JSON and the summary write them ("guess", "won_by"), in the order above.
+inline constexpr auto kGuessSourceNames = std::to_array<EnumName<GuessSource>>({
+    {GuessSource::kOdometry, "odometry"},
+    {GuessSource::kGyro, "gyro"},
+    {GuessSource::kConstantVelocity, "constant_velocity"},
+    {GuessSource::kStill, "still"},
+});
+inline constexpr std::size_t kGuessSources = kGuessSourceNames.size();
+std::string_view guessSourceName(GuessSource source);
 
 /// What the log says of the motion from scan k-1 to scan k (lidar frame, first beams).
 struct StepPrior {

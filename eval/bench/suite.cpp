@@ -11,6 +11,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/paths.hpp"
+#include "eval/pipeline/calibration_run.hpp"
 #include "sim/drive/config.hpp"
 #include "sim/drive/scenario.hpp"
 #include "sim/physics/world.hpp"
@@ -69,10 +70,12 @@ std::vector<algo::CalibrationMethod> parseCalibrationMethods(const YamlDoc& doc,
   std::vector<algo::CalibrationMethod> methods;
   for (const std::string& name : doc.stringList(node, key)) {
     const auto method = algo::parseCalibrationMethod(name);
-    if (!method || !algo::isIntervalMethod(*method))
-      doc.fail(node, key,
-               "unknown method '" + name + "' (" +
-                   algo::joinCalibrationMethodNames(algo::intervalMethods(), ", ") + ")");
+    if (!method || !algo::isIntervalMethod(*method)) {
+      std::vector<std::string> valid;
+      for (const auto m : algo::intervalMethods())
+        valid.emplace_back(algo::calibrationMethodName(m));
+      doc.fail(node, key, unknownNameMessage("method", name, valid));
+    }
     methods.push_back(*method);
   }
   return methods;
@@ -150,14 +153,16 @@ void validate(const Suite& suite) {
     throw InputError(f + ": seeds", "must be between 1 and " + std::to_string(kMaxSeeds));
   if (!std::isfinite(suite.duration_s) || suite.duration_s < 0)
     throw InputError(f + ": duration_s", "must be a finite number, not negative");
-  if (suite.mode != "physics" && suite.mode != "kinematic")
-    throw InputError(f + ": mode", "must be physics or kinematic, not '" + suite.mode + "'");
+  parseName(sim::kSimModeNames, suite.mode, "mode", f + ": mode");
   if (suite.deskew_geometry != "nominal" && suite.deskew_geometry != "true" &&
       suite.deskew_geometry != "calibrated")
     throw InputError(f + ": deskew_geometry",
                      "must be nominal, true or calibrated, not '" + suite.deskew_geometry + "'");
-  if (suite.motion != "icp" && suite.motion != "groundtruth")
-    throw InputError(f + ": motion", "must be icp or groundtruth, not '" + suite.motion + "'");
+  // The bench drives no scan-to-map matching: icp or groundtruth.
+  const auto motion = findName(kMotionSourceNames, suite.motion);
+  if (!motion || *motion == MotionSource::kMap)
+    throw InputError(f + ": motion",
+                     unknownNameMessage("motion", suite.motion, {"icp", "groundtruth"}));
   // Counted in floating point: the product of the sweep axes may not fit any integer.
   double trials = static_cast<double>(suite.worlds.size()) * suite.scenarios.size() * suite.seeds;
   for (const auto& axis : suite.sweep) trials *= static_cast<double>(axis.values.size());
@@ -175,8 +180,7 @@ void validate(const Suite& suite) {
 void validateNames(const Suite& suite) {
   const std::string f = suite.source.string();
   for (const auto& m : suite.deskew_methods)
-    if (!algo::parseDeskewMethod(m))
-      throw InputError(f + ": deskew_methods", "unknown method '" + m + "'");
+    parseName(algo::kDeskewMethodNames, m, "method", f + ": deskew_methods");
   std::vector<std::pair<std::string, std::string>> assignments(suite.set.begin(), suite.set.end());
   for (const auto& axis : suite.sweep)
     for (const auto& v : axis.values) assignments.emplace_back(axis.key, v);

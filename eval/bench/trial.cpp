@@ -37,7 +37,7 @@ sim::SimConfig simConfig(const Suite& suite, const TrialSpec& spec) {
   config.scenario = spec.scenario;
   config.seed = spec.seed;
   config.duration_s = spec.duration_s;
-  config.mode = suite.mode == "kinematic" ? sim::SimMode::kinematic : sim::SimMode::physics;
+  config.mode = parseName(sim::kSimModeNames, suite.mode, "mode", suite.source.string() + ": mode");
   for (const auto& [key, value] : spec.overrides) sim::applyOverride(config, key + "=" + value);
   return config;
 }
@@ -293,11 +293,13 @@ std::vector<algo::CalibrationRun> calibrateStage(const Suite& suite, const Datas
   stages.begin("match");
   auto start = Clock::now();
   CalibrationMotionOptions motion_options;
-  motion_options.from_icp = suite.motion == "icp";
+  motion_options.source =
+      parseName(kMotionSourceNames, suite.motion, "motion", suite.source.string() + ": motion");
   motion_options.loop_closure = suite.calibration_loop_closure;
   CalibrationMotion motion = calibrationMotion(dataset, motion_options);
   out.timing["motion_s"] = secondsSince(start);
-  if (motion_options.from_icp) out.result["matching"] = matchingJson(dataset, motion);
+  if (motion_options.source != MotionSource::kGroundTruth)
+    out.result["matching"] = matchingJson(dataset, motion);
   algo::CalibrationInput input;
   input.intervals = std::move(motion.intervals.intervals);
   input.heading_loops = std::move(motion.heading_loops);
@@ -335,15 +337,15 @@ ShownDeskew deskewStage(const Suite& suite, const Dataset& dataset,
   if (!suite.deskew_methods.empty()) stages.begin("deskew");
   for (std::size_t i = 0; i < suite.deskew_methods.size(); ++i) {
     const std::string& name = suite.deskew_methods[i];
-    const auto method = algo::parseDeskewMethod(name);
-    if (!method) throw InputError(suite.source.string() + ": deskew_methods", "unknown " + name);
+    const auto method = parseName(algo::kDeskewMethodNames, name, "method",
+                                  suite.source.string() + ": deskew_methods");
     deskew_options.on_scan = [&](std::size_t done, std::size_t total) {
       stages.update((i + static_cast<double>(done) / total) / suite.deskew_methods.size());
     };
-    DatasetDeskew d = deskewDataset(dataset, *method, deskew_options);
+    DatasetDeskew d = deskewDataset(dataset, method, deskew_options);
     out.timing["deskew"][name] = d.seconds;
     out.result["deskew"][name] = deskewJson(d, name);
-    if (*method != algo::DeskewMethod::kNone && *method != algo::DeskewMethod::kOracle)
+    if (method != algo::DeskewMethod::kNone && method != algo::DeskewMethod::kOracle)
       shown = {std::move(d), name};
   }
   return shown;

@@ -97,7 +97,7 @@ DatasetCalibration calibrateForTwin(const std::string& dir, const Dataset& datas
   DatasetCalibrationParams c;
   c.dataset = dir;
   c.methods = {algo::CalibrationMethod::kJoint};
-  c.motion.from_map = true;
+  c.motion.source = MotionSource::kMap;
   c.motion.intervals.keyframe_translation_m = 0.2;
   return calibrateDataset(c, dataset);
 }

@@ -6,13 +6,14 @@
 #include <limits>
 #include <numbers>
 
+#include "core/enum_names.hpp"
 #include "core/error.hpp"
 #include "eval/formats/text_io.hpp"
 
 namespace slamprep::eval {
 namespace {
 
-constexpr std::array<std::pair<CarmenLaserType, std::string_view>, 7> kLaserNames = {{
+constexpr auto kLaserNames = std::to_array<EnumName<CarmenLaserType>>({
     {CarmenLaserType::kRobotLaser1, "ROBOTLASER1"},
     {CarmenLaserType::kFlaser, "FLASER"},
     {CarmenLaserType::kRlaser, "RLASER"},
@@ -20,7 +21,7 @@ constexpr std::array<std::pair<CarmenLaserType, std::string_view>, 7> kLaserName
     {CarmenLaserType::kRawLaser2, "RAWLASER2"},
     {CarmenLaserType::kRawLaser3, "RAWLASER3"},
     {CarmenLaserType::kRawLaser4, "RAWLASER4"},
-}};
+});
 
 class Tokens {
  public:
@@ -245,15 +246,11 @@ std::size_t restoreOrder(std::vector<T>& lines, const StreamOrder& order, bool d
 }  // namespace
 
 std::string_view carmenMessageName(CarmenLaserType type) {
-  for (const auto& [t, name] : kLaserNames)
-    if (t == type) return name;
-  return "?";
+  return nameOf(kLaserNames, type);
 }
 
 std::optional<CarmenLaserType> parseCarmenLaserType(std::string_view name) {
-  for (const auto& [t, n] : kLaserNames)
-    if (n == name) return t;
-  return std::nullopt;
+  return findName(kLaserNames, name);
 }
 
 CarmenLog parseCarmen(std::string_view text, const std::string& file,

@@ -71,14 +71,11 @@ std::string lz4(std::string_view data) {
 }  // namespace
 
 Compression parseCompression(const std::string& name, const std::string& where) {
-  if (name == "none") return Compression::kNone;
-  if (name == "zstd") return Compression::kZstd;
-  if (name == "lz4") return Compression::kLz4;
-  throw InputError(where, "unknown compression \"" + name + "\" (none, zstd, lz4)");
+  return parseName(kCompressionNames, name, "compression", where);
 }
 
 std::string_view mcapCompressionName(Compression c) {
-  return c == Compression::kZstd ? "zstd" : c == Compression::kLz4 ? "lz4" : "";
+  return c == Compression::kNone ? "" : nameOf(kCompressionNames, c);  // MCAP: "" is none
 }
 
 bool plausibleUncompressedSize(std::uint64_t compressed_size, std::uint64_t uncompressed_size) {

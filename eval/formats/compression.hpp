@@ -8,11 +8,19 @@
 #include <string>
 #include <string_view>
 
+#include "core/enum_names.hpp"
+
 namespace slamprep::eval {
 
 enum class Compression { kNone, kZstd, kLz4 };
+/// As --compression spells them.
+inline constexpr auto kCompressionNames = std::to_array<EnumName<Compression>>({
+    {Compression::kNone, "none"},
+    {Compression::kZstd, "zstd"},
+    {Compression::kLz4, "lz4"},
+});
 
-/// "none", "zstd" or "lz4"; throws InputError naming `where` otherwise.
+/// A name of kCompressionNames; throws InputError naming `where` otherwise.
 Compression parseCompression(const std::string& name, const std::string& where = "--compression");
 /// The name MCAP records carry: "" (none), "zstd" or "lz4".
 std::string_view mcapCompressionName(Compression c);

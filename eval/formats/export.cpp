@@ -52,12 +52,7 @@ const std::vector<ScanRecord>& chosenScans(const ExportInput& input, const Expor
 }  // namespace
 
 ExportFormat parseExportFormat(const std::string& name, const std::string& where) {
-  if (name == "mcap") return ExportFormat::kMcap;
-  if (name == "carmen") return ExportFormat::kCarmen;
-  if (name == "tum") return ExportFormat::kTum;
-  if (name == "kitti") return ExportFormat::kKitti;
-  if (name == "csm") return ExportFormat::kCsm;
-  throw InputError(where, "unknown format \"" + name + "\" (mcap, carmen, tum, kitti, csm)");
+  return parseName(kExportFormatNames, name, "format", where);
 }
 
 ExportInput loadExportInput(const fs::path& dataset_dir) {

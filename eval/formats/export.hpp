@@ -9,13 +9,21 @@
 #include <vector>
 
 #include "core/dataset.hpp"
+#include "core/enum_names.hpp"
 #include "eval/formats/compression.hpp"
 
 namespace slamprep::eval {
 
 enum class ExportFormat { kMcap, kCarmen, kTum, kKitti, kCsm };
+inline constexpr auto kExportFormatNames = std::to_array<EnumName<ExportFormat>>({
+    {ExportFormat::kMcap, "mcap"},
+    {ExportFormat::kCarmen, "carmen"},
+    {ExportFormat::kTum, "tum"},
+    {ExportFormat::kKitti, "kitti"},
+    {ExportFormat::kCsm, "csm"},
+});
 
-/// "mcap", "carmen", "tum", "kitti", "csm"; throws InputError naming `where` otherwise.
+/// A name of kExportFormatNames; throws InputError naming `where` otherwise.
 ExportFormat parseExportFormat(const std::string& name, const std::string& where = "--format");
 
 /// The calibrated wheel geometry for the calibrated odometry (the caller chooses it, e.g. the best

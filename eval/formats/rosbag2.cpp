@@ -21,20 +21,19 @@ std::string scalarOr(const YAML::Node& node, const char* key, const std::string&
 }
 
 BagStorageKind storageOf(const std::string& id, const std::string& where) {
-  if (id == "mcap") return BagStorageKind::kMcap;
-  if (id == "sqlite3") return BagStorageKind::kSqlite3;
-  throw InputError(where, "storage_identifier \"" + id + "\" is not read (only sqlite3 and mcap)");
+  if (const auto kind = findName(kBagStorageNames, id)) return *kind;
+  throw InputError(where, "storage_identifier \"" + id + "\" is not read (only " +
+                              joinedNames(kBagStorageNames, " and ") + ")");
 }
 
 BagCompressionMode compressionOf(const std::string& mode, const std::string& format,
                                  const std::string& where) {
-  BagCompressionMode m = BagCompressionMode::kNone;
-  if (mode == "FILE")
-    m = BagCompressionMode::kFile;
-  else if (mode == "MESSAGE")
-    m = BagCompressionMode::kMessage;
-  else if (!mode.empty() && mode != "NONE")
-    throw InputError(where, "compression_mode \"" + mode + "\" is unknown (NONE, FILE, MESSAGE)");
+  const auto found = mode.empty() ? BagCompressionMode::kNone  // early bags leave it out
+                                  : findName(kBagCompressionModeNames, mode);
+  if (!found)
+    throw InputError(where, "compression_mode \"" + mode + "\" is unknown (" +
+                                joinedNames(kBagCompressionModeNames, ", ") + ")");
+  const BagCompressionMode m = *found;
   if (m != BagCompressionMode::kNone && format != "zstd")
     throw InputError(where, "compression_format \"" + format + "\" (compression_mode " + mode +
                                 ") is not read (only zstd, what rosbag2 ships)");
@@ -133,13 +132,11 @@ Rosbag2Bag fromFile(const fs::path& file) {
 }  // namespace
 
 std::string_view storageName(BagStorageKind k) {
-  return k == BagStorageKind::kSqlite3 ? "sqlite3" : "mcap";
+  return nameOf(kBagStorageNames, k);
 }
 
 std::string_view compressionModeName(BagCompressionMode m) {
-  return m == BagCompressionMode::kFile      ? "FILE"
-         : m == BagCompressionMode::kMessage ? "MESSAGE"
-                                             : "NONE";
+  return nameOf(kBagCompressionModeNames, m);
 }
 
 Rosbag2Bag readRosbag2(const fs::path& bag) {

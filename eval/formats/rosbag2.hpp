@@ -8,10 +8,22 @@
 #include <string_view>
 #include <vector>
 
+#include "core/enum_names.hpp"
+
 namespace slamprep::eval {
 
 enum class BagStorageKind { kMcap, kSqlite3 };
 enum class BagCompressionMode { kNone, kFile, kMessage };
+/// metadata.yaml's storage_identifier and compression_mode values.
+inline constexpr auto kBagStorageNames = std::to_array<EnumName<BagStorageKind>>({
+    {BagStorageKind::kSqlite3, "sqlite3"},
+    {BagStorageKind::kMcap, "mcap"},
+});
+inline constexpr auto kBagCompressionModeNames = std::to_array<EnumName<BagCompressionMode>>({
+    {BagCompressionMode::kNone, "NONE"},
+    {BagCompressionMode::kFile, "FILE"},
+    {BagCompressionMode::kMessage, "MESSAGE"},
+});
 
 /// What metadata.yaml `rosbag2_bagfile_information` says (or, for one file, its magic).
 struct Rosbag2Bag {

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.hpp"
 #include "core/laser_scan.hpp"
 #include "core/time_series.hpp"
 #include "eval/metrics/error_stats.hpp"
@@ -62,6 +63,11 @@ ApeResult absolutePoseError(const PoseSeries& estimate, const PoseSeries& refere
                             const ApeParams& params = {});
 
 enum class DeltaUnit { kFrames, kMeters };
+/// As `score rpe --unit` and its JSON spell them.
+inline constexpr auto kDeltaUnitNames = std::to_array<EnumName<DeltaUnit>>({
+    {DeltaUnit::kFrames, "frames"},
+    {DeltaUnit::kMeters, "m"},
+});
 
 struct RpeParams {
   double delta = 1.0;                   ///< pose-pair spacing, in `unit`

@@ -37,9 +37,7 @@ algo::DeskewMethod deskewMethodFor(const Dataset& dataset, const std::string& de
                            : instantaneous       ? "none"
                            : dataset.imu.empty() ? "odom-linear"
                                                  : "imu";
-  const auto method = algo::parseDeskewMethod(name);
-  if (!method) throw InputError("--deskew " + deskew, "unknown de-skew method");
-  return *method;
+  return parseName(algo::kDeskewMethodNames, name, "de-skew method", "--deskew");
 }
 
 /// T_world_lidar of the scans `match` tracks against its map, fusion off; a chain ends at every
@@ -147,9 +145,9 @@ PoseSeries calibratedOdometry(const DatasetCalibration& c, const DiffDriveParams
 CalibrationMotion calibrationMotion(const Dataset& dataset,
                                     const CalibrationMotionOptions& options) {
   CalibrationMotion motion;
-  if (!options.from_icp) {
+  if (options.source == MotionSource::kGroundTruth) {
     motion.chains.push_back(algo::lidarPosesFromGroundTruth(dataset, options.stamp_is_last_beam));
-  } else if (options.from_map) {
+  } else if (options.source == MotionSource::kMap) {
     motion.chains = mapChains(dataset, options, motion.failed_matches);
   } else {
     const algo::DeskewMethod method = deskewMethodFor(dataset, options.deskew);
@@ -210,7 +208,7 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params,
     if (!params.tuples.empty()) {
       out.intervals.intervals = algo::readIntervalRecords(params.tuples);
     } else {
-      if (!params.motion.from_icp && !d->hasTruth())
+      if (params.motion.source == MotionSource::kGroundTruth && !d->hasTruth())
         throw InputError(params.dataset, "--motion groundtruth: the dataset has no ground truth");
       // The motion from stamps back on their grids; every output keeps the log's own stamps.
       std::optional<Dataset> regular;

@@ -13,18 +13,30 @@
 #include "algo/matching/loop_closure.hpp"
 #include "algo/timing/dataset_stamps.hpp"
 #include "core/dataset.hpp"
+#include "core/enum_names.hpp"
 #include "eval/formats/wheel_odometry.hpp"
 
 namespace slamprep::eval {
 
 /// Where the lidar motion for calibration comes from.
+enum class MotionSource {
+  kIcp,  ///< chained scan-to-scan ICP
+  /// The scan-to-map trajectory of `slamprep match` (without its fusion with the odometry, which
+  /// would pull the motion toward the geometry being calibrated); fallbacks break the chain.
+  /// Sparse real scans match a map far more often than each other (docs/calibration.md
+  /// "Scan-to-map motion").
+  kMap,
+  kGroundTruth,  ///< the true poses (an oracle run)
+};
+/// As `calibrate --motion` and a suite's `motion` spell them.
+inline constexpr auto kMotionSourceNames = std::to_array<EnumName<MotionSource>>({
+    {MotionSource::kIcp, "icp"},
+    {MotionSource::kMap, "map"},
+    {MotionSource::kGroundTruth, "groundtruth"},
+});
+
 struct CalibrationMotionOptions {
-  bool from_icp = true;  ///< scan matching; false: ground truth (an oracle run)
-  /// With from_icp: the scan-to-map trajectory of `slamprep match` (without its fusion with the
-  /// odometry, which would pull the motion toward the geometry being calibrated) instead of
-  /// chained scan-to-scan ICP; fallbacks break the chain. Sparse real scans match a map far more
-  /// often than each other (docs/calibration.md "Scan-to-map motion").
-  bool from_map = false;
+  MotionSource source = MotionSource::kIcp;
   /// Match scans de-skewed with this method first. "auto": the gyro (imu) when the log has one,
   /// since it does not depend on the wheel geometry being calibrated (de-skewing with the wrong
   /// geometry biased the mount yaw by 0.12 deg on 3 minutes of driving; imu: 0.02 deg), else

@@ -36,12 +36,11 @@ std::vector<Points2> matchScanPoints(const Dataset& d, const std::string& deskew
     for (const ScanRecord& record : d.scans) points.push_back(record.scan.points());
     return points;
   }
-  const auto method = algo::parseDeskewMethod(deskew);
-  if (!method) throw InputError("--deskew", "unknown de-skew method '" + deskew + "'");
+  const auto method = parseName(algo::kDeskewMethodNames, deskew, "de-skew method", "--deskew");
   DatasetDeskewOptions options = nominalDeskewOptions(d);
   if (d.encoders.empty()) options.odometry = d.odom_nominal;  // an imported log: its poses
   options.stamp_is_last_beam = stamp_is_last_beam;
-  const DatasetDeskew deskewed = deskewDataset(d, *method, options);
+  const DatasetDeskew deskewed = deskewDataset(d, method, options);
   const std::vector<Points2> corrected = correctedPoints(deskewed);
   for (std::size_t k = 0; k < d.scans.size(); ++k)
     points.push_back(deskewed.scans[k].ok ? corrected[k] : d.scans[k].scan.points());

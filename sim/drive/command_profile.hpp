@@ -8,12 +8,19 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.hpp"
+
 namespace slamprep::sim {
 
 struct ExploreParams;  // sim/drive/explore.hpp
 
 /// What a command sets: the body twist (v, w) or the two wheel rates directly.
 enum class CommandKind { twist, wheel_rates };
+/// As a `track` segment's `kind` spells them.
+inline constexpr auto kCommandKindNames = std::to_array<EnumName<CommandKind>>({
+    {CommandKind::twist, "twist"},
+    {CommandKind::wheel_rates, "wheel_rates"},
+});
 
 /// One commanded value. For `twist`: (v_mps, w_radps); for `wheel_rates`: (left, right) in rad/s.
 struct Command {

@@ -83,20 +83,12 @@ void visitFields(Config& c, Visitor&& v) {
   v("faults.held_robot.max_duration_s", f.held_robot_max_duration_s);
 }
 
-const char* modeName(SimMode mode) {
-  return mode == SimMode::physics ? "physics" : "kinematic";
-}
-
 nlohmann::json::json_pointer pointer(const std::string& dotted) {
   std::string p = "/" + dotted;
   for (char& ch : p) {
     if (ch == '.') ch = '/';
   }
   return nlohmann::json::json_pointer(p);
-}
-
-const char* headingName(OdometryHeading heading) {
-  return heading == OdometryHeading::wheels ? "wheels" : "gyro";
 }
 
 // ---- Values from JSON --------------------------------------------------------------------------
@@ -123,30 +115,23 @@ void fromJsonValue(const nlohmann::json& j, std::string& out, const std::string&
   if (!j.is_string()) throw InputError(at, "expected a string");
   out = j.get<std::string>();
 }
+// A name of `table`; a value that is not a string is shown as JSON ("unknown mode '3'").
+template <typename E, std::size_t N>
+E enumFromJson(const nlohmann::json& j, const EnumNames<E, N>& table, std::string_view what,
+               const std::string& at) {
+  return parseName(table, j.is_string() ? j.get<std::string>() : j.dump(), what, at);
+}
 void fromJsonValue(const nlohmann::json& j, SimMode& out, const std::string& at) {
-  if (j == "physics") {
-    out = SimMode::physics;
-  } else if (j == "kinematic") {
-    out = SimMode::kinematic;
-  } else {
-    throw InputError(at, "expected \"physics\" or \"kinematic\"");
-  }
-}
-
-nlohmann::json toJsonValue(SimMode mode) {
-  return modeName(mode);
-}
-nlohmann::json toJsonValue(OdometryHeading heading) {
-  return headingName(heading);
+  out = enumFromJson(j, kSimModeNames, "mode", at);
 }
 void fromJsonValue(const nlohmann::json& j, OdometryHeading& out, const std::string& at) {
-  if (j == "wheels") {
-    out = OdometryHeading::wheels;
-  } else if (j == "gyro") {
-    out = OdometryHeading::gyro;
-  } else {
-    throw InputError(at, "expected \"wheels\" or \"gyro\"");
-  }
+  out = enumFromJson(j, kOdometryHeadingNames, "heading", at);
+}
+nlohmann::json toJsonValue(SimMode mode) {
+  return std::string(nameOf(kSimModeNames, mode));
+}
+nlohmann::json toJsonValue(OdometryHeading heading) {
+  return std::string(nameOf(kOdometryHeadingNames, heading));
 }
 nlohmann::json toJsonValue(const FaultSet& faults) {
   return toString(faults);

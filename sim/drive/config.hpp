@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/diff_drive.hpp"
+#include "core/enum_names.hpp"
 #include "sim/drive/faults.hpp"
 #include "sim/drive/sensors.hpp"
 #include "sim/physics/lidar.hpp"
@@ -19,6 +20,11 @@ namespace slamprep::sim {
 /// physics: Bullet rigid bodies, motors and contacts. kinematic: no physics; the true pose is the
 /// exact integration of the commanded wheel rates with the true geometry.
 enum class SimMode { physics, kinematic };
+/// As the `mode` key, --mode and suites spell them.
+inline constexpr auto kSimModeNames = std::to_array<EnumName<SimMode>>({
+    {SimMode::physics, "physics"},
+    {SimMode::kinematic, "kinematic"},
+});
 
 /// How wrong the odometry's geometry is: nominal = true * (1 + error).
 struct NominalErrors {
@@ -41,6 +47,10 @@ struct StartJitter {
 /// rotation difference over the nominal wheel base) or the integrated gyro, as TurtleBot3's
 /// turtlebot3_node does with use_imu. The translation is the wheels' either way.
 enum class OdometryHeading { wheels, gyro };
+inline constexpr auto kOdometryHeadingNames = std::to_array<EnumName<OdometryHeading>>({
+    {OdometryHeading::wheels, "wheels"},
+    {OdometryHeading::gyro, "gyro"},
+});
 
 struct OdometryConfig {
   OdometryHeading heading_from = OdometryHeading::wheels;  ///< odometry.heading_from

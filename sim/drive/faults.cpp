@@ -3,9 +3,7 @@
 namespace slamprep::sim {
 
 std::string_view faultName(Fault fault) {
-  for (const auto& [f, name] : kFaultNames)
-    if (f == fault) return name;
-  return "?";
+  return nameOf(kFaultNames, fault);
 }
 
 std::string toString(const FaultSet& faults) {
@@ -25,20 +23,16 @@ std::optional<FaultSet> parseFaultSet(std::string_view text, std::string* error)
   while (!text.empty()) {
     const std::size_t comma = text.find(',');
     const std::string_view item = text.substr(0, comma);
-    bool known = false;
-    for (const auto& [f, name] : kFaultNames)
-      if (name == item) {
-        set.add(f);
-        known = true;
-      }
-    if (!known) {
+    const auto fault = findName(kFaultNames, item);
+    if (!fault) {
       if (error) {
-        *error = "unknown fault '" + std::string(item) + "' (none, all";
-        for (const auto& [f, name] : kFaultNames) error->append(", ").append(name);
-        error->append(")");
+        std::vector<std::string> valid = {"none", "all"};
+        for (const std::string& name : namesOf(kFaultNames)) valid.push_back(name);
+        *error = unknownNameMessage("fault", item, valid);
       }
       return std::nullopt;
     }
+    set.add(*fault);
     text = comma == std::string_view::npos ? std::string_view{} : text.substr(comma + 1);
   }
   return set;

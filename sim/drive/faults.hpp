@@ -11,6 +11,8 @@
 #include <string>
 #include <string_view>
 
+#include "core/enum_names.hpp"
+
 namespace slamprep::sim {
 
 enum class Fault : std::uint8_t {
@@ -28,7 +30,7 @@ enum class Fault : std::uint8_t {
 };
 
 /// Every fault with its name, in the order the names are written.
-inline constexpr std::array<std::pair<Fault, std::string_view>, 11> kFaultNames{{
+inline constexpr auto kFaultNames = std::to_array<EnumName<Fault>>({
     {Fault::encoder_spikes, "encoder_spikes"},
     {Fault::encoder_dropouts, "encoder_dropouts"},
     {Fault::stamp_jitter, "stamp_jitter"},
@@ -40,7 +42,7 @@ inline constexpr std::array<std::pair<Fault, std::string_view>, 11> kFaultNames{
     {Fault::glass, "glass"},
     {Fault::stale_odometry, "stale_odometry"},
     {Fault::held_robot, "held_robot"},
-}};
+});
 
 std::string_view faultName(Fault fault);
 

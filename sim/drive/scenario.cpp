@@ -237,10 +237,11 @@ void parseExplore(const YAML::Node& seg, const std::string& p, const std::string
 void parseTrack(const YAML::Node& seg, const std::string& p, const std::string& type,
                 const std::string& at, SegmentBuilder& build) {
   const Context& ctx = build.ctx;
-  const std::string kind = stringField(ctx, seg, p, "kind");
-  if (kind != "twist" && kind != "wheel_rates")
+  const std::string kind_name = stringField(ctx, seg, p, "kind");
+  const auto kind = findName(kCommandKindNames, kind_name);
+  if (!kind)
     ctx.doc.fail(seg["kind"], joinKey(p, "kind"),
-                 "must be twist or wheel_rates, not '" + kind + "'");
+                 unknownNameMessage("kind", kind_name, namesOf(kCommandKindNames)));
   const double period_s = positiveField(ctx, seg, p, "period_s", std::nan(""));
   const YAML::Node values = ctx.doc.required(seg, "values", p);
   const std::string key = joinKey(p, "values");
@@ -254,8 +255,7 @@ void parseTrack(const YAML::Node& seg, const std::string& p, const std::string& 
     knots.push_back({double(k + 1) * period_s,
                      ctx.doc.point(values[k], key + "[" + std::to_string(k) + "]", signed_value)});
   knots.push_back({double(values.size() + 1) * period_s, {0.0, 0.0}});
-  build.add(type, at, kind == "twist" ? CommandKind::twist : CommandKind::wheel_rates,
-            std::move(knots));
+  build.add(type, at, *kind, std::move(knots));
 }
 
 // ---- The file ------------------------------------------------------------------------------

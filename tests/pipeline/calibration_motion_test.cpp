@@ -43,19 +43,19 @@ Dataset arc() {
 TEST(CalibrationMotion, LastBeamStampsGiveTheSameIntervals) {
   const Dataset first = arc();
   const Dataset last = stampedAtLastBeam(first);
-  for (const bool from_icp : {false, true}) {
+  for (const MotionSource source : {MotionSource::kGroundTruth, MotionSource::kIcp}) {
     CalibrationMotionOptions options;
-    options.from_icp = from_icp;
+    options.source = source;
     const algo::IntervalSet reference = calibrationMotion(first, options).intervals;
     options.stamp_is_last_beam = true;
     // Ground truth: the interpolated pose at the same instant (1e-12 m). ICP: the same points
     // up to the rounding of the beam times, which moves a converged match by far less than 1 um.
     expectSameIntervals(reference, calibrationMotion(last, options).intervals,
-                        from_icp ? 1e-6 : 1e-12);
+                        source == MotionSource::kIcp ? 1e-6 : 1e-12);
   }
   // Without the flag the stamps are read as first beams: the intervals move by a scan's sweep.
   CalibrationMotionOptions truth;
-  truth.from_icp = false;
+  truth.source = MotionSource::kGroundTruth;
   const auto a = calibrationMotion(first, truth).intervals.intervals;
   const auto b = calibrationMotion(last, truth).intervals.intervals;
   ASSERT_FALSE(a.empty());

@@ -107,7 +107,7 @@ TEST(CalibrationRun, WheelsTurningWhileTheGyroDoesNotAreRefusedOrLeftOut) {
 TEST(CalibrationRun, ScanToMapMotionCalibratesLikeChainedMatches) {
   const Dataset d = drive();
   DatasetCalibrationParams params = jointAndCeres();
-  params.motion.from_map = true;
+  params.motion.source = MotionSource::kMap;
   const DatasetCalibration c = calibrateDataset(params, d);
   EXPECT_GT(c.intervals.intervals.size(), 250u);
   EXPECT_EQ(c.failed_matches, 0);
