@@ -298,10 +298,10 @@ int runCalibrate(const CalibrateFlags& flags) {
 
 }  // namespace
 
-Command addCalibrateCommand(CLI::App& app) {
-  auto flags = std::make_shared<CalibrateFlags>();
-  auto* cli = app.add_subcommand("calibrate",
-                                 "Odometry calibration: wheel radii, wheel base and lidar mount.");
+namespace {
+
+/// The footer, the datasets, and where the motion comes from (methods, motion, stamps, de-skew).
+void addCalibrateSources(CLI::App* cli, CalibrateFlags& flags) {
   cli->footer(
       "r_L, r_R, b (and the lidar mount) from wheel encoders plus the lidar's motion\n"
       "(docs/calibration.md). --method all runs the methods that apply to the data; one that\n"
@@ -315,20 +315,20 @@ Command addCalibrateCommand(CLI::App& app) {
       "An estimate more than 15 % from the nominal r_L, r_R or b is flagged (FLAG line, JSON\n"
       "\"flags\") with its likely cause. Exit 3 when every method run refused (several\n"
       "DATASETs: every combined one), or with --strict when any did or any estimate is flagged.");
-  cli->add_option("DATASET", flags->datasets,
+  cli->add_option("DATASET", flags.datasets,
                   "dataset directory; several: recordings of one robot, combined");
   std::vector<std::string> methods = algo::calibrationMethodNames();
   methods.emplace_back("all");
-  cli->add_option("--method", flags->method,
+  cli->add_option("--method", flags.method,
                   "calibration method, or all: the ones that apply to the data")
       ->check(oneOf("method", methods))
       ->capture_default_str();
-  cli->add_option("--motion", flags->motion,
+  cli->add_option("--motion", flags.motion,
                   "lidar motion from chained scan-to-scan ICP, from scan-to-map matching (map: "
                   "what `match` tracks, for sparse real scans), or from ground truth (oracle)")
       ->check(oneOf("motion", namesOf(eval::kMotionSourceNames)))
       ->capture_default_str();
-  cli->add_option("--stamps", flags->stamps,
+  cli->add_option("--stamps", flags.stamps,
                   "auto: match scans on stamps put back on their constant-rate grid where a "
                   "stream (encoders, odometry, IMU, scans) is measurably jittered "
                   "(docs/calibration.md, \"Jittered stamps\"); raw: as logged. Outputs keep "
@@ -337,86 +337,105 @@ Command addCalibrateCommand(CLI::App& app) {
       ->capture_default_str();
   std::vector<std::string> deskews = {"auto"};
   for (const std::string& m : namesOf(algo::kDeskewMethodNames)) deskews.push_back(m);
-  cli->add_option("--deskew", flags->deskew,
+  cli->add_option("--deskew", flags.deskew,
                   "with --motion icp: de-skew scans with this method before matching them. auto: "
                   "imu when the log has one (independent of the wheel geometry being "
                   "calibrated), else odom-linear with the nominal geometry, none on instantaneous "
                   "scans (time_increment 0); none: raw scans, which motion distortion biases")
       ->check(oneOf("de-skew method", deskews))
       ->capture_default_str();
-  cli->add_flag("--stamp-is-last-beam", flags->stamp_is_last_beam,
+  cli->add_flag("--stamp-is-last-beam", flags.stamp_is_last_beam,
                 "the scans' stamps mark their last beam, not their first");
-  cli->add_option("--intervals", flags->intervals_out,
+}
+
+/// Files read and written besides the datasets, the nominal geometry, and the checks of the fit.
+void addCalibrateFilesAndChecks(CLI::App* cli, CalibrateFlags& flags) {
+  cli->add_option("--intervals", flags.intervals_out,
                   "write the intervals used as Censi records (JSON lines) to FILE; one DATASET "
                   "only")
       ->check(outputPath());
-  cli->add_option("--tuples", flags->tuples_in,
+  cli->add_option("--tuples", flags.tuples_in,
                   "run on Censi interval records instead (JSON objects, one or several per "
                   "line); one DATASET at most");
-  addJson(cli, *flags,
+  addJson(cli, flags,
           "one object per method (what deskew and export read with --calibration); with "
           "several DATASETs an object of recordings, combined methods and consistency (those "
           "read its combined methods)");
-  cli->add_option("--odometry-out", flags->odometry_out,
+  cli->add_option("--odometry-out", flags.odometry_out,
                   "write the odometry re-integrated with the best result's geometry to FILE "
                   "(TUM; score it with `slamprep score relations`); one DATASET only")
       ->check(outputPath());
-  cli->add_option("--ros2-params", flags->ros2_out,
+  cli->add_option("--ros2-params", flags.ros2_out,
                   "write the best result (several DATASETs: the best combined one) as "
                   "ros2_control diff_drive_controller parameters and the base_link -> laser "
                   "static transform to FILE (ROS 2 parameter YAML)")
       ->check(outputPath());
-  cli->add_option("--nominal", flags->nominal,
+  cli->add_option("--nominal", flags.nominal,
                   "r_L,r_R,b in metres: the geometry the odometry uses (default: dataset.json's); "
                   "a log without encoder ticks gets its wheel increments derived from its "
                   "odometry poses with it, and the estimates are relative to it");
-  cli->add_option("--validate-fraction", flags->validate_fraction,
+  cli->add_option("--validate-fraction", flags.validate_fraction,
                   "0 < F < 1: calibrate on the first 1 - F of each recording's scans and report "
                   "the raw (nominal) and calibrated odometry's relative pose error over 10 s "
                   "windows of the last F against their scan-to-map matched trajectory (JSON "
                   "\"validation\")");
-  cli->add_option("--trim-sigmas", flags->trim_sigmas,
+  cli->add_option("--trim-sigmas", flags.trim_sigmas,
                   "drop intervals whose residual against a first fit exceeds N robust (MAD) "
                   "sigmas, refit until the kept set repeats; 0: keep every interval")
       ->check(nonNegative())
       ->capture_default_str();
-  addForce(cli, *flags, "existing output files");
-  addStrict(cli, *flags, "when any method refused, not only all, or any estimate is flagged");
-  addQuiet(cli, *flags);
-  cli->add_option("--keyframe-cm", flags->keyframe_cm,
+  addForce(cli, flags, "existing output files");
+  addStrict(cli, flags, "when any method refused, not only all, or any estimate is flagged");
+  addQuiet(cli, flags);
+}
+
+/// How intervals are cut and which terms the model estimates.
+void addCalibrateModel(CLI::App* cli, CalibrateFlags& flags) {
+  cli->add_option("--keyframe-cm", flags.keyframe_cm,
                   "new interval every N cm of lidar motion (0: every scan match, as the bench)")
       ->check(nonNegative())
       ->capture_default_str();
-  cli->add_option("--keyframe-deg", flags->keyframe_deg, "... or every N degrees")
+  cli->add_option("--keyframe-deg", flags.keyframe_deg, "... or every N degrees")
       ->check(nonNegative())
       ->capture_default_str();
-  addIcpOptions(cli, flags->icp);
-  cli->add_option("--square", flags->squares,
+  addIcpOptions(cli, flags.icp);
+  cli->add_option("--square", flags.squares,
                   "UMBmark square-run dataset (repeatable); one DATASET at most");
-  cli->add_option("--side", flags->side_m, "UMBmark square side (m)")
+  cli->add_option("--side", flags.side_m, "UMBmark square side (m)")
       ->check(positive())
       ->capture_default_str();
-  cli->add_flag("--time-offset", flags->time_offset,
+  cli->add_flag("--time-offset", flags.time_offset,
                 "ceres: also estimate a constant encoder-to-lidar clock offset");
-  cli->add_flag("--sideslip", flags->sideslip,
+  cli->add_flag("--sideslip", flags.sideslip,
                 "joint and ceres: also estimate a sideslip k, the base moving sideways at k v w in "
                 "turns (not with --time-offset)")
       ->excludes("--time-offset");
-  cli->add_flag("--loop-closure", flags->loop_closure,
+  cli->add_flag("--loop-closure", flags.loop_closure,
                 "with --motion icp: where the matched path revisits a place (10 s or more later, "
                 "within 0.3 m and 20 deg) match the two scans directly and spread the heading "
                 "drift this reveals back over the matches. Chained matches drift in heading, which "
                 "reads as r_R != r_L and which no sigma of the same log can show");
-  cli->add_option("--sync", flags->sync,
+  cli->add_option("--sync", flags.sync,
                   "auto: where the sensor agreement finds the scans lagging the wheels by more "
                   "than 20 ms, move the wheels' stamps onto the scans' clock before cutting "
                   "intervals; none: the stamps as logged")
       ->check(oneOf("sync", {"auto", "none"}))
       ->capture_default_str();
-  cli->add_flag("--exclude-disagreement", flags->exclude_disagreement,
+  cli->add_flag("--exclude-disagreement", flags.exclude_disagreement,
                 "where the wheels and the gyro disagree beyond any wheel geometry (a lifted or "
                 "blocked robot, slip), calibrate on the intervals outside those spans instead of "
                 "refusing (exit 3); the spans are printed either way (docs/calibration.md)");
+}
+
+}  // namespace
+
+Command addCalibrateCommand(CLI::App& app) {
+  auto flags = std::make_shared<CalibrateFlags>();
+  auto* cli = app.add_subcommand("calibrate",
+                                 "Odometry calibration: wheel radii, wheel base and lidar mount.");
+  addCalibrateSources(cli, *flags);
+  addCalibrateFilesAndChecks(cli, *flags);
+  addCalibrateModel(cli, *flags);
   return {cli, [flags] { return runCalibrate(*flags); }};
 }
 
