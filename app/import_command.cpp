@@ -123,12 +123,10 @@ int runImport(ImportFlags flags) {
 
 }  // namespace
 
-Command addImportCommand(CLI::App& app) {
-  auto flags = std::make_shared<ImportFlags>();
-  auto* cli = app.add_subcommand(
-      "import",
-      "Read a CARMEN log or a ROS 2 bag (a bag folder, sqlite3 or MCAP storage, or one .db3 or "
-      ".mcap file; LaserScan + Odometry or JointState) into a dataset directory.");
+namespace {
+
+/// The footer, the log and the dataset written, and how scans are read.
+void addImportInOut(CLI::App* cli, const std::shared_ptr<ImportFlags>& flags) {
   cli->footer(
       "A bag needs a LaserScan topic plus Odometry or JointState (docs/export.md); --format mcap\n"
       "and rosbag2 read the same (any storage). The dataset has no ground truth; calibrate,\n"
@@ -153,6 +151,10 @@ Command addImportCommand(CLI::App& app) {
   cli->add_flag("--reverse-beam-time", flags->params.reverse_beam_time,
                 "bags: the beams were taken in the reverse of their array order (an RPLIDAR under "
                 "its ROS driver): each scan is reversed so that it runs in time order");
+}
+
+/// The geometry the odometry used, the encoders and the lidar's timing and mount.
+void addImportGeometry(CLI::App* cli, const std::shared_ptr<ImportFlags>& flags) {
   // The nominal geometry: any of these flags replaces the log's (CARMEN PARAM lines) or the
   // default; the ones not given keep the default.
   auto& g = flags->geometry;
@@ -194,6 +196,10 @@ Command addImportCommand(CLI::App& app) {
                   "the log (bags: the tf tree), else 0,0,0)");
   cli->add_flag("--lidar-mount-from-poses", flags->params.lidar_mount_from_poses,
                 "carmen: without --lidar-mount or a mount PARAM, take robot_pose^-1 laser_pose");
+}
+
+/// What a CARMEN log or a bag holds where: stamps, lasers, topics, frames, joints.
+void addImportSources(CLI::App* cli, const std::shared_ptr<ImportFlags>& flags) {
   cli->add_option("--reorder-tolerance", flags->params.reorder_tolerance_s,
                   "carmen: stamps running backwards by up to this (s) are sorted into place")
       ->check(nonNegative())
@@ -219,6 +225,19 @@ Command addImportCommand(CLI::App& app) {
   cli->add_option("--imu-topic", flags->params.imu_topic, "bags: Imu topic");
   cli->add_option("--left-joint", flags->params.left_joint, "bags: left wheel joint name");
   cli->add_option("--right-joint", flags->params.right_joint, "bags: right wheel joint name");
+}
+
+}  // namespace
+
+Command addImportCommand(CLI::App& app) {
+  auto flags = std::make_shared<ImportFlags>();
+  auto* cli = app.add_subcommand(
+      "import",
+      "Read a CARMEN log or a ROS 2 bag (a bag folder, sqlite3 or MCAP storage, or one .db3 or "
+      ".mcap file; LaserScan + Odometry or JointState) into a dataset directory.");
+  addImportInOut(cli, flags);
+  addImportGeometry(cli, flags);
+  addImportSources(cli, flags);
   return {cli, [flags] { return runImport(*flags); }};
 }
 
