@@ -203,10 +203,10 @@ int runMatch(MatchFlags flags) {
 
 }  // namespace
 
-Command addMatchCommand(CLI::App& app) {
-  auto flags = std::make_shared<MatchFlags>();
-  auto* cli = app.add_subcommand(
-      "match", "Lidar odometry: each scan matched against a local map of keyframes.");
+namespace {
+
+/// The footer, the dataset, what is written, and how scans are read and de-skewed.
+void addMatchInOut(CLI::App* cli, const std::shared_ptr<MatchFlags>& flags) {
   cli->footer(
       "Matches every scan (point-to-line ICP) against a point map of the keyframes of the last\n"
       "40 m of travel. Guesses: the odometry, the gyro's turn, the last step, standing still;\n"
@@ -233,6 +233,10 @@ Command addMatchCommand(CLI::App& app) {
       ->capture_default_str();
   cli->add_flag("--stamp-is-last-beam", flags->stamp_is_last_beam,
                 "the scans' stamps mark their last beam, not their first");
+}
+
+/// The registration and the local map of keyframes it matches against.
+void addMatchMap(CLI::App* cli, const std::shared_ptr<MatchFlags>& flags) {
   algo::IcpParams& icp = flags->params.icp;
   addIcpOptions(cli, icp);
   cli->add_option("--keyframe-distance", flags->params.keyframe_distance_m,
@@ -257,6 +261,10 @@ Command addMatchCommand(CLI::App& app) {
                   "map points inserted more than this many metres of travel ago are dropped")
       ->check(nonNegative())
       ->capture_default_str();
+}
+
+/// Which guesses are tried, how far they are trusted, and when a match is accepted.
+void addMatchGuesses(CLI::App* cli, const std::shared_ptr<MatchFlags>& flags) {
   cli->add_option("--max-range", flags->params.max_range_m,
                   "points farther than this (m) from the sensor are not matched")
       ->check(positive())
@@ -287,6 +295,17 @@ Command addMatchCommand(CLI::App& app) {
       },
       "match from the first guess only (the odometry; the last step without one), not from "
       "each where the guesses disagree: the matcher before hypotheses, for comparison");
+}
+
+}  // namespace
+
+Command addMatchCommand(CLI::App& app) {
+  auto flags = std::make_shared<MatchFlags>();
+  auto* cli = app.add_subcommand(
+      "match", "Lidar odometry: each scan matched against a local map of keyframes.");
+  addMatchInOut(cli, flags);
+  addMatchMap(cli, flags);
+  addMatchGuesses(cli, flags);
   return {cli, [flags] { return runMatch(*flags); }};
 }
 
