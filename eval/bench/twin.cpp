@@ -331,10 +331,6 @@ nlohmann::ordered_json odometryJson(const Fitted& f, const nlohmann::ordered_jso
   return j;
 }
 
-}  // namespace
-
-namespace {
-
 nlohmann::ordered_json worldJson(const WallMap& map, const WorldBuild& b) {
   return {{"how",
            "matched points in a 5 cm grid (cells with >= 2 returns), straight runs found "

@@ -1,6 +1,5 @@
 #include "eval/formats/twist_spikes.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>

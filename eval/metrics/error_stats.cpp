@@ -1,7 +1,6 @@
 #include "eval/metrics/error_stats.hpp"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 
 #include "core/order_statistics.hpp"
