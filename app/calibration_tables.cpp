@@ -157,13 +157,22 @@ void printRecordings(const eval::RecordingsCalibration& r) {
   for (const algo::CombinedRun& c : r.combined) warnInconsistent(c, r);
 }
 
+namespace {
+
+// What a flag's ratio is a ratio of, as printed after it.
+const char* ratioMeaning(const std::string& param) {
+  if (param == "b_vs_gyro") return " (b over the gyro's b): ";
+  if (param == "held_out") return " (held-out error, calibrated over raw): ";
+  return " x nominal (more than 15 % off): likely cause: ";
+}
+
+}  // namespace
+
 void printFlags(const std::vector<algo::MethodReport>& methods, const std::string& label) {
   for (const algo::MethodReport& m : methods)
     for (const algo::NominalFlag& f : m.flags)
       std::cout << "FLAG " << label << algo::calibrationMethodName(m.run.method) << ": " << f.param
-                << " = " << std::fixed << std::setprecision(3) << f.ratio
-                << (f.param == "b_vs_gyro" ? " (b over the gyro's b): "
-                                           : " x nominal (more than 15 % off): likely cause: ")
+                << " = " << std::fixed << std::setprecision(3) << f.ratio << ratioMeaning(f.param)
                 << f.likely_cause << "\n"
                 << std::defaultfloat;
 }
@@ -191,6 +200,11 @@ void printValidation(const std::vector<algo::MethodReport>& methods, const std::
     if (v.calibrated.rot_deg > v.raw.rot_deg)
       std::cout << "  calibrated WORSE than raw in rotation";
     std::cout << "\n";
+    if (const auto& w = v.calibrated_wheels)  // the odometry alone, apart from the mount
+      std::cout << "  " << std::setw(10) << ""
+                << "calibrated wheels, dataset's mount: " << std::fixed << std::setprecision(4)
+                << w->trans_m << " m, " << w->rot_deg << " deg\n"
+                << std::defaultfloat;
   }
 }
 

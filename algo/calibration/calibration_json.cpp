@@ -74,10 +74,13 @@ json methodJson(const MethodReport& m, const std::optional<Eigen::VectorXd>& tru
       flags.push_back({{"param", f.param}, {"ratio", f.ratio}, {"likely_cause", f.likely_cause}});
     j["flags"] = flags;
   }
-  if (const auto& v = m.validation)
+  if (const auto& v = m.validation) {
     j["validation"] = {{"fraction", v->fraction},
                        {"raw", errorJson(v->raw)},
                        {"calibrated", errorJson(v->calibrated)}};
+    if (v->calibrated_wheels)
+      j["validation"]["calibrated_wheels"] = errorJson(*v->calibrated_wheels);
+  }
   return j;
 }
 

@@ -33,7 +33,10 @@ struct HeldOutError {
 struct ValidationFigures {
   double fraction = 0.0;
   HeldOutError raw;
-  HeldOutError calibrated;
+  HeldOutError calibrated;  ///< the calibrated wheels, and the calibrated mount where estimated
+  /// The calibrated wheels with the dataset's mount, where the method estimates a mount: the
+  /// odometry alone, apart from a mount the recording may not pin down.
+  std::optional<HeldOutError> calibrated_wheels;
 };
 
 /// One method's run and what is said about it.

@@ -32,6 +32,28 @@ SE2 mountOf(const algo::CalibrationRun& run, const SE2& dataset_mount) {
   return run.result.estimates_mount ? run.result.T_base_lidar : dataset_mount;
 }
 
+// The nominal and the calibrated geometry on one held-out part; where the method estimates the
+// mount, its wheels also with the dataset's mount, which tells a wrong mount from wrong wheels.
+algo::ValidationFigures validationOf(const HeldOutPart& part, const DatasetCalibration& c,
+                                     const algo::CalibrationRun& run, double fraction) {
+  algo::ValidationFigures v{fraction, heldOutError(part, c.nominal, c.T_base_lidar),
+                            heldOutError(part, run.result.geometry, mountOf(run, c.T_base_lidar)),
+                            std::nullopt};
+  if (run.result.estimates_mount)
+    v.calibrated_wheels = heldOutError(part, run.result.geometry, c.T_base_lidar);
+  return v;
+}
+
+void accumulate(algo::HeldOutError& sum, const algo::HeldOutError& e) {
+  sum.trans_m += e.trans_m;
+  sum.rot_deg += e.rot_deg;
+}
+
+void divide(algo::HeldOutError& e, int n) {
+  e.trans_m /= n;
+  e.rot_deg /= n;
+}
+
 RecordingCalibration calibrateRecording(const RecordingsCalibrationParams& p,
                                         const std::string& dataset) {
   DatasetCalibrationParams params = p.base;
@@ -65,11 +87,8 @@ algo::MethodReport methodReport(const algo::CalibrationRun& run, const Recording
   if (r.calibration.agreement && algo::isIntervalMethod(run.method))
     if (const auto flag = algo::gyroFlag(run.result, *r.calibration.agreement))
       m.flags.push_back(*flag);
-  const DatasetCalibration& c = r.calibration;
   if (r.held_out && run.result.ok)
-    m.validation = algo::ValidationFigures{
-        p.validate_fraction, heldOutError(*r.held_out, c.nominal, c.T_base_lidar),
-        heldOutError(*r.held_out, run.result.geometry, mountOf(run, c.T_base_lidar))};
+    m.validation = validationOf(*r.held_out, r.calibration, run, p.validate_fraction);
   if (m.validation)
     if (const auto flag = algo::validationFlag(*m.validation)) m.flags.push_back(*flag);
   return m;
@@ -155,25 +174,22 @@ std::optional<algo::ValidationFigures> combinedValidation(const RecordingsCalibr
                                                           const algo::CalibrationRun& combined,
                                                           double fraction) {
   if (!combined.result.ok) return std::nullopt;
-  algo::ValidationFigures mean{fraction, {}, {}};
+  algo::ValidationFigures mean{fraction, {}, {}, std::nullopt};
+  if (combined.result.estimates_mount) mean.calibrated_wheels = algo::HeldOutError{};
   int parts = 0;
   for (const RecordingCalibration& rec : r.recordings) {
     if (!rec.held_out) continue;
-    const DatasetCalibration& c = rec.calibration;
-    const algo::HeldOutError raw = heldOutError(*rec.held_out, c.nominal, c.T_base_lidar);
-    const algo::HeldOutError cal =
-        heldOutError(*rec.held_out, combined.result.geometry, mountOf(combined, c.T_base_lidar));
-    mean.raw.trans_m += raw.trans_m;
-    mean.raw.rot_deg += raw.rot_deg;
-    mean.calibrated.trans_m += cal.trans_m;
-    mean.calibrated.rot_deg += cal.rot_deg;
+    const algo::ValidationFigures v =
+        validationOf(*rec.held_out, rec.calibration, combined, fraction);
+    accumulate(mean.raw, v.raw);
+    accumulate(mean.calibrated, v.calibrated);
+    if (v.calibrated_wheels) accumulate(*mean.calibrated_wheels, *v.calibrated_wheels);
     ++parts;
   }
   if (parts == 0) return std::nullopt;
-  for (algo::HeldOutError* e : {&mean.raw, &mean.calibrated}) {
-    e->trans_m /= parts;
-    e->rot_deg /= parts;
-  }
+  divide(mean.raw, parts);
+  divide(mean.calibrated, parts);
+  if (mean.calibrated_wheels) divide(*mean.calibrated_wheels, parts);
   return mean;
 }
 

@@ -192,10 +192,13 @@ TEST(CalibrateJson, OneRecordingIsTodaysArraySeveralTheCombinedObject) {
   EXPECT_EQ(formatCalibrationJson({a}, std::nullopt).front(), '[');
 
   const CombinedRun c = combineRuns(CalibrationMethod::kModel, {&a, &b});
-  RecordingReport two{
-      "b", {{b, nominalFlags(b.result, {0.1, 0.1, 0.5}), std::nullopt}}, std::nullopt,
-      std::nullopt, ""};
-  MethodReport combined{c.run, {}, ValidationFigures{0.2, {0.5, 3.0}, {0.05, 0.3}}};
+  RecordingReport two{"b",
+                      {{b, nominalFlags(b.result, {0.1, 0.1, 0.5}), std::nullopt}},
+                      std::nullopt,
+                      std::nullopt,
+                      ""};
+  MethodReport combined{
+      c.run, {}, ValidationFigures{0.2, {0.5, 3.0}, {0.05, 0.3}, HeldOutError{0.04, 0.3}}};
   const CalibrateReport report{
       {one, two},
       {combined},
@@ -212,6 +215,8 @@ TEST(CalibrateJson, OneRecordingIsTodaysArraySeveralTheCombinedObject) {
   EXPECT_EQ(j["combined"][0]["method"], "model");
   EXPECT_DOUBLE_EQ(j["combined"][0]["b"].get<double>(), 0.55);
   EXPECT_DOUBLE_EQ(j["combined"][0]["validation"]["calibrated"]["trans_m"].get<double>(), 0.05);
+  EXPECT_DOUBLE_EQ(j["combined"][0]["validation"]["calibrated_wheels"]["trans_m"].get<double>(),
+                   0.04);
   // b = 0.5 and 0.6, sigma 1 mm each: chi2/dof = 2 (0.05 / 0.001)^2 = 5000.
   EXPECT_NEAR(j["consistency"]["model"]["b"]["chi2_dof"].get<double>(), 5000.0, 1e-9);
   EXPECT_EQ(j["consistency"]["model"]["b"]["n"], 2);

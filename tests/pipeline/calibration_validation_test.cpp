@@ -96,6 +96,11 @@ TEST(CalibrationValidation, CalibratedBeatsTheWrongNominalOnHeldOutScans) {
   EXPECT_GT(v.raw.rot_deg, 4.0);
   EXPECT_LT(v.calibrated.rot_deg, 0.25 * v.raw.rot_deg);
   EXPECT_LT(v.calibrated.trans_m, 0.25 * v.raw.trans_m);
+  // joint estimates the mount, so its wheels are also scored with the dataset's mount: better
+  // than raw as well, and with the same rotation error (a mount does not change relative yaw).
+  ASSERT_TRUE(v.calibrated_wheels);
+  EXPECT_LT(v.calibrated_wheels->trans_m, 0.25 * v.raw.trans_m);
+  EXPECT_NEAR(v.calibrated_wheels->rot_deg, v.calibrated.rot_deg, 1e-9);
   // The calibration saw none of the held-out scans.
   const Dataset d = readDataset(dir);
   const double t0 = d.scans.front().scan.stamp_s, t1 = d.scans.back().scan.stamp_s;
