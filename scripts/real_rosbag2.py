@@ -6,8 +6,10 @@
 LIST (results/real/rosbag2_recordings.tsv) names each bag folder under DATA_DIR, its robot, its
 nominal geometry and import flags. For every recording: import --format rosbag2, then match with
 the scans as measured and with each de-skew method (residual of the accepted matches, all scans
-and the turning ones: |yaw rate| > 0.3 rad/s from the odometry). For every robot: calibrate all its
-recordings together with the protocol's settings (CALIBRATE_FLAGS), with a held-out validation.
+and the turning ones: |yaw rate| > 0.3 rad/s from the odometry). For every robot (model): calibrate
+all its recordings together with the protocol's settings (CALIBRATE_FLAGS), with a held-out
+validation; then the same per unit (one physical robot, LIST's third column) with two or more
+recordings, which is what the consistency across recordings is about.
 Prints the tables of the README. The bags are not in the repository (their sources are in LIST).
 """
 import json
@@ -30,8 +32,8 @@ def recordings(path):
     for line in open(path):
         if line.startswith("#") or not line.strip():
             continue
-        name, robot, rel, source, nominal, flags = line.rstrip("\n").split("\t")
-        yield dict(name=name, robot=robot, rel=rel, source=source, nominal=nominal,
+        name, robot, unit, rel, source, nominal, flags = line.rstrip("\n").split("\t")
+        yield dict(name=name, robot=robot, unit=unit, rel=rel, source=source, nominal=nominal,
                    flags=flags.split())
 
 
@@ -85,7 +87,7 @@ def main():
     listing, data, out = sys.argv[1:4]
     bin_ = sys.argv[4] if len(sys.argv) > 4 else "build/slamprep"
     os.makedirs(out, exist_ok=True)
-    by_robot, rows = {}, []
+    by_robot, by_unit, rows = {}, {}, []
     for rec in recordings(listing):
         dataset = os.path.join(out, rec["name"])
         r = run([bin_, "import", "--format", "rosbag2", os.path.join(data, rec["rel"]), "--out",
@@ -97,9 +99,17 @@ def main():
         rates = yaw_rate(os.path.join(dataset, "odom_nominal.tum"))
         rows.append((rec, match_all(bin_, dataset, dataset, rates), ""))
         by_robot.setdefault((rec["robot"], rec["nominal"]), []).append(dataset)
+        by_unit.setdefault((rec["unit"], rec["nominal"]), []).append(dataset)
     print_recordings(rows)
     for (robot, nominal), datasets in by_robot.items():
-        calibrate(bin_, robot, nominal, datasets, out)
+        print_calibration(robot, datasets, calibrate(bin_, robot, nominal, datasets, out))
+    print("\n### Per unit (one physical robot, assumed)\n")
+    print("| unit | recordings (ok) | r_L mm | r_R mm | b mm | chi2/dof r_L, r_R, b | "
+          "held-out raw m / deg | calibrated m / deg | calibrated wheels m |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for (unit, nominal), datasets in by_unit.items():
+        if len(datasets) >= 2:
+            print_unit(unit, datasets, calibrate(bin_, unit, nominal, datasets, out))
 
 
 def print_recordings(rows):
@@ -122,37 +132,73 @@ def print_recordings(rows):
               + " ; ".join(cells) + " |")
 
 
-def calibrate(bin_, robot, nominal, datasets, out):
-    result = os.path.join(out, robot + ".calibration.json")
+def calibrate(bin_, name, nominal, datasets, out):
+    """calibrate the datasets together; (exit code, the JSON as for several DATASETs, stderr)."""
+    result = os.path.join(out, name + ".calibration.json")
     r = run([bin_, "calibrate", *datasets, *CALIBRATE_FLAGS, "--nominal", nominal, "--json",
              result, "--force", "-q"])
-    print(f"\n### {robot}: {len(datasets)} recordings, calibrate {' '.join(CALIBRATE_FLAGS)} "
-          f"(exit {r.returncode})\n")
     if r.returncode not in (0, 3):
-        print(r.stderr)
-        return
+        return r.returncode, None, r.stderr
     j = json.load(open(result))
     if "recordings" not in j:  # one recording: the list
         j = {"recordings": [{"dataset": datasets[0], "methods": j}], "combined": j,
              "consistency": {}}
+    return r.returncode, j, ""
+
+
+def validation_cells(m):
+    v = m.get("validation")
+    if not v:
+        return "-", "-", "-"
+    wheels = v.get("calibrated_wheels")
+    return (f"{v['raw']['trans_m']:.3f} / {v['raw']['rot_deg']:.2f}",
+            f"{v['calibrated']['trans_m']:.3f} / {v['calibrated']['rot_deg']:.2f}",
+            f"{wheels['trans_m']:.3f}" if wheels else "-")
+
+
+def print_unit(unit, datasets, result):
+    code, j, error = result
+    if j is None:
+        print(f"| {unit} | {len(datasets)}: calibrate exit {code} | {error.strip()[:80]} |")
+        return
+    m = j["combined"][0]
+    ok = sum(1 for rec in j["recordings"] if rec["methods"][0]["ok"])
+    if not m["ok"]:
+        print(f"| {unit} | {len(datasets)} ({ok}) | refused: {m['reason'][:80]} | | | | | | |")
+        return
+    c = j["consistency"].get(m["method"], {})
+    chi2 = ", ".join("-" if c.get(k, {}).get("chi2_dof") is None else f"{c[k]['chi2_dof']:.2f}"
+                     for k in ("r_L", "r_R", "b"))
+    sig = m["sigma"]
+    raw, cal, wheels = validation_cells(m)
+    print(f"| {unit} | {len(datasets)} ({ok}) | {1e3 * m['r_L']:.1f} ± {1e3 * sig['r_L']:.1f} | "
+          f"{1e3 * m['r_R']:.1f} ± {1e3 * sig['r_R']:.1f} | {1e3 * m['b']:.1f} ± "
+          f"{1e3 * sig['b']:.1f} | {chi2} | {raw} | {cal} | {wheels} |")
+
+
+def print_calibration(robot, datasets, result):
+    code, j, error = result
+    print(f"\n### {robot}: {len(datasets)} recordings, calibrate {' '.join(CALIBRATE_FLAGS)} "
+          f"(exit {code})\n")
+    if j is None:
+        print(error)
+        return
     print("| recording | r_L mm | r_R mm | b mm | lidar x, y mm, yaw deg | held-out raw m / deg | "
-          "calibrated m / deg |")
-    print("|---|---|---|---|---|---|---|")
+          "calibrated m / deg | calibrated wheels m |")
+    print("|---|---|---|---|---|---|---|---|")
     for rec in j["recordings"] + [{"dataset": "combined", "methods": j["combined"]}]:
         m = rec["methods"][0]
         name = os.path.basename(rec["dataset"])
         if not m["ok"]:
-            print(f"| {name} | refused: {m['reason'][:90]} | | | | | |")
+            print(f"| {name} | refused: {m['reason'][:90]} | | | | | | |")
             continue
-        v = m.get("validation")
-        raw = f"{v['raw']['trans_m']:.3f} / {v['raw']['rot_deg']:.2f}" if v else "-"
-        cal = f"{v['calibrated']['trans_m']:.3f} / {v['calibrated']['rot_deg']:.2f}" if v else "-"
+        raw, cal, wheels = validation_cells(m)
         sig = m["sigma"]
         print(f"| {name} | {1e3 * m['r_L']:.1f} ± {1e3 * sig['r_L']:.1f} | "
               f"{1e3 * m['r_R']:.1f} ± {1e3 * sig['r_R']:.1f} | "
               f"{1e3 * m['b']:.1f} ± {1e3 * sig['b']:.1f} | "
               f"{1e3 * m['lidar_x']:.0f}, {1e3 * m['lidar_y']:.0f}, "
-              f"{math.degrees(m['lidar_yaw']):.1f} | {raw} | {cal} |")
+              f"{math.degrees(m['lidar_yaw']):.1f} | {raw} | {cal} | {wheels} |")
     for method, params in j.get("consistency", {}).items():
         print(f"\nchi2/dof over the recordings ({method}): " + ", ".join(
             f"{k} {v['chi2_dof']:.2f} (n {v['n']})" for k, v in params.items()
