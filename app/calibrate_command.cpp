@@ -51,8 +51,9 @@ struct CalibrateFlags : CommonFlags {
   bool time_offset = false;
   bool sideslip = false;
   bool loop_closure = false;
-  bool exclude_disagreement = false;  // --exclude-disagreement
-  std::string sync = "auto";          // --sync
+  bool exclude_disagreement = false;   // --exclude-disagreement
+  std::string sync = "auto";           // --sync
+  std::string lidar_mount = "centre";  // --lidar-mount: what direct and model take the mount as
   bool stamp_is_last_beam = false;
 };
 
@@ -85,6 +86,7 @@ eval::RecordingsCalibrationParams paramsOf(const CalibrateFlags& flags) {
   p.motion.loop_closure = flags.loop_closure;
   p.exclude_disagreement = flags.exclude_disagreement;
   p.sync_clocks = flags.sync == "auto";
+  p.mount_from_dataset = flags.lidar_mount == "dataset";
   p.params.umbmark.side_m = flags.side_m;
   p.params.ceres.estimate_time_offset = flags.time_offset;
   p.params.joint.estimate_sideslip = flags.sideslip;  // ceres starts from joint's k
@@ -420,6 +422,13 @@ void addCalibrateModel(CLI::App* cli, CalibrateFlags& flags) {
                   "than 20 ms, move the wheels' stamps onto the scans' clock before cutting "
                   "intervals; none: the stamps as logged")
       ->check(oneOf("sync", {"auto", "none"}))
+      ->capture_default_str();
+  cli->add_option("--lidar-mount", flags.lidar_mount,
+                  "what direct and model, which do not estimate a mount, take it as: centre (the "
+                  "lecture's methods: the lidar at the robot centre) or dataset (the dataset's "
+                  "mount, e.g. from tf, taken as known; for a lidar off the centre or turned, such "
+                  "as one facing backwards). joint and ceres estimate it either way")
+      ->check(oneOf("lidar-mount", {"centre", "dataset"}))
       ->capture_default_str();
   cli->add_flag("--exclude-disagreement", flags.exclude_disagreement,
                 "where the wheels and the gyro disagree beyond any wheel geometry (a lifted or "

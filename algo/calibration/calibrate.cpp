@@ -126,6 +126,12 @@ CalibrationRun calibrateWith(CalibrationMethod method, const CalibrationInput& i
   params.joint.heading_loops = params.ceres.heading_loops = input.heading_loops;
   if (auto reason = missingInput(method, input)) return refused(method, std::move(*reason));
   if (method == CalibrationMethod::kUmbmark) return calibrateUmbmarkRuns(input, params);
+  if (input.known_T_base_lidar && !estimatesMount(method)) {  // the mount given, not assumed
+    CalibrationInput in_base = input;
+    in_base.intervals = inBaseFrame(input.intervals, *input.known_T_base_lidar);
+    in_base.known_T_base_lidar.reset();
+    return calibrateWith(method, in_base, params, joints);
+  }
   return robustFit(
       input.intervals, params.trim,
       [&](const std::vector<CalibrationInterval>& subset, const std::vector<int>& kept) {

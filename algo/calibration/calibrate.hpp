@@ -27,6 +27,10 @@ struct CalibrationInput {
   /// Spans whose interval headings loop closures corrected (joint and ceres propagate it into
   /// their covariance); empty when the intervals are as matched.
   std::vector<LoopSpan> heading_loops;
+  /// The lidar mount taken as known by the methods that do not estimate one (direct, model):
+  /// their intervals' lidar motion is first expressed in the base frame with it
+  /// (inBaseFrame). nullopt: the lecture's assumption, the lidar at the robot centre.
+  std::optional<SE2> known_T_base_lidar;
 };
 
 /// Every method's parameters. ceres starts from `joint` (its `start` is ignored); direct and

@@ -55,6 +55,14 @@ double CalibrationInterval::sumRight_rad() const {
   return sum;
 }
 
+std::vector<CalibrationInterval> inBaseFrame(std::vector<CalibrationInterval> intervals,
+                                             const SE2& T_base_lidar) {
+  for (CalibrationInterval& interval : intervals)
+    interval.T_lidarStart_lidarEnd =
+        T_base_lidar * interval.T_lidarStart_lidarEnd * T_base_lidar.inverse();
+  return intervals;
+}
+
 SE2 integrateInterval(const CalibrationInterval& interval, const DiffDriveParams& geometry) {
   return integrateSteps(interval.steps, geometry.radius_left_m, geometry.radius_right_m,
                         geometry.wheel_base_m);

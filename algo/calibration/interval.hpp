@@ -33,6 +33,11 @@ struct CalibrationInterval {
   double meanRateRight_radps() const { return sumRight_rad() / duration_s(); }
 };
 
+/// The intervals with their measured motion moved from the lidar to the base frame through a
+/// known mount: T_baseStart_baseEnd = T_base_lidar T_lidarStart_lidarEnd T_base_lidar^-1.
+std::vector<CalibrationInterval> inBaseFrame(std::vector<CalibrationInterval> intervals,
+                                             const SE2& T_base_lidar);
+
 /// Base motion T_baseStart_baseEnd over an interval with a given geometry (exact arcs).
 SE2 integrateInterval(const CalibrationInterval& interval, const DiffDriveParams& geometry);
 

@@ -1,6 +1,9 @@
 #include "eval/pipeline/calibration_run.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
 
 #include "algo/agreement/agreement_report.hpp"
 #include "algo/agreement/dataset_sources.hpp"
@@ -93,6 +96,20 @@ std::vector<algo::CalibrationRun> refusedRuns(const std::vector<algo::Calibratio
     runs.push_back(std::move(run));
   }
   return runs;
+}
+
+// A refused direct or model fit on a dataset whose lidar is turned away from the base's x axis:
+// their centred-lidar assumption reads a backwards lidar as wheels driving the wrong way.
+void hintMount(std::vector<algo::CalibrationRun>& runs, const SE2& T_base_lidar) {
+  constexpr double kTurnedRad = std::numbers::pi / 4.0;
+  if (std::abs(T_base_lidar.yaw) <= kTurnedRad) return;
+  for (algo::CalibrationRun& run : runs)
+    if (!run.result.ok && !algo::estimatesMount(run.method) && algo::isIntervalMethod(run.method))
+      run.result.reason +=
+          "; the dataset's lidar is mounted turned " +
+          std::to_string(std::lround(T_base_lidar.yaw * 180.0 / std::numbers::pi)) +
+          " deg, which this method, assuming the lidar at the robot centre, does "
+          "not know: --lidar-mount dataset takes the dataset's mount as known";
 }
 
 bool contains(const std::vector<algo::CalibrationMethod>& methods, algo::CalibrationMethod m) {
@@ -198,6 +215,7 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params,
   if (d) {
     out.nominal = *input.nominal;
     out.T_base_lidar = d->info.T_base_lidar;
+    if (params.mount_from_dataset) input.known_T_base_lidar = d->info.T_base_lidar;
   }
   if (d && d->info.true_geometry)
     out.truth = algo::CalibrationTruth{*d->info.true_geometry, d->info.T_base_lidar};
@@ -247,6 +265,7 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params,
     return out;
   }
   out.runs = algo::calibrate(applicable, input, params.params);
+  if (d && !params.mount_from_dataset) hintMount(out.runs, d->info.T_base_lidar);
   for (algo::CalibrationRun& run : out.runs)
     if (algo::isIntervalMethod(run.method)) run.relative_to_odometry = out.relative_to_odometry;
   return out;

@@ -101,6 +101,9 @@ struct DatasetCalibrationParams {
   /// between them, where it exceeds min_sync_lag_s (`--sync auto`; docs/calibration.md).
   bool sync_clocks = true;
   double min_sync_lag_s = 0.02;
+  /// Take the dataset's lidar mount as known in the methods that do not estimate one (direct,
+  /// model; `--lidar-mount dataset`); false: they assume the lidar at the robot centre.
+  bool mount_from_dataset = false;
   /// Run only the methods whose input is there (`--method all`); the others are listed in
   /// DatasetCalibration::not_applicable instead of refusing.
   bool only_applicable = false;

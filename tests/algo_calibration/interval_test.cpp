@@ -189,5 +189,25 @@ TEST(MotionModel, IntegrationMatchesCoreOdometry) {
   }
 }
 
+// The lidar motion of an off-centre, backwards lidar moved to the base frame through its mount is
+// the base motion the true geometry integrates (forward), and back through the inverse (inverse).
+TEST(InBaseFrame, ALidarMotionThroughItsMountIsTheBaseMotion) {
+  testing::SyntheticSpec spec;
+  spec.T_base_lidar = SE2(-0.2, 0.05, 3.0);
+  const auto lidar = testing::makeIntervals(spec);
+  const auto base = inBaseFrame(lidar, spec.T_base_lidar);
+  const auto back = inBaseFrame(base, spec.T_base_lidar.inverse());
+  ASSERT_EQ(base.size(), lidar.size());
+  for (std::size_t k = 0; k < base.size(); ++k) {
+    const SE2 truth = integrateInterval(lidar[k], spec.truth);
+    EXPECT_NEAR(base[k].T_lidarStart_lidarEnd.x, truth.x, 1e-12);
+    EXPECT_NEAR(base[k].T_lidarStart_lidarEnd.y, truth.y, 1e-12);
+    EXPECT_NEAR(base[k].T_lidarStart_lidarEnd.yaw, truth.yaw, 1e-12);
+    EXPECT_NEAR(back[k].T_lidarStart_lidarEnd.x, lidar[k].T_lidarStart_lidarEnd.x, 1e-12);
+    EXPECT_NEAR(back[k].T_lidarStart_lidarEnd.y, lidar[k].T_lidarStart_lidarEnd.y, 1e-12);
+    EXPECT_EQ(base[k].steps.size(), lidar[k].steps.size());  // the wheels untouched
+  }
+}
+
 }  // namespace
 }  // namespace slamprep::algo

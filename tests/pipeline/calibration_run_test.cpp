@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 
 #include "algo/agreement/agreement_report.hpp"
 #include "eval/formats/dataset_io.hpp"
@@ -139,6 +140,30 @@ TEST(CalibrationRun, TheScansDelayBehindTheWheelsIsMeasuredAndRemoved) {
   EXPECT_EQ(calibrateDataset(params, d).clock_offset_s, 0.0);
   const DatasetCalibration clean = calibrateDataset(jointAndCeres(), drive());
   EXPECT_EQ(clean.clock_offset_s, 0.0);  // no delay, nothing moved
+}
+
+// A lidar mounted facing backwards (as on a Neato): model, assuming it at the centre, refuses and
+// says how to give the mount; with --lidar-mount dataset it takes the dataset's mount as known.
+TEST(CalibrationRun, ABackwardsLidarIsTakenFromTheDatasetWhenAsked) {
+  sim::SimConfig config;
+  config.mode = sim::SimMode::kinematic;
+  config.duration_s = 40.0;
+  config.lidar.T_base_lidar = SE2(-0.1, 0.0, std::numbers::pi);
+  const Dataset d = sim::simulate(config).dataset;
+  DatasetCalibrationParams params;
+  params.methods = {algo::CalibrationMethod::kModel};
+  const algo::CalibrationRun centred = calibrateDataset(params, d).runs.front();
+  EXPECT_FALSE(centred.result.ok);
+  EXPECT_NE(centred.result.reason.find("--lidar-mount dataset"), std::string::npos)
+      << centred.result.reason;
+  params.mount_from_dataset = true;
+  const algo::CalibrationRun given = calibrateDataset(params, d).runs.front();
+  ASSERT_TRUE(given.result.ok) << given.result.reason;
+  // Within the 0.5 % the scan-matched motion gives joint on the same drive (above).
+  const DiffDriveParams& t = *d.info.true_geometry;
+  EXPECT_NEAR(given.result.geometry.radius_left_m / t.radius_left_m, 1.0, 0.005);
+  EXPECT_NEAR(given.result.geometry.radius_right_m / t.radius_right_m, 1.0, 0.005);
+  EXPECT_NEAR(given.result.geometry.wheel_base_m / t.wheel_base_m, 1.0, 0.005);
 }
 
 }  // namespace
