@@ -8,8 +8,9 @@ nominal geometry and import flags. For every recording: import --format rosbag2,
 the scans as measured and with each de-skew method (residual of the accepted matches, all scans
 and the turning ones: |yaw rate| > 0.3 rad/s from the odometry). For every robot (model): calibrate
 all its recordings together with the protocol's settings (CALIBRATE_FLAGS), with a held-out
-validation; then the same per unit (one physical robot, LIST's third column) with two or more
-recordings, which is what the consistency across recordings is about.
+validation; then per unit (one physical robot, LIST's third column) with two or more recordings,
+which is what the consistency across recordings is about, with joint and with the wheels alone
+(model with the mount from tf).
 Prints the tables of the README. The bags are not in the repository (their sources are in LIST).
 """
 import json
@@ -19,8 +20,10 @@ import subprocess
 import sys
 
 DESKEW = ["none", "const-velocity", "odom-linear", "odom-quadratic", "vicp", "odom-icp"]
-CALIBRATE_FLAGS = ["--method", "joint", "--motion", "map", "--keyframe-cm", "20",
-                   "--validate-fraction", "0.3"]
+PROTOCOL = ["--motion", "map", "--keyframe-cm", "20", "--validate-fraction", "0.3"]
+CALIBRATE_FLAGS = ["--method", "joint", *PROTOCOL]
+# The wheels alone, the mount taken from the bag's tf (docs/calibration.md, --lidar-mount).
+WHEELS_FLAGS = ["--method", "model", "--lidar-mount", "dataset", *PROTOCOL]
 TURNING_RADPS = 0.3
 
 
@@ -104,12 +107,16 @@ def main():
     for (robot, nominal), datasets in by_robot.items():
         print_calibration(robot, datasets, calibrate(bin_, robot, nominal, datasets, out))
     print("\n### Per unit (one physical robot, assumed)\n")
-    print("| unit | recordings (ok) | r_L mm | r_R mm | b mm | chi2/dof r_L, r_R, b | "
-          "held-out raw m / deg | calibrated m / deg | calibrated wheels m |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("| unit | method | recordings (ok) | r_L mm | r_R mm | b mm | chi2/dof r_L, r_R, b | "
+          "held-out raw m / deg | calibrated m / deg | calibrated wheels m | held-out wins: "
+          "trans, rot (of scored) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for (unit, nominal), datasets in by_unit.items():
-        if len(datasets) >= 2:
-            print_unit(unit, datasets, calibrate(bin_, unit, nominal, datasets, out))
+        if len(datasets) < 2:
+            continue
+        for label, flags in (("joint", CALIBRATE_FLAGS), ("model, tf mount", WHEELS_FLAGS)):
+            name = unit + "." + flags[1]
+            print_unit(unit, label, datasets, calibrate(bin_, name, nominal, datasets, out, flags))
 
 
 def print_recordings(rows):
@@ -132,10 +139,10 @@ def print_recordings(rows):
               + " ; ".join(cells) + " |")
 
 
-def calibrate(bin_, name, nominal, datasets, out):
+def calibrate(bin_, name, nominal, datasets, out, flags=CALIBRATE_FLAGS):
     """calibrate the datasets together; (exit code, the JSON as for several DATASETs, stderr)."""
     result = os.path.join(out, name + ".calibration.json")
-    r = run([bin_, "calibrate", *datasets, *CALIBRATE_FLAGS, "--nominal", nominal, "--json",
+    r = run([bin_, "calibrate", *datasets, *flags, "--nominal", nominal, "--json",
              result, "--force", "-q"])
     if r.returncode not in (0, 3):
         return r.returncode, None, r.stderr
@@ -156,24 +163,40 @@ def validation_cells(m):
             f"{wheels['trans_m']:.3f}" if wheels else "-")
 
 
-def print_unit(unit, datasets, result):
+def held_out_wins(j):
+    """Recordings whose calibrated odometry beats raw on the held-out part: (trans, rot, scored)."""
+    trans = rot = scored = 0
+    for rec in j["recordings"]:
+        v = rec["methods"][0].get("validation") if rec["methods"][0]["ok"] else None
+        if v:
+            scored += 1
+            trans += v["calibrated"]["trans_m"] < v["raw"]["trans_m"]
+            rot += v["calibrated"]["rot_deg"] < v["raw"]["rot_deg"]
+    return trans, rot, scored
+
+
+def print_unit(unit, label, datasets, result):
     code, j, error = result
     if j is None:
-        print(f"| {unit} | {len(datasets)}: calibrate exit {code} | {error.strip()[:80]} |")
+        print(f"| {unit} | {label} | {len(datasets)}: calibrate exit {code} | "
+              f"{error.strip()[:80]} |")
         return
     m = j["combined"][0]
     ok = sum(1 for rec in j["recordings"] if rec["methods"][0]["ok"])
     if not m["ok"]:
-        print(f"| {unit} | {len(datasets)} ({ok}) | refused: {m['reason'][:80]} | | | | | | |")
+        print(f"| {unit} | {label} | {len(datasets)} ({ok}) | refused: {m['reason'][:80]} "
+              "| | | | | | | |")
         return
     c = j["consistency"].get(m["method"], {})
     chi2 = ", ".join("-" if c.get(k, {}).get("chi2_dof") is None else f"{c[k]['chi2_dof']:.2f}"
                      for k in ("r_L", "r_R", "b"))
     sig = m["sigma"]
     raw, cal, wheels = validation_cells(m)
-    print(f"| {unit} | {len(datasets)} ({ok}) | {1e3 * m['r_L']:.1f} ± {1e3 * sig['r_L']:.1f} | "
-          f"{1e3 * m['r_R']:.1f} ± {1e3 * sig['r_R']:.1f} | {1e3 * m['b']:.1f} ± "
-          f"{1e3 * sig['b']:.1f} | {chi2} | {raw} | {cal} | {wheels} |")
+    trans, rot, scored = held_out_wins(j)
+    print(f"| {unit} | {label} | {len(datasets)} ({ok}) | {1e3 * m['r_L']:.1f} ± "
+          f"{1e3 * sig['r_L']:.1f} | {1e3 * m['r_R']:.1f} ± {1e3 * sig['r_R']:.1f} | "
+          f"{1e3 * m['b']:.1f} ± {1e3 * sig['b']:.1f} | {chi2} | {raw} | {cal} | {wheels} | "
+          f"{trans}, {rot} (of {scored}) |")
 
 
 def print_calibration(robot, datasets, result):

@@ -1,5 +1,8 @@
 #include "algo/calibration/calibrate.hpp"
 
+#include <array>
+#include <cmath>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <numeric>
@@ -121,6 +124,29 @@ CalibrationRun fitMethod(CalibrationMethod method, const std::vector<Calibration
   return refused(method, "not an interval method");
 }
 
+// An ok fit whose sigma is too large for the estimate to mean anything is refused, naming it.
+CalibrationRun refuseUndetermined(CalibrationRun run, double max_relative_sigma) {
+  if (!run.result.ok || !(max_relative_sigma > 0.0)) return run;
+  const Eigen::VectorXd sigma = run.result.sigma();
+  const DiffDriveParams& g = run.result.geometry;
+  const std::array<std::pair<const char*, double>, 3> params = {
+      {{"r_L", g.radius_left_m}, {"r_R", g.radius_right_m}, {"b", g.wheel_base_m}}};
+  for (int j = 0; j < 3 && j < sigma.size(); ++j) {
+    const double relative = sigma(j) / std::abs(params[j].second);
+    if (!(relative > max_relative_sigma)) continue;
+    char reason[240];
+    std::snprintf(reason, sizeof reason,
+                  "undetermined: %s = %.4g m with a 1-sigma of %.2g m (%.0f %%, limit %.0f %%): "
+                  "the drive does not pin the geometry down (too short, too little turning)",
+                  params[j].first, params[j].second, sigma(j), 100.0 * relative,
+                  100.0 * max_relative_sigma);
+    run.result.ok = false;
+    run.result.reason = reason;
+    return run;
+  }
+  return run;
+}
+
 CalibrationRun calibrateWith(CalibrationMethod method, const CalibrationInput& input,
                              CalibrationParams params, JointCache& joints) {
   params.joint.heading_loops = params.ceres.heading_loops = input.heading_loops;
@@ -132,11 +158,12 @@ CalibrationRun calibrateWith(CalibrationMethod method, const CalibrationInput& i
     in_base.known_T_base_lidar.reset();
     return calibrateWith(method, in_base, params, joints);
   }
-  return robustFit(
-      input.intervals, params.trim,
-      [&](const std::vector<CalibrationInterval>& subset, const std::vector<int>& kept) {
-        return fitMethod(method, subset, kept, input, params, joints);
-      });
+  return refuseUndetermined(
+      robustFit(input.intervals, params.trim,
+                [&](const std::vector<CalibrationInterval>& subset, const std::vector<int>& kept) {
+                  return fitMethod(method, subset, kept, input, params, joints);
+                }),
+      params.max_relative_sigma);
 }
 
 }  // namespace

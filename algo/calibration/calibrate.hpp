@@ -38,6 +38,10 @@ struct CalibrationInput {
 struct CalibrationParams {
   /// Robust screening of the intervals, applied around every interval method (robust_trim.hpp).
   TrimParams trim;
+  /// An interval method whose 1-sigma of r_L, r_R or b exceeds this fraction of the estimate is
+  /// refused as undetermined: beyond the 15 % that flags an estimate (nominal_flags.hpp) the
+  /// data cannot tell a good geometry from a flagged one. 0: never.
+  double max_relative_sigma = 0.15;
   DirectLinearParams direct;
   ModelBasedParams model;
   JointParams joint;

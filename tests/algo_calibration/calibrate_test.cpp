@@ -112,6 +112,31 @@ TEST(Calibrate, AKnownMountIsTakenByTheMethodsThatDoNotEstimateOne) {
   EXPECT_EQ(joint_given.result.T_base_lidar.x, joint.result.T_base_lidar.x);
 }
 
+// A fit whose 1-sigma exceeds the limit fraction of its estimate is refused as undetermined,
+// naming the parameter; the same fit within the limit, or noiseless (sigma 0), stands.
+TEST(Calibrate, AnEstimateItsSigmaSwampsIsRefusedAsUndetermined) {
+  SyntheticSpec spec;
+  spec.T_base_lidar = SE2();  // model's assumption
+  spec.sigma_x_m = spec.sigma_y_m = 0.002;
+  spec.sigma_theta_rad = 0.002;
+  CalibrationInput input;
+  input.intervals = makeIntervals(spec);
+  CalibrationParams params;
+  const CalibrationRun fit = calibrate(CalibrationMethod::kModel, input, params);
+  ASSERT_TRUE(fit.result.ok) << fit.result.reason;
+  const double relative_b = fit.result.sigma()(2) / fit.result.geometry.wheel_base_m;
+  ASSERT_GT(relative_b, 0.0);
+  ASSERT_LT(relative_b, params.max_relative_sigma);
+  params.max_relative_sigma = 0.5 * relative_b;  // b's sigma now beyond the limit
+  const CalibrationRun refused = calibrate(CalibrationMethod::kModel, input, params);
+  EXPECT_FALSE(refused.result.ok);
+  EXPECT_NE(refused.result.reason.find("undetermined: "), std::string::npos)
+      << refused.result.reason;
+  spec.sigma_x_m = spec.sigma_y_m = spec.sigma_theta_rad = 0.0;
+  input.intervals = makeIntervals(spec);
+  EXPECT_TRUE(calibrate(CalibrationMethod::kModel, input, params).result.ok);
+}
+
 TEST(Calibrate, RefusesWhatLacksItsInput) {
   const CalibrationInput empty;
   const CalibrationRun direct = calibrate(CalibrationMethod::kDirect, empty);
