@@ -83,19 +83,6 @@ bool anyApplied(const std::vector<StreamStamps>& streams) {
                      [](const StreamStamps& s) { return s.applied; });
 }
 
-nlohmann::json stampsJson(const std::vector<StreamStamps>& streams) {
-  nlohmann::json out = nlohmann::json::object();
-  for (const StreamStamps& s : streams)
-    out[s.stream] = {{"applied", s.applied},
-                     {"reason", s.reason},
-                     {"samples", s.samples},
-                     {"period_s", s.period_s},
-                     {"residual_rms_s", s.residual_rms_s},
-                     {"residual_max_s", s.residual_max_s},
-                     {"missing_samples", s.missing_samples}};
-  return out;
-}
-
 std::string stampsSummary(const std::vector<StreamStamps>& streams) {
   std::string out;
   for (const StreamStamps& s : streams) {

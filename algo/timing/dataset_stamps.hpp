@@ -32,10 +32,6 @@ std::vector<StreamStamps> regularizeStamps(Dataset& dataset, const StampGridPara
 /// True when any stream's stamps were changed.
 bool anyApplied(const std::vector<StreamStamps>& streams);
 
-/// {"<stream>": {"applied", "reason", "period_s", "residual_rms_s", "residual_max_s",
-/// "missing_samples", "samples"}} (docs/deskew.md, "Jittered stamps").
-nlohmann::json stampsJson(const std::vector<StreamStamps>& streams);
-
 /// One line per regularised stream, e.g. "stamps: scans put on their 0.1 s grid (jitter RMS
 /// 1.01 ms, max 2.99 ms)"; empty when none was.
 std::string stampsSummary(const std::vector<StreamStamps>& streams);

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "eval/bench/figure_groups.hpp"
+#include "eval/bench/trial_metrics.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -18,24 +19,25 @@ constexpr double kRange = 5.0;     // histogram over error/sigma in [-5, 5]
 constexpr double kBinWidth = 0.5;  // 20 bins: ~5 runs per central bin at 100 seeds
 
 struct Parameter {
-  const char* key;    // key in the trial results
+  CalibrationParam param;
   const char* title;  // panel title
 };
-constexpr Parameter kParameters[] = {{"r_L_pct", "Left wheel radius r_{L}"},
-                                     {"r_R_pct", "Right wheel radius r_{R}"},
-                                     {"b_pct", "Wheel base b"},
-                                     {"lidar_x_mm", "Lidar mount x"},
-                                     {"lidar_y_mm", "Lidar mount y"},
-                                     {"lidar_yaw_deg", "Lidar mount yaw"}};
+constexpr Parameter kParameters[] = {{CalibrationParam::kRL, "Left wheel radius r_{L}"},
+                                     {CalibrationParam::kRR, "Right wheel radius r_{R}"},
+                                     {CalibrationParam::kB, "Wheel base b"},
+                                     {CalibrationParam::kMountX, "Lidar mount x"},
+                                     {CalibrationParam::kMountY, "Lidar mount y"},
+                                     {CalibrationParam::kMountYaw, "Lidar mount yaw"}};
 
 // error / sigma of one method and parameter over the trials that did not refuse.
 std::vector<double> normalizedErrors(const std::vector<std::map<std::string, double>>& rows,
-                                     const std::string& method, const std::string& key) {
+                                     const std::string& method, CalibrationParam param) {
   std::vector<double> out;
-  const std::string p = "calibration/" + method + "/";
+  const std::string ok_path = calibrationMetric(method, CalibrationField::kOk),
+                    error_path = calibrationMetric(method, CalibrationError::kSigned, param),
+                    sigma_path = calibrationMetric(method, CalibrationError::kSigma, param);
   for (const auto& row : rows) {
-    const auto ok = row.find(p + "ok"), error = row.find(p + "signed_error/" + key),
-               sigma = row.find(p + "sigma/" + key);
+    const auto ok = row.find(ok_path), error = row.find(error_path), sigma = row.find(sigma_path);
     if (ok == row.end() || ok->second != 1.0 || error == row.end() || sigma == row.end() ||
         !(sigma->second > 0.0))
       continue;
@@ -124,12 +126,14 @@ std::vector<std::string> readTrialIds(const std::filesystem::path& trials_csv) {
 
 std::optional<plot::Figure> consistencyFigure(
     const std::vector<std::map<std::string, double>>& trial_rows) {
-  std::set<std::string> methods;
+  std::set<std::string> methods;  // those that reported a sigma
+  const std::string sigma = std::string(nameOf(kCalibrationErrorKeys, CalibrationError::kSigma));
   for (const auto& row : trial_rows)
     for (const auto& [path, _] : row) {
-      const auto at = path.find("/sigma/");
-      if (path.rfind("calibration/", 0) == 0 && at != std::string::npos)
-        methods.insert(path.substr(12, at - 12));
+      const std::string method = methodOfMetric(TrialSection::kCalibration, path);
+      if (!method.empty() &&
+          path.rfind(methodPrefix(TrialSection::kCalibration, method) + sigma + "/", 0) == 0)
+        methods.insert(method);
     }
   if (methods.empty()) return std::nullopt;
   std::set<std::string> off_scale;
@@ -142,7 +146,7 @@ std::optional<plot::Figure> consistencyFigure(
                     .x_range = plot::Range{-kRange, kRange},
                     .legend = plot::LegendPosition::Outside};
     for (const auto& method : methods) {
-      const auto z = normalizedErrors(trial_rows, method, param.key);
+      const auto z = normalizedErrors(trial_rows, method, param.param);
       if (z.empty()) continue;
       if (offScale(z)) {
         off_scale.insert(method);

@@ -4,6 +4,8 @@
 #include <set>
 #include <sstream>
 
+#include "eval/bench/trial_metrics.hpp"
+
 namespace slamprep::eval {
 namespace {
 
@@ -27,12 +29,12 @@ std::string rate(const json& metrics, const std::string& path) {
 }
 
 // Methods present in any group under "calibration/<method>/" or "deskew/<method>/".
-std::set<std::string> methods(const json& groups, const std::string& area) {
+std::set<std::string> methods(const json& groups, TrialSection section) {
   std::set<std::string> out;
   for (const auto& g : groups)
     for (const auto& [path, v] : g["metrics"].items())
-      if (path.rfind(area + "/", 0) == 0)
-        out.insert(path.substr(area.size() + 1, path.find('/', area.size() + 1) - area.size() - 1));
+      if (std::string method = methodOfMetric(section, path); !method.empty())
+        out.insert(std::move(method));
   return out;
 }
 
@@ -48,21 +50,25 @@ std::string faultRobustnessSection(const json& summary) {
          "± standard deviation over the seeds. Errors are absolute, in % of the true value; "
          "`ok` counts trials where the method gave an estimate; `refused, naming the fault` "
          "counts refusals whose reason names a fault that was on.\n\n";
-  for (const std::string& m : methods(groups, "calibration")) {
-    const std::string p = "calibration/" + m + "/";
+  for (const std::string& m : methods(groups, TrialSection::kCalibration)) {
+    const auto abs = [&](CalibrationParam p) {
+      return calibrationMetric(m, CalibrationError::kAbs, p);
+    };
     out << "### Calibration: " << m << "\n\n| condition | ok | r_L err [%] | r_R err [%] | "
         << "b err [%] | truth in 3σ | refused, naming the fault |\n| :-- | --: | --: | --: | "
         << "--: | --: | --: |\n";
     for (const auto& g : groups) {
       const json& x = g["metrics"];
-      out << "| " << g["sweep"]["faults.enable"].get<std::string>() << " | " << rate(x, p + "ok")
-          << " | " << stat(x, p + "abs_error/r_L_pct") << " | " << stat(x, p + "abs_error/r_R_pct")
-          << " | " << stat(x, p + "abs_error/b_pct") << " | " << rate(x, p + "inside_3sigma")
-          << " | " << rate(x, p + "refusal_names_fault") << " |\n";
+      out << "| " << g["sweep"]["faults.enable"].get<std::string>() << " | "
+          << rate(x, calibrationMetric(m, CalibrationField::kOk)) << " | "
+          << stat(x, abs(CalibrationParam::kRL)) << " | " << stat(x, abs(CalibrationParam::kRR))
+          << " | " << stat(x, abs(CalibrationParam::kB)) << " | "
+          << rate(x, calibrationMetric(m, CalibrationField::kInside3Sigma)) << " | "
+          << rate(x, calibrationMetric(m, CalibrationField::kRefusalNamesFault)) << " |\n";
     }
     out << "\n";
   }
-  const std::set<std::string> deskew = methods(groups, "deskew");
+  const std::set<std::string> deskew = methods(groups, TrialSection::kDeskew);
   if (!deskew.empty()) {
     out << "### De-skew: mean point error [mm] (scans de-skewed)\n\n| condition |";
     for (const auto& m : deskew) out << " " << m << " |";
@@ -72,8 +78,8 @@ std::string faultRobustnessSection(const json& summary) {
     for (const auto& g : groups) {
       out << "| " << g["sweep"]["faults.enable"].get<std::string>() << " |";
       for (const auto& m : deskew)
-        out << " " << stat(g["metrics"], "deskew/" + m + "/mean_m", 1000.0) << " ("
-            << rate(g["metrics"], "deskew/" + m + "/ok") << " ok) |";
+        out << " " << stat(g["metrics"], deskewMetric(m, DeskewFigure::kMean), 1000.0) << " ("
+            << rate(g["metrics"], deskewMetric(m, DeskewField::kOk)) << " ok) |";
       out << "\n";
     }
     out << "\n`ok` is the share of trials in which the method de-skewed every scan.\n\n";

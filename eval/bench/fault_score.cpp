@@ -14,8 +14,8 @@ std::string lower(std::string s) {
 
 }  // namespace
 
-nlohmann::json faultEventCounts(const Dataset& dataset) {
-  nlohmann::json out = nlohmann::json::object();
+std::map<std::string, std::size_t> faultEventCounts(const Dataset& dataset) {
+  std::map<std::string, std::size_t> out;
   const nlohmann::json& faults = dataset.info.faults;
   if (!faults.is_object() || !faults.contains("enabled")) return out;
   for (const auto& name : faults["enabled"]) {

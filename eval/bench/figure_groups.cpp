@@ -9,6 +9,7 @@
 
 #include "algo/calibration/calibration_method.hpp"
 #include "algo/deskew/deskew.hpp"
+#include "eval/bench/trial_metrics.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -55,6 +56,21 @@ std::string sweepWords(const std::string& key, const std::string& value) {
   return key + " = " + value;
 }
 
+// Methods of `section` whose metric `metric(method)` is in any group, in first-seen order.
+template <typename Metric>
+std::vector<std::string> methodsWith(const json& groups, TrialSection section,
+                                     const Metric& metric) {
+  std::vector<std::string> out;
+  for (const auto& g : groups)
+    for (const auto& [path, _] : g["metrics"].items()) {
+      const std::string method = methodOfMetric(section, path);
+      if (!method.empty() && path == metric(method) &&
+          std::find(out.begin(), out.end(), method) == out.end())
+        out.push_back(method);
+    }
+  return out;
+}
+
 }  // namespace
 
 std::string conditionLabel(const json& group, const json& groups) {
@@ -91,22 +107,16 @@ double statOf(const json& metrics, const std::string& path, const char* stat) {
   return metrics.contains(path) ? metrics[path][stat].get<double>() : std::nan("");
 }
 
-std::vector<std::string> methodsIn(const json& groups, const std::string& section,
-                                   const std::string& leaf) {
-  std::vector<std::string> out;
-  const std::string prefix = section + "/", suffix = "/" + leaf;
-  for (const auto& g : groups)
-    for (const auto& [path, _] : g["metrics"].items()) {
-      if (path.rfind(prefix, 0) != 0 || path.size() <= prefix.size() + suffix.size() ||
-          path.compare(path.size() - suffix.size(), suffix.size(), suffix) != 0)
-        continue;
-      const std::string method =
-          path.substr(prefix.size(), path.size() - prefix.size() - suffix.size());
-      if (method.find('/') == std::string::npos &&
-          std::find(out.begin(), out.end(), method) == out.end())
-        out.push_back(method);
-    }
-  return out;
+std::vector<std::string> calibrationMethodsIn(const json& groups) {
+  return methodsWith(groups, TrialSection::kCalibration, [](const std::string& method) {
+    return calibrationMetric(method, CalibrationField::kOk);
+  });
+}
+
+std::vector<std::string> deskewMethodsIn(const json& groups) {
+  return methodsWith(groups, TrialSection::kDeskew, [](const std::string& method) {
+    return deskewMetric(method, DeskewFigure::kMean);
+  });
 }
 
 const std::vector<std::string>& calibrationPalette() {

@@ -40,9 +40,10 @@ void pushMeanWithSpread(plot::Series& s, double x, const nlohmann::json& metrics
 /// A statistic of a metrics object; NaN when absent.
 double statOf(const nlohmann::json& metrics, const std::string& path, const char* stat);
 
-/// Methods with "<section>/<method>/<leaf>" in any group, in first-seen order.
-std::vector<std::string> methodsIn(const nlohmann::json& groups, const std::string& section,
-                                   const std::string& leaf);
+/// Calibration methods with an "ok" rate in any group, in first-seen order.
+std::vector<std::string> calibrationMethodsIn(const nlohmann::json& groups);
+/// De-skew methods with a mean point error in any group, in first-seen order.
+std::vector<std::string> deskewMethodsIn(const nlohmann::json& groups);
 
 /// Every calibration method / every de-skew method but the oracle, in the library's order: the
 /// `all` a method's colour and marker come from, the same in every suite whichever methods it ran.

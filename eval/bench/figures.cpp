@@ -12,6 +12,7 @@
 #include "eval/bench/figures_internal.hpp"
 #include "eval/bench/runner.hpp"
 #include "eval/bench/summary.hpp"
+#include "eval/bench/trial_record.hpp"
 #include "eval/plot/plot.hpp"
 
 namespace slamprep::eval {
@@ -27,13 +28,14 @@ constexpr std::array<const char*, 3> kArtifactPlots = {"trajectory.png", "odomet
                                                        "scan.png"};
 
 // The first trial's artifacts (trajectories, one scan, odometry error), if recorded.
-std::optional<json> firstArtifacts(const Suite& suite, const fs::path& out_dir) {
+std::optional<ArtifactsRecord> firstArtifacts(const Suite& suite, const fs::path& out_dir) {
   const auto trials = expandTrials(suite);
   const auto file = out_dir / "trials" / (trials.front().id + ".json");
   if (!fs::exists(file)) return std::nullopt;
   const json trial = readJsonFile(file, "trial result");
-  if (!trial.is_object() || !trial.contains("artifacts")) return std::nullopt;
-  return trial["artifacts"];
+  const std::string key = sectionKey(TrialSection::kArtifacts);
+  if (!trial.is_object() || !trial.contains(key)) return std::nullopt;
+  return trial[key].get<ArtifactsRecord>();
 }
 
 // Each group's rows of trials.csv (its seeds): a trial's id names its spec in the suite, whose
@@ -74,14 +76,14 @@ SuitePlots renderSuitePlots(const Suite& suite, const json& summary, const fs::p
   std::vector<std::pair<std::string, plot::Figure>> figures;
   const json& groups = summary["groups"];
   const TrialRows trial_rows = readTrialRows(out_dir / "trials.csv");  // empty without the file
-  if (!methodsIn(groups, "deskew", "mean_m").empty()) {
+  if (!deskewMethodsIn(groups).empty()) {
     // A scenario series (speeds) is a sweep: lines along it. Otherwise one panel per condition.
     if (auto fig = deskewVsSpeedFigure(groups))
       figures.emplace_back("deskew_vs_speed.png", std::move(*fig));
     else
       figures.emplace_back("deskew_by_method.png", deskewFigure(groups));
   }
-  if (!methodsIn(groups, "calibration", "ok").empty()) {
+  if (!calibrationMethodsIn(groups).empty()) {
     if (sweeps(suite, "duration_s"))
       figures.emplace_back("calibration_vs_time.png", calibrationVsTimeFigure(groups));
     else
@@ -96,13 +98,9 @@ SuitePlots renderSuitePlots(const Suite& suite, const json& summary, const fs::p
     if (auto fig = consistencyFigure(trial_rows))
       figures.emplace_back("consistency.png", std::move(*fig));
   if (const auto artifacts = firstArtifacts(suite, out_dir)) {
-    if (artifacts->contains("trajectory"))
-      figures.emplace_back("trajectory.png", trajectoryFigure(suite, (*artifacts)["trajectory"]));
-    if (artifacts->contains("odometry_error"))
-      figures.emplace_back("odometry_error.png",
-                           odometryErrorFigure((*artifacts)["odometry_error"]));
-    if (artifacts->contains("scan"))
-      figures.emplace_back("scan.png", scanFigure(suite, (*artifacts)["scan"]));
+    figures.emplace_back("trajectory.png", trajectoryFigure(suite, artifacts->trajectory));
+    figures.emplace_back("odometry_error.png", odometryErrorFigure(artifacts->odometry_error));
+    if (artifacts->scan) figures.emplace_back("scan.png", scanFigure(suite, *artifacts->scan));
   }
   SuitePlots plots;
   fs::create_directories(out_dir / "plots");

@@ -8,6 +8,7 @@
 #include "algo/calibration/calibration_method.hpp"
 #include "eval/bench/figure_groups.hpp"
 #include "eval/bench/figures_internal.hpp"
+#include "eval/bench/trial_metrics.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -15,7 +16,7 @@ namespace {
 using nlohmann::json;
 
 struct Param {
-  const char* key;    // abs_error/<key>
+  CalibrationParam param;
   const char* label;  // category label
 };
 
@@ -27,9 +28,15 @@ struct PanelSpec {
 
 const std::vector<PanelSpec>& panelSpecs() {
   static const std::vector<PanelSpec> kPanels = {
-      {"wheel geometry", "[%]", {{"r_L_pct", "r_{L}"}, {"r_R_pct", "r_{R}"}, {"b_pct", "b"}}},
-      {"lidar mount position", "[mm]", {{"lidar_x_mm", "x"}, {"lidar_y_mm", "y"}}},
-      {"lidar mount yaw", "[deg]", {{"lidar_yaw_deg", "yaw"}}}};
+      {"wheel geometry",
+       "[%]",
+       {{CalibrationParam::kRL, "r_{L}"},
+        {CalibrationParam::kRR, "r_{R}"},
+        {CalibrationParam::kB, "b"}}},
+      {"lidar mount position",
+       "[mm]",
+       {{CalibrationParam::kMountX, "x"}, {CalibrationParam::kMountY, "y"}}},
+      {"lidar mount yaw", "[deg]", {{CalibrationParam::kMountYaw, "yaw"}}}};
   return kPanels;
 }
 
@@ -47,7 +54,8 @@ plot::Axes calibrationPanel(const json& group, const PanelSpec& spec,
     plot::Series dots = methodDots(calibrationPalette(), method);
     bool any = false;
     for (std::size_t i = 0; i < spec.params.size(); ++i) {
-      const std::string path = "calibration/" + method + "/abs_error/" + spec.params[i].key;
+      const std::string path =
+          calibrationMetric(method, CalibrationError::kAbs, spec.params[i].param);
       const double v = statOf(m, path, "mean");
       any = any || std::isfinite(v);
       pushMeanWithSpread(dots, static_cast<double>(i), m, path, seeds);
@@ -66,8 +74,8 @@ constexpr double kOffScale = 20.0;
 using BoxKey = std::pair<std::string, std::size_t>;  // method, parameter index
 
 std::vector<double> signedErrors(const TrialRows& rows, const std::string& method,
-                                 const char* key) {
-  const std::string path = "calibration/" + method + "/signed_error/" + key;
+                                 CalibrationParam param) {
+  const std::string path = calibrationMetric(method, CalibrationError::kSigned, param);
   std::vector<double> values;
   for (const auto& row : rows)
     if (const auto it = row.find(path); it != row.end()) values.push_back(it->second);
@@ -90,7 +98,7 @@ std::set<BoxKey> offScaleBoxes(const std::vector<const TrialRows*>& rows, const 
     std::map<std::string, double> widest;  // per method
     for (const std::string& method : methods)
       for (std::size_t i = 0; i < spec.params.size(); ++i) {
-        const auto values = signedErrors(*trials, method, spec.params[i].key);
+        const auto values = signedErrors(*trials, method, spec.params[i].param);
         if (values.empty()) continue;
         reach[{method, i}] = reachOf(values);
         widest[method] = std::max(widest[method], reach[{method, i}]);
@@ -125,7 +133,8 @@ std::string offScaleLabel(const TrialRows& trials, const PanelSpec& spec, std::s
     if (param == i) methods.push_back(method);
   const std::string name = spec.params[i].label;
   if (methods.size() != 1) return name;
-  const double median = plot::boxStats(signedErrors(trials, methods[0], spec.params[i].key)).median;
+  const double median =
+      plot::boxStats(signedErrors(trials, methods[0], spec.params[i].param)).median;
   char value[32];
   std::snprintf(value, sizeof value, "%.3g", std::abs(median));
   const std::string unit = std::string(spec.unit).substr(1, std::strlen(spec.unit) - 2);
@@ -154,7 +163,7 @@ plot::Axes boxPanel(const TrialRows& trials, const PanelSpec& spec,
     boxes.marker_size_px = 4.0;
     for (std::size_t k = 0; k < params.size(); ++k) {
       if (off.contains({method, params[k]}) != off_panel) continue;
-      for (const double v : signedErrors(trials, method, spec.params[params[k]].key))
+      for (const double v : signedErrors(trials, method, spec.params[params[k]].param))
         boxes.x.push_back(static_cast<double>(k)), boxes.y.push_back(v);
     }
     if (!boxes.y.empty()) axes.series.push_back(boxes);
@@ -182,7 +191,7 @@ int commonSeeds(const std::vector<std::size_t>& shown, const std::vector<TrialRo
 
 plot::Figure boxFigure(const json& groups, const std::vector<std::size_t>& shown,
                        const std::vector<TrialRows>& trials, const std::string& left_out) {
-  const auto methods = methodsIn(groups, "calibration", "ok");
+  const auto methods = calibrationMethodsIn(groups);
   std::vector<const TrialRows*> rows;
   for (const std::size_t g : shown) rows.push_back(&trials[g]);
   std::vector<std::set<BoxKey>> off;
@@ -221,7 +230,7 @@ plot::Figure boxFigure(const json& groups, const std::vector<std::size_t>& shown
 }  // namespace
 
 plot::Figure calibrationFigure(const json& groups, const std::vector<TrialRows>& trials_by_group) {
-  const auto methods = methodsIn(groups, "calibration", "ok");
+  const auto methods = calibrationMethodsIn(groups);
   // A condition where every method refused (an arc has no excitation to calibrate from) gets
   // no row; the title says so.
   std::vector<std::size_t> shown;
@@ -229,8 +238,10 @@ plot::Figure calibrationFigure(const json& groups, const std::vector<TrialRows>&
   for (std::size_t k = 0; k < groups.size(); ++k) {
     bool any = false;
     for (const auto& method : methods)
-      any = any || std::isfinite(statOf(groups[k]["metrics"],
-                                        "calibration/" + method + "/abs_error/b_pct", "mean"));
+      any = any ||
+            std::isfinite(statOf(
+                groups[k]["metrics"],
+                calibrationMetric(method, CalibrationError::kAbs, CalibrationParam::kB), "mean"));
     if (any)
       shown.push_back(k);
     else
@@ -265,12 +276,12 @@ plot::Figure calibrationFigure(const json& groups, const std::vector<TrialRows>&
 }
 
 plot::Figure calibrationVsTimeFigure(const json& groups) {
-  const std::vector<std::pair<std::string, std::string>> params = {
-      {"b_pct", "b |error| [%]"},
-      {"r_L_pct", "r_{L} |error| [%]"},
-      {"r_R_pct", "r_{R} |error| [%]"},
-      {"lidar_yaw_deg", "lidar yaw |error| [deg]"}};
-  const auto methods = methodsIn(groups, "calibration", "ok");
+  const std::vector<std::pair<CalibrationParam, std::string>> params = {
+      {CalibrationParam::kB, "b |error| [%]"},
+      {CalibrationParam::kRL, "r_{L} |error| [%]"},
+      {CalibrationParam::kRR, "r_{R} |error| [%]"},
+      {CalibrationParam::kMountYaw, "lidar yaw |error| [deg]"}};
+  const auto methods = calibrationMethodsIn(groups);
   std::map<std::string, std::vector<const json*>, decltype(&naturalLess)> columns(naturalLess);
   for (const auto& g : groups) columns[otherSweepLabel(g, "duration_s")].push_back(&g);
   const auto duration = [](const json* g) {
@@ -286,20 +297,20 @@ plot::Figure calibrationVsTimeFigure(const json& groups) {
                             seedsNote(groups.front().value("trials", 1)) + " per point)",
                    .rows = static_cast<int>(params.size()),
                    .cols = cols};
-  for (const auto& [key, label] : params)
+  for (const auto& [param, label] : params)
     for (const auto& [column, members] : columns) {
       plot::Axes axes{.title = column,
                       .x_label = "driving time [s]",
                       .y_label = label,
                       .log_y = true,
                       .legend = plot::LegendPosition::None};
-      if (&column == &columns.rbegin()->first && key == params.front().first)
+      if (&column == &columns.rbegin()->first && param == params.front().first)
         axes.legend = plot::LegendPosition::Outside;
       for (const std::string& method : methods) {
         plot::Series line = methodDots(calibrationPalette(), method);
         line.style = plot::Style::LineMarkers;
         for (const json* g : members) {
-          const std::string path = "calibration/" + method + "/abs_error/" + key;
+          const std::string path = calibrationMetric(method, CalibrationError::kAbs, param);
           pushMeanWithSpread(line, duration(g), (*g)["metrics"], path, g->value("trials", 1));
         }
         if (std::any_of(line.y.begin(), line.y.end(), [](double v) { return std::isfinite(v); }))

@@ -5,6 +5,7 @@
 #include "algo/deskew/deskew.hpp"
 #include "eval/bench/figure_groups.hpp"
 #include "eval/bench/figures_internal.hpp"
+#include "eval/bench/trial_metrics.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -16,7 +17,7 @@ constexpr const char* kOracleNote = "the oracle, at ~1e-12 mm, not drawn";
 // De-skew methods of the groups in the order of algo::allDeskewMethods(), without the oracle
 // (it would stretch a log axis over 10 decades; the tables report it).
 std::vector<std::string> plottedDeskewMethods(const json& groups) {
-  const auto present = methodsIn(groups, "deskew", "mean_m");
+  const auto present = deskewMethodsIn(groups);
   std::vector<std::string> out;
   for (const auto method : algo::allDeskewMethods()) {
     const std::string name(algo::deskewMethodName(method));
@@ -54,7 +55,7 @@ plot::Figure deskewFigure(const json& groups) {
       plot::Series dot = methodDots(deskewPalette(), methods[i]);
       dot.label.clear();  // the category names it
       pushMeanWithSpread(dot, static_cast<double>(i), g["metrics"],
-                         "deskew/" + methods[i] + "/mean_m", seeds, 1e3);
+                         deskewMetric(methods[i], DeskewFigure::kMean), seeds, 1e3);
       axes.series.push_back(dot);
     }
     fig.axes.push_back(axes);
@@ -84,7 +85,7 @@ std::optional<plot::Figure> deskewVsSpeedFigure(const json& groups) {
                                                                 : plot::LegendPosition::None};
     std::vector<std::pair<double, const json*>> points;
     for (const json* g : members)
-      points.push_back({statOf((*g)["metrics"], "sim/mean_speed_mps", "mean"), g});
+      points.push_back({statOf((*g)["metrics"], simMetric(SimField::kMeanSpeed), "mean"), g});
     std::sort(points.begin(), points.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
     for (const std::string& method : methods) {
@@ -94,7 +95,7 @@ std::optional<plot::Figure> deskewVsSpeedFigure(const json& groups) {
       line.dashed = method == "odom-quadratic";
       if (method == "odom-linear") line.marker_size_px = 14.0;
       for (const auto& [speed, g] : points) {
-        pushMeanWithSpread(line, speed, (*g)["metrics"], "deskew/" + method + "/mean_m",
+        pushMeanWithSpread(line, speed, (*g)["metrics"], deskewMetric(method, DeskewFigure::kMean),
                            g->value("trials", 1), 1e3);
       }
       axes.series.push_back(line);

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "eval/bench/artifacts_record.hpp"
 #include "eval/bench/figure_groups.hpp"
 #include "eval/bench/suite.hpp"
 #include "eval/plot/plot.hpp"
@@ -29,9 +30,9 @@ plot::Figure deskewFigure(const nlohmann::json& groups);
 std::optional<plot::Figure> deskewVsSpeedFigure(const nlohmann::json& groups);
 
 // figures_maps.cpp
-plot::Figure trajectoryFigure(const Suite& suite, const nlohmann::json& trajectory);
-plot::Figure scanFigure(const Suite& suite, const nlohmann::json& scan);
+plot::Figure trajectoryFigure(const Suite& suite, const TrajectoriesRecord& trajectory);
+plot::Figure scanFigure(const Suite& suite, const ArtifactScanRecord& scan);
 /// Dead-reckoning error over time, nominal and calibrated geometry (evo's APE plot).
-plot::Figure odometryErrorFigure(const nlohmann::json& odometry_error);
+plot::Figure odometryErrorFigure(const OdometryErrorRecord& odometry_error);
 
 }  // namespace slamprep::eval

@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include "eval/bench/fault_report.hpp"
+#include "eval/bench/group_consistency.hpp"
+#include "eval/bench/trial_metrics.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -40,15 +42,12 @@ std::string percent(const json& metrics, const std::string& path) {
 }
 
 // Method names under a section ("calibration/<method>/...") in first-seen order of the keys.
-std::vector<std::string> methodsOf(const json& metrics, const std::string& section) {
+std::vector<std::string> methodsOf(const json& metrics, TrialSection section) {
   std::vector<std::string> out;
   std::set<std::string> seen;
-  const std::string prefix = section + "/";
   for (const auto& [path, _] : metrics.items()) {
-    if (path.rfind(prefix, 0) != 0) continue;
-    const std::string method =
-        path.substr(prefix.size(), path.find('/', prefix.size()) - prefix.size());
-    if (seen.insert(method).second) out.push_back(method);
+    const std::string method = methodOfMetric(section, path);
+    if (!method.empty() && seen.insert(method).second) out.push_back(method);
   }
   return out;
 }
@@ -57,13 +56,14 @@ Table calibrationTable(const json& m) {
   Table t{{"method", "ok", "r_L err [%]", "r_R err [%]", "b err [%]", "lidar x err [mm]",
            "lidar y err [mm]", "lidar yaw err [deg]", "truth in 3σ", "drift after [m]"},
           {}};
-  for (const auto& method : methodsOf(m, "calibration")) {
-    const std::string p = "calibration/" + method + "/";
-    t.rows.push_back({method, percent(m, p + "ok"), cell(m, p + "abs_error/r_L_pct"),
-                      cell(m, p + "abs_error/r_R_pct"), cell(m, p + "abs_error/b_pct"),
-                      cell(m, p + "abs_error/lidar_x_mm"), cell(m, p + "abs_error/lidar_y_mm"),
-                      cell(m, p + "abs_error/lidar_yaw_deg"), percent(m, p + "inside_3sigma"),
-                      cell(m, p + "drift_m")});
+  for (const auto& method : methodsOf(m, TrialSection::kCalibration)) {
+    std::vector<std::string> row = {method,
+                                    percent(m, calibrationMetric(method, CalibrationField::kOk))};
+    for (const CalibrationParam p : kCalibrationParams)
+      row.push_back(cell(m, calibrationMetric(method, CalibrationError::kAbs, p)));
+    row.push_back(percent(m, calibrationMetric(method, CalibrationField::kInside3Sigma)));
+    row.push_back(cell(m, calibrationMetric(method, CalibrationField::kDrift)));
+    t.rows.push_back(std::move(row));
   }
   return t;
 }
@@ -72,12 +72,13 @@ Table deskewTable(const json& m) {
   Table t{{"method", "ok", "mean [mm]", "RMS [mm]", "p95 [mm]", "max [mm]", "rotation part [mm]",
            "translation part [mm]"},
           {}};
-  for (const auto& method : methodsOf(m, "deskew")) {
-    const std::string p = "deskew/" + method + "/";
-    t.rows.push_back({method, percent(m, p + "ok"), cell(m, p + "mean_m", 1e3),
-                      cell(m, p + "rms_m", 1e3), cell(m, p + "p95_m", 1e3),
-                      cell(m, p + "max_m", 1e3), cell(m, p + "rotation_mean_m", 1e3),
-                      cell(m, p + "translation_mean_m", 1e3)});
+  for (const auto& method : methodsOf(m, TrialSection::kDeskew)) {
+    std::vector<std::string> row = {method, percent(m, deskewMetric(method, DeskewField::kOk))};
+    for (const DeskewFigure f :
+         {DeskewFigure::kMean, DeskewFigure::kRms, DeskewFigure::kP95, DeskewFigure::kMax,
+          DeskewFigure::kRotationMean, DeskewFigure::kTranslationMean})
+      row.push_back(cell(m, deskewMetric(method, f), 1e3));
+    t.rows.push_back(std::move(row));
   }
   return t;
 }
@@ -85,21 +86,21 @@ Table deskewTable(const json& m) {
 // One line per de-skew method that refused scans, "odom-linear: 12 scans refused in 2 trial(s)
 // (not-bracketed 10, sample-gap 2)"; empty when none did. The error figures leave them out.
 std::string refusalLines(const json& m, const std::string& bullet) {
-  const std::string by_reason = "refused_by_reason/";
   const auto total = [&](const std::string& path) {  // mean over the trials that have the key
     return std::to_string(std::lround(m[path]["mean"].get<double>() * m[path]["n"].get<int>()));
   };
   std::string out;
-  for (const auto& method : methodsOf(m, "deskew")) {
-    const std::string p = "deskew/" + method + "/";
-    if (!m.contains(p + "refused_scans")) continue;
+  for (const auto& method : methodsOf(m, TrialSection::kDeskew)) {
+    const std::string refused = deskewMetric(method, DeskewField::kRefusedScans);
+    if (!m.contains(refused)) continue;
+    const std::string by_reason = deskewRefusalMetric(method, "");
     std::string reasons;
     for (const auto& [path, _] : m.items())
-      if (path.rfind(p + by_reason, 0) == 0)
-        reasons += (reasons.empty() ? "" : ", ") + path.substr(p.size() + by_reason.size()) + " " +
-                   total(path);
-    out += bullet + method + ": " + total(p + "refused_scans") + " scans refused in " +
-           std::to_string(m[p + "refused_scans"]["n"].get<int>()) + " trial(s) (" + reasons + ")\n";
+      if (path.rfind(by_reason, 0) == 0)
+        reasons +=
+            (reasons.empty() ? "" : ", ") + path.substr(by_reason.size()) + " " + total(path);
+    out += bullet + method + ": " + total(refused) + " scans refused in " +
+           std::to_string(m[refused]["n"].get<int>()) + " trial(s) (" + reasons + ")\n";
   }
   return out;
 }
@@ -110,29 +111,37 @@ Table odometryTable(const json& m) {
   Table t{{"geometry", "APE RMSE [m]", "APE max [m]", "RPE per m, translation [mm]",
            "RPE per m, rotation [deg]"},
           {}};
-  const auto row = [&](const std::string& label, const std::string& p) {
-    if (!m.contains(p + "ape_rmse_m")) return;
-    t.rows.push_back({label, cell(m, p + "ape_rmse_m"), cell(m, p + "ape_max_m"),
-                      cell(m, p + "rpe_trans_rmse_m", 1e3), cell(m, p + "rpe_rot_rmse_deg")});
+  // `metric` names a field of one geometry's OdometryRecord.
+  const auto row = [&](const std::string& label, const auto& metric) {
+    if (!m.contains(metric(OdometryField::kApeRmse))) return;
+    t.rows.push_back({label, cell(m, metric(OdometryField::kApeRmse)),
+                      cell(m, metric(OdometryField::kApeMax)),
+                      cell(m, metric(OdometryField::kRpeTransRmse), 1e3),
+                      cell(m, metric(OdometryField::kRpeRotRmse))});
   };
-  row("nominal", "odometry/nominal/");
-  for (const auto& method : methodsOf(m, "calibration"))
-    row("calibrated: " + method, "calibration/" + method + "/");
-  row("true", "odometry/true/");
+  const auto raw = [](OdometryGeometry geometry) {
+    return [geometry](OdometryField f) { return odometryMetric(geometry, f); };
+  };
+  row("nominal", raw(OdometryGeometry::kNominal));
+  for (const auto& method : methodsOf(m, TrialSection::kCalibration))
+    row("calibrated: " + method, [&](OdometryField f) { return calibrationMetric(method, f); });
+  row("true", raw(OdometryGeometry::kTrue));
   return t;
 }
 
 Table simulationTable(const json& m) {
-  return {{"quantity", "mean ± std over trials"},
-          {{"simulated time [s]", cell(m, "sim/duration_s")},
-           {"scans", cell(m, "sim/scans")},
-           {"distance driven [m]", cell(m, "sim/distance_m")},
-           {"turned [rad]", cell(m, "sim/turned_rad")},
-           {"final drift, nominal geometry [m]", cell(m, "sim/drift_nominal_m")},
-           {"final drift, true geometry [m]", cell(m, "sim/drift_true_m")},
-           {"scan-match translation error [mm]", cell(m, "matching/trans_error_m_rmse", 1e3)},
-           {"scan-match rotation error [deg]", cell(m, "matching/rot_error_deg_rmse")},
-           {"scan matches converged", percent(m, "matching/converged_fraction")}}};
+  return {
+      {"quantity", "mean ± std over trials"},
+      {{"simulated time [s]", cell(m, simMetric(SimField::kDuration))},
+       {"scans", cell(m, simMetric(SimField::kScans))},
+       {"distance driven [m]", cell(m, simMetric(SimField::kDistance))},
+       {"turned [rad]", cell(m, simMetric(SimField::kTurned))},
+       {"final drift, nominal geometry [m]", cell(m, simMetric(SimField::kDriftNominal))},
+       {"final drift, true geometry [m]", cell(m, simMetric(SimField::kDriftTrue))},
+       {"scan-match translation error [mm]",
+        cell(m, matchingMetric(MatchingField::kTransErrorRmse), 1e3)},
+       {"scan-match rotation error [deg]", cell(m, matchingMetric(MatchingField::kRotErrorRmse))},
+       {"scan matches converged", percent(m, matchingMetric(MatchingField::kConvergedFraction))}}};
 }
 
 std::string markdown(const Table& t) {
@@ -207,37 +216,41 @@ constexpr int kMinConsistencyTrials = 10;
 // Bias, spread, RMS and coverage of each method's signed error against its reported sigma over
 // the seeds of one group, and the mean NEES (summary "consistency", docs/results.md).
 Table consistencyTable(const json& c) {
-  static const std::pair<const char*, const char*> kParams[] = {
-      {"r_L", "r_L [%]"},          {"r_R", "r_R [%]"},          {"b", "b [%]"},
-      {"lidar_x", "lidar x [mm]"}, {"lidar_y", "lidar y [mm]"}, {"lidar_yaw", "lidar yaw [deg]"}};
+  static const EnumNames<CalibrationParam, kCalibrationParams.size()> kLabels = {
+      {{CalibrationParam::kRL, "r_L [%]"},
+       {CalibrationParam::kRR, "r_R [%]"},
+       {CalibrationParam::kB, "b [%]"},
+       {CalibrationParam::kMountX, "lidar x [mm]"},
+       {CalibrationParam::kMountY, "lidar y [mm]"},
+       {CalibrationParam::kMountYaw, "lidar yaw [deg]"}}};
   Table t{{"method", "parameter", "n", "bias", "std", "RMS", "within 1σ", "within 3σ"}, {}};
   const auto value = [&](const std::string& key, double scale = 1.0) {
     return c.contains(key) ? fmt(c[key].get<double>() * scale) : std::string("-");
   };
-  for (const auto& method : methodsOf(c, "calibration")) {
-    const std::string p = "calibration/" + method + "/consistency/";
-    for (const auto& [param, label] : kParams) {
-      const std::string q = p + param + "/";
-      if (!c.contains(q + "n")) continue;
-      t.rows.push_back({method, label, value(q + "n"), value(q + "bias"), value(q + "std"),
-                        value(q + "rms"), value(q + "coverage_1sigma", 100) + " %",
-                        value(q + "coverage_3sigma", 100) + " %"});
+  for (const auto& method : methodsOf(c, TrialSection::kCalibration))
+    for (const auto& [param, label] : kLabels) {
+      const auto key = [&](ConsistencyStat stat) { return consistencyMetric(method, param, stat); };
+      if (!c.contains(key(ConsistencyStat::kN))) continue;
+      t.rows.push_back({method, std::string(label), value(key(ConsistencyStat::kN)),
+                        value(key(ConsistencyStat::kBias)), value(key(ConsistencyStat::kStd)),
+                        value(key(ConsistencyStat::kRms)),
+                        value(key(ConsistencyStat::kCoverage1Sigma), 100) + " %",
+                        value(key(ConsistencyStat::kCoverage3Sigma), 100) + " %"});
     }
-  }
   return t;
 }
 
 // Mean NEES per method beside the value an honest covariance gives (its dimension).
 Table neesTable(const json& c) {
   Table t{{"method", "n", "mean NEES", "honest (dimension)"}, {}};
-  for (const auto& method : methodsOf(c, "calibration")) {
-    const std::string p = "calibration/" + method + "/consistency/";
-    if (!c.contains(p + "nees_mean")) continue;
+  for (const auto& method : methodsOf(c, TrialSection::kCalibration)) {
+    if (!c.contains(consistencyMetric(method, NeesStat::kMean))) continue;
     int dim = 0;
-    for (const char* param : {"r_L", "r_R", "b", "lidar_x", "lidar_y", "lidar_yaw"})
-      dim += c.contains(p + param + "/n");
-    t.rows.push_back({method, fmt(c[p + "nees_n"].get<double>()),
-                      fmt(c[p + "nees_mean"].get<double>()), std::to_string(dim)});
+    for (const CalibrationParam param : kCalibrationParams)
+      dim += c.contains(consistencyMetric(method, param, ConsistencyStat::kN));
+    t.rows.push_back({method, fmt(c[consistencyMetric(method, NeesStat::kN)].get<double>()),
+                      fmt(c[consistencyMetric(method, NeesStat::kMean)].get<double>()),
+                      std::to_string(dim)});
   }
   return t;
 }
@@ -281,8 +294,8 @@ std::string renderReport(const Suite& suite, const json& summary,
   if (const std::size_t missing = summary.value("missing", json::array()).size())
     out << "**Missing trials:** " << missing << " (failed or not yet run).\n\n";
   const auto parts = sections(summary);
-  const bool any_calibration = !methodsOf(m, "calibration").empty();
-  const bool any_deskew = !methodsOf(m, "deskew").empty();
+  const bool any_calibration = !methodsOf(m, TrialSection::kCalibration).empty();
+  const bool any_deskew = !methodsOf(m, TrialSection::kDeskew).empty();
   if (any_calibration) {
     out << "## Calibration\n\nAbsolute error of each method's estimate against the geometry "
            "Bullet simulated (relative for r_L, r_R, b). A method that refuses (ill-conditioned "
@@ -331,9 +344,9 @@ std::string renderConsoleSummary(const json& summary) {
   std::string out;
   for (const auto& [name, metrics] : sections(summary)) {
     if (!name.empty()) out += "== " + name + " ==\n";
-    if (!methodsOf(*metrics, "calibration").empty())
+    if (!methodsOf(*metrics, TrialSection::kCalibration).empty())
       out += "Calibration (absolute error vs truth)\n" + aligned(calibrationTable(*metrics)) + "\n";
-    if (!methodsOf(*metrics, "deskew").empty())
+    if (!methodsOf(*metrics, TrialSection::kDeskew).empty())
       out += "De-skew (point error vs ground truth)\n" + aligned(deskewTable(*metrics)) + "\n" +
              refusalLines(*metrics, "refused: ");
     if (const Table t = odometryTable(*metrics); !t.rows.empty())

@@ -9,8 +9,9 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/json_input.hpp"
+#include "eval/bench/group_consistency.hpp"
 #include "eval/bench/runner.hpp"
-#include "eval/metrics/consistency.hpp"
+#include "eval/bench/trial_record.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -19,7 +20,7 @@ void flattenInto(const nlohmann::json& node, const std::string& path,
                  std::map<std::string, double>& out) {
   if (node.is_object()) {
     for (const auto& [key, value] : node.items())
-      if (!(path.empty() && key == "trial"))
+      if (!(path.empty() && key == sectionKey(TrialSection::kTrial)))
         flattenInto(value, path.empty() ? key : path + "/" + key, out);
   } else if (node.is_number()) {
     const double v = node.get<double>();
@@ -49,60 +50,6 @@ nlohmann::json statsOver(const std::vector<const nlohmann::json*>& results) {
     for (const auto& [path, v] : flattenMetrics(*r)) values[path].push_back(v);
   nlohmann::json out = nlohmann::json::object();
   for (const auto& [path, v] : values) out[path] = statsOf(v);
-  return out;
-}
-
-// The six calibration parameters: name in the consistency keys, key in the trial results.
-constexpr std::pair<const char*, const char*> kCalibrationParams[] = {
-    {"r_L", "r_L_pct"},        {"r_R", "r_R_pct"},        {"b", "b_pct"},
-    {"lidar_x", "lidar_x_mm"}, {"lidar_y", "lidar_y_mm"}, {"lidar_yaw", "lidar_yaw_deg"}};
-
-// One method's calibration result in a trial result; empty when absent.
-nlohmann::json methodResult(const nlohmann::json& result, const std::string& method) {
-  return result.value("calibration", nlohmann::json::object())
-      .value(method, nlohmann::json::object());
-}
-
-// calibration/<method>/consistency/<param>/<stat> and .../nees_mean over the given results (the
-// seeds of one group): signed errors against the reported sigmas of the runs that did not refuse.
-nlohmann::json consistencyOver(const std::vector<const nlohmann::json*>& results) {
-  std::set<std::string> methods;
-  for (const auto* r : results)
-    if (r->contains("calibration"))
-      for (const auto& [method, _] : (*r)["calibration"].items()) methods.insert(method);
-  nlohmann::json out = nlohmann::json::object();
-  for (const auto& method : methods) {
-    const std::string prefix = "calibration/" + method + "/consistency/";
-    std::vector<double> nees;
-    for (const auto& [param, key] : kCalibrationParams) {
-      std::vector<double> errors, sigmas;
-      for (const auto* r : results) {
-        const auto c = methodResult(*r, method);
-        if (!c.value("ok", false) || !c.contains("sigma") || !c["sigma"].contains(key)) continue;
-        errors.push_back(c["signed_error"][key].get<double>());
-        sigmas.push_back(c["sigma"][key].get<double>());
-      }
-      if (errors.empty()) continue;
-      const ErrorConsistency s = errorConsistency(errors, sigmas);
-      const std::string p = prefix + param + "/";
-      out.update({{p + "n", s.n},
-                  {p + "bias", s.bias},
-                  {p + "std", s.std},
-                  {p + "rms", s.rms},
-                  {p + "coverage_1sigma", s.coverage_1sigma},
-                  {p + "coverage_3sigma", s.coverage_3sigma}});
-    }
-    for (const auto* r : results) {
-      const auto c = methodResult(*r, method);
-      if (c.value("ok", false) && c.contains("nees")) nees.push_back(c["nees"].get<double>());
-    }
-    if (!nees.empty()) {
-      double sum = 0.0;
-      for (double v : nees) sum += v;
-      out[prefix + "nees_mean"] = sum / nees.size();
-      out[prefix + "nees_n"] = nees.size();
-    }
-  }
   return out;
 }
 

@@ -32,7 +32,9 @@ void checkTrialShape(const nlohmann::json& result, const std::string& file);
 /// A stored spec (specJson) without its "inputs" digests.
 nlohmann::json withoutInputs(nlohmann::json trial_spec);
 
-/// Numeric leaves of a result (bools as 0/1) by '/'-joined path, skipping the "trial" spec.
+/// Numeric leaves of a result (bools as 0/1) by '/'-joined path, skipping the "trial" spec: the
+/// generic part of the summary, which makes summary.json's metrics and trials.csv's columns from
+/// whatever the records write. Code that reads one names it with trial_metrics.hpp.
 std::map<std::string, double> flattenMetrics(const nlohmann::json& result);
 
 /// What makes a group: one sweep point in one world and scenario, everything but the seed.

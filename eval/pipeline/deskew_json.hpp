@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "eval/pipeline/dataset_deskew.hpp"
+#include "eval/pipeline/deskew_figures.hpp"
 
 namespace slamprep::eval {
 
@@ -16,10 +17,13 @@ enum class AbsentFigure {
   kOmitted,  ///< left out, so that only measured numbers enter a suite's summary (bench)
 };
 
-/// The error figures, keys in this order: mean_m, rms_m, p95_m, max_m, rotation_mean_m,
-/// rotation_p95_m, translation_mean_m, translation_p95_m, split_residual_max_m, repacked_mean_m,
-/// repacked_p95_m, repacked_lost_beams, beams (with kNull, 0 beams without truth).
+/// The error figures under kDeskewFigureKeys, in that order (with kNull, 0 beams without truth).
+nlohmann::ordered_json deskewFiguresJson(const DeskewFigures& figures, AbsentFigure absent);
 nlohmann::ordered_json deskewFiguresJson(const DatasetDeskew& deskewed, AbsentFigure absent);
+
+/// The figures of an object written by deskewFiguresJson with `absent`; other keys are not read.
+/// A null is an absent figure with kNull, a non-finite one (NaN) with kOmitted.
+DeskewFigures deskewFiguresFromJson(const nlohmann::json& in, AbsentFigure absent);
 
 /// Every refused scan in order, [{"scan", "method", "reason", "detail"}]; [] when none.
 nlohmann::ordered_json deskewRefusalsJson(const DatasetDeskew& deskewed, std::string_view method);
