@@ -44,14 +44,6 @@ TEST(Records, CommittedTrialResultsWriteBackTheirBytes) {
   EXPECT_EQ(files, 4u);
 }
 
-// SLAMPREP_TRIALS_DIR=results/default/trials: a whole run's trials, artifacts included.
-TEST(Records, TrialsOfARunWriteBackTheirBytes) {
-  const char* dir = std::getenv("SLAMPREP_TRIALS_DIR");
-  if (!dir) GTEST_SKIP() << "set SLAMPREP_TRIALS_DIR to a bench run's trials/";
-  for (const auto& entry : fs::directory_iterator(dir))
-    if (entry.path().extension() == ".json") expectSameBytes(entry.path());
-}
-
 TEST(Records, TheFixturesHoldWhatTheyAreFor) {
   const auto read = [](const char* name) {
     return nlohmann::json::parse(readFile(kTrials / name)).get<TrialRecord>();
