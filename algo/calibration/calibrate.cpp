@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 #include <numeric>
+#include <string>
 
 namespace slamprep::algo {
 namespace {
@@ -25,6 +26,17 @@ const JointResult& jointOn(JointCache& cache, const std::vector<CalibrationInter
   return it->second;
 }
 
+// A refit that fails where the fit before trimming stood (e.g. "channels swapped" from a few
+// intervals) says more about the intervals than about the robot: the refusal says so.
+std::string beforeDropping(const DiffDriveParams& g) {
+  char text[240];
+  std::snprintf(text, sizeof text,
+                "; before dropping them the fit stood (r_L %.1f, r_R %.1f, b %.1f mm): the "
+                "intervals disagree among themselves, they do not determine the geometry",
+                1e3 * g.radius_left_m, 1e3 * g.radius_right_m, 1e3 * g.wheel_base_m);
+  return text;
+}
+
 // Fit, screen every interval against the fit, refit on the kept ones; until the kept set repeats
 // (robust_trim.hpp). Round 0 fits all intervals as given, so nothing dropped = the plain fit.
 CalibrationRun robustFit(const std::vector<CalibrationInterval>& all, const TrimParams& params,
@@ -42,7 +54,8 @@ CalibrationRun robustFit(const std::vector<CalibrationInterval>& all, const Trim
     CalibrationRun refit = fit(selectIntervals(all, screening.kept), screening.kept);
     if (!refit.result.ok)
       refit.result.reason = "after dropping " + std::to_string(screening.dropped.size()) +
-                            " outlier intervals: " + refit.result.reason;
+                            " outlier intervals: " + refit.result.reason +
+                            beforeDropping(run.result.geometry);
     run = std::move(refit);
     kept = std::move(screening.kept);
     dropped = std::move(screening.dropped);
