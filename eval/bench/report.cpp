@@ -228,7 +228,8 @@ Table consistencyTable(const json& c) {
     return c.contains(key) ? fmt(c[key].get<double>() * scale) : std::string("-");
   };
   for (const auto& method : methodsOf(c, TrialSection::kCalibration))
-    for (const auto& [param, label] : kLabels) {
+    for (const auto& [param_of_row, label] : kLabels) {
+      const CalibrationParam param = param_of_row;  // clang 14 captures no structured binding
       const auto key = [&](ConsistencyStat stat) { return consistencyMetric(method, param, stat); };
       if (!c.contains(key(ConsistencyStat::kN))) continue;
       t.rows.push_back({method, std::string(label), value(key(ConsistencyStat::kN)),
