@@ -3,18 +3,18 @@
 #include <iostream>
 #include <thread>
 
-#include "app/choices.hpp"
-#include "app/commands.hpp"
-#include "app/common_flags.hpp"
-#include "app/exit_codes.hpp"
-#include "app/outputs.hpp"
-#include "core/error.hpp"
-#include "core/paths.hpp"
-#include "core/progress.hpp"
-#include "eval/bench/bench.hpp"
-#include "eval/bench/report.hpp"
-#include "eval/bench/slurm.hpp"
-#include "eval/bench/trial.hpp"
+#include "slamprep/app/choices.hpp"
+#include "slamprep/app/commands.hpp"
+#include "slamprep/app/common_flags.hpp"
+#include "slamprep/app/exit_codes.hpp"
+#include "slamprep/app/outputs.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/paths.hpp"
+#include "slamprep/core/progress.hpp"
+#include "slamprep/eval/bench/bench.hpp"
+#include "slamprep/eval/bench/report.hpp"
+#include "slamprep/eval/bench/slurm.hpp"
+#include "slamprep/eval/bench/trial.hpp"
 
 namespace slamprep::app {
 namespace {

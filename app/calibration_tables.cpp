@@ -1,4 +1,4 @@
-#include "app/calibration_tables.hpp"
+#include "slamprep/app/calibration_tables.hpp"
 
 #include <cmath>
 #include <iomanip>
@@ -6,7 +6,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "algo/calibration/calibration_json.hpp"
+#include "slamprep/algo/calibration/calibration_json.hpp"
 
 namespace slamprep::app {
 namespace {

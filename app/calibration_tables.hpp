@@ -6,8 +6,8 @@
 #include <optional>
 #include <vector>
 
-#include "algo/calibration/calibration_report.hpp"
-#include "eval/pipeline/recordings_calibration.hpp"
+#include "slamprep/algo/calibration/calibration_report.hpp"
+#include "slamprep/eval/pipeline/recordings_calibration.hpp"
 
 namespace slamprep::app {
 

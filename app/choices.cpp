@@ -1,11 +1,11 @@
-#include "app/choices.hpp"
+#include "slamprep/app/choices.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/enum_names.hpp"
-#include "core/error.hpp"
-#include "eval/formats/text_io.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
 
 namespace slamprep::app {
 

@@ -1,4 +1,4 @@
-#include "app/command_progress.hpp"
+#include "slamprep/app/command_progress.hpp"
 
 #include <chrono>
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <thread>
 
-#include "core/progress.hpp"
-#include "core/stage_report.hpp"
+#include "slamprep/core/progress.hpp"
+#include "slamprep/core/stage_report.hpp"
 
 namespace slamprep::app {
 

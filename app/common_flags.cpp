@@ -1,6 +1,6 @@
-#include "app/common_flags.hpp"
+#include "slamprep/app/common_flags.hpp"
 
-#include "app/outputs.hpp"
+#include "slamprep/app/outputs.hpp"
 
 namespace slamprep::app {
 

@@ -8,22 +8,22 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "algo/calibration/calibration_json.hpp"
-#include "algo/timing/dataset_stamps.hpp"
-#include "app/choices.hpp"
-#include "app/command_progress.hpp"
-#include "app/commands.hpp"
-#include "app/common_flags.hpp"
-#include "app/exit_codes.hpp"
-#include "app/outputs.hpp"
-#include "core/atomic_file.hpp"
-#include "core/dataset.hpp"
-#include "core/error.hpp"
-#include "core/odometry.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "eval/formats/scan_jsonl.hpp"
-#include "eval/pipeline/dataset_deskew.hpp"
-#include "eval/pipeline/deskew_json.hpp"
+#include "slamprep/algo/calibration/calibration_json.hpp"
+#include "slamprep/algo/timing/dataset_stamps.hpp"
+#include "slamprep/app/choices.hpp"
+#include "slamprep/app/command_progress.hpp"
+#include "slamprep/app/commands.hpp"
+#include "slamprep/app/common_flags.hpp"
+#include "slamprep/app/exit_codes.hpp"
+#include "slamprep/app/outputs.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/eval/formats/scan_jsonl.hpp"
+#include "slamprep/eval/pipeline/dataset_deskew.hpp"
+#include "slamprep/eval/pipeline/deskew_json.hpp"
 
 namespace slamprep::app {
 namespace {

@@ -4,14 +4,14 @@
 #include <iostream>
 #include <set>
 
-#include "algo/calibration/calibration_json.hpp"
-#include "algo/deskew/deskew.hpp"
-#include "app/choices.hpp"
-#include "app/commands.hpp"
-#include "app/common_flags.hpp"
-#include "app/outputs.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "eval/formats/export.hpp"
+#include "slamprep/algo/calibration/calibration_json.hpp"
+#include "slamprep/algo/deskew/deskew.hpp"
+#include "slamprep/app/choices.hpp"
+#include "slamprep/app/commands.hpp"
+#include "slamprep/app/common_flags.hpp"
+#include "slamprep/app/outputs.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/eval/formats/export.hpp"
 
 namespace slamprep::app {
 namespace {

@@ -1,6 +1,6 @@
-#include "app/icp_options.hpp"
+#include "slamprep/app/icp_options.hpp"
 
-#include "app/choices.hpp"
+#include "slamprep/app/choices.hpp"
 
 namespace slamprep::app {
 

@@ -5,7 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "algo/matching/icp.hpp"
+#include "slamprep/algo/matching/icp.hpp"
 
 namespace slamprep::app {
 

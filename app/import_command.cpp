@@ -4,18 +4,18 @@
 #include <numbers>
 #include <sstream>
 
-#include "algo/agreement/agreement_report.hpp"
-#include "algo/agreement/dataset_sources.hpp"
-#include "app/choices.hpp"
-#include "app/commands.hpp"
-#include "app/common_flags.hpp"
-#include "app/outputs.hpp"
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "eval/formats/import.hpp"
-#include "eval/formats/import_json.hpp"
-#include "eval/formats/text_io.hpp"
+#include "slamprep/algo/agreement/agreement_report.hpp"
+#include "slamprep/algo/agreement/dataset_sources.hpp"
+#include "slamprep/app/choices.hpp"
+#include "slamprep/app/commands.hpp"
+#include "slamprep/app/common_flags.hpp"
+#include "slamprep/app/outputs.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/eval/formats/import.hpp"
+#include "slamprep/eval/formats/import_json.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
 
 namespace slamprep::app {
 namespace {

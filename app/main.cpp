@@ -9,12 +9,12 @@
 #include <string_view>
 #include <vector>
 
-#include "app/choices.hpp"
-#include "app/commands.hpp"
-#include "app/exit_codes.hpp"
 #include "app/version.hpp"
-#include "core/error.hpp"
-#include "core/partial_cleanup.hpp"
+#include "slamprep/app/choices.hpp"
+#include "slamprep/app/commands.hpp"
+#include "slamprep/app/exit_codes.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/partial_cleanup.hpp"
 
 namespace {
 
@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
   const std::vector<Command> commands = {
       addBenchCommand(app),  addCalibrateCommand(app), addDeskewCommand(app), addExportCommand(app),
       addImportCommand(app), addMatchCommand(app),     addMergeCommand(app),  addPlotCommand(app),
-      addScoreCommand(app),  addSimulateCommand(app), addTwinCommand(app),
+      addScoreCommand(app),  addSimulateCommand(app),  addTwinCommand(app),
   };
 
   if (argc < 2) {

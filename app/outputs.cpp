@@ -1,4 +1,4 @@
-#include "app/outputs.hpp"
+#include "slamprep/app/outputs.hpp"
 
 #include <unistd.h>
 
@@ -6,9 +6,9 @@
 #include <cstring>
 #include <fstream>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/paths.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/paths.hpp"
 
 namespace slamprep::app {
 namespace {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "eval/formats/dataset_io.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
 
 namespace slamprep::app {
 

@@ -5,16 +5,16 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "app/choices.hpp"
-#include "app/commands.hpp"
-#include "app/common_flags.hpp"
-#include "app/outputs.hpp"
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "eval/formats/relations.hpp"
-#include "eval/formats/tum.hpp"
-#include "eval/metrics/relation_error.hpp"
-#include "eval/metrics/trajectory_error.hpp"
+#include "slamprep/app/choices.hpp"
+#include "slamprep/app/commands.hpp"
+#include "slamprep/app/common_flags.hpp"
+#include "slamprep/app/outputs.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/relations.hpp"
+#include "slamprep/eval/formats/tum.hpp"
+#include "slamprep/eval/metrics/relation_error.hpp"
+#include "slamprep/eval/metrics/trajectory_error.hpp"
 
 namespace slamprep::app {
 namespace {

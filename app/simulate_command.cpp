@@ -9,18 +9,18 @@
 #include <numbers>
 #include <sstream>
 
-#include "app/choices.hpp"
-#include "app/command_progress.hpp"
-#include "app/commands.hpp"
-#include "app/common_flags.hpp"
-#include "app/outputs.hpp"
-#include "core/error.hpp"
-#include "core/input_file.hpp"
-#include "core/json_input.hpp"
-#include "core/paths.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "sim/drive/scenario.hpp"
-#include "sim/drive/simulator.hpp"
+#include "slamprep/app/choices.hpp"
+#include "slamprep/app/command_progress.hpp"
+#include "slamprep/app/commands.hpp"
+#include "slamprep/app/common_flags.hpp"
+#include "slamprep/app/outputs.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/input_file.hpp"
+#include "slamprep/core/json_input.hpp"
+#include "slamprep/core/paths.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
 
 namespace slamprep::app {
 namespace {

@@ -7,19 +7,19 @@
 #include <fstream>
 #include <iostream>
 
-#include "algo/calibration/calibration_json.hpp"
-#include "app/command_progress.hpp"
-#include "app/commands.hpp"
-#include "app/common_flags.hpp"
-#include "app/outputs.hpp"
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "eval/bench/twin.hpp"
-#include "eval/bench/twin_compare.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "sim/drive/scenario.hpp"
-#include "sim/drive/simulator.hpp"
-#include "sim/physics/world.hpp"
+#include "slamprep/algo/calibration/calibration_json.hpp"
+#include "slamprep/app/command_progress.hpp"
+#include "slamprep/app/commands.hpp"
+#include "slamprep/app/common_flags.hpp"
+#include "slamprep/app/outputs.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/bench/twin.hpp"
+#include "slamprep/eval/bench/twin_compare.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 namespace slamprep::app {
 namespace {

@@ -1,4 +1,4 @@
-#include "core/atomic_file.hpp"
+#include "slamprep/core/atomic_file.hpp"
 
 #include <fcntl.h>
 #include <stdio.h>
@@ -11,9 +11,9 @@
 #include <mutex>
 #include <sstream>
 
-#include "core/error.hpp"
-#include "core/partial_cleanup.hpp"
-#include "core/paths.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/partial_cleanup.hpp"
+#include "slamprep/core/paths.hpp"
 
 namespace slamprep {
 namespace {

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "core/diff_drive.hpp"
-#include "core/laser_scan.hpp"
-#include "core/samples.hpp"
-#include "core/time_series.hpp"
+#include "slamprep/core/diff_drive.hpp"
+#include "slamprep/core/laser_scan.hpp"
+#include "slamprep/core/samples.hpp"
+#include "slamprep/core/time_series.hpp"
 
 namespace slamprep {
 

@@ -1,7 +1,7 @@
-#include "core/gyro_odometry.hpp"
+#include "slamprep/core/gyro_odometry.hpp"
 
-#include "core/error.hpp"
-#include "core/odometry.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/odometry.hpp"
 
 namespace slamprep {
 

@@ -3,10 +3,10 @@
 // wheels, as robots publish it when their heading is the IMU's (TurtleBot3's turtlebot3_node
 // with use_imu).
 
-#include "core/diff_drive.hpp"
-#include "core/heading.hpp"
-#include "core/samples.hpp"
-#include "core/time_series.hpp"
+#include "slamprep/core/diff_drive.hpp"
+#include "slamprep/core/heading.hpp"
+#include "slamprep/core/samples.hpp"
+#include "slamprep/core/time_series.hpp"
 
 namespace slamprep {
 

@@ -1,4 +1,4 @@
-#include "core/heading.hpp"
+#include "slamprep/core/heading.hpp"
 
 namespace slamprep {
 

@@ -4,8 +4,8 @@
 
 #include <optional>
 
-#include "core/samples.hpp"
-#include "core/time_series.hpp"
+#include "slamprep/core/samples.hpp"
+#include "slamprep/core/time_series.hpp"
 
 namespace slamprep {
 

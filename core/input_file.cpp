@@ -1,8 +1,8 @@
-#include "core/input_file.hpp"
+#include "slamprep/core/input_file.hpp"
 
 #include <fstream>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep {
 namespace {

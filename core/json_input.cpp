@@ -1,4 +1,4 @@
-#include "core/json_input.hpp"
+#include "slamprep/core/json_input.hpp"
 
 #include <algorithm>
 #include <array>
@@ -6,8 +6,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "core/error.hpp"
-#include "core/input_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/input_file.hpp"
 
 namespace slamprep {
 namespace {

@@ -1,9 +1,9 @@
-#include "core/laser_scan.hpp"
+#include "slamprep/core/laser_scan.hpp"
 
 #include <cmath>
 #include <numbers>
 
-#include "core/se2.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep {
 

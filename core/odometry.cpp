@@ -1,4 +1,4 @@
-#include "core/odometry.hpp"
+#include "slamprep/core/odometry.hpp"
 
 #include <numbers>
 

@@ -3,9 +3,9 @@
 
 #include <optional>
 
-#include "core/diff_drive.hpp"
-#include "core/samples.hpp"
-#include "core/time_series.hpp"
+#include "slamprep/core/diff_drive.hpp"
+#include "slamprep/core/samples.hpp"
+#include "slamprep/core/time_series.hpp"
 
 namespace slamprep {
 

@@ -1,4 +1,4 @@
-#include "core/order_statistics.hpp"
+#include "slamprep/core/order_statistics.hpp"
 
 #include <algorithm>
 #include <cassert>

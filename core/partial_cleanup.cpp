@@ -1,4 +1,4 @@
-#include "core/partial_cleanup.hpp"
+#include "slamprep/core/partial_cleanup.hpp"
 
 #include <fcntl.h>
 #include <limits.h>

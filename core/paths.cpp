@@ -1,4 +1,4 @@
-#include "core/paths.hpp"
+#include "slamprep/core/paths.hpp"
 
 #include <algorithm>
 #include <cstdlib>

@@ -4,7 +4,7 @@
 
 #include <cstddef>
 
-#include "core/se2.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep {
 

@@ -1,4 +1,4 @@
-#include "core/progress.hpp"
+#include "slamprep/core/progress.hpp"
 
 #include <unistd.h>
 

@@ -1,4 +1,4 @@
-#include "core/rigid_alignment.hpp"
+#include "slamprep/core/rigid_alignment.hpp"
 
 #include <cmath>
 

@@ -7,7 +7,7 @@
 #include <span>
 #include <string>
 
-#include "core/se2.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep {
 

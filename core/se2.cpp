@@ -1,4 +1,4 @@
-#include "core/se2.hpp"
+#include "slamprep/core/se2.hpp"
 
 #include <cmath>
 #include <numbers>

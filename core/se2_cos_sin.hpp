@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 #include <cmath>
 
-#include "core/se2.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep {
 

@@ -1,4 +1,4 @@
-#include "core/stage_report.hpp"
+#include "slamprep/core/stage_report.hpp"
 
 #include <sstream>
 

@@ -6,7 +6,7 @@
 #include <functional>
 #include <string>
 
-#include "core/progress.hpp"
+#include "slamprep/core/progress.hpp"
 
 namespace slamprep {
 

@@ -9,15 +9,15 @@
 #include <string_view>
 #include <vector>
 
-#include "eval/formats/csv_logs.hpp"
-#include "eval/formats/dataset_json.hpp"
-#include "eval/formats/import.hpp"
-#include "eval/formats/mcap.hpp"
-#include "eval/formats/relations.hpp"
-#include "eval/formats/rosbag2.hpp"
-#include "eval/formats/scan_jsonl.hpp"
-#include "eval/formats/tum.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/eval/formats/csv_logs.hpp"
+#include "slamprep/eval/formats/dataset_json.hpp"
+#include "slamprep/eval/formats/import.hpp"
+#include "slamprep/eval/formats/mcap.hpp"
+#include "slamprep/eval/formats/relations.hpp"
+#include "slamprep/eval/formats/rosbag2.hpp"
+#include "slamprep/eval/formats/scan_jsonl.hpp"
+#include "slamprep/eval/formats/tum.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::fuzz {
 

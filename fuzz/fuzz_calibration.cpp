@@ -1,10 +1,10 @@
-// libFuzzer target for the calibration reader (fuzz/readers.hpp). InputError is the expected refusal;
-// any other exception aborts, so libFuzzer records the input as a finding.
+// libFuzzer target for the calibration reader (fuzz/readers.hpp). InputError is the expected
+// refusal; any other exception aborts, so libFuzzer records the input as a finding.
 #include <cstdio>
 #include <cstdlib>
 
-#include "core/error.hpp"
-#include "fuzz/readers.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/fuzz/readers.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {

@@ -3,8 +3,8 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "core/error.hpp"
-#include "fuzz/readers.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/fuzz/readers.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {

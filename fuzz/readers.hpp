@@ -8,12 +8,12 @@
 #include <string_view>
 #include <vector>
 
-#include "algo/calibration/calibration_json.hpp"
-#include "algo/calibration/interval.hpp"
-#include "eval/bench/suite.hpp"
-#include "fuzz/format_readers.hpp"
-#include "sim/drive/scenario.hpp"
-#include "sim/physics/world.hpp"
+#include "slamprep/algo/calibration/calibration_json.hpp"
+#include "slamprep/algo/calibration/interval.hpp"
+#include "slamprep/eval/bench/suite.hpp"
+#include "slamprep/fuzz/format_readers.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 namespace slamprep::fuzz {
 

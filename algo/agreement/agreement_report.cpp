@@ -1,4 +1,4 @@
-#include "algo/agreement/agreement_report.hpp"
+#include "slamprep/algo/agreement/agreement_report.hpp"
 
 #include <algorithm>
 #include <cstdio>

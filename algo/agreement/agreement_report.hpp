@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "algo/agreement/sensor_agreement.hpp"
+#include "slamprep/algo/agreement/sensor_agreement.hpp"
 
 namespace slamprep::algo {
 

@@ -1,6 +1,6 @@
-#include "algo/agreement/dataset_sources.hpp"
+#include "slamprep/algo/agreement/dataset_sources.hpp"
 
-#include "core/odometry.hpp"
+#include "slamprep/core/odometry.hpp"
 
 namespace slamprep::algo {
 namespace {

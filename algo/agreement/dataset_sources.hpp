@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "algo/agreement/sensor_agreement.hpp"
-#include "core/dataset.hpp"
+#include "slamprep/algo/agreement/sensor_agreement.hpp"
+#include "slamprep/core/dataset.hpp"
 
 namespace slamprep::algo {
 

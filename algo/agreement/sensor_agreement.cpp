@@ -1,4 +1,4 @@
-#include "algo/agreement/sensor_agreement.hpp"
+#include "slamprep/algo/agreement/sensor_agreement.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -7,7 +7,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "core/order_statistics.hpp"
+#include "slamprep/core/order_statistics.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "core/diff_drive.hpp"
-#include "core/heading.hpp"
+#include "slamprep/core/diff_drive.hpp"
+#include "slamprep/core/heading.hpp"
 
 namespace slamprep::algo {
 

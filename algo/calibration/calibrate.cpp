@@ -1,4 +1,4 @@
-#include "algo/calibration/calibrate.hpp"
+#include "slamprep/algo/calibration/calibrate.hpp"
 
 #include <array>
 #include <cmath>

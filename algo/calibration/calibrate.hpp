@@ -6,15 +6,15 @@
 #include <string>
 #include <vector>
 
-#include "algo/calibration/calibration_method.hpp"
-#include "algo/calibration/calibration_result.hpp"
-#include "algo/calibration/ceres_refine.hpp"
-#include "algo/calibration/direct_linear.hpp"
-#include "algo/calibration/interval.hpp"
-#include "algo/calibration/joint_censi.hpp"
-#include "algo/calibration/model_based.hpp"
-#include "algo/calibration/robust_trim.hpp"
-#include "algo/calibration/umbmark.hpp"
+#include "slamprep/algo/calibration/calibration_method.hpp"
+#include "slamprep/algo/calibration/calibration_result.hpp"
+#include "slamprep/algo/calibration/ceres_refine.hpp"
+#include "slamprep/algo/calibration/direct_linear.hpp"
+#include "slamprep/algo/calibration/interval.hpp"
+#include "slamprep/algo/calibration/joint_censi.hpp"
+#include "slamprep/algo/calibration/model_based.hpp"
+#include "slamprep/algo/calibration/robust_trim.hpp"
+#include "slamprep/algo/calibration/umbmark.hpp"
 
 namespace slamprep::algo {
 

@@ -1,4 +1,4 @@
-#include "algo/calibration/calibration_json.hpp"
+#include "slamprep/algo/calibration/calibration_json.hpp"
 
 #include <cmath>
 #include <limits>
@@ -7,11 +7,11 @@
 #include <tuple>
 #include <utility>
 
-#include "algo/agreement/agreement_report.hpp"
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/input_file.hpp"
-#include "core/json_input.hpp"
+#include "slamprep/algo/agreement/agreement_report.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/input_file.hpp"
+#include "slamprep/core/json_input.hpp"
 
 namespace slamprep::algo {
 namespace {

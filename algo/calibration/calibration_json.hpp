@@ -16,10 +16,10 @@
 #include <string_view>
 #include <vector>
 
-#include "algo/calibration/calibrate.hpp"
-#include "algo/calibration/calibration_report.hpp"
-#include "core/diff_drive.hpp"
-#include "core/se2.hpp"
+#include "slamprep/algo/calibration/calibrate.hpp"
+#include "slamprep/algo/calibration/calibration_report.hpp"
+#include "slamprep/core/diff_drive.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep::algo {
 

@@ -1,4 +1,4 @@
-#include "algo/calibration/calibration_method.hpp"
+#include "slamprep/algo/calibration/calibration_method.hpp"
 
 #include <algorithm>
 

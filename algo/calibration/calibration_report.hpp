@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "algo/agreement/sensor_agreement.hpp"
-#include "algo/calibration/calibrate.hpp"
-#include "algo/calibration/nominal_flags.hpp"
-#include "core/se2.hpp"
+#include "slamprep/algo/agreement/sensor_agreement.hpp"
+#include "slamprep/algo/calibration/calibrate.hpp"
+#include "slamprep/algo/calibration/nominal_flags.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep::algo {
 

@@ -1,4 +1,4 @@
-#include "algo/calibration/calibration_result.hpp"
+#include "slamprep/algo/calibration/calibration_result.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>

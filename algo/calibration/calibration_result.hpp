@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "algo/calibration/interval.hpp"
-#include "algo/calibration/loop_covariance.hpp"
-#include "core/diff_drive.hpp"
-#include "core/se2.hpp"
+#include "slamprep/algo/calibration/interval.hpp"
+#include "slamprep/algo/calibration/loop_covariance.hpp"
+#include "slamprep/core/diff_drive.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep::algo {
 

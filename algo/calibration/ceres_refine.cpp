@@ -1,4 +1,4 @@
-#include "algo/calibration/ceres_refine.hpp"
+#include "slamprep/algo/calibration/ceres_refine.hpp"
 
 #include <ceres/ceres.h>
 

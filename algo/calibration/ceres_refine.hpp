@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "algo/calibration/joint_censi.hpp"
+#include "slamprep/algo/calibration/joint_censi.hpp"
 
 namespace slamprep::algo {
 

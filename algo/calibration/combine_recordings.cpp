@@ -1,11 +1,11 @@
-#include "algo/calibration/combine_recordings.hpp"
+#include "slamprep/algo/calibration/combine_recordings.hpp"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "algo/calibration/calibration_json.hpp"
+#include "slamprep/algo/calibration/calibration_json.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "algo/calibration/calibrate.hpp"
+#include "slamprep/algo/calibration/calibrate.hpp"
 
 namespace slamprep::algo {
 

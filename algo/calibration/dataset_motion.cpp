@@ -1,9 +1,9 @@
-#include "algo/calibration/dataset_motion.hpp"
+#include "slamprep/algo/calibration/dataset_motion.hpp"
 
 #include <cassert>
 #include <string>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::algo {
 namespace {

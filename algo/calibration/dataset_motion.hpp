@@ -6,11 +6,11 @@
 #include <optional>
 #include <vector>
 
-#include "algo/calibration/interval.hpp"
-#include "algo/calibration/umbmark.hpp"
-#include "algo/deskew/deskew.hpp"
-#include "algo/matching/icp.hpp"
-#include "core/dataset.hpp"
+#include "slamprep/algo/calibration/interval.hpp"
+#include "slamprep/algo/calibration/umbmark.hpp"
+#include "slamprep/algo/deskew/deskew.hpp"
+#include "slamprep/algo/matching/icp.hpp"
+#include "slamprep/core/dataset.hpp"
 
 namespace slamprep::algo {
 

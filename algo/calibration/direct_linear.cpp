@@ -1,4 +1,4 @@
-#include "algo/calibration/direct_linear.hpp"
+#include "slamprep/algo/calibration/direct_linear.hpp"
 
 #include <Eigen/Dense>
 #include <cmath>

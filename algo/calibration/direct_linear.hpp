@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "algo/calibration/calibration_result.hpp"
+#include "slamprep/algo/calibration/calibration_result.hpp"
 
 namespace slamprep::algo {
 

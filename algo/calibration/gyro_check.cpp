@@ -1,4 +1,4 @@
-#include "algo/calibration/gyro_check.hpp"
+#include "slamprep/algo/calibration/gyro_check.hpp"
 
 #include <algorithm>
 #include <cmath>

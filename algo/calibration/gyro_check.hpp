@@ -8,9 +8,9 @@
 
 #include <optional>
 
-#include "algo/agreement/sensor_agreement.hpp"
-#include "algo/calibration/calibration_result.hpp"
-#include "algo/calibration/nominal_flags.hpp"
+#include "slamprep/algo/agreement/sensor_agreement.hpp"
+#include "slamprep/algo/calibration/calibration_result.hpp"
+#include "slamprep/algo/calibration/nominal_flags.hpp"
 
 namespace slamprep::algo {
 

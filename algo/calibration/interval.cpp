@@ -1,4 +1,4 @@
-#include "algo/calibration/interval.hpp"
+#include "slamprep/algo/calibration/interval.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -6,10 +6,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "core/error.hpp"
-#include "core/input_file.hpp"
-#include "core/json_input.hpp"
-#include "core/odometry.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/input_file.hpp"
+#include "slamprep/core/json_input.hpp"
+#include "slamprep/core/odometry.hpp"
 
 namespace slamprep::algo {
 namespace {

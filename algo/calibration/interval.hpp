@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "algo/calibration/motion_model.hpp"
-#include "core/diff_drive.hpp"
-#include "core/samples.hpp"
-#include "core/se2.hpp"
-#include "core/time_series.hpp"
+#include "slamprep/algo/calibration/motion_model.hpp"
+#include "slamprep/core/diff_drive.hpp"
+#include "slamprep/core/samples.hpp"
+#include "slamprep/core/se2.hpp"
+#include "slamprep/core/time_series.hpp"
 
 namespace slamprep::algo {
 

@@ -1,4 +1,4 @@
-#include "algo/calibration/joint_censi.hpp"
+#include "slamprep/algo/calibration/joint_censi.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "algo/calibration/calibration_result.hpp"
+#include "slamprep/algo/calibration/calibration_result.hpp"
 
 namespace slamprep::algo {
 

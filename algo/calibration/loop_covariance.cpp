@@ -1,10 +1,10 @@
-#include "algo/calibration/loop_covariance.hpp"
+#include "slamprep/algo/calibration/loop_covariance.hpp"
 
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <utility>
 
-#include "algo/matching/loop_closure.hpp"
+#include "slamprep/algo/matching/loop_closure.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -20,7 +20,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "algo/calibration/interval.hpp"
+#include "slamprep/algo/calibration/interval.hpp"
 
 namespace slamprep::algo {
 

@@ -1,4 +1,4 @@
-#include "algo/calibration/model_based.hpp"
+#include "slamprep/algo/calibration/model_based.hpp"
 
 #include <Eigen/Dense>
 #include <cmath>

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/se2.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep::algo {
 

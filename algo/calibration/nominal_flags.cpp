@@ -1,4 +1,4 @@
-#include "algo/calibration/nominal_flags.hpp"
+#include "slamprep/algo/calibration/nominal_flags.hpp"
 
 #include <array>
 #include <cmath>

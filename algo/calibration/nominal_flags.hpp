@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "algo/calibration/calibration_result.hpp"
-#include "core/diff_drive.hpp"
+#include "slamprep/algo/calibration/calibration_result.hpp"
+#include "slamprep/core/diff_drive.hpp"
 
 namespace slamprep::algo {
 

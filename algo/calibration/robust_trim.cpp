@@ -1,11 +1,11 @@
-#include "algo/calibration/robust_trim.hpp"
+#include "slamprep/algo/calibration/robust_trim.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 
-#include "core/order_statistics.hpp"
+#include "slamprep/core/order_statistics.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "algo/calibration/calibration_result.hpp"
+#include "slamprep/algo/calibration/calibration_result.hpp"
 
 namespace slamprep::algo {
 

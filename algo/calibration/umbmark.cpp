@@ -1,4 +1,4 @@
-#include "algo/calibration/umbmark.hpp"
+#include "slamprep/algo/calibration/umbmark.hpp"
 
 #include <Eigen/QR>
 #include <algorithm>

@@ -9,8 +9,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "algo/calibration/calibration_result.hpp"
-#include "algo/calibration/motion_model.hpp"
+#include "slamprep/algo/calibration/calibration_result.hpp"
+#include "slamprep/algo/calibration/motion_model.hpp"
 
 namespace slamprep::algo {
 

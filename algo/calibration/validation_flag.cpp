@@ -1,4 +1,4 @@
-#include "algo/calibration/validation_flag.hpp"
+#include "slamprep/algo/calibration/validation_flag.hpp"
 
 #include <cstdio>
 #include <string>

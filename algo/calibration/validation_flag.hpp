@@ -7,7 +7,7 @@
 
 #include <optional>
 
-#include "algo/calibration/calibration_report.hpp"
+#include "slamprep/algo/calibration/calibration_report.hpp"
 
 namespace slamprep::algo {
 

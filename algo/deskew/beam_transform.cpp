@@ -1,9 +1,9 @@
-#include "algo/deskew/beam_transform.hpp"
+#include "slamprep/algo/deskew/beam_transform.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/se2_cos_sin.hpp"
+#include "slamprep/core/se2_cos_sin.hpp"
 
 namespace slamprep::algo {
 namespace {

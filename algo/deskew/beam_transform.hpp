@@ -6,9 +6,9 @@
 #include <optional>
 #include <vector>
 
-#include "core/laser_scan.hpp"
-#include "core/se2.hpp"
-#include "core/time_series.hpp"
+#include "slamprep/core/laser_scan.hpp"
+#include "slamprep/core/se2.hpp"
+#include "slamprep/core/time_series.hpp"
 
 namespace slamprep::algo {
 

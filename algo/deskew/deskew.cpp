@@ -1,11 +1,11 @@
 // The dispatcher: checks the scan, finds the method's knots T_Lref_L(t) (method.hpp), and moves
 // every beam with them (beam_transform.hpp).
-#include "algo/deskew/deskew.hpp"
+#include "slamprep/algo/deskew/deskew.hpp"
 
 #include <array>
 #include <cmath>
 
-#include "algo/deskew/method.hpp"
+#include "slamprep/algo/deskew/method.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -14,14 +14,14 @@
 #include <string_view>
 #include <vector>
 
-#include "algo/deskew/beam_transform.hpp"
-#include "algo/deskew/repack.hpp"
-#include "algo/matching/icp.hpp"
-#include "core/enum_names.hpp"
-#include "core/laser_scan.hpp"
-#include "core/samples.hpp"
-#include "core/se2.hpp"
-#include "core/time_series.hpp"
+#include "slamprep/algo/deskew/beam_transform.hpp"
+#include "slamprep/algo/deskew/repack.hpp"
+#include "slamprep/algo/matching/icp.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/core/laser_scan.hpp"
+#include "slamprep/core/samples.hpp"
+#include "slamprep/core/se2.hpp"
+#include "slamprep/core/time_series.hpp"
 
 namespace slamprep::algo {
 

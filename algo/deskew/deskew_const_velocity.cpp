@@ -1,6 +1,6 @@
 // Constant velocity (KISS-ICP): the lidar keeps the twist xi it had between the previous two
 // scans, T_Lref_L(t) = exp(xi (t - t_ref)); DeskewSequence estimates xi after every scan.
-#include "algo/deskew/method.hpp"
+#include "slamprep/algo/deskew/method.hpp"
 
 namespace slamprep::algo {
 

@@ -6,7 +6,7 @@
 // and T_X_L(t_k) = T_base0_base(t_k) T_base_lidar.
 #include <algorithm>
 
-#include "algo/deskew/method.hpp"
+#include "slamprep/algo/deskew/method.hpp"
 
 namespace slamprep::algo {
 namespace {

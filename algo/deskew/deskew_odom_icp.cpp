@@ -5,7 +5,7 @@
 // the correction's error does not feed back), take the difference from the odometry's
 // prediction E = T_prev_cur_pred^-1 T_prev_cur_icp as the error accumulated between the first
 // beams, eps = log(E) / dt, spread it over the beams linearly, and iterate until it settles.
-#include "algo/deskew/joint_estimate.hpp"
+#include "slamprep/algo/deskew/joint_estimate.hpp"
 
 namespace slamprep::algo {
 

@@ -10,7 +10,7 @@
 //              constant twist in between.
 #include <algorithm>
 
-#include "algo/deskew/method.hpp"
+#include "slamprep/algo/deskew/method.hpp"
 
 namespace slamprep::algo {
 namespace {

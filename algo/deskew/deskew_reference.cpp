@@ -2,7 +2,7 @@
 //   none:   T_Lref_L(t) = I, the points as measured (the floor);
 //   oracle: T_Lref_L(t) = (T_world_base(t_ref) T_base_lidar)^-1 T_world_base(t) T_base_lidar with
 //           the true poses, interpolated between their samples (the ceiling).
-#include "algo/deskew/method.hpp"
+#include "slamprep/algo/deskew/method.hpp"
 
 namespace slamprep::algo {
 

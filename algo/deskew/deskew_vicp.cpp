@@ -4,7 +4,7 @@
 // both scans are de-skewed with xi, the current matched against the previous (point-to-line),
 // and the velocity updated from the match, xi = log(T_prevfirst_curfirst) / dt, until the
 // scan-end pose settles.
-#include "algo/deskew/joint_estimate.hpp"
+#include "slamprep/algo/deskew/joint_estimate.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -1,4 +1,4 @@
-#include "algo/deskew/joint_estimate.hpp"
+#include "slamprep/algo/deskew/joint_estimate.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "algo/deskew/method.hpp"
+#include "slamprep/algo/deskew/method.hpp"
 
 namespace slamprep::algo {
 

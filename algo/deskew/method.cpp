@@ -1,4 +1,4 @@
-#include "algo/deskew/method.hpp"
+#include "slamprep/algo/deskew/method.hpp"
 
 #include <algorithm>
 #include <sstream>

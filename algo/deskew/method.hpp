@@ -7,8 +7,8 @@
 #include <string>
 #include <string_view>
 
-#include "algo/deskew/beam_transform.hpp"
-#include "algo/deskew/deskew.hpp"
+#include "slamprep/algo/deskew/beam_transform.hpp"
+#include "slamprep/algo/deskew/deskew.hpp"
 
 namespace slamprep::algo {
 

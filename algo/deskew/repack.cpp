@@ -1,4 +1,4 @@
-#include "algo/deskew/repack.hpp"
+#include "slamprep/algo/deskew/repack.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -32,7 +32,7 @@
 #include <optional>
 #include <vector>
 
-#include "core/laser_scan.hpp"
+#include "slamprep/core/laser_scan.hpp"
 
 namespace slamprep::algo {
 

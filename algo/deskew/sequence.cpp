@@ -1,4 +1,4 @@
-#include "algo/deskew/sequence.hpp"
+#include "slamprep/algo/deskew/sequence.hpp"
 
 namespace slamprep::algo {
 

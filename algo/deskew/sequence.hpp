@@ -2,7 +2,7 @@
 // Drives de-skew over a log's scans in order, keeping what the stateful methods need from the
 // previous scan (const-velocity also estimates every scan-to-scan motion for the next one).
 
-#include "algo/deskew/deskew.hpp"
+#include "slamprep/algo/deskew/deskew.hpp"
 
 namespace slamprep::algo {
 

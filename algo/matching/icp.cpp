@@ -1,4 +1,4 @@
-#include "algo/matching/icp.hpp"
+#include "slamprep/algo/matching/icp.hpp"
 
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
@@ -11,7 +11,7 @@
 #include <optional>
 #include <string>
 
-#include "core/rigid_alignment.hpp"
+#include "slamprep/core/rigid_alignment.hpp"
 
 namespace slamprep::algo {
 namespace {

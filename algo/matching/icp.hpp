@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "algo/matching/kdtree.hpp"
-#include "core/laser_scan.hpp"
-#include "core/se2.hpp"
+#include "slamprep/algo/matching/kdtree.hpp"
+#include "slamprep/core/laser_scan.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep::algo {
 

@@ -1,4 +1,4 @@
-#include "algo/matching/kdtree.hpp"
+#include "slamprep/algo/matching/kdtree.hpp"
 
 #include <cassert>
 #include <cmath>

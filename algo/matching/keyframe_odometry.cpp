@@ -1,4 +1,4 @@
-#include "algo/matching/keyframe_odometry.hpp"
+#include "slamprep/algo/matching/keyframe_odometry.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>

@@ -25,12 +25,12 @@
 #include <optional>
 #include <vector>
 
-#include "algo/matching/icp.hpp"
-#include "algo/matching/local_submap.hpp"
-#include "algo/matching/scan_support.hpp"
-#include "core/enum_names.hpp"
-#include "core/laser_scan.hpp"
-#include "core/se2.hpp"
+#include "slamprep/algo/matching/icp.hpp"
+#include "slamprep/algo/matching/local_submap.hpp"
+#include "slamprep/algo/matching/scan_support.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/core/laser_scan.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep::algo {
 

@@ -1,4 +1,4 @@
-#include "algo/matching/local_submap.hpp"
+#include "slamprep/algo/matching/local_submap.hpp"
 
 #include <cmath>
 #include <numbers>

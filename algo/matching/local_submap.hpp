@@ -12,8 +12,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/laser_scan.hpp"
-#include "core/se2.hpp"
+#include "slamprep/core/laser_scan.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep::algo {
 

@@ -1,4 +1,4 @@
-#include "algo/matching/loop_closure.hpp"
+#include "slamprep/algo/matching/loop_closure.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -14,8 +14,8 @@
 #include <utility>
 #include <vector>
 
-#include "algo/matching/icp.hpp"
-#include "core/time_series.hpp"
+#include "slamprep/algo/matching/icp.hpp"
+#include "slamprep/core/time_series.hpp"
 
 namespace slamprep::algo {
 

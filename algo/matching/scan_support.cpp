@@ -1,4 +1,4 @@
-#include "algo/matching/scan_support.hpp"
+#include "slamprep/algo/matching/scan_support.hpp"
 
 #include <algorithm>
 #include <cmath>

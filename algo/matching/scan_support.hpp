@@ -13,7 +13,7 @@
 
 #include <cstddef>
 
-#include "algo/matching/icp.hpp"
+#include "slamprep/algo/matching/icp.hpp"
 
 namespace slamprep::algo {
 

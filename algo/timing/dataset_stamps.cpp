@@ -1,4 +1,4 @@
-#include "algo/timing/dataset_stamps.hpp"
+#include "slamprep/algo/timing/dataset_stamps.hpp"
 
 #include <algorithm>
 #include <cstdio>

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "algo/timing/stamp_grid.hpp"
-#include "core/dataset.hpp"
+#include "slamprep/algo/timing/stamp_grid.hpp"
+#include "slamprep/core/dataset.hpp"
 
 namespace slamprep::algo {
 

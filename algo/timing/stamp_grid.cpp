@@ -1,10 +1,10 @@
-#include "algo/timing/stamp_grid.hpp"
+#include "slamprep/algo/timing/stamp_grid.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "core/order_statistics.hpp"
+#include "slamprep/core/order_statistics.hpp"
 
 namespace slamprep::algo {
 namespace {

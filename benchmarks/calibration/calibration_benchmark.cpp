@@ -5,8 +5,8 @@
 #include <cmath>
 #include <random>
 
-#include "algo/calibration/calibration.hpp"
-#include "core/odometry.hpp"
+#include "slamprep/algo/calibration/calibration.hpp"
+#include "slamprep/core/odometry.hpp"
 
 namespace {
 

@@ -4,8 +4,8 @@
 // 1 cm noise, the 1 m/s, 1 rad/s arc; odometry at 100 Hz, IMU at 200 Hz.
 #include <benchmark/benchmark.h>
 
-#include "algo/deskew/deskew.hpp"
-#include "tests/algo_deskew/synthetic_world.hpp"
+#include "slamprep/algo/deskew/deskew.hpp"
+#include "slamprep/tests/algo_deskew/synthetic_world.hpp"
 
 namespace {
 

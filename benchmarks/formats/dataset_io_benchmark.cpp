@@ -6,9 +6,9 @@
 
 #include <filesystem>
 
-#include "core/dataset.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "tests/formats_dataset/synthetic_dataset.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/tests/formats_dataset/synthetic_dataset.hpp"
 
 namespace slamprep {
 namespace {

@@ -5,8 +5,8 @@
 // Run: bench_matching --benchmark_repetitions=10 (the median is among the aggregates).
 #include <benchmark/benchmark.h>
 
-#include "algo/matching/icp.hpp"
-#include "tests/algo_deskew/synthetic_world.hpp"
+#include "slamprep/algo/matching/icp.hpp"
+#include "slamprep/tests/algo_deskew/synthetic_world.hpp"
 
 namespace {
 

@@ -20,9 +20,9 @@
 #include <random>
 #include <string>
 
-#include "algo/matching/icp.hpp"
-#include "sim/physics/planar_caster.hpp"
-#include "sim/physics/world.hpp"
+#include "slamprep/algo/matching/icp.hpp"
+#include "slamprep/sim/physics/planar_caster.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 namespace {
 

@@ -11,7 +11,7 @@
 #include <numbers>
 #include <vector>
 
-#include "sim/physics/lidar.hpp"
+#include "slamprep/sim/physics/lidar.hpp"
 
 namespace slamprep::sim {
 namespace {

@@ -8,7 +8,7 @@
 
 #include <filesystem>
 
-#include "sim/drive/simulator.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
 
 namespace slamprep::sim {
 namespace {

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/drive/simulator.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
 
 namespace {
 

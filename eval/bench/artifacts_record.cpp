@@ -1,11 +1,11 @@
-#include "eval/bench/artifacts_record.hpp"
+#include "slamprep/eval/bench/artifacts_record.hpp"
 
 #include <cmath>
 #include <numbers>
 
-#include "core/odometry.hpp"
-#include "eval/bench/record_fields.hpp"
-#include "eval/metrics/odometry_drift.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/eval/bench/record_fields.hpp"
+#include "slamprep/eval/metrics/odometry_drift.hpp"
 
 namespace slamprep::eval {
 namespace {

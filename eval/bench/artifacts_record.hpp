@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "core/dataset.hpp"
-#include "eval/pipeline/dataset_deskew.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/eval/pipeline/dataset_deskew.hpp"
 
 namespace slamprep::eval {
 

@@ -1,16 +1,16 @@
-#include "eval/bench/bench.hpp"
+#include "slamprep/eval/bench/bench.hpp"
 
 #include <cstdio>
 #include <iostream>
 #include <thread>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/json_input.hpp"
-#include "core/paths.hpp"
-#include "eval/bench/figures.hpp"
-#include "eval/bench/report.hpp"
-#include "eval/bench/results_folder.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/json_input.hpp"
+#include "slamprep/core/paths.hpp"
+#include "slamprep/eval/bench/figures.hpp"
+#include "slamprep/eval/bench/report.hpp"
+#include "slamprep/eval/bench/results_folder.hpp"
 
 namespace slamprep::eval {
 namespace {

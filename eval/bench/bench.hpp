@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "eval/bench/figures.hpp"
-#include "eval/bench/runner.hpp"
-#include "eval/bench/summary.hpp"
+#include "slamprep/eval/bench/figures.hpp"
+#include "slamprep/eval/bench/runner.hpp"
+#include "slamprep/eval/bench/summary.hpp"
 
 namespace slamprep::eval {
 

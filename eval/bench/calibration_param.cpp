@@ -1,8 +1,8 @@
-#include "eval/bench/calibration_param.hpp"
+#include "slamprep/eval/bench/calibration_param.hpp"
 
 #include <algorithm>
 
-#include "eval/bench/record_fields.hpp"
+#include "slamprep/eval/bench/record_fields.hpp"
 
 namespace slamprep::eval {
 

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "core/enum_names.hpp"
+#include "slamprep/core/enum_names.hpp"
 
 namespace slamprep::eval {
 

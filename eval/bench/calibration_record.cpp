@@ -1,15 +1,15 @@
-#include "eval/bench/calibration_record.hpp"
+#include "slamprep/eval/bench/calibration_record.hpp"
 
 #include <cmath>
 #include <numbers>
 #include <utility>
 
-#include "core/odometry.hpp"
-#include "eval/bench/fault_score.hpp"
-#include "eval/bench/record_fields.hpp"
-#include "eval/metrics/calibration_error.hpp"
-#include "eval/metrics/consistency.hpp"
-#include "eval/metrics/odometry_drift.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/eval/bench/fault_score.hpp"
+#include "slamprep/eval/bench/record_fields.hpp"
+#include "slamprep/eval/metrics/calibration_error.hpp"
+#include "slamprep/eval/metrics/consistency.hpp"
+#include "slamprep/eval/metrics/odometry_drift.hpp"
 
 namespace slamprep::eval {
 namespace {

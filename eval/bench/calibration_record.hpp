@@ -8,11 +8,11 @@
 #include <optional>
 #include <string>
 
-#include "algo/calibration/calibrate.hpp"
-#include "core/dataset.hpp"
-#include "core/enum_names.hpp"
-#include "eval/bench/calibration_param.hpp"
-#include "eval/bench/odometry_record.hpp"
+#include "slamprep/algo/calibration/calibrate.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/eval/bench/calibration_param.hpp"
+#include "slamprep/eval/bench/odometry_record.hpp"
 
 namespace slamprep::eval {
 

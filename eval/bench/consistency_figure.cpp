@@ -1,4 +1,4 @@
-#include "eval/bench/consistency_figure.hpp"
+#include "slamprep/eval/bench/consistency_figure.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 #include <set>
 #include <string>
 
-#include "eval/bench/figure_groups.hpp"
-#include "eval/bench/trial_metrics.hpp"
+#include "slamprep/eval/bench/figure_groups.hpp"
+#include "slamprep/eval/bench/trial_metrics.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "eval/plot/plot.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval {
 

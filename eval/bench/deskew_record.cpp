@@ -1,7 +1,7 @@
-#include "eval/bench/deskew_record.hpp"
+#include "slamprep/eval/bench/deskew_record.hpp"
 
-#include "eval/bench/record_fields.hpp"
-#include "eval/pipeline/deskew_json.hpp"
+#include "slamprep/eval/bench/record_fields.hpp"
+#include "slamprep/eval/pipeline/deskew_json.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "core/enum_names.hpp"
-#include "eval/pipeline/dataset_deskew.hpp"
-#include "eval/pipeline/deskew_figures.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/eval/pipeline/dataset_deskew.hpp"
+#include "slamprep/eval/pipeline/deskew_figures.hpp"
 
 namespace slamprep::eval {
 

@@ -1,10 +1,10 @@
-#include "eval/bench/fault_report.hpp"
+#include "slamprep/eval/bench/fault_report.hpp"
 
 #include <cstdio>
 #include <set>
 #include <sstream>
 
-#include "eval/bench/trial_metrics.hpp"
+#include "slamprep/eval/bench/trial_metrics.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -1,4 +1,4 @@
-#include "eval/bench/fault_score.hpp"
+#include "slamprep/eval/bench/fault_score.hpp"
 
 #include <algorithm>
 #include <cctype>

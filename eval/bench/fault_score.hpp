@@ -6,7 +6,7 @@
 #include <map>
 #include <string>
 
-#include "core/dataset.hpp"
+#include "slamprep/core/dataset.hpp"
 
 namespace slamprep::eval {
 

@@ -1,4 +1,4 @@
-#include "eval/bench/figure_groups.hpp"
+#include "slamprep/eval/bench/figure_groups.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -7,9 +7,9 @@
 #include <map>
 #include <regex>
 
-#include "algo/calibration/calibration_method.hpp"
-#include "algo/deskew/deskew.hpp"
-#include "eval/bench/trial_metrics.hpp"
+#include "slamprep/algo/calibration/calibration_method.hpp"
+#include "slamprep/algo/deskew/deskew.hpp"
+#include "slamprep/eval/bench/trial_metrics.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "eval/plot/plot.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval {
 

@@ -1,19 +1,19 @@
-#include "eval/bench/figures.hpp"
+#include "slamprep/eval/bench/figures.hpp"
 
 #include <algorithm>
 #include <array>
 #include <map>
 
-#include "core/atomic_file.hpp"
-#include "core/json_input.hpp"
-#include "core/paths.hpp"
-#include "eval/bench/consistency_figure.hpp"
-#include "eval/bench/figure_groups.hpp"
-#include "eval/bench/figures_internal.hpp"
-#include "eval/bench/runner.hpp"
-#include "eval/bench/summary.hpp"
-#include "eval/bench/trial_record.hpp"
-#include "eval/plot/plot.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/json_input.hpp"
+#include "slamprep/core/paths.hpp"
+#include "slamprep/eval/bench/consistency_figure.hpp"
+#include "slamprep/eval/bench/figure_groups.hpp"
+#include "slamprep/eval/bench/figures_internal.hpp"
+#include "slamprep/eval/bench/runner.hpp"
+#include "slamprep/eval/bench/summary.hpp"
+#include "slamprep/eval/bench/trial_record.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval {
 namespace {

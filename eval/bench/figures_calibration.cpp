@@ -5,10 +5,10 @@
 #include <map>
 #include <set>
 
-#include "algo/calibration/calibration_method.hpp"
-#include "eval/bench/figure_groups.hpp"
-#include "eval/bench/figures_internal.hpp"
-#include "eval/bench/trial_metrics.hpp"
+#include "slamprep/algo/calibration/calibration_method.hpp"
+#include "slamprep/eval/bench/figure_groups.hpp"
+#include "slamprep/eval/bench/figures_internal.hpp"
+#include "slamprep/eval/bench/trial_metrics.hpp"
 
 namespace slamprep::eval {
 namespace {

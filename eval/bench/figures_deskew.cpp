@@ -2,10 +2,10 @@
 #include <cmath>
 #include <map>
 
-#include "algo/deskew/deskew.hpp"
-#include "eval/bench/figure_groups.hpp"
-#include "eval/bench/figures_internal.hpp"
-#include "eval/bench/trial_metrics.hpp"
+#include "slamprep/algo/deskew/deskew.hpp"
+#include "slamprep/eval/bench/figure_groups.hpp"
+#include "slamprep/eval/bench/figures_internal.hpp"
+#include "slamprep/eval/bench/trial_metrics.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -4,10 +4,10 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "eval/bench/artifacts_record.hpp"
-#include "eval/bench/figure_groups.hpp"
-#include "eval/bench/suite.hpp"
-#include "eval/plot/plot.hpp"
+#include "slamprep/eval/bench/artifacts_record.hpp"
+#include "slamprep/eval/bench/figure_groups.hpp"
+#include "slamprep/eval/bench/suite.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval {
 

@@ -1,9 +1,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/paths.hpp"
-#include "eval/bench/figures_internal.hpp"
-#include "sim/physics/world.hpp"
+#include "slamprep/core/paths.hpp"
+#include "slamprep/eval/bench/figures_internal.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -1,9 +1,9 @@
-#include "eval/bench/group_consistency.hpp"
+#include "slamprep/eval/bench/group_consistency.hpp"
 
 #include <map>
 
-#include "eval/bench/trial_metrics.hpp"
-#include "eval/metrics/consistency.hpp"
+#include "slamprep/eval/bench/trial_metrics.hpp"
+#include "slamprep/eval/metrics/consistency.hpp"
 
 namespace slamprep::eval {
 namespace {

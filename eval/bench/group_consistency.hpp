@@ -10,8 +10,8 @@
 #include <string_view>
 #include <vector>
 
-#include "core/enum_names.hpp"
-#include "eval/bench/calibration_param.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/eval/bench/calibration_param.hpp"
 
 namespace slamprep::eval {
 

@@ -1,10 +1,10 @@
-#include "eval/bench/matching_record.hpp"
+#include "slamprep/eval/bench/matching_record.hpp"
 
 #include <numbers>
 
-#include "algo/calibration/dataset_motion.hpp"
-#include "eval/bench/record_fields.hpp"
-#include "eval/pipeline/match_run.hpp"
+#include "slamprep/algo/calibration/dataset_motion.hpp"
+#include "slamprep/eval/bench/record_fields.hpp"
+#include "slamprep/eval/pipeline/match_run.hpp"
 
 namespace slamprep::eval {
 namespace {

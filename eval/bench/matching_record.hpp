@@ -7,9 +7,9 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "core/dataset.hpp"
-#include "core/enum_names.hpp"
-#include "eval/pipeline/calibration_run.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/eval/pipeline/calibration_run.hpp"
 
 namespace slamprep::eval {
 

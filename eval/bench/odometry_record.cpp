@@ -1,7 +1,7 @@
-#include "eval/bench/odometry_record.hpp"
+#include "slamprep/eval/bench/odometry_record.hpp"
 
-#include "eval/bench/record_fields.hpp"
-#include "eval/metrics/trajectory_error.hpp"
+#include "slamprep/eval/bench/record_fields.hpp"
+#include "slamprep/eval/metrics/trajectory_error.hpp"
 
 namespace slamprep::eval {
 

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "core/enum_names.hpp"
-#include "core/time_series.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/core/time_series.hpp"
 
 namespace slamprep::eval {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <type_traits>
 
-#include "core/enum_names.hpp"
+#include "slamprep/core/enum_names.hpp"
 
 namespace slamprep::eval {
 

@@ -1,4 +1,4 @@
-#include "eval/bench/report.hpp"
+#include "slamprep/eval/bench/report.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -6,9 +6,9 @@
 #include <set>
 #include <sstream>
 
-#include "eval/bench/fault_report.hpp"
-#include "eval/bench/group_consistency.hpp"
-#include "eval/bench/trial_metrics.hpp"
+#include "slamprep/eval/bench/fault_report.hpp"
+#include "slamprep/eval/bench/group_consistency.hpp"
+#include "slamprep/eval/bench/trial_metrics.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -1,8 +1,8 @@
-#include "eval/bench/results_folder.hpp"
+#include "slamprep/eval/bench/results_folder.hpp"
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/partial_cleanup.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/partial_cleanup.hpp"
 
 namespace slamprep::eval {
 namespace fs = std::filesystem;

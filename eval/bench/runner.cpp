@@ -1,4 +1,4 @@
-#include "eval/bench/runner.hpp"
+#include "slamprep/eval/bench/runner.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -12,11 +12,11 @@
 #include <iostream>
 #include <map>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/json_input.hpp"
-#include "core/progress.hpp"
-#include "core/stage_report.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/json_input.hpp"
+#include "slamprep/core/progress.hpp"
+#include "slamprep/core/stage_report.hpp"
 
 namespace slamprep::eval {
 namespace {

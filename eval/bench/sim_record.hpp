@@ -6,8 +6,8 @@
 #include <cstddef>
 #include <nlohmann/json.hpp>
 
-#include "core/enum_names.hpp"
-#include "sim/drive/simulator.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
 
 namespace slamprep::eval {
 

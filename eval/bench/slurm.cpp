@@ -1,4 +1,4 @@
-#include "eval/bench/slurm.hpp"
+#include "slamprep/eval/bench/slurm.hpp"
 
 #include <spawn.h>
 #include <sys/wait.h>
@@ -17,13 +17,13 @@
 #include <string_view>
 #include <thread>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/paths.hpp"
-#include "core/shell_quote.hpp"
-#include "eval/bench/bench.hpp"
-#include "eval/bench/results_folder.hpp"
-#include "eval/bench/runner.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/paths.hpp"
+#include "slamprep/core/shell_quote.hpp"
+#include "slamprep/eval/bench/bench.hpp"
+#include "slamprep/eval/bench/results_folder.hpp"
+#include "slamprep/eval/bench/runner.hpp"
 
 extern char** environ;
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "eval/bench/suite.hpp"
+#include "slamprep/eval/bench/suite.hpp"
 
 namespace slamprep::eval {
 

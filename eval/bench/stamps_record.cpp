@@ -1,6 +1,6 @@
-#include "eval/bench/stamps_record.hpp"
+#include "slamprep/eval/bench/stamps_record.hpp"
 
-#include "eval/bench/record_fields.hpp"
+#include "slamprep/eval/bench/record_fields.hpp"
 
 namespace slamprep::eval {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "algo/timing/dataset_stamps.hpp"
+#include "slamprep/algo/timing/dataset_stamps.hpp"
 
 namespace slamprep::eval {
 

@@ -1,4 +1,4 @@
-#include "eval/bench/suite.hpp"
+#include "slamprep/eval/bench/suite.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -6,16 +6,16 @@
 #include <cmath>
 #include <cstdio>
 
-#include "algo/calibration/calibration_method.hpp"
-#include "algo/deskew/deskew.hpp"
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/paths.hpp"
-#include "eval/pipeline/calibration_run.hpp"
-#include "sim/drive/config.hpp"
-#include "sim/drive/scenario.hpp"
-#include "sim/physics/world.hpp"
-#include "sim/yaml/yaml_fields.hpp"
+#include "slamprep/algo/calibration/calibration_method.hpp"
+#include "slamprep/algo/deskew/deskew.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/paths.hpp"
+#include "slamprep/eval/pipeline/calibration_run.hpp"
+#include "slamprep/sim/drive/config.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
+#include "slamprep/sim/physics/world.hpp"
+#include "slamprep/sim/yaml/yaml_fields.hpp"
 
 namespace slamprep::eval {
 namespace {

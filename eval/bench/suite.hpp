@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "algo/calibration/calibration_method.hpp"
+#include "slamprep/algo/calibration/calibration_method.hpp"
 
 namespace slamprep::eval {
 

@@ -1,4 +1,4 @@
-#include "eval/bench/summary.hpp"
+#include "slamprep/eval/bench/summary.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,12 +6,12 @@
 #include <sstream>
 #include <string_view>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/json_input.hpp"
-#include "eval/bench/group_consistency.hpp"
-#include "eval/bench/runner.hpp"
-#include "eval/bench/trial_record.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/json_input.hpp"
+#include "slamprep/eval/bench/group_consistency.hpp"
+#include "slamprep/eval/bench/runner.hpp"
+#include "slamprep/eval/bench/trial_record.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -1,18 +1,18 @@
-#include "eval/bench/trial.hpp"
+#include "slamprep/eval/bench/trial.hpp"
 
 #include <chrono>
 
-#include "algo/calibration/calibrate.hpp"
-#include "algo/timing/dataset_stamps.hpp"
-#include "core/error.hpp"
-#include "core/odometry.hpp"
-#include "core/stage_report.hpp"
-#include "eval/bench/fault_score.hpp"
-#include "eval/bench/trial_record.hpp"
-#include "eval/bench/trial_timing.hpp"
-#include "eval/pipeline/calibration_run.hpp"
-#include "eval/pipeline/dataset_deskew.hpp"
-#include "sim/drive/simulator.hpp"
+#include "slamprep/algo/calibration/calibrate.hpp"
+#include "slamprep/algo/timing/dataset_stamps.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/core/stage_report.hpp"
+#include "slamprep/eval/bench/fault_score.hpp"
+#include "slamprep/eval/bench/trial_record.hpp"
+#include "slamprep/eval/bench/trial_timing.hpp"
+#include "slamprep/eval/pipeline/calibration_run.hpp"
+#include "slamprep/eval/pipeline/dataset_deskew.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
 
 namespace slamprep::eval {
 namespace {

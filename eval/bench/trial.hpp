@@ -1,8 +1,8 @@
 #pragma once
 // One bench trial: simulate, match, calibrate, de-skew, and measure everything against truth.
 
-#include "eval/bench/runner.hpp"
-#include "eval/bench/suite.hpp"
+#include "slamprep/eval/bench/runner.hpp"
+#include "slamprep/eval/bench/suite.hpp"
 
 namespace slamprep::eval {
 

@@ -1,4 +1,4 @@
-#include "eval/bench/trial_metrics.hpp"
+#include "slamprep/eval/bench/trial_metrics.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "eval/bench/trial_record.hpp"
+#include "slamprep/eval/bench/trial_record.hpp"
 
 namespace slamprep::eval {
 

@@ -11,14 +11,14 @@
 #include <optional>
 #include <string>
 
-#include "core/enum_names.hpp"
-#include "eval/bench/artifacts_record.hpp"
-#include "eval/bench/calibration_record.hpp"
-#include "eval/bench/deskew_record.hpp"
-#include "eval/bench/matching_record.hpp"
-#include "eval/bench/odometry_record.hpp"
-#include "eval/bench/sim_record.hpp"
-#include "eval/bench/stamps_record.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/eval/bench/artifacts_record.hpp"
+#include "slamprep/eval/bench/calibration_record.hpp"
+#include "slamprep/eval/bench/deskew_record.hpp"
+#include "slamprep/eval/bench/matching_record.hpp"
+#include "slamprep/eval/bench/odometry_record.hpp"
+#include "slamprep/eval/bench/sim_record.hpp"
+#include "slamprep/eval/bench/stamps_record.hpp"
 
 namespace slamprep::eval {
 

@@ -1,6 +1,6 @@
-#include "eval/bench/trial_timing.hpp"
+#include "slamprep/eval/bench/trial_timing.hpp"
 
-#include "eval/bench/record_fields.hpp"
+#include "slamprep/eval/bench/record_fields.hpp"
 
 namespace slamprep::eval {
 

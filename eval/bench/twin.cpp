@@ -1,18 +1,18 @@
-#include "eval/bench/twin.hpp"
+#include "slamprep/eval/bench/twin.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "algo/agreement/dataset_sources.hpp"
-#include "algo/agreement/sensor_agreement.hpp"
-#include "core/error.hpp"
-#include "eval/bench/twin_odometry.hpp"
-#include "eval/metrics/error_stats.hpp"
-#include "eval/pipeline/calibration_run.hpp"
-#include "eval/pipeline/match_trajectory.hpp"
-#include "sim/drive/simulator.hpp"
-#include "sim/physics/planar_caster.hpp"
+#include "slamprep/algo/agreement/dataset_sources.hpp"
+#include "slamprep/algo/agreement/sensor_agreement.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/bench/twin_odometry.hpp"
+#include "slamprep/eval/metrics/error_stats.hpp"
+#include "slamprep/eval/pipeline/calibration_run.hpp"
+#include "slamprep/eval/pipeline/match_trajectory.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
+#include "slamprep/sim/physics/planar_caster.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -9,14 +9,14 @@
 #include <string>
 #include <vector>
 
-#include "core/dataset.hpp"
-#include "eval/bench/twin_drive.hpp"
-#include "eval/bench/twin_lidar.hpp"
-#include "eval/bench/twin_walls.hpp"
-#include "sim/drive/config.hpp"
-#include "sim/drive/scenario.hpp"
-#include "sim/drive/simulator.hpp"
-#include "sim/physics/world.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/eval/bench/twin_drive.hpp"
+#include "slamprep/eval/bench/twin_lidar.hpp"
+#include "slamprep/eval/bench/twin_walls.hpp"
+#include "slamprep/sim/drive/config.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 namespace slamprep::eval {
 

@@ -1,17 +1,17 @@
-#include "eval/bench/twin_compare.hpp"
+#include "slamprep/eval/bench/twin_compare.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <map>
 
-#include "eval/bench/twin_lidar.hpp"
-#include "eval/bench/twin_odometry.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "eval/metrics/error_stats.hpp"
-#include "eval/metrics/trajectory_error.hpp"
-#include "eval/pipeline/calibration_run.hpp"
-#include "eval/pipeline/match_trajectory.hpp"
-#include "eval/plot/plot.hpp"
+#include "slamprep/eval/bench/twin_lidar.hpp"
+#include "slamprep/eval/bench/twin_odometry.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/eval/metrics/error_stats.hpp"
+#include "slamprep/eval/metrics/trajectory_error.hpp"
+#include "slamprep/eval/pipeline/calibration_run.hpp"
+#include "slamprep/eval/pipeline/match_trajectory.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval {
 namespace {

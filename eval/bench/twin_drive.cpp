@@ -1,10 +1,10 @@
-#include "eval/bench/twin_drive.hpp"
+#include "slamprep/eval/bench/twin_drive.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "core/odometry.hpp"
+#include "slamprep/core/odometry.hpp"
 
 namespace slamprep::eval {
 namespace {

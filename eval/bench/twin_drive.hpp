@@ -7,8 +7,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "core/diff_drive.hpp"
-#include "core/time_series.hpp"
+#include "slamprep/core/diff_drive.hpp"
+#include "slamprep/core/time_series.hpp"
 
 namespace slamprep::eval {
 

@@ -5,7 +5,7 @@
 #include <numbers>
 #include <string>
 
-#include "eval/bench/twin.hpp"
+#include "slamprep/eval/bench/twin.hpp"
 
 namespace slamprep::eval {
 namespace {

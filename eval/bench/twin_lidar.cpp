@@ -1,11 +1,11 @@
-#include "eval/bench/twin_lidar.hpp"
+#include "slamprep/eval/bench/twin_lidar.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
 
-#include "core/order_statistics.hpp"
+#include "slamprep/core/order_statistics.hpp"
 
 namespace slamprep::eval {
 namespace {

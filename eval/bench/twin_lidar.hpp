@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "core/dataset.hpp"
-#include "sim/physics/planar_caster.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/sim/physics/planar_caster.hpp"
 
 namespace slamprep::eval {
 

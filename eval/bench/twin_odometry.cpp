@@ -1,11 +1,11 @@
-#include "eval/bench/twin_odometry.hpp"
+#include "slamprep/eval/bench/twin_odometry.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "core/order_statistics.hpp"
-#include "core/se2.hpp"
+#include "slamprep/core/order_statistics.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep::eval {
 namespace {

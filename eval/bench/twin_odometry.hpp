@@ -6,8 +6,8 @@
 #include <cstddef>
 #include <string>
 
-#include "core/dataset.hpp"
-#include "eval/pipeline/calibration_run.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/eval/pipeline/calibration_run.hpp"
 
 namespace slamprep::eval {
 

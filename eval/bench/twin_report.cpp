@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <iterator>
 
-#include "eval/bench/twin_compare.hpp"
-#include "eval/plot/plot.hpp"
+#include "slamprep/eval/bench/twin_compare.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval {
 

@@ -1,4 +1,4 @@
-#include "eval/bench/twin_walls.hpp"
+#include "slamprep/eval/bench/twin_walls.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>

@@ -1,11 +1,11 @@
-#include "eval/formats/bag_open.hpp"
+#include "slamprep/eval/formats/bag_open.hpp"
 
 #include <unistd.h>
 
 #include <atomic>
 
-#include "core/error.hpp"
-#include "eval/formats/compression.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/compression.hpp"
 
 namespace slamprep::eval {
 namespace fs = std::filesystem;

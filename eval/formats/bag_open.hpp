@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "eval/formats/bag_storage.hpp"
-#include "eval/formats/rosbag2.hpp"
+#include "slamprep/eval/formats/bag_storage.hpp"
+#include "slamprep/eval/formats/rosbag2.hpp"
 
 namespace slamprep::eval {
 

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "eval/formats/bag_topics.hpp"
-#include "eval/formats/byte_source.hpp"
-#include "eval/formats/mcap.hpp"
+#include "slamprep/eval/formats/bag_topics.hpp"
+#include "slamprep/eval/formats/byte_source.hpp"
+#include "slamprep/eval/formats/mcap.hpp"
 
 namespace slamprep::eval {
 

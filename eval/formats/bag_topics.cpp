@@ -1,7 +1,7 @@
-#include "eval/formats/bag_topics.hpp"
+#include "slamprep/eval/formats/bag_topics.hpp"
 
-#include "core/error.hpp"
-#include "eval/formats/mcap.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/mcap.hpp"
 
 namespace slamprep::eval {
 namespace {

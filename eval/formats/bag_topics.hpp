@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "eval/formats/byte_source.hpp"
+#include "slamprep/eval/formats/byte_source.hpp"
 
 namespace slamprep::eval {
 

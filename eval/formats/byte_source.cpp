@@ -1,4 +1,4 @@
-#include "eval/formats/byte_source.hpp"
+#include "slamprep/eval/formats/byte_source.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -7,7 +7,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval {
 namespace {

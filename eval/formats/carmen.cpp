@@ -1,4 +1,4 @@
-#include "eval/formats/carmen.hpp"
+#include "slamprep/eval/formats/carmen.hpp"
 
 #include <algorithm>
 #include <array>
@@ -6,9 +6,9 @@
 #include <limits>
 #include <numbers>
 
-#include "core/enum_names.hpp"
-#include "core/error.hpp"
-#include "eval/formats/text_io.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -9,8 +9,8 @@
 #include <string_view>
 #include <vector>
 
-#include "core/laser_scan.hpp"
-#include "core/se2.hpp"
+#include "slamprep/core/laser_scan.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep::eval {
 

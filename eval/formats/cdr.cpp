@@ -1,10 +1,10 @@
-#include "eval/formats/cdr.hpp"
+#include "slamprep/eval/formats/cdr.hpp"
 
 #include <algorithm>
 #include <bit>
 #include <cstring>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval {
 namespace {

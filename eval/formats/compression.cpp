@@ -1,4 +1,4 @@
-#include "eval/formats/compression.hpp"
+#include "slamprep/eval/formats/compression.hpp"
 
 #include <lz4frame.h>
 #include <zstd.h>
@@ -7,7 +7,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval {
 namespace {

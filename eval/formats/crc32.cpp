@@ -1,4 +1,4 @@
-#include "eval/formats/crc32.hpp"
+#include "slamprep/eval/formats/crc32.hpp"
 
 #include <array>
 

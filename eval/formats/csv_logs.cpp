@@ -1,11 +1,11 @@
-#include "eval/formats/csv_logs.hpp"
+#include "slamprep/eval/formats/csv_logs.hpp"
 
 #include <cmath>
 #include <initializer_list>
 #include <vector>
 
-#include "core/error.hpp"
-#include "eval/formats/text_io.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
 
 namespace slamprep::eval {
 namespace {

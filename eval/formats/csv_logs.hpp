@@ -5,7 +5,7 @@
 #include <string>
 #include <string_view>
 
-#include "core/samples.hpp"
+#include "slamprep/core/samples.hpp"
 
 namespace slamprep::eval {
 

@@ -1,4 +1,4 @@
-#include "eval/formats/dataset_io.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
 
 #include <fcntl.h>
 #include <stdio.h>
@@ -10,16 +10,16 @@
 #include <system_error>
 #include <vector>
 
-#include "core/atomic_file.hpp"
-#include "core/dataset.hpp"
-#include "core/error.hpp"
-#include "core/input_file.hpp"
-#include "core/partial_cleanup.hpp"
-#include "eval/formats/csv_logs.hpp"
-#include "eval/formats/dataset_json.hpp"
-#include "eval/formats/scan_jsonl.hpp"
-#include "eval/formats/text_io.hpp"
-#include "eval/formats/tum.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/input_file.hpp"
+#include "slamprep/core/partial_cleanup.hpp"
+#include "slamprep/eval/formats/csv_logs.hpp"
+#include "slamprep/eval/formats/dataset_json.hpp"
+#include "slamprep/eval/formats/scan_jsonl.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
+#include "slamprep/eval/formats/tum.hpp"
 
 namespace slamprep::eval {
 namespace {

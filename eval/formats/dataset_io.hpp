@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <functional>
 
-#include "core/dataset.hpp"
+#include "slamprep/core/dataset.hpp"
 
 namespace slamprep::eval {
 

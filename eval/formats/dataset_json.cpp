@@ -1,12 +1,12 @@
-#include "eval/formats/dataset_json.hpp"
+#include "slamprep/eval/formats/dataset_json.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
 
-#include "core/error.hpp"
-#include "core/json_input.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/json_input.hpp"
 
 namespace slamprep::eval {
 namespace {

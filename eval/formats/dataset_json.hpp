@@ -4,7 +4,7 @@
 #include <string>
 #include <string_view>
 
-#include "core/dataset.hpp"
+#include "slamprep/core/dataset.hpp"
 
 namespace slamprep::eval {
 

@@ -1,4 +1,4 @@
-#include "eval/formats/export.hpp"
+#include "slamprep/eval/formats/export.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,14 +6,14 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/odometry.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "eval/formats/scan_jsonl.hpp"
-#include "eval/formats/text_io.hpp"
-#include "eval/formats/tum.hpp"
-#include "eval/formats/wheel_odometry.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/eval/formats/scan_jsonl.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
+#include "slamprep/eval/formats/tum.hpp"
+#include "slamprep/eval/formats/wheel_odometry.hpp"
 
 namespace slamprep::eval {
 namespace fs = std::filesystem;

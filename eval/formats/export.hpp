@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "core/dataset.hpp"
-#include "core/enum_names.hpp"
-#include "eval/formats/compression.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/eval/formats/compression.hpp"
 
 namespace slamprep::eval {
 

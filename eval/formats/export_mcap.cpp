@@ -10,15 +10,15 @@
 #include <limits>
 #include <queue>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/odometry.hpp"
-#include "core/partial_cleanup.hpp"
-#include "eval/formats/export.hpp"
-#include "eval/formats/mcap.hpp"
-#include "eval/formats/ros2_messages.hpp"
-#include "eval/formats/rosbag2.hpp"
-#include "eval/formats/text_io.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/core/partial_cleanup.hpp"
+#include "slamprep/eval/formats/export.hpp"
+#include "slamprep/eval/formats/mcap.hpp"
+#include "slamprep/eval/formats/ros2_messages.hpp"
+#include "slamprep/eval/formats/rosbag2.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
 
 namespace slamprep::eval {
 namespace {

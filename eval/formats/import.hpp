@@ -13,10 +13,10 @@
 #include <string_view>
 #include <vector>
 
-#include "core/dataset.hpp"
-#include "eval/formats/range_limit.hpp"
-#include "eval/formats/stale_odometry.hpp"
-#include "eval/formats/twist_spikes.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/eval/formats/range_limit.hpp"
+#include "slamprep/eval/formats/stale_odometry.hpp"
+#include "slamprep/eval/formats/twist_spikes.hpp"
 
 namespace slamprep::eval {
 

@@ -5,14 +5,14 @@
 #include <numbers>
 #include <sstream>
 
-#include "core/error.hpp"
-#include "core/order_statistics.hpp"
-#include "eval/formats/carmen.hpp"
-#include "eval/formats/import.hpp"
-#include "eval/formats/import_common.hpp"
-#include "eval/formats/range_limit.hpp"
-#include "eval/formats/stale_odometry.hpp"
-#include "eval/formats/text_io.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/order_statistics.hpp"
+#include "slamprep/eval/formats/carmen.hpp"
+#include "slamprep/eval/formats/import.hpp"
+#include "slamprep/eval/formats/import_common.hpp"
+#include "slamprep/eval/formats/range_limit.hpp"
+#include "slamprep/eval/formats/stale_odometry.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
 
 namespace slamprep::eval {
 namespace {

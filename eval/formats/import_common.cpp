@@ -1,10 +1,10 @@
-#include "eval/formats/import_common.hpp"
+#include "slamprep/eval/formats/import_common.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.hpp"
-#include "core/odometry.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/odometry.hpp"
 
 namespace slamprep::eval {
 

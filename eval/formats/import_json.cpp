@@ -1,4 +1,4 @@
-#include "eval/formats/import_json.hpp"
+#include "slamprep/eval/formats/import_json.hpp"
 
 #include <cmath>
 #include <numbers>

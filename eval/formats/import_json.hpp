@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "core/dataset.hpp"
-#include "eval/formats/import.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/eval/formats/import.hpp"
 
 namespace slamprep::eval {
 

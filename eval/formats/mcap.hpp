@@ -15,9 +15,9 @@
 #include <utility>
 #include <vector>
 
-#include "eval/formats/byte_source.hpp"
-#include "eval/formats/compression.hpp"
-#include "eval/formats/crc32.hpp"
+#include "slamprep/eval/formats/byte_source.hpp"
+#include "slamprep/eval/formats/compression.hpp"
+#include "slamprep/eval/formats/crc32.hpp"
 
 namespace slamprep::eval {
 

@@ -1,9 +1,9 @@
 #include <algorithm>
 #include <cstring>
 
-#include "core/error.hpp"
-#include "eval/formats/mcap.hpp"
-#include "eval/formats/mcap_records.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/mcap.hpp"
+#include "slamprep/eval/formats/mcap_records.hpp"
 
 namespace slamprep::eval {
 using namespace mcap;

@@ -1,6 +1,6 @@
 // BagStorage over McapReader: channels become topics as they appear.
-#include "core/error.hpp"
-#include "eval/formats/bag_storage.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/bag_storage.hpp"
 
 namespace slamprep::eval {
 namespace {

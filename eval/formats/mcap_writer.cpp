@@ -1,8 +1,8 @@
 #include <array>
 #include <cstring>
 
-#include "eval/formats/mcap.hpp"
-#include "eval/formats/mcap_records.hpp"
+#include "slamprep/eval/formats/mcap.hpp"
+#include "slamprep/eval/formats/mcap_records.hpp"
 
 namespace slamprep::eval {
 using namespace mcap;

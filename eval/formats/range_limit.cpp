@@ -1,4 +1,4 @@
-#include "eval/formats/range_limit.hpp"
+#include "slamprep/eval/formats/range_limit.hpp"
 
 #include <cmath>
 #include <sstream>

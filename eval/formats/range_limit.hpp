@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "core/laser_scan.hpp"
+#include "slamprep/core/laser_scan.hpp"
 
 namespace slamprep::eval {
 

@@ -1,9 +1,9 @@
-#include "eval/formats/relations.hpp"
+#include "slamprep/eval/formats/relations.hpp"
 
 #include <cmath>
 
-#include "core/error.hpp"
-#include "eval/formats/text_io.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
 
 namespace slamprep::eval {
 

@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/pose_relation.hpp"
+#include "slamprep/core/pose_relation.hpp"
 
 namespace slamprep::eval {
 

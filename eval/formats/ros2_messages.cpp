@@ -1,11 +1,11 @@
-#include "eval/formats/ros2_messages.hpp"
+#include "slamprep/eval/formats/ros2_messages.hpp"
 
 #include <cmath>
 #include <limits>
 #include <map>
 
-#include "core/error.hpp"
-#include "eval/formats/cdr.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/cdr.hpp"
 
 namespace slamprep::eval {
 namespace {

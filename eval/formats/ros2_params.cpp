@@ -1,4 +1,4 @@
-#include "eval/formats/ros2_params.hpp"
+#include "slamprep/eval/formats/ros2_params.hpp"
 
 #include <yaml-cpp/yaml.h>
 

@@ -1,11 +1,11 @@
-#include "eval/formats/ros_samples.hpp"
+#include "slamprep/eval/formats/ros_samples.hpp"
 
 #include <cmath>
 #include <limits>
 #include <vector>
 
-#include "core/error.hpp"
-#include "eval/formats/tum.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/tum.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -4,10 +4,10 @@
 
 #include <string>
 
-#include "core/laser_scan.hpp"
-#include "core/samples.hpp"
-#include "core/se2.hpp"
-#include "eval/formats/ros2_messages.hpp"
+#include "slamprep/core/laser_scan.hpp"
+#include "slamprep/core/samples.hpp"
+#include "slamprep/core/se2.hpp"
+#include "slamprep/eval/formats/ros2_messages.hpp"
 
 namespace slamprep::eval {
 

@@ -1,4 +1,4 @@
-#include "eval/formats/rosbag2.hpp"
+#include "slamprep/eval/formats/rosbag2.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -7,9 +7,9 @@
 #include <optional>
 #include <set>
 
-#include "core/error.hpp"
-#include "core/input_file.hpp"
-#include "eval/formats/yaml_tree.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/input_file.hpp"
+#include "slamprep/eval/formats/yaml_tree.hpp"
 
 namespace slamprep::eval {
 namespace fs = std::filesystem;

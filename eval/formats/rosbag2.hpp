@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/enum_names.hpp"
+#include "slamprep/core/enum_names.hpp"
 
 namespace slamprep::eval {
 

@@ -1,4 +1,4 @@
-#include "eval/formats/scan_jsonl.hpp"
+#include "slamprep/eval/formats/scan_jsonl.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "core/error.hpp"
-#include "core/json_input.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/json_input.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -8,8 +8,8 @@
 #include <string_view>
 #include <vector>
 
-#include "core/dataset.hpp"
-#include "eval/formats/text_io.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
 
 namespace slamprep::eval {
 

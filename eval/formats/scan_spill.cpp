@@ -1,8 +1,8 @@
-#include "eval/formats/scan_spill.hpp"
+#include "slamprep/eval/formats/scan_spill.hpp"
 
 #include <array>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval {
 namespace {

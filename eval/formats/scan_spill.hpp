@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "core/laser_scan.hpp"
+#include "slamprep/core/laser_scan.hpp"
 
 namespace slamprep::eval {
 

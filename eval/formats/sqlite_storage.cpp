@@ -4,8 +4,8 @@
 #include <cctype>
 #include <map>
 
-#include "core/error.hpp"
-#include "eval/formats/bag_storage.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/bag_storage.hpp"
 
 namespace slamprep::eval {
 namespace {

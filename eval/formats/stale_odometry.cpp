@@ -1,11 +1,11 @@
-#include "eval/formats/stale_odometry.hpp"
+#include "slamprep/eval/formats/stale_odometry.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
 
-#include "core/order_statistics.hpp"
+#include "slamprep/core/order_statistics.hpp"
 
 namespace slamprep::eval {
 namespace {

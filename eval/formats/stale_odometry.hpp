@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "core/samples.hpp"
-#include "core/time_series.hpp"
+#include "slamprep/core/samples.hpp"
+#include "slamprep/core/time_series.hpp"
 
 namespace slamprep::eval {
 

@@ -1,4 +1,4 @@
-#include "eval/formats/text_io.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -9,7 +9,7 @@
 #include <cstring>
 #include <fstream>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval {
 namespace {

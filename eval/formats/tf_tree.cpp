@@ -1,11 +1,11 @@
-#include "eval/formats/tf_tree.hpp"
+#include "slamprep/eval/formats/tf_tree.hpp"
 
 #include <cmath>
 #include <numbers>
 #include <set>
 #include <vector>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval {
 namespace {

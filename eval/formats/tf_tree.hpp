@@ -8,8 +8,8 @@
 #include <optional>
 #include <string>
 
-#include "core/se2.hpp"
-#include "eval/formats/ros2_messages.hpp"
+#include "slamprep/core/se2.hpp"
+#include "slamprep/eval/formats/ros2_messages.hpp"
 
 namespace slamprep::eval {
 

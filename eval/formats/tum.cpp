@@ -1,10 +1,10 @@
-#include "eval/formats/tum.hpp"
+#include "slamprep/eval/formats/tum.hpp"
 
 #include <cmath>
 #include <vector>
 
-#include "core/error.hpp"
-#include "eval/formats/text_io.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
 
 namespace slamprep::eval {
 namespace {

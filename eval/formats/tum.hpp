@@ -7,7 +7,7 @@
 #include <string>
 #include <string_view>
 
-#include "core/time_series.hpp"
+#include "slamprep/core/time_series.hpp"
 
 namespace slamprep::eval {
 

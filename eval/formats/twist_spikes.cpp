@@ -1,10 +1,10 @@
-#include "eval/formats/twist_spikes.hpp"
+#include "slamprep/eval/formats/twist_spikes.hpp"
 
 #include <cmath>
 #include <numbers>
 #include <sstream>
 
-#include "core/order_statistics.hpp"
+#include "slamprep/core/order_statistics.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -1,8 +1,8 @@
-#include "eval/formats/wheel_odometry.hpp"
+#include "slamprep/eval/formats/wheel_odometry.hpp"
 
-#include "core/error.hpp"
-#include "core/odometry.hpp"
-#include "eval/formats/import.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/eval/formats/import.hpp"
 
 namespace slamprep::eval {
 

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "core/dataset.hpp"
+#include "slamprep/core/dataset.hpp"
 
 namespace slamprep::eval {
 

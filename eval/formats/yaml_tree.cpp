@@ -1,10 +1,10 @@
-#include "eval/formats/yaml_tree.hpp"
+#include "slamprep/eval/formats/yaml_tree.hpp"
 
 #include <algorithm>
 #include <utility>
 #include <vector>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval {
 namespace {

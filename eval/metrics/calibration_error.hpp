@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "core/diff_drive.hpp"
-#include "core/se2.hpp"
+#include "slamprep/core/diff_drive.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep::eval {
 

@@ -1,4 +1,4 @@
-#include "eval/metrics/consistency.hpp"
+#include "slamprep/eval/metrics/consistency.hpp"
 
 #include <Eigen/Cholesky>
 #include <cassert>

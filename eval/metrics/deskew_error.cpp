@@ -1,4 +1,4 @@
-#include "eval/metrics/deskew_error.hpp"
+#include "slamprep/eval/metrics/deskew_error.hpp"
 
 #include <algorithm>
 #include <cmath>

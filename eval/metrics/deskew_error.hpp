@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "core/se2.hpp"
-#include "eval/metrics/error_stats.hpp"
+#include "slamprep/core/se2.hpp"
+#include "slamprep/eval/metrics/error_stats.hpp"
 
 namespace slamprep::eval {
 

@@ -1,9 +1,9 @@
-#include "eval/metrics/error_stats.hpp"
+#include "slamprep/eval/metrics/error_stats.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/order_statistics.hpp"
+#include "slamprep/core/order_statistics.hpp"
 
 namespace slamprep::eval {
 

@@ -1,9 +1,9 @@
-#include "eval/metrics/odometry_drift.hpp"
+#include "slamprep/eval/metrics/odometry_drift.hpp"
 
 #include <cmath>
 #include <numbers>
 
-#include "eval/metrics/trajectory_error.hpp"
+#include "slamprep/eval/metrics/trajectory_error.hpp"
 
 namespace slamprep::eval {
 namespace {

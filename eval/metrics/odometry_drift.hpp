@@ -4,7 +4,7 @@
 #include <optional>
 #include <string>
 
-#include "core/time_series.hpp"
+#include "slamprep/core/time_series.hpp"
 
 namespace slamprep::eval {
 

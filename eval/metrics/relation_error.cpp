@@ -1,4 +1,4 @@
-#include "eval/metrics/relation_error.hpp"
+#include "slamprep/eval/metrics/relation_error.hpp"
 
 #include <cmath>
 #include <numbers>

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/pose_relation.hpp"
-#include "core/time_series.hpp"
-#include "eval/metrics/error_stats.hpp"
+#include "slamprep/core/pose_relation.hpp"
+#include "slamprep/core/time_series.hpp"
+#include "slamprep/eval/metrics/error_stats.hpp"
 
 namespace slamprep::eval {
 

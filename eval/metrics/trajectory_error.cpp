@@ -1,9 +1,9 @@
-#include "eval/metrics/trajectory_error.hpp"
+#include "slamprep/eval/metrics/trajectory_error.hpp"
 
 #include <cmath>
 #include <numbers>
 
-#include "core/rigid_alignment.hpp"
+#include "slamprep/core/rigid_alignment.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "core/enum_names.hpp"
-#include "core/laser_scan.hpp"
-#include "core/time_series.hpp"
-#include "eval/metrics/error_stats.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/core/laser_scan.hpp"
+#include "slamprep/core/time_series.hpp"
+#include "slamprep/eval/metrics/error_stats.hpp"
 
 namespace slamprep::eval {
 

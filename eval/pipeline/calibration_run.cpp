@@ -1,18 +1,18 @@
-#include "eval/pipeline/calibration_run.hpp"
+#include "slamprep/eval/pipeline/calibration_run.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
 
-#include "algo/agreement/agreement_report.hpp"
-#include "algo/agreement/dataset_sources.hpp"
-#include "algo/calibration/dataset_motion.hpp"
-#include "core/error.hpp"
-#include "core/odometry.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "eval/pipeline/dataset_deskew.hpp"
-#include "eval/pipeline/match_trajectory.hpp"
+#include "slamprep/algo/agreement/agreement_report.hpp"
+#include "slamprep/algo/agreement/dataset_sources.hpp"
+#include "slamprep/algo/calibration/dataset_motion.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/eval/pipeline/dataset_deskew.hpp"
+#include "slamprep/eval/pipeline/match_trajectory.hpp"
 
 namespace slamprep::eval {
 namespace {

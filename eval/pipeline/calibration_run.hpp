@@ -6,15 +6,15 @@
 #include <string>
 #include <vector>
 
-#include "algo/agreement/sensor_agreement.hpp"
-#include "algo/calibration/calibration.hpp"
-#include "algo/calibration/calibration_json.hpp"
-#include "algo/calibration/dataset_motion.hpp"
-#include "algo/matching/loop_closure.hpp"
-#include "algo/timing/dataset_stamps.hpp"
-#include "core/dataset.hpp"
-#include "core/enum_names.hpp"
-#include "eval/formats/wheel_odometry.hpp"
+#include "slamprep/algo/agreement/sensor_agreement.hpp"
+#include "slamprep/algo/calibration/calibration.hpp"
+#include "slamprep/algo/calibration/calibration_json.hpp"
+#include "slamprep/algo/calibration/dataset_motion.hpp"
+#include "slamprep/algo/matching/loop_closure.hpp"
+#include "slamprep/algo/timing/dataset_stamps.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/eval/formats/wheel_odometry.hpp"
 
 namespace slamprep::eval {
 

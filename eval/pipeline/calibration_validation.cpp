@@ -1,11 +1,11 @@
-#include "eval/pipeline/calibration_validation.hpp"
+#include "slamprep/eval/pipeline/calibration_validation.hpp"
 
 #include <cmath>
 #include <numbers>
 #include <utility>
 
-#include "core/error.hpp"
-#include "eval/pipeline/match_trajectory.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/pipeline/match_trajectory.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "algo/calibration/calibration_report.hpp"
-#include "core/dataset.hpp"
-#include "eval/formats/wheel_odometry.hpp"
+#include "slamprep/algo/calibration/calibration_report.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/eval/formats/wheel_odometry.hpp"
 
 namespace slamprep::eval {
 

@@ -1,12 +1,12 @@
-#include "eval/pipeline/dataset_deskew.hpp"
+#include "slamprep/eval/pipeline/dataset_deskew.hpp"
 
 #include <algorithm>
 #include <chrono>
 
-#include "algo/deskew/repack.hpp"
-#include "core/odometry.hpp"
-#include "core/order_statistics.hpp"
-#include "eval/metrics/deskew_error.hpp"
+#include "slamprep/algo/deskew/repack.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/core/order_statistics.hpp"
+#include "slamprep/eval/metrics/deskew_error.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "algo/deskew/sequence.hpp"
-#include "core/dataset.hpp"
-#include "eval/metrics/error_stats.hpp"
+#include "slamprep/algo/deskew/sequence.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/eval/metrics/error_stats.hpp"
 
 namespace slamprep::eval {
 

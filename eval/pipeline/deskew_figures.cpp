@@ -1,4 +1,4 @@
-#include "eval/pipeline/deskew_figures.hpp"
+#include "slamprep/eval/pipeline/deskew_figures.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -7,8 +7,8 @@
 #include <cstddef>
 #include <optional>
 
-#include "core/enum_names.hpp"
-#include "eval/pipeline/dataset_deskew.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/eval/pipeline/dataset_deskew.hpp"
 
 namespace slamprep::eval {
 

@@ -1,4 +1,4 @@
-#include "eval/pipeline/deskew_json.hpp"
+#include "slamprep/eval/pipeline/deskew_json.hpp"
 
 #include <cmath>
 #include <optional>

@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <string_view>
 
-#include "eval/pipeline/dataset_deskew.hpp"
-#include "eval/pipeline/deskew_figures.hpp"
+#include "slamprep/eval/pipeline/dataset_deskew.hpp"
+#include "slamprep/eval/pipeline/deskew_figures.hpp"
 
 namespace slamprep::eval {
 

@@ -1,4 +1,4 @@
-#include "eval/pipeline/match_run.hpp"
+#include "slamprep/eval/pipeline/match_run.hpp"
 
 #include <cmath>
 #include <nlohmann/json.hpp>

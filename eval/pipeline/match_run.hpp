@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "algo/calibration/dataset_motion.hpp"
-#include "core/dataset.hpp"
-#include "eval/metrics/error_stats.hpp"
+#include "slamprep/algo/calibration/dataset_motion.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/eval/metrics/error_stats.hpp"
 
 namespace slamprep::eval {
 

@@ -1,15 +1,15 @@
-#include "eval/pipeline/match_trajectory.hpp"
+#include "slamprep/eval/pipeline/match_trajectory.hpp"
 
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "algo/calibration/dataset_motion.hpp"
-#include "algo/deskew/deskew.hpp"
-#include "core/error.hpp"
-#include "core/heading.hpp"
-#include "eval/pipeline/dataset_deskew.hpp"
-#include "eval/pipeline/match_run.hpp"
+#include "slamprep/algo/calibration/dataset_motion.hpp"
+#include "slamprep/algo/deskew/deskew.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/heading.hpp"
+#include "slamprep/eval/pipeline/dataset_deskew.hpp"
+#include "slamprep/eval/pipeline/match_run.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "algo/matching/keyframe_odometry.hpp"
-#include "core/dataset.hpp"
-#include "core/time_series.hpp"
+#include "slamprep/algo/matching/keyframe_odometry.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/core/time_series.hpp"
 
 namespace slamprep::eval {
 

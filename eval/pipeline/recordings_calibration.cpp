@@ -1,17 +1,17 @@
-#include "eval/pipeline/recordings_calibration.hpp"
+#include "slamprep/eval/pipeline/recordings_calibration.hpp"
 
 #include <algorithm>
 #include <filesystem>
 #include <limits>
 #include <nlohmann/json.hpp>
 
-#include "algo/calibration/calibration_json.hpp"
-#include "algo/calibration/gyro_check.hpp"
-#include "algo/calibration/validation_flag.hpp"
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "eval/formats/dataset_json.hpp"
+#include "slamprep/algo/calibration/calibration_json.hpp"
+#include "slamprep/algo/calibration/gyro_check.hpp"
+#include "slamprep/algo/calibration/validation_flag.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/eval/formats/dataset_json.hpp"
 
 namespace slamprep::eval {
 namespace {

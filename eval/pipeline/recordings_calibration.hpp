@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "algo/calibration/calibration_report.hpp"
-#include "algo/calibration/combine_recordings.hpp"
-#include "algo/calibration/nominal_flags.hpp"
-#include "eval/pipeline/calibration_run.hpp"
-#include "eval/pipeline/calibration_validation.hpp"
+#include "slamprep/algo/calibration/calibration_report.hpp"
+#include "slamprep/algo/calibration/combine_recordings.hpp"
+#include "slamprep/algo/calibration/nominal_flags.hpp"
+#include "slamprep/eval/pipeline/calibration_run.hpp"
+#include "slamprep/eval/pipeline/calibration_validation.hpp"
 
 namespace slamprep::eval {
 

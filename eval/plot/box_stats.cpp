@@ -1,8 +1,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/order_statistics.hpp"
-#include "eval/plot/plot.hpp"
+#include "slamprep/core/order_statistics.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval::plot {
 namespace {}  // namespace

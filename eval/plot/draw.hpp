@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "eval/plot/geometry.hpp"
-#include "eval/plot/gl_canvas.hpp"
-#include "eval/plot/layout.hpp"
-#include "eval/plot/plot.hpp"
-#include "eval/plot/text.hpp"
+#include "slamprep/eval/plot/geometry.hpp"
+#include "slamprep/eval/plot/gl_canvas.hpp"
+#include "slamprep/eval/plot/layout.hpp"
+#include "slamprep/eval/plot/plot.hpp"
+#include "slamprep/eval/plot/text.hpp"
 
 namespace slamprep::eval::plot {
 

@@ -1,7 +1,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "eval/plot/draw.hpp"
+#include "slamprep/eval/plot/draw.hpp"
 
 namespace slamprep::eval::plot {
 namespace {

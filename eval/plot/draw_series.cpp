@@ -2,7 +2,7 @@
 #include <cmath>
 #include <map>
 
-#include "eval/plot/draw.hpp"
+#include "slamprep/eval/plot/draw.hpp"
 
 namespace slamprep::eval::plot {
 namespace {

@@ -1,4 +1,4 @@
-#include "eval/plot/geometry.hpp"
+#include "slamprep/eval/plot/geometry.hpp"
 
 #include <algorithm>
 #include <cassert>

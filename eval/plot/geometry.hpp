@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "eval/plot/plot.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval::plot {
 

@@ -1,4 +1,4 @@
-#include "eval/plot/gl_canvas.hpp"
+#include "slamprep/eval/plot/gl_canvas.hpp"
 
 // OSMesa alone provides the GL entry points; never link libGL beside it (docs/design.md).
 #include <GL/osmesa.h>

@@ -4,8 +4,8 @@
 
 #include <memory>
 
-#include "eval/plot/geometry.hpp"
-#include "eval/plot/plot.hpp"
+#include "slamprep/eval/plot/geometry.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval::plot {
 

@@ -1,10 +1,10 @@
-#include "eval/plot/layout.hpp"
+#include "slamprep/eval/plot/layout.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval::plot {
 namespace {

@@ -4,10 +4,10 @@
 
 #include <vector>
 
-#include "eval/plot/geometry.hpp"
-#include "eval/plot/plot.hpp"
-#include "eval/plot/text.hpp"
-#include "eval/plot/ticks.hpp"
+#include "slamprep/eval/plot/geometry.hpp"
+#include "slamprep/eval/plot/plot.hpp"
+#include "slamprep/eval/plot/text.hpp"
+#include "slamprep/eval/plot/ticks.hpp"
 
 namespace slamprep::eval::plot {
 

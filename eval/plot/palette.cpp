@@ -1,4 +1,4 @@
-#include "eval/plot/plot.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval::plot {
 

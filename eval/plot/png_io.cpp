@@ -14,8 +14,8 @@
 #include <system_error>
 #include <vector>
 
-#include "core/error.hpp"
-#include "eval/plot/plot.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval::plot {
 namespace {

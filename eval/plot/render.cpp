@@ -1,4 +1,4 @@
-#include "eval/plot/draw.hpp"
+#include "slamprep/eval/plot/draw.hpp"
 
 namespace slamprep::eval::plot {
 namespace {

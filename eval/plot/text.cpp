@@ -1,4 +1,4 @@
-#include "eval/plot/text.hpp"
+#include "slamprep/eval/plot/text.hpp"
 
 #include <ft2build.h>
 #include FT_FREETYPE_H
@@ -7,7 +7,7 @@
 #include <cassert>
 #include <cmath>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval::plot {
 

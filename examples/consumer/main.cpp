@@ -6,10 +6,9 @@
 // Prints one `name estimate truth` line per parameter (truth: "-" when the dataset has none).
 #include <cstdio>
 #include <exception>
-
-#include "algo/calibration/joint_censi.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "eval/pipeline/calibration_run.hpp"
+#include <slamprep/algo/calibration/joint_censi.hpp>
+#include <slamprep/eval/formats/dataset_io.hpp>
+#include <slamprep/eval/pipeline/calibration_run.hpp>
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "sim/drive/command_profile.hpp"
+#include "slamprep/sim/drive/command_profile.hpp"
 
 #include <algorithm>
 

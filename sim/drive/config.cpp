@@ -1,12 +1,12 @@
-#include "sim/drive/config.hpp"
+#include "slamprep/sim/drive/config.hpp"
 
 #include <charconv>
 #include <cmath>
 #include <numbers>
 #include <sstream>
 
-#include "core/error.hpp"
-#include "sim/drive/rng.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/sim/drive/rng.hpp"
 
 namespace slamprep::sim {
 namespace {

@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "core/diff_drive.hpp"
-#include "core/enum_names.hpp"
-#include "sim/drive/faults.hpp"
-#include "sim/drive/sensors.hpp"
-#include "sim/physics/lidar.hpp"
-#include "sim/physics/robot.hpp"
+#include "slamprep/core/diff_drive.hpp"
+#include "slamprep/core/enum_names.hpp"
+#include "slamprep/sim/drive/faults.hpp"
+#include "slamprep/sim/drive/sensors.hpp"
+#include "slamprep/sim/physics/lidar.hpp"
+#include "slamprep/sim/physics/robot.hpp"
 
 namespace slamprep::sim {
 

@@ -5,8 +5,8 @@
 
 #include <Eigen/Core>
 
-#include "core/diff_drive.hpp"
-#include "sim/drive/scenario.hpp"
+#include "slamprep/core/diff_drive.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
 
 namespace slamprep::sim {
 

@@ -1,14 +1,14 @@
-#include "sim/drive/explore.hpp"
+#include "slamprep/sim/drive/explore.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "core/odometry.hpp"
-#include "sim/drive/controller.hpp"
-#include "sim/drive/free_space.hpp"
-#include "sim/drive/rng.hpp"
-#include "sim/drive/segment_shapes.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/sim/drive/controller.hpp"
+#include "slamprep/sim/drive/free_space.hpp"
+#include "slamprep/sim/drive/rng.hpp"
+#include "slamprep/sim/drive/segment_shapes.hpp"
 
 namespace slamprep::sim {
 namespace {

@@ -6,10 +6,10 @@
 
 #include <cstdint>
 
-#include "core/se2.hpp"
-#include "sim/drive/config.hpp"
-#include "sim/drive/scenario.hpp"
-#include "sim/physics/scene.hpp"
+#include "slamprep/core/se2.hpp"
+#include "slamprep/sim/drive/config.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
+#include "slamprep/sim/physics/scene.hpp"
 
 namespace slamprep::sim {
 

@@ -1,12 +1,12 @@
-#include "sim/drive/fault_injection.hpp"
+#include "slamprep/sim/drive/fault_injection.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
 
-#include "sim/drive/fault_windows.hpp"
-#include "sim/drive/rng.hpp"
+#include "slamprep/sim/drive/fault_windows.hpp"
+#include "slamprep/sim/drive/rng.hpp"
 
 namespace slamprep::sim {
 namespace {

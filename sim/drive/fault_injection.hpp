@@ -6,12 +6,12 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 
-#include "core/dataset.hpp"
-#include "sim/drive/config.hpp"
-#include "sim/drive/faults.hpp"
-#include "sim/drive/floor_slip.hpp"
-#include "sim/drive/held_robot.hpp"
-#include "sim/physics/world.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/sim/drive/config.hpp"
+#include "slamprep/sim/drive/faults.hpp"
+#include "slamprep/sim/drive/floor_slip.hpp"
+#include "slamprep/sim/drive/held_robot.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 namespace slamprep::sim {
 

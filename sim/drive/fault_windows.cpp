@@ -1,4 +1,4 @@
-#include "sim/drive/fault_windows.hpp"
+#include "slamprep/sim/drive/fault_windows.hpp"
 
 #include <cmath>
 

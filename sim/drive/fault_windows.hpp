@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "sim/drive/rng.hpp"
+#include "slamprep/sim/drive/rng.hpp"
 
 namespace slamprep::sim {
 

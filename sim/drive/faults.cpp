@@ -1,4 +1,4 @@
-#include "sim/drive/faults.hpp"
+#include "slamprep/sim/drive/faults.hpp"
 
 namespace slamprep::sim {
 

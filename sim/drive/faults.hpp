@@ -11,7 +11,7 @@
 #include <string>
 #include <string_view>
 
-#include "core/enum_names.hpp"
+#include "slamprep/core/enum_names.hpp"
 
 namespace slamprep::sim {
 

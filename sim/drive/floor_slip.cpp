@@ -1,4 +1,4 @@
-#include "sim/drive/floor_slip.hpp"
+#include "slamprep/sim/drive/floor_slip.hpp"
 
 namespace slamprep::sim {
 

@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "core/se2.hpp"
-#include "sim/physics/world.hpp"
+#include "slamprep/core/se2.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 namespace slamprep::sim {
 

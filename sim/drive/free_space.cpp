@@ -1,4 +1,4 @@
-#include "sim/drive/free_space.hpp"
+#include "slamprep/sim/drive/free_space.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -8,7 +8,7 @@
 #include <numbers>
 #include <queue>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::sim {
 namespace {

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/physics/scene.hpp"
+#include "slamprep/sim/physics/scene.hpp"
 
 namespace slamprep::sim {
 

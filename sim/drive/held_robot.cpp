@@ -1,8 +1,8 @@
-#include "sim/drive/held_robot.hpp"
+#include "slamprep/sim/drive/held_robot.hpp"
 
 #include <algorithm>
 
-#include "core/odometry.hpp"
+#include "slamprep/core/odometry.hpp"
 
 namespace slamprep::sim {
 

@@ -6,10 +6,10 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "core/se2.hpp"
-#include "sim/drive/controller.hpp"
-#include "sim/drive/fault_windows.hpp"
-#include "sim/drive/faults.hpp"
+#include "slamprep/core/se2.hpp"
+#include "slamprep/sim/drive/controller.hpp"
+#include "slamprep/sim/drive/fault_windows.hpp"
+#include "slamprep/sim/drive/faults.hpp"
 
 namespace slamprep::sim {
 

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/error.hpp"
-#include "sim/drive/controller.hpp"
-#include "sim/drive/simulator.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/sim/drive/controller.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
 
 namespace slamprep::sim {
 namespace {

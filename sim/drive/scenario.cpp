@@ -1,4 +1,4 @@
-#include "sim/drive/scenario.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -9,11 +9,11 @@
 #include <set>
 #include <utility>
 
-#include "core/error.hpp"
-#include "core/input_file.hpp"
-#include "sim/drive/explore.hpp"
-#include "sim/drive/segment_shapes.hpp"
-#include "sim/yaml/yaml_fields.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/input_file.hpp"
+#include "slamprep/sim/drive/explore.hpp"
+#include "slamprep/sim/drive/segment_shapes.hpp"
+#include "slamprep/sim/yaml/yaml_fields.hpp"
 
 namespace slamprep::sim {
 namespace {

@@ -1,12 +1,12 @@
-#include "sim/drive/segment_shapes.hpp"
+#include "slamprep/sim/drive/segment_shapes.hpp"
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <numbers>
 
-#include "core/error.hpp"
-#include "sim/drive/rng.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/sim/drive/rng.hpp"
 
 namespace slamprep::sim {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/drive/command_profile.hpp"
+#include "slamprep/sim/drive/command_profile.hpp"
 
 namespace slamprep::sim {
 

@@ -1,8 +1,8 @@
-#include "sim/drive/sensors.hpp"
+#include "slamprep/sim/drive/sensors.hpp"
 
 #include <cmath>
 
-#include "core/odometry.hpp"
+#include "slamprep/core/odometry.hpp"
 
 namespace slamprep::sim {
 

@@ -5,8 +5,8 @@
 #include <Eigen/Core>
 #include <cstdint>
 
-#include "core/samples.hpp"
-#include "sim/drive/rng.hpp"
+#include "slamprep/core/samples.hpp"
+#include "slamprep/sim/drive/rng.hpp"
 
 namespace slamprep::sim {
 

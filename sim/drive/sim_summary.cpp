@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "core/odometry.hpp"
-#include "sim/drive/simulator.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
 
 namespace slamprep::sim {
 

@@ -1,4 +1,4 @@
-#include "sim/drive/simulator.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
 
 #include <btBulletDynamicsCommon.h>
 
@@ -6,20 +6,20 @@
 #include <memory>
 #include <sstream>
 
-#include "core/error.hpp"
-#include "core/gyro_odometry.hpp"
-#include "core/odometry.hpp"
-#include "core/paths.hpp"
-#include "core/se2_cos_sin.hpp"
-#include "sim/drive/controller.hpp"
-#include "sim/drive/explore.hpp"
-#include "sim/drive/fault_injection.hpp"
-#include "sim/drive/floor_slip.hpp"
-#include "sim/drive/held_robot.hpp"
-#include "sim/drive/rng.hpp"
-#include "sim/drive/sensors.hpp"
-#include "sim/physics/lidar.hpp"
-#include "sim/physics/robot.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/gyro_odometry.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/core/paths.hpp"
+#include "slamprep/core/se2_cos_sin.hpp"
+#include "slamprep/sim/drive/controller.hpp"
+#include "slamprep/sim/drive/explore.hpp"
+#include "slamprep/sim/drive/fault_injection.hpp"
+#include "slamprep/sim/drive/floor_slip.hpp"
+#include "slamprep/sim/drive/held_robot.hpp"
+#include "slamprep/sim/drive/rng.hpp"
+#include "slamprep/sim/drive/sensors.hpp"
+#include "slamprep/sim/physics/lidar.hpp"
+#include "slamprep/sim/physics/robot.hpp"
 
 namespace slamprep::sim {
 namespace {

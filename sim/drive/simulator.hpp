@@ -4,13 +4,13 @@
 
 #include <functional>
 
-#include "core/dataset.hpp"
-#include "eval/metrics/odometry_drift.hpp"
-#include "sim/drive/config.hpp"
-#include "sim/drive/held_robot.hpp"
-#include "sim/drive/scenario.hpp"
-#include "sim/physics/scene.hpp"
-#include "sim/physics/world.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/eval/metrics/odometry_drift.hpp"
+#include "slamprep/sim/drive/config.hpp"
+#include "slamprep/sim/drive/held_robot.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
+#include "slamprep/sim/physics/scene.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 namespace slamprep::sim {
 

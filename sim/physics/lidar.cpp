@@ -1,4 +1,4 @@
-#include "sim/physics/lidar.hpp"
+#include "slamprep/sim/physics/lidar.hpp"
 
 #include <cassert>
 #include <cmath>

@@ -5,9 +5,9 @@
 #include <numbers>
 #include <random>
 
-#include "core/laser_scan.hpp"
-#include "core/se2.hpp"
-#include "sim/physics/scene.hpp"
+#include "slamprep/core/laser_scan.hpp"
+#include "slamprep/core/se2.hpp"
+#include "slamprep/sim/physics/scene.hpp"
 
 namespace slamprep::sim {
 

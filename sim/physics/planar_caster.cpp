@@ -1,4 +1,4 @@
-#include "sim/physics/planar_caster.hpp"
+#include "slamprep/sim/physics/planar_caster.hpp"
 
 #include <algorithm>
 #include <cassert>

@@ -8,7 +8,7 @@
 #include <optional>
 #include <vector>
 
-#include "sim/physics/world.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 namespace slamprep::sim {
 

@@ -1,4 +1,4 @@
-#include "sim/physics/robot.hpp"
+#include "slamprep/sim/physics/robot.hpp"
 
 #include <btBulletDynamicsCommon.h>
 

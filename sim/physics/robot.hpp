@@ -4,9 +4,9 @@
 #include <Eigen/Core>
 #include <memory>
 
-#include "core/diff_drive.hpp"
-#include "core/se2.hpp"
-#include "sim/physics/scene.hpp"
+#include "slamprep/core/diff_drive.hpp"
+#include "slamprep/core/se2.hpp"
+#include "slamprep/sim/physics/scene.hpp"
 
 namespace slamprep::sim {
 

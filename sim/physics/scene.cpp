@@ -1,4 +1,4 @@
-#include "sim/physics/scene.hpp"
+#include "slamprep/sim/physics/scene.hpp"
 
 #include <btBulletDynamicsCommon.h>
 

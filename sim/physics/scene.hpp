@@ -5,8 +5,8 @@
 #include <memory>
 #include <optional>
 
-#include "sim/physics/planar_caster.hpp"
-#include "sim/physics/world.hpp"
+#include "slamprep/sim/physics/planar_caster.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 class btDiscreteDynamicsWorld;
 

@@ -1,12 +1,12 @@
-#include "sim/physics/world.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "core/error.hpp"
-#include "sim/yaml/yaml_fields.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/sim/yaml/yaml_fields.hpp"
 
 namespace slamprep::sim {
 namespace {

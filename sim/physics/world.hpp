@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/se2.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep::sim {
 

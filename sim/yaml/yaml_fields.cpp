@@ -1,4 +1,4 @@
-#include "sim/yaml/yaml_fields.hpp"
+#include "slamprep/sim/yaml/yaml_fields.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -6,9 +6,9 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.hpp"
-#include "core/input_file.hpp"
-#include "eval/formats/yaml_tree.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/input_file.hpp"
+#include "slamprep/eval/formats/yaml_tree.hpp"
 
 namespace slamprep::sim {
 namespace {

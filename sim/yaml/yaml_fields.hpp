@@ -15,7 +15,7 @@
 #include <string_view>
 #include <vector>
 
-#include "eval/formats/yaml_tree.hpp"
+#include "slamprep/eval/formats/yaml_tree.hpp"
 
 namespace slamprep::sim {
 

@@ -1,6 +1,6 @@
 // The gyro's check of a calibrated wheel base (algo/calibration/gyro_check.hpp): with the gyro
 // fit's a = r_R / b and c = r_L / b, b_gyro = (r_L + r_R) / (a + c).
-#include "algo/calibration/gyro_check.hpp"
+#include "slamprep/algo/calibration/gyro_check.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Sensors checked against each other (algo/agreement/sensor_agreement.hpp) on synthetic drives
 // whose truth is known: a wrong nominal wheel base is a scale, not a disagreement; a lifted robot,
 // wheels spinning while the body stands, is one, named; a gyro-heading odometry is recognised.
-#include "algo/agreement/sensor_agreement.hpp"
+#include "slamprep/algo/agreement/sensor_agreement.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <numbers>
 #include <random>
 
-#include "algo/agreement/agreement_report.hpp"
+#include "slamprep/algo/agreement/agreement_report.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -1,7 +1,7 @@
 // The method registry (names, properties, the best-result rule) and the one dispatcher.
 #include <gtest/gtest.h>
 
-#include "algo/calibration/calibration.hpp"
+#include "slamprep/algo/calibration/calibration.hpp"
 #include "synthetic.hpp"
 
 namespace slamprep::algo {

@@ -1,13 +1,13 @@
 // The calibration JSON: written and read back in one place, the best entry by the one rule, and
 // errors that name the file and the field.
-#include "algo/calibration/calibration_json.hpp"
+#include "slamprep/algo/calibration/calibration_json.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -1,7 +1,7 @@
 // Several recordings combined: Eq. (1) and (2) of combine_recordings.hpp against values computed
 // by hand, the sigma scaling where the recordings disagree, the runs' bookkeeping, the 15 % flags
 // and the JSON of several recordings.
-#include "algo/calibration/combine_recordings.hpp"
+#include "slamprep/algo/calibration/combine_recordings.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "algo/calibration/calibration_json.hpp"
-#include "algo/calibration/nominal_flags.hpp"
+#include "slamprep/algo/calibration/calibration_json.hpp"
+#include "slamprep/algo/calibration/nominal_flags.hpp"
 
 namespace slamprep::algo {
 namespace {

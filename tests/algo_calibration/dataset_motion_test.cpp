@@ -1,10 +1,10 @@
 // Chaining scan-to-scan matches into lidar trajectories: a failed match ends a chain. UMBmark
 // runs from a dataset carry the encoder steps their odometry was integrated from.
-#include "algo/calibration/dataset_motion.hpp"
+#include "slamprep/algo/calibration/dataset_motion.hpp"
 
 #include <gtest/gtest.h>
 
-#include "core/odometry.hpp"
+#include "slamprep/core/odometry.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -4,9 +4,9 @@
 
 #include <numbers>
 
-#include "algo/calibration/calibration.hpp"
-#include "algo/calibration/dataset_motion.hpp"
-#include "sim/drive/simulator.hpp"
+#include "slamprep/algo/calibration/calibration.hpp"
+#include "slamprep/algo/calibration/dataset_motion.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -1,11 +1,11 @@
-#include "algo/calibration/interval.hpp"
+#include "slamprep/algo/calibration/interval.hpp"
 
 #include <gtest/gtest.h>
 
 #include <numbers>
 #include <sstream>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 #include "synthetic.hpp"
 
 namespace slamprep::algo {

@@ -1,10 +1,10 @@
-#include "algo/calibration/loop_covariance.hpp"
+#include "slamprep/algo/calibration/loop_covariance.hpp"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "algo/matching/loop_closure.hpp"
+#include "slamprep/algo/matching/loop_closure.hpp"
 
 namespace slamprep::algo {
 namespace {

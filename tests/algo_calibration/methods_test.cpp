@@ -1,7 +1,7 @@
 // Noiseless recovery (1e-9 relative) and refusals of every calibration method.
 #include <gtest/gtest.h>
 
-#include "algo/calibration/calibration.hpp"
+#include "slamprep/algo/calibration/calibration.hpp"
 #include "synthetic.hpp"
 
 namespace slamprep::algo {

@@ -5,7 +5,7 @@
 #include <functional>
 #include <random>
 
-#include "algo/calibration/calibration.hpp"
+#include "slamprep/algo/calibration/calibration.hpp"
 #include "synthetic.hpp"
 
 namespace slamprep::algo {

@@ -5,10 +5,10 @@
 
 #include <algorithm>
 
-#include "algo/calibration/calibrate.hpp"
-#include "algo/calibration/calibration_json.hpp"
-#include "algo/calibration/joint_censi.hpp"
-#include "core/error.hpp"
+#include "slamprep/algo/calibration/calibrate.hpp"
+#include "slamprep/algo/calibration/calibration_json.hpp"
+#include "slamprep/algo/calibration/joint_censi.hpp"
+#include "slamprep/core/error.hpp"
 #include "synthetic.hpp"
 
 namespace slamprep::algo {

@@ -7,8 +7,8 @@
 #include <random>
 #include <vector>
 
-#include "algo/calibration/interval.hpp"
-#include "core/odometry.hpp"
+#include "slamprep/algo/calibration/interval.hpp"
+#include "slamprep/core/odometry.hpp"
 
 namespace slamprep::algo::testing {
 

@@ -1,13 +1,13 @@
 // UMBmark (Borenstein & Feng 1996): the paper's first-order step, and its iteration on the runs'
 // encoder steps for geometry errors beyond the first-order model (docs/calibration.md).
-#include "algo/calibration/umbmark.hpp"
+#include "slamprep/algo/calibration/umbmark.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "core/odometry.hpp"
+#include "slamprep/core/odometry.hpp"
 #include "synthetic.hpp"
 
 namespace slamprep::algo {

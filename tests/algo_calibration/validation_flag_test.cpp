@@ -1,6 +1,6 @@
 // Held-out validation as a verdict (algo/calibration/validation_flag.hpp): a calibrated geometry
 // that predicts the held-out part worse than the nominal one is flagged, beyond 10 % + a floor.
-#include "algo/calibration/validation_flag.hpp"
+#include "slamprep/algo/calibration/validation_flag.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
-#include "algo/deskew/beam_transform.hpp"
+#include "slamprep/algo/deskew/beam_transform.hpp"
 
 #include <gtest/gtest.h>
 
 #include <numbers>
 
-#include "core/laser_scan.hpp"
+#include "slamprep/core/laser_scan.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -1,11 +1,11 @@
-#include "algo/deskew/deskew.hpp"
+#include "slamprep/algo/deskew/deskew.hpp"
 
 #include <gtest/gtest.h>
 
 #include <set>
 
-#include "eval/metrics/deskew_error.hpp"
-#include "tests/algo_deskew/synthetic_world.hpp"
+#include "slamprep/eval/metrics/deskew_error.hpp"
+#include "slamprep/tests/algo_deskew/synthetic_world.hpp"
 
 namespace slamprep::algo {
 namespace {

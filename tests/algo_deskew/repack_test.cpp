@@ -1,4 +1,4 @@
-#include "algo/deskew/repack.hpp"
+#include "slamprep/algo/deskew/repack.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <limits>
 #include <numbers>
 
-#include "core/se2.hpp"
+#include "slamprep/core/se2.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -1,9 +1,9 @@
-#include "algo/deskew/sequence.hpp"
+#include "slamprep/algo/deskew/sequence.hpp"
 
 #include <gtest/gtest.h>
 
-#include "eval/metrics/deskew_error.hpp"
-#include "tests/algo_deskew/synthetic_world.hpp"
+#include "slamprep/eval/metrics/deskew_error.hpp"
+#include "slamprep/tests/algo_deskew/synthetic_world.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <map>
 
-#include "algo/deskew/sequence.hpp"
-#include "core/odometry.hpp"
-#include "eval/metrics/deskew_error.hpp"
-#include "sim/drive/simulator.hpp"
+#include "slamprep/algo/deskew/sequence.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/eval/metrics/deskew_error.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -1,10 +1,10 @@
-#include "algo/matching/icp.hpp"
+#include "slamprep/algo/matching/icp.hpp"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "tests/algo_deskew/synthetic_world.hpp"
+#include "slamprep/tests/algo_deskew/synthetic_world.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -1,14 +1,14 @@
 // Scan-to-local-map odometry (algo/matching/keyframe_odometry.hpp): the local map's frames, when
 // keyframes start, how many the map holds, and the failed-match policy (the odometry step,
 // counted), on noiseless scans of the synthetic room.
-#include "algo/matching/keyframe_odometry.hpp"
+#include "slamprep/algo/matching/keyframe_odometry.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "tests/algo_deskew/synthetic_world.hpp"
+#include "slamprep/tests/algo_deskew/synthetic_world.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -1,7 +1,7 @@
 // The local submap (algo/matching/local_submap.hpp): points land in the world frame and come back
 // in any frame, the spacing rule (checked against brute force), and forgetting by distance and by
 // travel.
-#include "algo/matching/local_submap.hpp"
+#include "slamprep/algo/matching/local_submap.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,11 +1,11 @@
-#include "algo/matching/loop_closure.hpp"
+#include "slamprep/algo/matching/loop_closure.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "tests/algo_deskew/synthetic_world.hpp"
+#include "slamprep/tests/algo_deskew/synthetic_world.hpp"
 
 namespace slamprep::algo {
 namespace {

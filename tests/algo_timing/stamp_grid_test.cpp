@@ -1,4 +1,4 @@
-#include "algo/timing/stamp_grid.hpp"
+#include "slamprep/algo/timing/stamp_grid.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "algo/timing/dataset_stamps.hpp"
+#include "slamprep/algo/timing/dataset_stamps.hpp"
 
 namespace slamprep::algo {
 namespace {

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "eval/bench/trial.hpp"
+#include "slamprep/eval/bench/trial.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "eval/bench/figure_groups.hpp"
-#include "eval/bench/figures_internal.hpp"
+#include "slamprep/eval/bench/figure_groups.hpp"
+#include "slamprep/eval/bench/figures_internal.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -6,12 +6,12 @@
 #include <filesystem>
 #include <limits>
 
-#include "core/atomic_file.hpp"
-#include "eval/bench/group_consistency.hpp"
-#include "eval/bench/summary.hpp"
-#include "eval/bench/trial_metrics.hpp"
-#include "eval/bench/trial_record.hpp"
-#include "eval/bench/trial_timing.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/eval/bench/group_consistency.hpp"
+#include "slamprep/eval/bench/summary.hpp"
+#include "slamprep/eval/bench/trial_metrics.hpp"
+#include "slamprep/eval/bench/trial_record.hpp"
+#include "slamprep/eval/bench/trial_timing.hpp"
 
 namespace slamprep::eval {
 namespace {

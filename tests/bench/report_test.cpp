@@ -1,4 +1,4 @@
-#include "eval/bench/report.hpp"
+#include "slamprep/eval/bench/report.hpp"
 
 #include <gtest/gtest.h>
 

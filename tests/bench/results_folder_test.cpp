@@ -1,16 +1,16 @@
 // bench owns only what it wrote: a results folder it created holds the marker, a folder without
 // it is refused and left alone, and a suite's name is one folder name (never a path).
-#include "eval/bench/results_folder.hpp"
+#include "slamprep/eval/bench/results_folder.hpp"
 
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <functional>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "eval/bench/suite.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/bench/suite.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

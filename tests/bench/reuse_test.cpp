@@ -7,13 +7,13 @@
 #include <fstream>
 #include <random>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "eval/bench/bench.hpp"
-#include "eval/bench/runner.hpp"
-#include "eval/bench/summary.hpp"
-#include "tests/support/error_of.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/bench/bench.hpp"
+#include "slamprep/eval/bench/runner.hpp"
+#include "slamprep/eval/bench/summary.hpp"
+#include "slamprep/tests/support/error_of.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

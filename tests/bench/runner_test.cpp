@@ -1,14 +1,14 @@
-#include "eval/bench/runner.hpp"
+#include "slamprep/eval/bench/runner.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "core/atomic_file.hpp"
-#include "core/stage_report.hpp"
-#include "eval/bench/summary.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/stage_report.hpp"
+#include "slamprep/eval/bench/summary.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -1,11 +1,11 @@
-#include "eval/bench/suite.hpp"
+#include "slamprep/eval/bench/suite.hpp"
 
 #include <gtest/gtest.h>
 
 #include <fstream>
 
-#include "core/error.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -1,6 +1,6 @@
 // slamprep twin on a simulated recording, where the world and the sensors are known: the twin's
 // world has the room's walls, its lidar the simulated one's settings, its drive the path.
-#include "eval/bench/twin.hpp"
+#include "slamprep/eval/bench/twin.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,11 +8,11 @@
 #include <cmath>
 #include <numbers>
 
-#include "eval/metrics/error_stats.hpp"
-#include "eval/pipeline/match_trajectory.hpp"
-#include "sim/drive/scenario.hpp"
-#include "sim/drive/simulator.hpp"
-#include "sim/physics/world.hpp"
+#include "slamprep/eval/metrics/error_stats.hpp"
+#include "slamprep/eval/pipeline/match_trajectory.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 namespace slamprep::eval {
 namespace {

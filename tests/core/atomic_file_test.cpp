@@ -1,6 +1,6 @@
 // The pieces of the output guard that live in core: resolved path relations, the partial sibling's
 // name, an output that must not be replaced at the final rename, and partials removed on a signal.
-#include "core/atomic_file.hpp"
+#include "slamprep/core/atomic_file.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -9,10 +9,10 @@
 #include <fstream>
 #include <string>
 
-#include "core/error.hpp"
-#include "core/partial_cleanup.hpp"
-#include "core/paths.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/partial_cleanup.hpp"
+#include "slamprep/core/paths.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep {
 namespace {

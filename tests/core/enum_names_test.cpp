@@ -1,4 +1,4 @@
-#include "core/enum_names.hpp"
+#include "slamprep/core/enum_names.hpp"
 
 #include <gtest/gtest.h>
 

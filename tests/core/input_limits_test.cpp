@@ -7,12 +7,12 @@
 #include <fstream>
 #include <string>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/input_file.hpp"
-#include "core/json_input.hpp"
-#include "tests/support/scratch_dir.hpp"
-#include "tests/support/error_of.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/input_file.hpp"
+#include "slamprep/core/json_input.hpp"
+#include "slamprep/tests/support/error_of.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep {
 namespace {

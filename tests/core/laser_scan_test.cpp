@@ -1,4 +1,4 @@
-#include "core/laser_scan.hpp"
+#include "slamprep/core/laser_scan.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,12 +1,12 @@
-#include "core/odometry.hpp"
+#include "slamprep/core/odometry.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "core/error.hpp"
-#include "core/gyro_odometry.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/gyro_odometry.hpp"
 
 namespace slamprep {
 namespace {

@@ -1,6 +1,6 @@
 // core/order_statistics: the O(n) quantile against the definition on a sorted copy, the
 // type-7 endpoints, and the median of even and odd samples.
-#include "core/order_statistics.hpp"
+#include "slamprep/core/order_statistics.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "core/paths.hpp"
+#include "slamprep/core/paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep {
 namespace {

@@ -1,11 +1,11 @@
 // Progress lines with a fake clock: what a CI log shows, throttled, and the bar on a terminal.
-#include "core/progress.hpp"
+#include "slamprep/core/progress.hpp"
 
 #include <gtest/gtest.h>
 
 #include <vector>
 
-#include "core/stage_report.hpp"
+#include "slamprep/core/stage_report.hpp"
 
 namespace slamprep {
 namespace {

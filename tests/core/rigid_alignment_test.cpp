@@ -1,6 +1,6 @@
 // core/rigid_alignment: the closed form against a brute-force search over the angle, forward and
 // inverse, and its refusals.
-#include "core/rigid_alignment.hpp"
+#include "slamprep/core/rigid_alignment.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "core/time_series.hpp"
+#include "slamprep/core/time_series.hpp"
 
 #include <gtest/gtest.h>
 

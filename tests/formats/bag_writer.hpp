@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "eval/formats/mcap.hpp"
-#include "eval/formats/ros2_messages.hpp"
+#include "slamprep/eval/formats/mcap.hpp"
+#include "slamprep/eval/formats/ros2_messages.hpp"
 
 namespace slamprep::test {
 

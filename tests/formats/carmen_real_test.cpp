@@ -5,10 +5,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/error.hpp"
-#include "eval/formats/carmen.hpp"
-#include "eval/formats/import.hpp"
-#include "eval/formats/text_io.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/carmen.hpp"
+#include "slamprep/eval/formats/import.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
 
 namespace slamprep::eval {
 namespace {

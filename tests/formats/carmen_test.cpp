@@ -1,10 +1,10 @@
 // CARMEN log reader: a hand-written log, and every malformed case named with file, line, field.
-#include "eval/formats/carmen.hpp"
+#include "slamprep/eval/formats/carmen.hpp"
 
 #include <gtest/gtest.h>
 
-#include "core/error.hpp"
-#include "eval/formats/export.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/export.hpp"
 #include "synthetic_dataset.hpp"
 
 namespace slamprep::eval {

@@ -1,5 +1,5 @@
 // CDR encoding of the ROS 2 messages: byte layout, alignment, round trip, truncation.
-#include "eval/formats/cdr.hpp"
+#include "slamprep/eval/formats/cdr.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include <cstring>
 #include <limits>
 
-#include "core/error.hpp"
-#include "eval/formats/ros2_messages.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/ros2_messages.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -1,7 +1,7 @@
 #pragma once
 // What the export tests share: a synthetic ExportInput.
 
-#include "eval/formats/export.hpp"
+#include "slamprep/eval/formats/export.hpp"
 #include "synthetic_dataset.hpp"
 
 namespace slamprep::test {

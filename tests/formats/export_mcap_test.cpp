@@ -7,15 +7,15 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/odometry.hpp"
-#include "eval/formats/export.hpp"
-#include "eval/formats/ros2_messages.hpp"
 #include "export_input.hpp"
 #include "node_tool.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/eval/formats/export.hpp"
+#include "slamprep/eval/formats/ros2_messages.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 #include "synthetic_dataset.hpp"
-#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

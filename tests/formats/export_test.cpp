@@ -1,6 +1,6 @@
 // Export to text formats: CARMEN field order, TUM/KITTI trajectories, CSM laser_data, the
 // calibration choice and format names.
-#include "eval/formats/export.hpp"
+#include "slamprep/eval/formats/export.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,14 +9,14 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "eval/formats/scan_jsonl.hpp"
-#include "eval/formats/text_io.hpp"
-#include "eval/formats/tum.hpp"
 #include "export_input.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/scan_jsonl.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
+#include "slamprep/eval/formats/tum.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 #include "synthetic_dataset.hpp"
-#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

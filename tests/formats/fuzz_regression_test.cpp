@@ -8,12 +8,12 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
 #ifdef SLAMPREP_FUZZ_FORMATS_ONLY
-#include "fuzz/format_readers.hpp"
+#include "slamprep/fuzz/format_readers.hpp"
 #else
-#include "fuzz/readers.hpp"
+#include "slamprep/fuzz/readers.hpp"
 #endif
 
 namespace slamprep::fuzz {

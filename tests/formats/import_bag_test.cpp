@@ -6,15 +6,15 @@
 #include <numbers>
 
 #include "bag_writer.hpp"
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/odometry.hpp"
-#include "eval/formats/byte_source.hpp"
-#include "eval/formats/export.hpp"
-#include "eval/formats/import.hpp"
 #include "export_input.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/eval/formats/byte_source.hpp"
+#include "slamprep/eval/formats/export.hpp"
+#include "slamprep/eval/formats/import.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 #include "synthetic_dataset.hpp"
-#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -8,15 +8,15 @@
 #include <numbers>
 
 #include "bag_writer.hpp"
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/odometry.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "eval/formats/import.hpp"
-#include "eval/formats/import_json.hpp"
-#include "eval/formats/stale_odometry.hpp"
-#include "eval/formats/twist_spikes.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/eval/formats/import.hpp"
+#include "slamprep/eval/formats/import_json.hpp"
+#include "slamprep/eval/formats/stale_odometry.hpp"
+#include "slamprep/eval/formats/twist_spikes.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -8,15 +8,15 @@
 #include <fstream>
 #include <map>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "eval/formats/export.hpp"
-#include "eval/formats/import.hpp"
-#include "eval/formats/rosbag2.hpp"
-#include "eval/formats/text_io.hpp"
 #include "export_input.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/export.hpp"
+#include "slamprep/eval/formats/import.hpp"
+#include "slamprep/eval/formats/rosbag2.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 #include "sqlite_bag.hpp"
-#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

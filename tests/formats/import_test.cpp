@@ -1,6 +1,6 @@
 // Import: a hand-written CARMEN log and an MCAP bag written by the independent @mcap/core writer
 // become datasets that readDataset accepts; the exporter's own bag round-trips.
-#include "eval/formats/import.hpp"
+#include "slamprep/eval/formats/import.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,14 +8,14 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/odometry.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "eval/formats/export.hpp"
 #include "node_tool.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/eval/formats/export.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 #include "synthetic_dataset.hpp"
-#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

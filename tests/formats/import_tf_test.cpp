@@ -5,8 +5,8 @@
 #include <numbers>
 
 #include "bag_writer.hpp"
-#include "core/error.hpp"
-#include "eval/formats/import.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/import.hpp"
 
 namespace slamprep::eval {
 namespace {

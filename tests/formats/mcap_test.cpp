@@ -1,5 +1,5 @@
 // MCAP writer and reader from the specification: CRC, record layout, round trip, corruption.
-#include "eval/formats/mcap.hpp"
+#include "slamprep/eval/formats/mcap.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,9 +8,9 @@
 #include <filesystem>
 #include <iostream>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -14,7 +14,7 @@
 #include <sstream>
 #include <string>
 
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::test {
 

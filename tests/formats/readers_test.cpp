@@ -9,17 +9,17 @@
 #include <functional>
 #include <sstream>
 
-#include "algo/calibration/interval.hpp"
-#include "core/atomic_file.hpp"
-#include "core/dataset.hpp"
-#include "core/error.hpp"
-#include "eval/bench/suite.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "sim/drive/config.hpp"
-#include "sim/drive/scenario.hpp"
-#include "sim/physics/world.hpp"
+#include "slamprep/algo/calibration/interval.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/bench/suite.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/sim/drive/config.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
+#include "slamprep/sim/physics/world.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 #include "synthetic_dataset.hpp"
-#include "tests/support/scratch_dir.hpp"
 
 namespace slamprep {
 namespace {

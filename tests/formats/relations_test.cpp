@@ -1,15 +1,15 @@
 // Relations files (eval/formats/relations.hpp) and the relation metric on the committed
 // excerpts: each log's own odometry against its benchmark relations.
-#include "eval/formats/relations.hpp"
+#include "slamprep/eval/formats/relations.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/error.hpp"
-#include "eval/formats/import.hpp"
-#include "eval/formats/text_io.hpp"
-#include "eval/metrics/relation_error.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/import.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
+#include "slamprep/eval/metrics/relation_error.hpp"
 
 namespace slamprep::eval {
 namespace {

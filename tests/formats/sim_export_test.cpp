@@ -8,14 +8,14 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "core/error.hpp"
-#include "core/odometry.hpp"
-#include "eval/formats/export.hpp"
-#include "eval/formats/import.hpp"
-#include "eval/formats/ros2_messages.hpp"
 #include "node_tool.hpp"
-#include "sim/drive/simulator.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/eval/formats/export.hpp"
+#include "slamprep/eval/formats/import.hpp"
+#include "slamprep/eval/formats/ros2_messages.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

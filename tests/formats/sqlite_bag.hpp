@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "eval/formats/compression.hpp"
-#include "eval/formats/mcap.hpp"
+#include "slamprep/eval/formats/compression.hpp"
+#include "slamprep/eval/formats/mcap.hpp"
 
 namespace slamprep::test {
 

@@ -7,8 +7,8 @@
 #include <limits>
 #include <numbers>
 
-#include "core/dataset.hpp"
-#include "core/odometry.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/core/odometry.hpp"
 
 namespace slamprep::test {
 

@@ -1,10 +1,10 @@
-#include "eval/formats/csv_logs.hpp"
+#include "slamprep/eval/formats/csv_logs.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "core/dataset.hpp"
+#include "slamprep/core/dataset.hpp"
 
 namespace slamprep::synthetic {
 

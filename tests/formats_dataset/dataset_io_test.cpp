@@ -1,4 +1,4 @@
-#include "eval/formats/dataset_io.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,13 +7,13 @@
 #include <functional>
 #include <random>
 
-#include "core/dataset.hpp"
-#include "core/error.hpp"
-#include "eval/formats/scan_jsonl.hpp"
-#include "eval/formats/text_io.hpp"
-#include "tests/formats_dataset/dataset_compare.hpp"
-#include "tests/formats_dataset/synthetic_dataset.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/dataset.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/scan_jsonl.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
+#include "slamprep/tests/formats_dataset/dataset_compare.hpp"
+#include "slamprep/tests/formats_dataset/synthetic_dataset.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep {
 namespace {

@@ -1,10 +1,10 @@
-#include "eval/formats/dataset_json.hpp"
+#include "slamprep/eval/formats/dataset_json.hpp"
 
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -1,4 +1,4 @@
-#include "eval/formats/scan_jsonl.hpp"
+#include "slamprep/eval/formats/scan_jsonl.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval {
 namespace {

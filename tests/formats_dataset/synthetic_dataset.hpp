@@ -8,7 +8,7 @@
 #include <numbers>
 #include <random>
 
-#include "core/dataset.hpp"
+#include "slamprep/core/dataset.hpp"
 
 namespace slamprep::synthetic {
 

@@ -1,4 +1,4 @@
-#include "eval/formats/text_io.hpp"
+#include "slamprep/eval/formats/text_io.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <limits>
 #include <random>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval {
 namespace {

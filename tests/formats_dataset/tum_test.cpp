@@ -1,4 +1,4 @@
-#include "eval/formats/tum.hpp"
+#include "slamprep/eval/formats/tum.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <numbers>
 #include <random>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval {
 namespace {

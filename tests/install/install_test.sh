@@ -35,6 +35,22 @@ done
 for lib in core algo sim formats metrics plot pipeline bench; do
   ls "$dir"/staged/lib*/libslamprep_$lib.a >/dev/null 2>&1 || fail "not installed: $lib library"
 done
+# Only the public headers, each including the project's headers by their prefixed path and only
+# installed ones (an INTERNAL header of slamprep_library() is not installed).
+for internal in eval/bench/figures_internal.hpp eval/formats/cdr.hpp eval/plot/gl_canvas.hpp; do
+  [ ! -e "$dir/staged/include/slamprep/$internal" ] || fail "an internal header installed: $internal"
+done
+headers=$(cd "$dir/staged/include" && find slamprep -name '*.hpp' | sort)
+[ -n "$headers" ] || fail "no headers installed"
+for header in $headers; do
+  while read -r included; do
+    [ -e "$dir/staged/include/$included" ] || fail "$header includes $included, not installed"
+  done < <(sed -n 's/^#include "\(slamprep\/[^"]*\)".*/\1/p' "$dir/staged/include/$header")
+  if grep -nE '^#include "(core|algo|sim|eval|app)/' "$dir/staged/include/$header"; then
+    fail "$header includes a project header without the slamprep/ prefix"
+  fi
+done
+echo "ok: $(echo "$headers" | wc -l) public headers, every included one installed"
 mv "$dir/staged" "$dir/prefix"
 prefix=$dir/prefix
 

@@ -1,4 +1,4 @@
-#include "eval/metrics/calibration_error.hpp"
+#include "slamprep/eval/metrics/calibration_error.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Consistency statistics (bias, spread, coverage, NEES) against hand-computed values, and their
 // power: a sigma three times too small must fail the seeds suite's goals on a small set.
-#include "eval/metrics/consistency.hpp"
+#include "slamprep/eval/metrics/consistency.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "eval/metrics/error_stats.hpp"
+#include "slamprep/eval/metrics/error_stats.hpp"
 
 #include <gtest/gtest.h>
 

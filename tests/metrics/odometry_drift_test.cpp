@@ -1,4 +1,4 @@
-#include "eval/metrics/odometry_drift.hpp"
+#include "slamprep/eval/metrics/odometry_drift.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The relation metric of Kümmerle et al. 2009 (eval/metrics/relation_error.hpp) on synthetic
 // trajectories whose errors are known in closed form.
-#include "eval/metrics/relation_error.hpp"
+#include "slamprep/eval/metrics/relation_error.hpp"
 
 #include <gtest/gtest.h>
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "tests/support/cli_run.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/tests/support/cli_run.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "eval/metrics/trajectory_error.hpp"
+#include "slamprep/eval/metrics/trajectory_error.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "eval/pipeline/calibration_run.hpp"
-#include "sim/drive/simulator.hpp"
+#include "slamprep/eval/pipeline/calibration_run.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
 
 namespace slamprep::eval {
 namespace {

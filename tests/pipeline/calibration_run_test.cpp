@@ -1,6 +1,6 @@
 // The interval policy `slamprep calibrate` (calibrateDataset) and the bench (calibrationMotion
 // with default options) share: the same log gives both the same intervals, one per scan match.
-#include "eval/pipeline/calibration_run.hpp"
+#include "slamprep/eval/pipeline/calibration_run.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,10 +8,10 @@
 #include <filesystem>
 #include <numbers>
 
-#include "algo/agreement/agreement_report.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "sim/drive/simulator.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/algo/agreement/agreement_report.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

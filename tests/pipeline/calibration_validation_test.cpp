@@ -1,18 +1,18 @@
 // calibrate --validate-fraction: the held-out error's definition on a drive computed by hand,
 // and on a short simulated drive the calibrated geometry beating the simulator's deliberately
 // wrong nominal one (r_L +2 %, r_R -1.5 %, b +4 %) on scans the calibration never saw.
-#include "eval/pipeline/calibration_validation.hpp"
+#include "slamprep/eval/pipeline/calibration_validation.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "core/error.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "eval/pipeline/recordings_calibration.hpp"
-#include "sim/drive/simulator.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/eval/pipeline/recordings_calibration.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

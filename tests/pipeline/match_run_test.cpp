@@ -1,5 +1,5 @@
 // The scan-matching error against truth that `slamprep match` prints and the bench records.
-#include "eval/pipeline/match_run.hpp"
+#include "slamprep/eval/pipeline/match_run.hpp"
 
 #include <gtest/gtest.h>
 

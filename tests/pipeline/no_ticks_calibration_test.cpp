@@ -6,16 +6,16 @@
 
 #include <filesystem>
 
-#include "algo/calibration/calibration_json.hpp"
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "eval/formats/export.hpp"
-#include "eval/formats/import.hpp"
-#include "eval/formats/ros2_params.hpp"
-#include "eval/formats/tum.hpp"
-#include "eval/pipeline/calibration_run.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/algo/calibration/calibration_json.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/eval/formats/export.hpp"
+#include "slamprep/eval/formats/import.hpp"
+#include "slamprep/eval/formats/ros2_params.hpp"
+#include "slamprep/eval/formats/tum.hpp"
+#include "slamprep/eval/pipeline/calibration_run.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -7,14 +7,14 @@
 #include <cmath>
 #include <string>
 
-#include "algo/agreement/agreement_report.hpp"
-#include "algo/agreement/dataset_sources.hpp"
-#include "eval/formats/export.hpp"
-#include "eval/formats/import.hpp"
-#include "eval/pipeline/calibration_run.hpp"
-#include "eval/pipeline/match_trajectory.hpp"
-#include "sim/drive/config.hpp"
-#include "sim/drive/simulator.hpp"
+#include "slamprep/algo/agreement/agreement_report.hpp"
+#include "slamprep/algo/agreement/dataset_sources.hpp"
+#include "slamprep/eval/formats/export.hpp"
+#include "slamprep/eval/formats/import.hpp"
+#include "slamprep/eval/pipeline/calibration_run.hpp"
+#include "slamprep/eval/pipeline/match_trajectory.hpp"
+#include "slamprep/sim/drive/config.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "core/error.hpp"
-#include "eval/plot/plot.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval::plot {
 namespace {

@@ -3,8 +3,8 @@
 #include <fstream>
 #include <iterator>
 
-#include "core/error.hpp"
-#include "eval/plot/plot.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval::plot {
 namespace {

@@ -6,10 +6,10 @@
 #include <limits>
 #include <thread>
 
-#include "core/error.hpp"
-#include "eval/plot/gl_canvas.hpp"
-#include "eval/plot/plot.hpp"
 #include "sample_figures.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/plot/gl_canvas.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval::plot {
 namespace {

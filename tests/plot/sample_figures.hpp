@@ -6,7 +6,7 @@
 #include <numbers>
 #include <vector>
 
-#include "eval/plot/plot.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval::plot::samples {
 

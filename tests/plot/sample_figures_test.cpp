@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "eval/plot/plot.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval::plot {
 namespace {

@@ -1,8 +1,8 @@
-#include "eval/plot/text.hpp"
+#include "slamprep/eval/plot/text.hpp"
 
 #include <gtest/gtest.h>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::eval::plot {
 namespace {

@@ -1,4 +1,4 @@
-#include "eval/plot/ticks.hpp"
+#include "slamprep/eval/plot/ticks.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,8 @@
 // where a ±1σ bar would cross zero and run off the axis.
 #include <gtest/gtest.h>
 
-#include "core/error.hpp"
-#include "eval/plot/plot.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/eval/plot/plot.hpp"
 
 namespace slamprep::eval::plot {
 namespace {

@@ -1,10 +1,10 @@
-#include "sim/drive/config.hpp"
+#include "slamprep/sim/drive/config.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/error.hpp"
+#include "slamprep/core/error.hpp"
 
 namespace slamprep::sim {
 namespace {

@@ -3,10 +3,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/odometry.hpp"
-#include "sim/drive/controller.hpp"
-#include "sim/drive/rng.hpp"
-#include "sim/drive/sensors.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/sim/drive/controller.hpp"
+#include "slamprep/sim/drive/rng.hpp"
+#include "slamprep/sim/drive/sensors.hpp"
 
 namespace slamprep::sim {
 namespace {

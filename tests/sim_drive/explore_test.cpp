@@ -2,7 +2,7 @@
 // free space, must pass the path check for every seed, cover both wings, and turn both ways
 // within the limits. Kinematic mode and a 90-beam lidar keep it fast.
 
-#include "sim/drive/explore.hpp"
+#include "slamprep/sim/drive/explore.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <set>
 
-#include "core/error.hpp"
-#include "sim/drive/simulator.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
 
 namespace slamprep::sim {
 namespace {

@@ -8,15 +8,15 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/error.hpp"
-#include "core/heading.hpp"
-#include "core/odometry.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "sim/drive/fault_injection.hpp"
-#include "sim/drive/simulator.hpp"
-#include "sim/physics/planar_caster.hpp"
-#include "tests/sim_drive/square_room.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/heading.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/sim/drive/fault_injection.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
+#include "slamprep/sim/physics/planar_caster.hpp"
+#include "slamprep/tests/sim_drive/square_room.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::sim {
 namespace {

@@ -7,14 +7,14 @@
 #include <fstream>
 #include <string>
 
-#include "core/error.hpp"
-#include "core/input_file.hpp"
-#include "sim/drive/config.hpp"
-#include "sim/drive/scenario.hpp"
-#include "sim/physics/world.hpp"
-#include "sim/yaml/yaml_fields.hpp"
-#include "tests/support/error_of.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/input_file.hpp"
+#include "slamprep/sim/drive/config.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
+#include "slamprep/sim/physics/world.hpp"
+#include "slamprep/sim/yaml/yaml_fields.hpp"
+#include "slamprep/tests/support/error_of.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::sim {
 namespace {

@@ -8,10 +8,10 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
-#include "sim/drive/config.hpp"
-#include "sim/drive/scenario.hpp"
-#include "sim/drive/simulator.hpp"
-#include "sim/physics/world.hpp"
+#include "slamprep/sim/drive/config.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 namespace slamprep::sim {
 namespace {

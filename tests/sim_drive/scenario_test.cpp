@@ -1,4 +1,4 @@
-#include "sim/drive/scenario.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include <fstream>
 #include <numbers>
 
-#include "core/error.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::sim {
 namespace {

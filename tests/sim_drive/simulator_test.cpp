@@ -1,4 +1,4 @@
-#include "sim/drive/simulator.hpp"
+#include "slamprep/sim/drive/simulator.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,12 +9,12 @@
 #include <numbers>
 #include <sstream>
 
-#include "core/error.hpp"
-#include "core/odometry.hpp"
-#include "eval/formats/dataset_io.hpp"
-#include "sim/drive/controller.hpp"
-#include "tests/sim_drive/square_room.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/odometry.hpp"
+#include "slamprep/eval/formats/dataset_io.hpp"
+#include "slamprep/sim/drive/controller.hpp"
+#include "slamprep/tests/sim_drive/square_room.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::sim {
 namespace {

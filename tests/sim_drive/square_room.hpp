@@ -4,8 +4,8 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "sim/drive/scenario.hpp"
-#include "sim/physics/world.hpp"
+#include "slamprep/sim/drive/scenario.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 namespace slamprep::test {
 

@@ -1,13 +1,13 @@
-#include "sim/physics/lidar.hpp"
+#include "slamprep/sim/physics/lidar.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "sim/physics/robot.hpp"
+#include "slamprep/sim/physics/robot.hpp"
+#include "slamprep/tests/sim_physics/box_room.hpp"
 #include "test_util.hpp"
-#include "tests/sim_physics/box_room.hpp"
 
 namespace slamprep::sim {
 namespace {

@@ -1,4 +1,4 @@
-#include "sim/physics/planar_caster.hpp"
+#include "slamprep/sim/physics/planar_caster.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <numbers>
 #include <random>
 
-#include "sim/physics/scene.hpp"
+#include "slamprep/sim/physics/scene.hpp"
 #include "test_util.hpp"
 
 namespace slamprep::sim {

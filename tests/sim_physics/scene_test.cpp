@@ -1,4 +1,4 @@
-#include "sim/physics/scene.hpp"
+#include "slamprep/sim/physics/scene.hpp"
 
 #include <btBulletDynamicsCommon.h>
 #include <gtest/gtest.h>
@@ -6,9 +6,9 @@
 #include <numbers>
 #include <random>
 
-#include "sim/physics/robot.hpp"
+#include "slamprep/sim/physics/robot.hpp"
+#include "slamprep/tests/sim_physics/box_room.hpp"
 #include "test_util.hpp"
-#include "tests/sim_physics/box_room.hpp"
 
 namespace slamprep::sim {
 namespace {

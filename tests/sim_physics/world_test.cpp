@@ -1,11 +1,11 @@
-#include "sim/physics/world.hpp"
+#include "slamprep/sim/physics/world.hpp"
 
 #include <gtest/gtest.h>
 
 #include <numbers>
 
-#include "core/error.hpp"
-#include "sim/physics/scene.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/sim/physics/scene.hpp"
 #include "test_util.hpp"
 
 namespace slamprep::sim {

@@ -7,13 +7,13 @@
 #include <filesystem>
 #include <sstream>
 
-#include "core/atomic_file.hpp"
-#include "core/error.hpp"
-#include "core/shell_quote.hpp"
-#include "eval/bench/bench.hpp"
-#include "eval/bench/runner.hpp"
-#include "eval/bench/slurm.hpp"
-#include "tests/support/scratch_dir.hpp"
+#include "slamprep/core/atomic_file.hpp"
+#include "slamprep/core/error.hpp"
+#include "slamprep/core/shell_quote.hpp"
+#include "slamprep/eval/bench/bench.hpp"
+#include "slamprep/eval/bench/runner.hpp"
+#include "slamprep/eval/bench/slurm.hpp"
+#include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::eval {
 namespace {

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "core/shell_quote.hpp"
+#include "slamprep/core/shell_quote.hpp"
 
 namespace slamprep::test {
 
