@@ -153,6 +153,74 @@ LoopClosureSummary closeLoops(const std::vector<Points2>& scan_points,
   return summary;
 }
 
+// What the dataset gives every method: the nominal geometry (on a log without ticks, that of
+// the encoders derived from its odometry), the mount, the truth.
+algo::CalibrationInput datasetInput(const DatasetCalibrationParams& params,
+                                    std::optional<Dataset>& dataset, DatasetCalibration& out) {
+  algo::CalibrationInput input;
+  if (!dataset) return input;
+  // A log with odometry poses but no encoder ticks (an imported CARMEN log): encoders derived
+  // from the poses, so intervals can be cut; the estimates are then relative to the log's own
+  // odometry geometry (docs/calibration.md).
+  out.odometry = odometryEncoders(*dataset, params.dataset, params.nominal);
+  out.relative_to_odometry = out.odometry.derived_with;
+  if (out.relative_to_odometry) {
+    dataset->encoders = out.odometry.encoders;
+    dataset->info.nominal_geometry = *out.relative_to_odometry;
+  }
+  input.nominal = params.nominal.value_or(dataset->info.nominal_geometry);
+  out.nominal = *input.nominal;
+  out.T_base_lidar = dataset->info.T_base_lidar;
+  if (params.mount_from_dataset) input.known_T_base_lidar = dataset->info.T_base_lidar;
+  if (dataset->info.true_geometry)
+    out.truth = algo::CalibrationTruth{*dataset->info.true_geometry, dataset->info.T_base_lidar};
+  return input;
+}
+
+// The intervals of the interval methods: read from --tuples, or cut from the dataset's motion
+// (scan matching or the truth), with the sensor agreement and the clock sync on the way.
+void cutIntervals(const DatasetCalibrationParams& params, std::optional<Dataset>& dataset,
+                  DatasetCalibration& out, algo::CalibrationInput& input) {
+  if (!params.tuples.empty()) {
+    out.intervals.intervals = algo::readIntervalRecords(params.tuples);
+    return;
+  }
+  const Dataset& d = *dataset;
+  if (params.motion.source == MotionSource::kGroundTruth && !d.hasTruth())
+    throw InputError(params.dataset, "--motion groundtruth: the dataset has no ground truth");
+  // The motion from stamps back on their grids; every output keeps the log's own stamps.
+  std::optional<Dataset> regular;
+  if (params.regularize_stamps) {
+    regular = d;
+    out.stamps = algo::regularizeStamps(*regular);
+  }
+  Dataset& used = algo::anyApplied(out.stamps) ? *regular : *dataset;
+  CalibrationMotion motion = calibrationMotion(used, params.motion);
+  out.intervals = std::move(motion.intervals);
+  out.from_motion = true;
+  out.agreement = algo::compareSensors(algo::datasetSources(d, algo::scanPieces(motion.chains)));
+  out.encoders_from = algo::encodersFrom(d.info);
+  if (params.sync_clocks) syncClocks(used, motion.chains, params, out);
+  out.failed_matches = motion.failed_matches;
+  out.loops = motion.loops;
+  input.heading_loops = std::move(motion.heading_loops);
+}
+
+// The methods asked for that can run; with only_applicable the others are listed, not refused.
+std::vector<algo::CalibrationMethod> applicableMethods(const DatasetCalibrationParams& params,
+                                                       const algo::CalibrationInput& input,
+                                                       DatasetCalibration& out) {
+  std::vector<algo::CalibrationMethod> applicable;
+  for (const algo::CalibrationMethod m : params.methods) {
+    const auto missing = params.only_applicable ? algo::missingInput(m, input) : std::nullopt;
+    if (missing)
+      out.not_applicable.push_back({m, *missing});
+    else
+      applicable.push_back(m);
+  }
+  return applicable;
+}
+
 }  // namespace
 
 PoseSeries calibratedOdometry(const DatasetCalibration& c, const DiffDriveParams& geometry) {
@@ -198,68 +266,19 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params,
     throw InputError("DATASET", "give a dataset directory, --tuples FILE, or both");
   if (!dataset && !params.dataset.empty()) dataset = readDataset(params.dataset);
   DatasetCalibration out;
-  if (dataset) {
-    // A log with odometry poses but no encoder ticks (an imported CARMEN log): encoders derived
-    // from the poses, so intervals can be cut; the estimates are then relative to the log's own
-    // odometry geometry (docs/calibration.md).
-    out.odometry = odometryEncoders(*dataset, params.dataset, params.nominal);
-    out.relative_to_odometry = out.odometry.derived_with;
-    if (out.relative_to_odometry) {
-      dataset->encoders = out.odometry.encoders;
-      dataset->info.nominal_geometry = *out.relative_to_odometry;
-    }
-  }
+  algo::CalibrationInput input = datasetInput(params, dataset, out);
   const Dataset* d = dataset ? &*dataset : nullptr;
-  algo::CalibrationInput input;
-  if (d) input.nominal = params.nominal.value_or(d->info.nominal_geometry);
-  if (d) {
-    out.nominal = *input.nominal;
-    out.T_base_lidar = d->info.T_base_lidar;
-    if (params.mount_from_dataset) input.known_T_base_lidar = d->info.T_base_lidar;
-  }
-  if (d && d->info.true_geometry)
-    out.truth = algo::CalibrationTruth{*d->info.true_geometry, d->info.T_base_lidar};
   if (contains(params.methods, algo::CalibrationMethod::kUmbmark))
     input.umbmark_runs = umbmarkRuns(params, d);
   const auto& methods = params.methods;
-  if (std::any_of(methods.begin(), methods.end(), algo::isIntervalMethod)) {
-    if (!params.tuples.empty()) {
-      out.intervals.intervals = algo::readIntervalRecords(params.tuples);
-    } else {
-      if (params.motion.source == MotionSource::kGroundTruth && !d->hasTruth())
-        throw InputError(params.dataset, "--motion groundtruth: the dataset has no ground truth");
-      // The motion from stamps back on their grids; every output keeps the log's own stamps.
-      std::optional<Dataset> regular;
-      if (params.regularize_stamps) {
-        regular = *d;
-        out.stamps = algo::regularizeStamps(*regular);
-      }
-      Dataset& used = algo::anyApplied(out.stamps) ? *regular : *dataset;
-      CalibrationMotion motion = calibrationMotion(used, params.motion);
-      out.intervals = std::move(motion.intervals);
-      out.from_motion = true;
-      out.agreement =
-          algo::compareSensors(algo::datasetSources(*d, algo::scanPieces(motion.chains)));
-      out.encoders_from = algo::encodersFrom(d->info);
-      if (params.sync_clocks) syncClocks(used, motion.chains, params, out);
-      out.failed_matches = motion.failed_matches;
-      out.loops = motion.loops;
-      input.heading_loops = std::move(motion.heading_loops);
-    }
-  }
+  if (std::any_of(methods.begin(), methods.end(), algo::isIntervalMethod))
+    cutIntervals(params, dataset, out, input);
   input.intervals = out.intervals.intervals;
   const algo::PairAgreement* conflict =
       out.agreement ? out.agreement->wheelsGyroConflict() : nullptr;
   if (conflict && params.exclude_disagreement)
     out.intervals_excluded = dropDisagreeing(input.intervals, *conflict);
-  std::vector<algo::CalibrationMethod> applicable;
-  for (const algo::CalibrationMethod m : methods) {
-    const auto missing = params.only_applicable ? algo::missingInput(m, input) : std::nullopt;
-    if (missing)
-      out.not_applicable.push_back({m, *missing});
-    else
-      applicable.push_back(m);
-  }
+  const std::vector<algo::CalibrationMethod> applicable = applicableMethods(params, input, out);
   if (conflict && params.refuse_on_disagreement && !params.exclude_disagreement) {
     out.runs = refusedRuns(applicable, algo::wheelsGyroConflictText(*out.agreement));
     return out;
