@@ -99,6 +99,9 @@ DatasetCalibration calibrateForTwin(const std::string& dir, const Dataset& datas
   c.methods = {algo::CalibrationMethod::kJoint};
   c.motion.source = MotionSource::kMap;
   c.motion.intervals.keyframe_translation_m = 0.2;
+  // The twin compares sigma(b) itself, also where it is too large for calibrate to accept the
+  // estimate (undetermined): the statistic must not vanish where it is largest.
+  c.params.max_relative_sigma = 0.0;
   return calibrateDataset(c, dataset);
 }
 
