@@ -14,32 +14,34 @@ double ratio(double calibrated, double raw) {
   return raw > 0.0 ? calibrated / raw : 0.0;
 }
 
-std::string geometryCause(const ValidationFigures& v) {
-  char cause[400];
-  std::snprintf(cause, sizeof cause,
-                "on the held-out %.0f %% the calibrated geometry predicts the motion worse than "
-                "the nominal (translation %.3f vs %.3f m, rotation %.2f vs %.2f deg): the "
-                "calibration part does not pin the geometry down (little turning or straight "
-                "driving, slip, a clock lag) or the robot changed; keep the nominal or "
-                "calibrate on a longer drive",
-                v.fraction * 100.0, v.calibrated.trans_m, v.raw.trans_m, v.calibrated.rot_deg,
+// "on the held-out F % the calibrated WHAT predicts the motion worse than the nominal (...)".
+std::string worseThanNominal(const ValidationFigures& v, const char* what) {
+  char text[240];
+  std::snprintf(text, sizeof text,
+                "on the held-out %.0f %% the calibrated %s predicts the motion worse than the "
+                "nominal (translation %.3f vs %.3f m, rotation %.2f vs %.2f deg)",
+                v.fraction * 100.0, what, v.calibrated.trans_m, v.raw.trans_m, v.calibrated.rot_deg,
                 v.raw.rot_deg);
-  return cause;
+  return text;
+}
+
+std::string geometryCause(const ValidationFigures& v) {
+  return worseThanNominal(v, "geometry") +
+         ": the calibration part does not pin the geometry down (little turning or straight "
+         "driving, slip, a clock lag) or the robot changed; keep the nominal or calibrate on a "
+         "longer drive";
 }
 
 // Worse only through the mount: a lidar offset is seen in turns, and little turning leaves it
 // loose.
 std::string mountCause(const ValidationFigures& v) {
-  char cause[480];
-  std::snprintf(cause, sizeof cause,
-                "on the held-out %.0f %% the calibrated lidar mount predicts the motion worse "
-                "than the nominal (translation %.3f vs %.3f m, rotation %.2f vs %.2f deg), the "
-                "calibrated wheels with the dataset's mount do not (%.3f m, %.2f deg): the "
-                "recording does not pin the mount down (too little turning); keep the dataset's "
-                "mount",
-                v.fraction * 100.0, v.calibrated.trans_m, v.raw.trans_m, v.calibrated.rot_deg,
-                v.raw.rot_deg, v.calibrated_wheels->trans_m, v.calibrated_wheels->rot_deg);
-  return cause;
+  char wheels[160];
+  std::snprintf(wheels, sizeof wheels,
+                ", the calibrated wheels with the dataset's mount do not (%.3f m, %.2f deg)",
+                v.calibrated_wheels->trans_m, v.calibrated_wheels->rot_deg);
+  return worseThanNominal(v, "lidar mount") + wheels +
+         ": the recording does not pin the mount down (too little turning); keep the dataset's "
+         "mount";
 }
 
 }  // namespace
