@@ -237,55 +237,52 @@ void printHeader(const DeskewFlags& flags, const Dataset& d, const Geometry& geo
             << "\n";
 }
 
-int runDeskew(const DeskewFlags& given) {
-  const DeskewFlags flags = checkFlags(given);
-  Dataset d = eval::readDataset(flags.dataset);
-  if (d.scans.empty()) throw InputError(flags.dataset, "has no scans to de-skew");
-  const std::string stamps =
-      flags.stamps == "auto" ? algo::stampsSummary(algo::regularizeStamps(d)) : "";
-  const Geometry geometry = chooseGeometry(flags, d);
-  // Odometry for the chosen geometry: the dataset's own for nominal, else re-integrated.
-  const PoseSeries odometry =
-      geometry.source == "nominal" && !d.odom_nominal.empty()
-          ? d.odom_nominal
-          : integrateEncoders(d.encoders, geometry.wheels, d.info.ticks_per_revolution);
-  const MethodChoice methods = chooseMethods(flags, d, !odometry.empty());
-  printHeader(flags, d, geometry);
-  std::cout << stamps;
+/// Odometry for the chosen geometry: the dataset's own for nominal, else re-integrated.
+PoseSeries odometryForGeometry(const Dataset& d, const Geometry& geometry) {
+  return geometry.source == "nominal" && !d.odom_nominal.empty()
+             ? d.odom_nominal
+             : integrateEncoders(d.encoders, geometry.wheels, d.info.ticks_per_revolution);
+}
+
+/// What the methods run so far add up to: their --json objects, refusals and written files.
+struct DeskewTally {
   nlohmann::ordered_json json = nlohmann::ordered_json::array();
   std::size_t fully_refused = 0, with_refusals = 0;
   std::map<std::string, int> refused_by_reason;  // over every method run
   std::vector<std::string> written;
-  // Every method in turn; with --out its scans go into the folder being published.
-  auto runAll = [&](const fs::path* partial) {
-    CommandProgress progress(methods.run.size(), "methods", "deskew", !flags.quiet);
-    for (const auto m : methods.run) {
-      const MethodRun run = runMethod(m, d, odometry, geometry, flags);
-      progress.advance(std::string(algo::deskewMethodName(m)));
-      progress.clearLine();
-      printRow(run);
-      json.push_back(toJson(run));
-      fully_refused += run.result.refused == static_cast<int>(d.scans.size());
-      with_refusals += run.result.refused > 0;
-      for (const auto& [reason, n] : eval::refusedByReason(run.result.refusals))
-        refused_by_reason[reason] += n;
-      if (!partial) continue;
-      const std::string name = "deskewed_" + std::string(algo::deskewMethodName(m)) + ".jsonl";
-      writeFileAtomic(*partial / name,
-                      eval::formatScans(run.output, (fs::path(flags.out) / name).string()));
-      written.push_back(name);
-    }
-  };
-  if (flags.out.empty()) {
-    runAll(nullptr);
-  } else {
-    eval::publishDirectoryAtomically(flags.out, [&](const fs::path& partial) {
-      eval::writeDatasetFiles(partial, d, flags.out);
-      runAll(&partial);
-    });
+
+  void add(const MethodRun& run, std::size_t scan_count) {
+    json.push_back(toJson(run));
+    fully_refused += run.result.refused == static_cast<int>(scan_count);
+    with_refusals += run.result.refused > 0;
+    for (const auto& [reason, n] : eval::refusedByReason(run.result.refusals))
+      refused_by_reason[reason] += n;
   }
-  if (!refused_by_reason.empty())
-    std::cout << "refused scans by reason, all methods: " << reasonCounts(refused_by_reason)
+};
+
+/// Every method in turn, one table row each; with --out its scans go into the folder being
+/// published (partial).
+void runMethods(const DeskewFlags& flags, const MethodChoice& methods, const Dataset& d,
+                const PoseSeries& odometry, const Geometry& geometry, const fs::path* partial,
+                DeskewTally& tally) {
+  CommandProgress progress(methods.run.size(), "methods", "deskew", !flags.quiet);
+  for (const auto m : methods.run) {
+    const MethodRun run = runMethod(m, d, odometry, geometry, flags);
+    progress.advance(std::string(algo::deskewMethodName(m)));
+    progress.clearLine();
+    printRow(run);
+    tally.add(run, d.scans.size());
+    if (!partial) continue;
+    const std::string name = "deskewed_" + std::string(algo::deskewMethodName(m)) + ".jsonl";
+    writeFileAtomic(*partial / name,
+                    eval::formatScans(run.output, (fs::path(flags.out) / name).string()));
+    tally.written.push_back(name);
+  }
+}
+
+void printFooter(const DeskewFlags& flags, const MethodChoice& methods, const DeskewTally& tally) {
+  if (!tally.refused_by_reason.empty())
+    std::cout << "refused scans by reason, all methods: " << reasonCounts(tally.refused_by_reason)
               << "\n";
   for (const auto& [m, reason] : methods.not_applicable)
     std::cout << std::left << std::setw(16) << algo::deskewMethodName(m)
@@ -293,15 +290,44 @@ int runDeskew(const DeskewFlags& given) {
   if (flags.out.empty())
     std::cout << "no --out: no de-skewed scans written\n";
   else
-    std::cout << "wrote " << flags.out << ": a copy of the dataset plus " << joined(written, ", ")
-              << "\n";
-  if (!flags.json_out.empty()) writeFileAtomic(flags.json_out, json.dump(2) + "\n");
-  // An explicitly asked method that does not apply is a refusal; under `all` it is not asked.
+    std::cout << "wrote " << flags.out << ": a copy of the dataset plus "
+              << joined(tally.written, ", ") << "\n";
+}
+
+/// An explicitly asked method that does not apply is a refusal; under `all` it is not asked.
+int deskewExitCode(const DeskewFlags& flags, const MethodChoice& methods,
+                   const DeskewTally& tally) {
   const std::size_t asked_refused =
-      fully_refused + (flags.method == "all" ? 0 : methods.not_applicable.size());
+      tally.fully_refused + (flags.method == "all" ? 0 : methods.not_applicable.size());
   const std::size_t asked =
       methods.run.size() + (flags.method == "all" ? 0 : methods.not_applicable.size());
-  return refusalExitCode(asked_refused == asked, with_refusals + asked_refused > 0, flags.strict);
+  return refusalExitCode(asked_refused == asked, tally.with_refusals + asked_refused > 0,
+                         flags.strict);
+}
+
+int runDeskew(const DeskewFlags& given) {
+  const DeskewFlags flags = checkFlags(given);
+  Dataset d = eval::readDataset(flags.dataset);
+  if (d.scans.empty()) throw InputError(flags.dataset, "has no scans to de-skew");
+  const std::string stamps =
+      flags.stamps == "auto" ? algo::stampsSummary(algo::regularizeStamps(d)) : "";
+  const Geometry geometry = chooseGeometry(flags, d);
+  const PoseSeries odometry = odometryForGeometry(d, geometry);
+  const MethodChoice methods = chooseMethods(flags, d, !odometry.empty());
+  printHeader(flags, d, geometry);
+  std::cout << stamps;
+  DeskewTally tally;
+  if (flags.out.empty()) {
+    runMethods(flags, methods, d, odometry, geometry, nullptr, tally);
+  } else {
+    eval::publishDirectoryAtomically(flags.out, [&](const fs::path& partial) {
+      eval::writeDatasetFiles(partial, d, flags.out);
+      runMethods(flags, methods, d, odometry, geometry, &partial, tally);
+    });
+  }
+  printFooter(flags, methods, tally);
+  if (!flags.json_out.empty()) writeFileAtomic(flags.json_out, tally.json.dump(2) + "\n");
+  return deskewExitCode(flags, methods, tally);
 }
 
 }  // namespace

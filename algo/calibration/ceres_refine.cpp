@@ -109,6 +109,107 @@ Eigen::MatrixXd longRunCovariance(const Eigen::MatrixXd& C, const Eigen::MatrixX
   return C * B * C;
 }
 
+/// True, with the reason in result, when Ceres cannot start: the closed form refused, or both
+/// extra scalars were asked for.
+bool refusedBeforeSolving(const JointResult& start, const CeresParams& params,
+                          CeresResult& result) {
+  if (!start.ok) {
+    result.reason = "closed-form start (joint) refused: " + start.reason;
+    result.condition_number = start.condition_number;
+    return true;
+  }
+  if (params.estimate_time_offset && params.estimate_sideslip) {
+    result.reason = "the time offset and the sideslip cannot be estimated together";
+    return true;
+  }
+  return false;
+}
+
+/// The first pass's whitening: the closed form's noise, translation sigmas pooled over x and y.
+Eigen::Vector3d startSigma(const JointResult& start, const CeresParams& params) {
+  const double sigma_t =
+      std::sqrt(0.5 * (start.sigma_x_m * start.sigma_x_m + start.sigma_y_m * start.sigma_y_m));
+  Eigen::Vector3d sigma(sigma_t, sigma_t, start.sigma_theta_rad);
+  return sigma.cwiseMax(params.min_sigma);
+}
+
+ceres::Solver::Options solverOptions(const CeresParams& params) {
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = params.max_iterations;
+  options.function_tolerance = 1e-14;
+  options.gradient_tolerance = 1e-14;
+  options.parameter_tolerance = 1e-14;
+  options.num_threads = 1;
+  return options;
+}
+
+std::string unidentifiableReason(double condition_number, const CeresParams& params) {
+  return "parameters not identifiable (condition number " + std::to_string(condition_number) + ")" +
+         (params.estimate_time_offset
+              ? ": the time offset needs wheel rates that change across interval "
+                "boundaries (mean-rate records cannot determine it)"
+              : "");
+}
+
+/// Ceres' covariance C = (J^T J)^-1 of p and, when estimated, the extra scalar after it (an
+/// m_blocks square); false when J^T J is rank deficient.
+bool blockCovariance(ceres::Problem& problem, double* p, double* extra, int m_blocks,
+                     Eigen::MatrixXd& C) {
+  ceres::Covariance::Options cov_options;
+  cov_options.algorithm_type = ceres::DENSE_SVD;
+  cov_options.num_threads = 1;
+  ceres::Covariance covariance(cov_options);
+  std::vector<std::pair<const double*, const double*>> pairs = {{p, p}};
+  if (extra) pairs.insert(pairs.end(), {{p, extra}, {extra, extra}});
+  if (!covariance.Compute(pairs, &problem)) return false;
+  C = Eigen::MatrixXd::Zero(m_blocks, m_blocks);
+  Eigen::Matrix<double, 6, 6, Eigen::RowMajor> cov_pp;
+  covariance.GetCovarianceBlock(p, p, cov_pp.data());
+  C.topLeftCorner<6, 6>() = cov_pp;
+  if (extra) {
+    Eigen::Matrix<double, 6, 1> cov_pe;
+    covariance.GetCovarianceBlock(p, extra, cov_pe.data());
+    covariance.GetCovarianceBlock(extra, extra, &C(6, 6));
+    C.block<6, 1>(0, 6) = cov_pe;
+    C.block<1, 6>(6, 0) = cov_pe.transpose();
+  }
+  return true;
+}
+
+/// The final pass's verdict and covariance: condition number, convergence, identifiability,
+/// then the long-run covariance of p (and the extra scalar's sigma). False: refused.
+bool finalCovariance(ceres::Problem& problem, const ceres::Solver::Summary& summary,
+                     const std::vector<CalibrationInterval>& intervals, const CeresParams& params,
+                     const Eigen::Vector3d& sigma, const Eigen::Vector3d& refined, double* p,
+                     double* extra, CeresResult& result) {
+  std::vector<double*> blocks = {p};
+  if (extra) blocks.push_back(extra);
+  std::vector<double> residuals;
+  const Eigen::MatrixXd J = whitenedJacobian(problem, blocks, &residuals);
+  result.condition_number = equilibratedConditionNumber(J);
+  if (summary.termination_type != ceres::CONVERGENCE) {
+    result.reason = "Ceres did not converge: " + summary.BriefReport();
+    return false;
+  }
+  if (!(result.condition_number <= params.max_condition_number)) {
+    result.reason = unidentifiableReason(result.condition_number, params);
+    return false;
+  }
+  Eigen::MatrixXd C;
+  if (!blockCovariance(problem, p, extra, static_cast<int>(J.cols()), C)) {
+    result.reason = "covariance rank deficient: parameters not identifiable from these intervals";
+    return false;
+  }
+  const Eigen::MatrixXd cov =
+      longRunCovariance(C, J, residuals, intervals, sigma, refined, params.heading_loops);
+  result.covariance = cov.topLeftCorner<6, 6>();
+  const double extra_sigma = extra ? std::sqrt(std::max(0.0, cov(6, 6))) : 0.0;
+  if (params.estimate_time_offset) result.time_offset_sigma_s = extra_sigma;
+  if (params.estimate_sideslip) result.sideslip_sigma_s = extra_sigma;
+  return true;
+}
+
 }  // namespace
 
 CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
@@ -120,15 +221,7 @@ CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
                            const JointResult& start, const CeresParams& params) {
   CeresResult result;
   result.estimates_mount = true;
-  if (!start.ok) {
-    result.reason = "closed-form start (joint) refused: " + start.reason;
-    result.condition_number = start.condition_number;
-    return result;
-  }
-  if (params.estimate_time_offset && params.estimate_sideslip) {
-    result.reason = "the time offset and the sideslip cannot be estimated together";
-    return result;
-  }
+  if (refusedBeforeSolving(start, params, result)) return result;
   const int n = static_cast<int>(intervals.size());
   const int m = 6 + (params.estimate_time_offset ? 1 : 0) + (params.estimate_sideslip ? 1 : 0);
   double p[6] = {start.geometry.radius_left_m, start.geometry.radius_right_m,
@@ -136,24 +229,17 @@ CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
                  start.T_base_lidar.y,         start.T_base_lidar.yaw};
   double offset = 0.0;
   double sideslip = params.estimate_sideslip ? start.sideslip_s : 0.0;  // 0 unless joint had it
-  const double sigma_t =
-      std::sqrt(0.5 * (start.sigma_x_m * start.sigma_x_m + start.sigma_y_m * start.sigma_y_m));
-  Eigen::Vector3d sigma(sigma_t, sigma_t, start.sigma_theta_rad);
-  sigma = sigma.cwiseMax(params.min_sigma);
-
+  // The estimated scalars beside p: the time offset or the sideslip (never both).
+  double* extra = params.estimate_time_offset ? &offset
+                  : params.estimate_sideslip  ? &sideslip
+                                              : nullptr;
+  Eigen::Vector3d sigma = startSigma(start, params);
   // Two passes: whiten with the closed form's noise estimate, then with the refined residuals'.
   ceres::Solver::Summary summary;
   for (int pass = 0; pass < 2; ++pass) {
     ceres::Problem problem;
     buildProblem(intervals, sigma, params, p, &offset, &sideslip, problem);
-    ceres::Solver::Options options;
-    options.linear_solver_type = ceres::DENSE_QR;
-    options.max_num_iterations = params.max_iterations;
-    options.function_tolerance = 1e-14;
-    options.gradient_tolerance = 1e-14;
-    options.parameter_tolerance = 1e-14;
-    options.num_threads = 1;
-    ceres::Solve(options, &problem, &summary);
+    ceres::Solve(solverOptions(params), &problem, &summary);
     result.iterations += static_cast<int>(summary.iterations.size());
     const Eigen::Vector3d refined = residualSigma(problem, sigma, n, m).cwiseMax(params.min_sigma);
     if (pass == 0) {
@@ -163,56 +249,8 @@ CeresResult calibrateCeres(const std::vector<CalibrationInterval>& intervals,
     result.sigma_residual = refined;
     result.termination = ceres::TerminationTypeToString(summary.termination_type);
     result.cost = 2.0 * summary.final_cost;
-    // The estimated scalars beside p: the time offset or the sideslip (never both).
-    double* extra = params.estimate_time_offset ? &offset
-                    : params.estimate_sideslip  ? &sideslip
-                                                : nullptr;
-    std::vector<double*> blocks = {p};
-    if (extra) blocks.push_back(extra);
-    std::vector<double> residuals;
-    const Eigen::MatrixXd J = whitenedJacobian(problem, blocks, &residuals);
-    result.condition_number = equilibratedConditionNumber(J);
-    if (summary.termination_type != ceres::CONVERGENCE) {
-      result.reason = "Ceres did not converge: " + summary.BriefReport();
+    if (!finalCovariance(problem, summary, intervals, params, sigma, refined, p, extra, result))
       return result;
-    }
-    if (!(result.condition_number <= params.max_condition_number)) {
-      result.reason = "parameters not identifiable (condition number " +
-                      std::to_string(result.condition_number) + ")" +
-                      (params.estimate_time_offset
-                           ? ": the time offset needs wheel rates that change across interval "
-                             "boundaries (mean-rate records cannot determine it)"
-                           : "");
-      return result;
-    }
-    ceres::Covariance::Options cov_options;
-    cov_options.algorithm_type = ceres::DENSE_SVD;
-    cov_options.num_threads = 1;
-    ceres::Covariance covariance(cov_options);
-    std::vector<std::pair<const double*, const double*>> pairs = {{p, p}};
-    if (extra) pairs.insert(pairs.end(), {{p, extra}, {extra, extra}});
-    if (!covariance.Compute(pairs, &problem)) {
-      result.reason = "covariance rank deficient: parameters not identifiable from these intervals";
-      return result;
-    }
-    const int m_blocks = static_cast<int>(J.cols());
-    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(m_blocks, m_blocks);
-    Eigen::Matrix<double, 6, 6, Eigen::RowMajor> cov_pp;
-    covariance.GetCovarianceBlock(p, p, cov_pp.data());
-    C.topLeftCorner<6, 6>() = cov_pp;
-    if (extra) {
-      Eigen::Matrix<double, 6, 1> cov_pe;
-      covariance.GetCovarianceBlock(p, extra, cov_pe.data());
-      covariance.GetCovarianceBlock(extra, extra, &C(6, 6));
-      C.block<6, 1>(0, 6) = cov_pe;
-      C.block<1, 6>(6, 0) = cov_pe.transpose();
-    }
-    const Eigen::MatrixXd cov =
-        longRunCovariance(C, J, residuals, intervals, sigma, refined, params.heading_loops);
-    result.covariance = cov.topLeftCorner<6, 6>();
-    const double extra_sigma = extra ? std::sqrt(std::max(0.0, cov(6, 6))) : 0.0;
-    if (params.estimate_time_offset) result.time_offset_sigma_s = extra_sigma;
-    if (params.estimate_sideslip) result.sideslip_sigma_s = extra_sigma;
   }
   result.geometry = {p[0], p[1], p[2]};
   result.T_base_lidar = SE2(p[3], p[4], p[5]);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -80,100 +81,134 @@ PoseSeries calibratedOdometry(const ExportInput& input) {
   return calibratedOdometry(input.dataset, input.source, c.geometry, c.derived_with);
 }
 
-std::string formatCarmen(const Dataset& d, const std::vector<ScanRecord>& scans,
-                         const ExportParams& p, std::size_t* skipped_scans) {
-  struct Line {
-    double stamp_s;
-    int order;  // ODOM before a ROBOTLASER1 of the same stamp
-    std::string text;
-  };
-  std::vector<Line> lines;
-  const PoseSeries& odom = d.odom_nominal;
-  for (std::size_t k = 0; k < odom.size(); ++k) {
-    const SE2& T = odom[k].value;
-    const Eigen::Vector3d xi = twistAt(odom, k);
-    std::string s = "ODOM";
-    for (double v : {T.x, T.y, T.yaw, xi.x(), xi.z(), 0.0, odom[k].stamp_s}) {
-      s += ' ';
-      slamprep::eval::appendDouble(s, v);
-    }
-    s += ' ' + p.carmen_hostname + ' ';
-    slamprep::eval::appendDouble(s, odom[k].stamp_s);
-    lines.push_back({odom[k].stamp_s, 0, s + "\n"});
+namespace {
+
+/// One line of a CARMEN log, with what orders it in the log.
+struct CarmenLine {
+  double stamp_s;
+  int order;  // ODOM before a ROBOTLASER1 of the same stamp
+  std::string text;
+};
+
+/// Appends each value after a space, in the shortest round-trip text.
+void appendSpacedDoubles(std::string& s, std::initializer_list<double> values) {
+  for (double v : values) {
+    s += ' ';
+    slamprep::eval::appendDouble(s, v);
   }
-  // CARMEN has no "no return": such beams read max_range. An unlimited range_max becomes the
-  // longest finite reading of the log plus one metre.
+}
+
+/// The " hostname logger_timestamp" that ends every CARMEN message line.
+void appendCarmenTrailer(std::string& s, const std::string& hostname, double stamp_s) {
+  s += ' ' + hostname + ' ';
+  slamprep::eval::appendDouble(s, stamp_s);
+  s += "\n";
+}
+
+/// ODOM x y theta tv rv accel timestamp for pose k of the nominal odometry.
+CarmenLine carmenOdomLine(const PoseSeries& odom, std::size_t k, const std::string& hostname) {
+  const SE2& T = odom[k].value;
+  const Eigen::Vector3d xi = twistAt(odom, k);
+  std::string s = "ODOM";
+  appendSpacedDoubles(s, {T.x, T.y, T.yaw, xi.x(), xi.z(), 0.0, odom[k].stamp_s});
+  appendCarmenTrailer(s, hostname, odom[k].stamp_s);
+  return {odom[k].stamp_s, 0, s};
+}
+
+/// CARMEN has no "no return": such beams read max_range. An unlimited range_max becomes the
+/// longest finite reading of the log plus one metre.
+double carmenUnlimitedMaxRange(const std::vector<ScanRecord>& scans) {
   double longest_m = 0.0;
   for (const auto& r : scans)
     for (double v : r.scan.ranges_m)
       if (std::isfinite(v)) longest_m = std::max(longest_m, v);
-  std::size_t skipped = 0;
-  for (const auto& record : scans) {
-    const LaserScan& scan = record.scan;
-    const auto T_odom_base = odom.at(scan.stamp_s);
-    if (!T_odom_base || scan.size() == 0) {
-      ++skipped;
-      continue;
-    }
-    const double max_range =
-        std::isfinite(scan.range_max_m) ? scan.range_max_m : std::floor(longest_m) + 1.0;
-    // CARMEN angles increase: a clockwise scan is written last beam first.
-    const bool reverse = scan.angle_increment_rad < 0;
-    const std::size_t n = scan.size();
-    const double start = reverse ? scan.beamAngle(n - 1) : scan.angle_min_rad;
-    const double resolution = std::abs(scan.angle_increment_rad);
-    const SE2 laser = *T_odom_base * d.info.T_base_lidar;
-    const Eigen::Vector3d xi = twistAtTime(odom, scan.stamp_s);
-    std::string s = "ROBOTLASER1 0";  // laser_type: 0 (not read by CSM or GMapping)
-    for (double v : {start, resolution * double(n - 1), resolution, max_range, 0.0}) {
-      s += ' ';
-      slamprep::eval::appendDouble(s, v);
-    }
-    s += " 0 " + std::to_string(n);  // remission_mode, num_readings
-    for (std::size_t i = 0; i < n; ++i) {
-      const double r = scan.ranges_m[reverse ? n - 1 - i : i];
-      s += ' ';
-      slamprep::eval::appendDouble(s, std::isfinite(r) ? r : max_range);
-    }
-    s += " 0";  // num_remissions
-    for (double v : {laser.x, laser.y, laser.yaw, T_odom_base->x, T_odom_base->y, T_odom_base->yaw,
-                     xi.x(), xi.z(), 0.0, 0.0, 0.0, scan.stamp_s}) {
-      s += ' ';
-      slamprep::eval::appendDouble(s, v);
-    }
-    s += ' ' + p.carmen_hostname + ' ';
-    slamprep::eval::appendDouble(s, scan.stamp_s);
-    lines.push_back({scan.stamp_s, 1, s + "\n"});
+  return std::floor(longest_m) + 1.0;
+}
+
+/// ROBOTLASER1 for one scan taken at the odometry pose T_odom_base.
+CarmenLine carmenLaserLine(const LaserScan& scan, const SE2& T_odom_base, const PoseSeries& odom,
+                           const SE2& T_base_lidar, double unlimited_max_range,
+                           const std::string& hostname) {
+  const double max_range = std::isfinite(scan.range_max_m) ? scan.range_max_m : unlimited_max_range;
+  // CARMEN angles increase: a clockwise scan is written last beam first.
+  const bool reverse = scan.angle_increment_rad < 0;
+  const std::size_t n = scan.size();
+  const double start = reverse ? scan.beamAngle(n - 1) : scan.angle_min_rad;
+  const double resolution = std::abs(scan.angle_increment_rad);
+  const SE2 laser = T_odom_base * T_base_lidar;
+  const Eigen::Vector3d xi = twistAtTime(odom, scan.stamp_s);
+  std::string s = "ROBOTLASER1 0";  // laser_type: 0 (not read by CSM or GMapping)
+  appendSpacedDoubles(s, {start, resolution * double(n - 1), resolution, max_range, 0.0});
+  s += " 0 " + std::to_string(n);  // remission_mode, num_readings
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = scan.ranges_m[reverse ? n - 1 - i : i];
+    appendSpacedDoubles(s, {std::isfinite(r) ? r : max_range});
   }
-  std::stable_sort(lines.begin(), lines.end(), [](const Line& a, const Line& b) {
-    return a.stamp_s != b.stamp_s ? a.stamp_s < b.stamp_s : a.order < b.order;
-  });
-  std::string out =
-      "# CARMEN log written by slamprep (docs/export.md)\n"
-      "# ODOM x y theta tv rv accel timestamp hostname logger_timestamp\n"
-      "# ROBOTLASER1 laser_type start_angle field_of_view angular_resolution maximum_range "
-      "accuracy remission_mode num_readings [range_readings] num_remissions [remissions] "
-      "laser_pose_x laser_pose_y laser_pose_theta robot_pose_x robot_pose_y robot_pose_theta "
-      "laser_tv laser_rv forward_safety_dist side_safety_dist turn_axis timestamp hostname "
-      "logger_timestamp\n";
-  // Standard CARMEN parameter, then slamprep's own (other readers skip unknown PARAM names):
-  // what `slamprep import --format carmen` needs to rebuild the dataset exactly.
+  s += " 0";  // num_remissions
+  appendSpacedDoubles(s, {laser.x, laser.y, laser.yaw, T_odom_base.x, T_odom_base.y,
+                          T_odom_base.yaw, xi.x(), xi.z(), 0.0, 0.0, 0.0, scan.stamp_s});
+  appendCarmenTrailer(s, hostname, scan.stamp_s);
+  return {scan.stamp_s, 1, s};
+}
+
+/// The comment lines naming the fields of every message type the log holds.
+std::string carmenHeader() {
+  return "# CARMEN log written by slamprep (docs/export.md)\n"
+         "# ODOM x y theta tv rv accel timestamp hostname logger_timestamp\n"
+         "# ROBOTLASER1 laser_type start_angle field_of_view angular_resolution maximum_range "
+         "accuracy remission_mode num_readings [range_readings] num_remissions [remissions] "
+         "laser_pose_x laser_pose_y laser_pose_theta robot_pose_x robot_pose_y robot_pose_theta "
+         "laser_tv laser_rv forward_safety_dist side_safety_dist turn_axis timestamp hostname "
+         "logger_timestamp\n";
+}
+
+/// Standard CARMEN parameter, then slamprep's own (other readers skip unknown PARAM names):
+/// what `slamprep import --format carmen` needs to rebuild the dataset exactly.
+std::string carmenParams(const DatasetInfo& info, const std::vector<ScanRecord>& scans,
+                         const std::string& hostname) {
+  std::string out;
   auto param = [&](const char* name, double value) {
     out += std::string("PARAM ") + name + ' ';
     slamprep::eval::appendDouble(out, value);
-    out += ' ' + p.carmen_hostname + " 0\n";
+    out += ' ' + hostname + " 0\n";
   };
-  param("robot_frontlaser_offset", d.info.T_base_lidar.x);
-  param("robot_frontlaser_side_offset", d.info.T_base_lidar.y);
-  param("robot_frontlaser_angular_offset", d.info.T_base_lidar.yaw);
-  param("slamprep_nominal_r_L", d.info.nominal_geometry.radius_left_m);
-  param("slamprep_nominal_r_R", d.info.nominal_geometry.radius_right_m);
-  param("slamprep_nominal_b", d.info.nominal_geometry.wheel_base_m);
+  param("robot_frontlaser_offset", info.T_base_lidar.x);
+  param("robot_frontlaser_side_offset", info.T_base_lidar.y);
+  param("robot_frontlaser_angular_offset", info.T_base_lidar.yaw);
+  param("slamprep_nominal_r_L", info.nominal_geometry.radius_left_m);
+  param("slamprep_nominal_r_R", info.nominal_geometry.radius_right_m);
+  param("slamprep_nominal_b", info.nominal_geometry.wheel_base_m);
   if (!scans.empty()) {
     param("slamprep_time_increment", std::abs(scans.front().scan.time_increment_s));
     param("slamprep_scan_time", scans.front().scan.scan_time_s);
   }
-  for (const Line& l : lines) out += l.text;
+  return out;
+}
+
+}  // namespace
+
+std::string formatCarmen(const Dataset& d, const std::vector<ScanRecord>& scans,
+                         const ExportParams& p, std::size_t* skipped_scans) {
+  std::vector<CarmenLine> lines;
+  const PoseSeries& odom = d.odom_nominal;
+  for (std::size_t k = 0; k < odom.size(); ++k)
+    lines.push_back(carmenOdomLine(odom, k, p.carmen_hostname));
+  const double unlimited_max_range = carmenUnlimitedMaxRange(scans);
+  std::size_t skipped = 0;
+  for (const auto& record : scans) {
+    const auto T_odom_base = odom.at(record.scan.stamp_s);
+    if (!T_odom_base || record.scan.size() == 0) {
+      ++skipped;
+      continue;
+    }
+    lines.push_back(carmenLaserLine(record.scan, *T_odom_base, odom, d.info.T_base_lidar,
+                                    unlimited_max_range, p.carmen_hostname));
+  }
+  std::stable_sort(lines.begin(), lines.end(), [](const CarmenLine& a, const CarmenLine& b) {
+    return a.stamp_s != b.stamp_s ? a.stamp_s < b.stamp_s : a.order < b.order;
+  });
+  std::string out = carmenHeader() + carmenParams(d.info, scans, p.carmen_hostname);
+  for (const CarmenLine& l : lines) out += l.text;
   if (skipped_scans) *skipped_scans = skipped;
   return out;
 }
@@ -280,101 +315,136 @@ std::string formatKittiPoses(const std::vector<SE2>& poses) {
   return out;
 }
 
+namespace {
+
+/// Writes one output file atomically and lists it in the result.
+void writeExportFile(ExportResult& result, const fs::path& file, const std::string& text) {
+  writeFileAtomic(file, text);
+  result.files.push_back(file);
+}
+
+void exportMcap(const ExportInput& input, const fs::path& out, const ExportParams& params,
+                ExportResult& result) {
+  const Dataset& d = input.dataset;
+  if (d.scans.empty()) throw InputError(out.string(), "the dataset has no scans to export");
+  writeMcapFile(out, input, params, &result.counts);
+  result.files.push_back(out);
+  if (!d.hasTruth()) result.notes.push_back("no ground truth: /ground_truth not written");
+}
+
+void exportCarmen(const ExportInput& input, const fs::path& out, const ExportParams& params,
+                  ExportResult& result) {
+  const Dataset& d = input.dataset;
+  const auto& scans = chosenScans(input, params);
+  requireScans(scans, params.scans);
+  std::size_t skipped = 0;
+  writeExportFile(result, out, formatCarmen(d, scans, params, &skipped));
+  result.counts["ODOM"] = d.odom_nominal.size();
+  result.counts["ROBOTLASER1"] = scans.size() - skipped;
+  if (skipped)
+    result.notes.push_back(std::to_string(skipped) +
+                           " scans outside the odometry (or empty) were left out");
+}
+
+void exportCsm(const ExportInput& input, const fs::path& out, const ExportParams& params,
+               ExportResult& result) {
+  const auto& scans = chosenScans(input, params);
+  requireScans(scans, params.scans);
+  writeExportFile(result, out, formatCsm(scans));
+  result.counts["laser_data"] = scans.size();
+  result.notes.push_back(sm2CommandLine(out, input.dataset.info.T_base_lidar));
+}
+
+void exportTum(const ExportInput& input, const fs::path& out, ExportResult& result) {
+  const Dataset& d = input.dataset;
+  // Odometry is anchored at the true start pose (when there is truth) so that evo compares
+  // it with the ground truth without alignment; the calibrated odometry shares the frame.
+  const std::optional<SE2> T_world_odom =
+      d.hasTruth() ? anchorOnTruth(d.odom_nominal, d.groundtruth) : std::nullopt;
+  auto anchored = [&](const PoseSeries& poses) {
+    return T_world_odom ? inWorld(poses, *T_world_odom) : poses;
+  };
+  if (d.hasTruth()) {
+    writeExportFile(result, out / "groundtruth.tum",
+                    slamprep::eval::formatTum(d.groundtruth, "groundtruth.tum"));
+    result.counts["groundtruth"] = d.groundtruth.size();
+  }
+  writeExportFile(result, out / "odom_nominal.tum",
+                  slamprep::eval::formatTum(anchored(d.odom_nominal), "odom_nominal.tum"));
+  result.counts["odom_nominal"] = d.odom_nominal.size();
+  if (input.calibration) {
+    const PoseSeries cal = calibratedOdometry(input);
+    writeExportFile(result, out / "odom_calibrated.tum",
+                    slamprep::eval::formatTum(anchored(cal), "odom_calibrated.tum"));
+    result.counts["odom_calibrated"] = cal.size();
+  }
+}
+
+using NamedTrajectories = std::vector<std::pair<std::string, PoseSeries>>;
+
+/// The scan stamps at which every trajectory is defined.
+std::vector<double> stampsCoveredByAll(const std::vector<ScanRecord>& scans,
+                                       const NamedTrajectories& trajectories) {
+  std::vector<double> times;
+  for (const auto& r : scans) {
+    bool all = true;
+    for (const auto& [name, poses] : trajectories) all = all && poses.covers(r.scan.stamp_s);
+    if (all) times.push_back(r.scan.stamp_s);
+  }
+  return times;
+}
+
+void exportKitti(const ExportInput& input, const fs::path& out, ExportResult& result) {
+  const Dataset& d = input.dataset;
+  // KITTI files have no stamps and pair poses by line: every trajectory is sampled at the
+  // scan stamps where all of them are defined, each relative to its own first pose.
+  NamedTrajectories trajectories;
+  if (d.hasTruth()) trajectories.emplace_back("groundtruth", d.groundtruth);
+  trajectories.emplace_back("odom_nominal", d.odom_nominal);
+  if (input.calibration) trajectories.emplace_back("odom_calibrated", calibratedOdometry(input));
+  const std::vector<double> times = stampsCoveredByAll(d.scans, trajectories);
+  if (times.empty()) throw InputError(out.string(), "no scan stamp is covered by every trajectory");
+  std::string times_text;
+  for (double t : times) {
+    slamprep::eval::appendDouble(times_text, t);
+    times_text += '\n';
+  }
+  for (const auto& [name, poses] : trajectories) {
+    const SE2 first_inv = poses.at(times.front())->inverse();
+    std::vector<SE2> rel;
+    for (double t : times) rel.push_back(first_inv * *poses.at(t));
+    writeExportFile(result, out / (name + ".txt"), formatKittiPoses(rel));
+    result.counts[name] = rel.size();
+  }
+  writeExportFile(result, out / "times.txt", times_text);
+}
+
+}  // namespace
+
 ExportResult exportDataset(const ExportInput& input, ExportFormat format, const fs::path& out,
                            const ExportParams& params) {
   ExportResult result;
   result.notes = input.notes;
-  const Dataset& d = input.dataset;
-  auto write = [&](const fs::path& file, const std::string& text) {
-    writeFileAtomic(file, text);
-    result.files.push_back(file);
-  };
   if (!input.calibration && input.notes.empty() &&
       (format == ExportFormat::kMcap || format == ExportFormat::kTum ||
        format == ExportFormat::kKitti))
     result.notes.push_back("no calibration JSON: calibrated odometry not written");
   switch (format) {
-    case ExportFormat::kMcap: {
-      if (d.scans.empty()) throw InputError(out.string(), "the dataset has no scans to export");
-      writeMcapFile(out, input, params, &result.counts);
-      result.files.push_back(out);
-      if (!d.hasTruth()) result.notes.push_back("no ground truth: /ground_truth not written");
+    case ExportFormat::kMcap:
+      exportMcap(input, out, params, result);
       break;
-    }
-    case ExportFormat::kCarmen: {
-      const auto& scans = chosenScans(input, params);
-      requireScans(scans, params.scans);
-      std::size_t skipped = 0;
-      write(out, formatCarmen(d, scans, params, &skipped));
-      result.counts["ODOM"] = d.odom_nominal.size();
-      result.counts["ROBOTLASER1"] = scans.size() - skipped;
-      if (skipped)
-        result.notes.push_back(std::to_string(skipped) +
-                               " scans outside the odometry (or empty) were left out");
+    case ExportFormat::kCarmen:
+      exportCarmen(input, out, params, result);
       break;
-    }
-    case ExportFormat::kCsm: {
-      const auto& scans = chosenScans(input, params);
-      requireScans(scans, params.scans);
-      write(out, formatCsm(scans));
-      result.counts["laser_data"] = scans.size();
-      result.notes.push_back(sm2CommandLine(out, d.info.T_base_lidar));
+    case ExportFormat::kCsm:
+      exportCsm(input, out, params, result);
       break;
-    }
-    case ExportFormat::kTum: {
-      // Odometry is anchored at the true start pose (when there is truth) so that evo compares
-      // it with the ground truth without alignment; the calibrated odometry shares the frame.
-      const std::optional<SE2> T_world_odom =
-          d.hasTruth() ? anchorOnTruth(d.odom_nominal, d.groundtruth) : std::nullopt;
-      auto anchored = [&](const PoseSeries& poses) {
-        return T_world_odom ? inWorld(poses, *T_world_odom) : poses;
-      };
-      if (d.hasTruth()) {
-        write(out / "groundtruth.tum", slamprep::eval::formatTum(d.groundtruth, "groundtruth.tum"));
-        result.counts["groundtruth"] = d.groundtruth.size();
-      }
-      write(out / "odom_nominal.tum",
-            slamprep::eval::formatTum(anchored(d.odom_nominal), "odom_nominal.tum"));
-      result.counts["odom_nominal"] = d.odom_nominal.size();
-      if (input.calibration) {
-        const PoseSeries cal = calibratedOdometry(input);
-        write(out / "odom_calibrated.tum",
-              slamprep::eval::formatTum(anchored(cal), "odom_calibrated.tum"));
-        result.counts["odom_calibrated"] = cal.size();
-      }
+    case ExportFormat::kTum:
+      exportTum(input, out, result);
       break;
-    }
-    case ExportFormat::kKitti: {
-      // KITTI files have no stamps and pair poses by line: every trajectory is sampled at the
-      // scan stamps where all of them are defined, each relative to its own first pose.
-      std::vector<std::pair<std::string, PoseSeries>> trajectories;
-      if (d.hasTruth()) trajectories.emplace_back("groundtruth", d.groundtruth);
-      trajectories.emplace_back("odom_nominal", d.odom_nominal);
-      if (input.calibration)
-        trajectories.emplace_back("odom_calibrated", calibratedOdometry(input));
-      std::vector<double> times;
-      for (const auto& r : d.scans) {
-        bool all = true;
-        for (const auto& [name, poses] : trajectories) all = all && poses.covers(r.scan.stamp_s);
-        if (all) times.push_back(r.scan.stamp_s);
-      }
-      if (times.empty())
-        throw InputError(out.string(), "no scan stamp is covered by every trajectory");
-      std::string times_text;
-      for (double t : times) {
-        slamprep::eval::appendDouble(times_text, t);
-        times_text += '\n';
-      }
-      for (const auto& [name, poses] : trajectories) {
-        const SE2 first_inv = poses.at(times.front())->inverse();
-        std::vector<SE2> rel;
-        for (double t : times) rel.push_back(first_inv * *poses.at(t));
-        write(out / (name + ".txt"), formatKittiPoses(rel));
-        result.counts[name] = rel.size();
-      }
-      write(out / "times.txt", times_text);
+    case ExportFormat::kKitti:
+      exportKitti(input, out, result);
       break;
-    }
   }
   result.ok = true;
   return result;

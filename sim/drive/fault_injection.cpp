@@ -170,79 +170,102 @@ json driftImu(const FaultsConfig& f, std::uint64_t seed, ImuLog& imu) {
           {"bias_radps", series}};
 }
 
-}  // namespace
+using TimeWindows = std::vector<std::pair<double, double>>;
 
-json injectStreamFaults(const FaultsConfig& f, std::uint64_t seed, const StreamRates& rates,
-                        double duration_s, Dataset& data) {
-  json out = json::object();
+/// Removes the encoder samples whose clean time falls into a dropout window and counts them
+/// in the dropouts' record.
+void removeEncoderDropouts(const TimeWindows& windows, double encoders_hz, EncoderLog& encoders,
+                           json& record) {
+  // The windows are in true time: undo nothing, a jittered stamp moves < half a period.
+  EncoderLog kept;
+  kept.reserve(encoders.size());
+  const double period = 1.0 / encoders_hz;
+  for (std::size_t k = 0; k < encoders.size(); ++k)
+    if (!inWindow(windows, static_cast<double>(k) * period)) kept.push_back(encoders[k]);
+  std::size_t i = 0;
+  for (auto& event : record["events"]) {
+    const auto& [from, to] = windows[i++];
+    event["samples"] = static_cast<std::int64_t>(std::ceil(to * encoders_hz - 1e-9)) -
+                       static_cast<std::int64_t>(std::ceil(from * encoders_hz - 1e-9));
+  }
+  record["removed"] = encoders.size() - kept.size();
+  encoders = std::move(kept);
+}
+
+/// Encoders: stale holds, spikes and jitter by clean index, then the dropouts removed.
+void injectEncoderFaults(const FaultsConfig& f, std::uint64_t seed, const StreamRates& rates,
+                         double duration_s, EncoderLog& encoders, json& out, json& jitter_record) {
   const FaultSet& on = f.enable;
-
-  // Encoders: stale holds, spikes and jitter by clean index, then the dropouts removed.
   if (on.has(Fault::stale_odometry))
-    out["stale_odometry"] = holdEncoders(f, seed, duration_s, data.encoders);
+    out["stale_odometry"] = holdEncoders(f, seed, duration_s, encoders);
   if (on.has(Fault::encoder_spikes))
-    out["encoder_spikes"] = injectSpikes(f, seed, duration_s, data.encoders);
-  std::vector<std::pair<double, double>> windows;
+    out["encoder_spikes"] = injectSpikes(f, seed, duration_s, encoders);
+  TimeWindows windows;
   if (on.has(Fault::encoder_dropouts))
     out["encoder_dropouts"] = dropoutWindows(f, seed, duration_s, windows);
-  json jitter_record = json::object();
   if (on.has(Fault::stamp_jitter)) {
     SplitMix64 rng = stream(seed, RngStream::fault_jitter_encoders);
-    const auto e = jitter(rng, data.encoders.size(), f.stamp_jitter_sigma_s, rates.encoders_hz);
-    for (std::size_t k = 0; k < e.size(); ++k) data.encoders[k].stamp_s += e[k];
+    const auto e = jitter(rng, encoders.size(), f.stamp_jitter_sigma_s, rates.encoders_hz);
+    for (std::size_t k = 0; k < e.size(); ++k) encoders[k].stamp_s += e[k];
     jitter_record["encoders"] = jitterSummary(e);
   }
-  if (!windows.empty()) {
-    // The windows are in true time: undo nothing, a jittered stamp moves < half a period.
-    EncoderLog kept;
-    kept.reserve(data.encoders.size());
-    const double period = 1.0 / rates.encoders_hz;
-    for (std::size_t k = 0; k < data.encoders.size(); ++k)
-      if (!inWindow(windows, static_cast<double>(k) * period)) kept.push_back(data.encoders[k]);
-    std::size_t i = 0;
-    for (auto& event : out["encoder_dropouts"]["events"]) {
-      const auto& [from, to] = windows[i++];
-      event["samples"] = static_cast<std::int64_t>(std::ceil(to * rates.encoders_hz - 1e-9)) -
-                         static_cast<std::int64_t>(std::ceil(from * rates.encoders_hz - 1e-9));
-    }
-    out["encoder_dropouts"]["removed"] = data.encoders.size() - kept.size();
-    data.encoders = std::move(kept);
-  }
+  if (!windows.empty())
+    removeEncoderDropouts(windows, rates.encoders_hz, encoders, out["encoder_dropouts"]);
+}
 
-  // IMU: bias drift, then stamp jitter.
-  if (on.has(Fault::imu_bias_drift)) out["imu_bias_drift"] = driftImu(f, seed, data.imu);
+/// IMU: bias drift, then stamp jitter.
+void injectImuFaults(const FaultsConfig& f, std::uint64_t seed, const StreamRates& rates,
+                     ImuLog& imu, json& out, json& jitter_record) {
+  const FaultSet& on = f.enable;
+  if (on.has(Fault::imu_bias_drift)) out["imu_bias_drift"] = driftImu(f, seed, imu);
   if (on.has(Fault::stamp_jitter)) {
     SplitMix64 rng = stream(seed, RngStream::fault_jitter_imu);
-    const auto e = jitter(rng, data.imu.size(), f.stamp_jitter_sigma_s, rates.imu_hz);
-    for (std::size_t k = 0; k < e.size(); ++k) data.imu[k].stamp_s += e[k];
+    const auto e = jitter(rng, imu.size(), f.stamp_jitter_sigma_s, rates.imu_hz);
+    for (std::size_t k = 0; k < e.size(); ++k) imu[k].stamp_s += e[k];
     jitter_record["imu"] = jitterSummary(e);
   }
+}
 
-  // Scans: beams, stamps (jitter + offset) by clean index, then whole scans dropped.
-  if (on.has(Fault::dropped_beams)) out["dropped_beams"] = dropBeams(f, seed, data.scans);
+/// Scans: beams, stamps (jitter + offset) by clean index, then whole scans dropped. The stamp
+/// jitter record (with the encoders' and the IMU's) is written here, after the last stream.
+void injectScanFaults(const FaultsConfig& f, std::uint64_t seed, const StreamRates& rates,
+                      std::vector<ScanRecord>& scans, json& out, json& jitter_record) {
+  const FaultSet& on = f.enable;
+  if (on.has(Fault::dropped_beams)) out["dropped_beams"] = dropBeams(f, seed, scans);
   if (on.has(Fault::stamp_jitter)) {
     SplitMix64 rng = stream(seed, RngStream::fault_jitter_scans);
-    const auto e = jitter(rng, data.scans.size(), f.stamp_jitter_sigma_s, rates.lidar_hz);
-    for (std::size_t k = 0; k < e.size(); ++k) data.scans[k].scan.stamp_s += e[k];
+    const auto e = jitter(rng, scans.size(), f.stamp_jitter_sigma_s, rates.lidar_hz);
+    for (std::size_t k = 0; k < e.size(); ++k) scans[k].scan.stamp_s += e[k];
     jitter_record["scans"] = jitterSummary(e);
     jitter_record["scan_stamp_errors_s"] = e;
     jitter_record["sigma_s"] = f.stamp_jitter_sigma_s;
     out["stamp_jitter"] = jitter_record;
   }
   if (on.has(Fault::clock_offset)) {
-    for (ScanRecord& r : data.scans) r.scan.stamp_s += f.clock_offset_s;
+    for (ScanRecord& r : scans) r.scan.stamp_s += f.clock_offset_s;
     out["clock_offset"] = {{"offset_s", f.clock_offset_s}};
   }
   if (on.has(Fault::dropped_scans)) {
     json record;
-    const std::vector<bool> dropped = droppedScans(f, seed, rates.lidar_hz, data.scans, record);
+    const std::vector<bool> dropped = droppedScans(f, seed, rates.lidar_hz, scans, record);
     std::vector<ScanRecord> kept;
-    kept.reserve(data.scans.size());
-    for (std::size_t k = 0; k < data.scans.size(); ++k)
-      if (!dropped[k]) kept.push_back(std::move(data.scans[k]));
-    data.scans = std::move(kept);
+    kept.reserve(scans.size());
+    for (std::size_t k = 0; k < scans.size(); ++k)
+      if (!dropped[k]) kept.push_back(std::move(scans[k]));
+    scans = std::move(kept);
     out["dropped_scans"] = record;
   }
+}
+
+}  // namespace
+
+json injectStreamFaults(const FaultsConfig& f, std::uint64_t seed, const StreamRates& rates,
+                        double duration_s, Dataset& data) {
+  json out = json::object();
+  json jitter_record = json::object();
+  injectEncoderFaults(f, seed, rates, duration_s, data.encoders, out, jitter_record);
+  injectImuFaults(f, seed, rates, data.imu, out, jitter_record);
+  injectScanFaults(f, seed, rates, data.scans, out, jitter_record);
   return out;
 }
 

@@ -276,71 +276,101 @@ AccelerationLimits parseLimits(const Context& ctx, const YAML::Node& node) {
   return limits;
 }
 
+void parseStraight(const YAML::Node& seg, const std::string& p, const std::string& type,
+                   const std::string& at, SegmentBuilder& build) {
+  const Context& ctx = build.ctx;
+  build.straight(type, at, nonZeroField(ctx, seg, p, "distance_m"),
+                 positiveField(ctx, seg, p, "speed_mps", 0.5));
+}
+
+void parseSpin(const YAML::Node& seg, const std::string& p, const std::string& type,
+               const std::string& at, SegmentBuilder& build) {
+  const Context& ctx = build.ctx;
+  build.spin(type, at, nonZeroField(ctx, seg, p, "angle_deg") * kDegToRad,
+             positiveField(ctx, seg, p, "rate_radps", 1.0));
+}
+
+void parseStop(const YAML::Node& seg, const std::string& p, const std::string& type,
+               const std::string& at, SegmentBuilder& build) {
+  build.stop(type, at, positiveField(build.ctx, seg, p, "duration_s", std::nan("")));
+}
+
+void parseFigureEight(const YAML::Node& seg, const std::string& p, const std::string& type,
+                      const std::string& at, SegmentBuilder& build) {
+  const Context& ctx = build.ctx;
+  build.add(type, at, CommandKind::twist,
+            figureEight(positiveField(ctx, seg, p, "radius_m", 1.0),
+                        positiveField(ctx, seg, p, "speed_mps", 0.5),
+                        countField(ctx, seg, p, "loops", 1), build.limits, at));
+}
+
+using SegmentParser = void (*)(const YAML::Node& seg, const std::string& p, const std::string& type,
+                               const std::string& at, SegmentBuilder& build);
+
+/// A segment type: the keys it allows besides "type", and what expands it.
+struct SegmentType {
+  const char* name;
+  std::set<std::string> keys;
+  SegmentParser parse;
+};
+
+/// Every segment type but include (which reads a file, not knots), in the order of the
+/// unknown-type message.
+const std::vector<SegmentType>& segmentTypes() {
+  static const std::vector<SegmentType> types{
+      {"straight", {"distance_m", "speed_mps"}, parseStraight},
+      {"spin", {"angle_deg", "rate_radps"}, parseSpin},
+      {"arc", {"v_mps", "w_radps", "duration_s", "angle_deg"}, parseArc},
+      {"wheel_rates", {"left_radps", "right_radps", "duration_s"}, parseWheelRates},
+      {"stop", {"duration_s"}, parseStop},
+      {"umbmark",
+       {"direction", "side_m", "speed_mps", "turn_rate_radps", "pause_s", "laps"},
+       parseUmbmark},
+      {"figure_eight", {"radius_m", "speed_mps", "loops"}, parseFigureEight},
+      {"stop_and_go", {"distance_m", "speed_mps", "stop_s", "repeats"}, parseStopAndGo},
+      {"random_smooth",
+       {"duration_s", "interval_s", "min_speed_mps", "max_speed_mps", "max_turn_rate_radps",
+        "seed"},
+       parseRandomSmooth},
+      {"explore",
+       {"duration_s", "seed", "min_speed_mps", "max_speed_mps", "max_turn_rate_radps",
+        "clearance_m", "lookahead_m", "min_goal_distance_m", "grid_resolution_m",
+        "control_period_s"},
+       parseExplore},
+      {"track", {"kind", "period_s", "values"}, parseTrack},
+  };
+  return types;
+}
+
 void parseSegment(const Context& ctx, const YAML::Node& seg, const std::string& key,
                   const AccelerationLimits& limits, IncludeStack& stack, CommandProfile& profile) {
   ctx.doc.requireMap(seg, key);
   const std::string& p = key;
   const std::string type = stringField(ctx, seg, p, "type");
   const std::string at = ctx.doc.whereLine(seg, key) + " (" + type + ")";
-  std::vector<ProfileSegment> out;
-  SegmentBuilder build{ctx, limits, out};
   auto keys = [&](std::set<std::string> allowed) {
     allowed.insert("type");
     ctx.doc.checkKeys(seg, p, allowed);
   };
-  if (type == "straight") {
-    keys({"distance_m", "speed_mps"});
-    build.straight(type, at, nonZeroField(ctx, seg, p, "distance_m"),
-                   positiveField(ctx, seg, p, "speed_mps", 0.5));
-  } else if (type == "spin") {
-    keys({"angle_deg", "rate_radps"});
-    build.spin(type, at, nonZeroField(ctx, seg, p, "angle_deg") * kDegToRad,
-               positiveField(ctx, seg, p, "rate_radps", 1.0));
-  } else if (type == "arc") {
-    keys({"v_mps", "w_radps", "duration_s", "angle_deg"});
-    parseArc(seg, p, type, at, build);
-  } else if (type == "wheel_rates") {
-    keys({"left_radps", "right_radps", "duration_s"});
-    parseWheelRates(seg, p, type, at, build);
-  } else if (type == "stop") {
-    keys({"duration_s"});
-    build.stop(type, at, positiveField(ctx, seg, p, "duration_s", std::nan("")));
-  } else if (type == "umbmark") {
-    keys({"direction", "side_m", "speed_mps", "turn_rate_radps", "pause_s", "laps"});
-    parseUmbmark(seg, p, type, at, build);
-  } else if (type == "figure_eight") {
-    keys({"radius_m", "speed_mps", "loops"});
-    build.add(type, at, CommandKind::twist,
-              figureEight(positiveField(ctx, seg, p, "radius_m", 1.0),
-                          positiveField(ctx, seg, p, "speed_mps", 0.5),
-                          countField(ctx, seg, p, "loops", 1), limits, at));
-  } else if (type == "stop_and_go") {
-    keys({"distance_m", "speed_mps", "stop_s", "repeats"});
-    parseStopAndGo(seg, p, type, at, build);
-  } else if (type == "random_smooth") {
-    keys({"duration_s", "interval_s", "min_speed_mps", "max_speed_mps", "max_turn_rate_radps",
-          "seed"});
-    parseRandomSmooth(seg, p, type, at, build);
-  } else if (type == "explore") {
-    keys({"duration_s", "seed", "min_speed_mps", "max_speed_mps", "max_turn_rate_radps",
-          "clearance_m", "lookahead_m", "min_goal_distance_m", "grid_resolution_m",
-          "control_period_s"});
-    parseExplore(seg, p, type, at, build);
-  } else if (type == "track") {
-    keys({"kind", "period_s", "values"});
-    parseTrack(seg, p, type, at, build);
-  } else if (type == "include") {
+  if (type == "include") {
     keys({"file"});
     std::filesystem::path file = stringField(ctx, seg, p, "file");
     if (file.is_relative()) file = ctx.path.parent_path() / file;
     profile.append(loadProfile(file, stack, nullptr));
     return;
-  } else {
+  }
+  const auto& types = segmentTypes();
+  const auto it = std::find_if(types.begin(), types.end(),
+                               [&](const SegmentType& t) { return type == t.name; });
+  if (it == types.end())
     ctx.doc.fail(seg["type"], joinKey(p, "type"),
                  "unknown segment type '" + type +
                      "' (expected straight, spin, arc, wheel_rates, stop, umbmark, "
                      "figure_eight, stop_and_go, random_smooth, explore, track or include)");
-  }
+  keys(it->keys);
+  std::vector<ProfileSegment> out;
+  SegmentBuilder build{ctx, limits, out};
+  it->parse(seg, p, type, at, build);
   for (ProfileSegment& segment : out) profile.append(std::move(segment));
 }
 

@@ -275,6 +275,130 @@ class ImuStream {
   ImuLog& out_;
 };
 
+/// The sensors, each sampling the steps as they come into the dataset's logs.
+class SensorStreams {
+ public:
+  SensorStreams(const SimConfig& config, const Scene& scene, Dataset& data)
+      : scene_(scene),
+        lidar_(config.lidar, streamSeed(config.seed, RngStream::lidar), data.scans),
+        encoders_(config.encoders, data.encoders),
+        imu_(config.imu, streamSeed(config.seed, RngStream::imu), data.imu) {}
+
+  void sense(const Interval& step, double duration_s) {
+    encoders_.advance(step, duration_s);
+    imu_.advance(step, duration_s);
+    lidar_.advance(scene_, step, duration_s);
+  }
+
+ private:
+  const Scene& scene_;
+  LidarStream lidar_;
+  EncoderStream encoders_;
+  ImuStream imu_;
+};
+
+/// What the dataset records about how it was made (docs/dataset.md).
+DatasetInfo simulatedDatasetInfo(const SimConfig& config) {
+  DatasetInfo info;
+  info.world = config.world;
+  info.scenario = config.scenario;
+  info.seed = config.seed;
+  info.true_geometry = config.robot.geometry;
+  info.nominal_geometry = config.nominalGeometry();
+  info.T_base_lidar = config.lidar.T_base_lidar;
+  info.ticks_per_revolution = config.encoders.ticks_per_revolution;
+  info.config = toJson(config);
+  info.config["encoders_from"] = "ticks";  // docs/dataset.md: simulated encoders count ticks
+  // docs/dataset.md: the odometry's heading is the gyro's (absent: the wheels', as before).
+  if (config.odometry.heading_from == OdometryHeading::gyro)
+    info.config["odometry_heading"] = "gyro";
+  return info;
+}
+
+/// The floor patches' wheel friction, when that fault is on (Bullet only).
+std::optional<FloorSlip> floorSlipFor(const SimConfig& config, const World& world) {
+  std::optional<FloorSlip> slip;
+  if (config.faults.enable.has(Fault::floor_patches) && config.mode == SimMode::physics)
+    slip.emplace(world.floor_patches, config.robot.wheel_friction,
+                 config.robot.geometry.wheel_base_m / 2);
+  return slip;
+}
+
+std::unique_ptr<Motion> makeMotion(const SimConfig& config, Scene& scene,
+                                   const Controller& controller, const SE2& T_world_start,
+                                   FloorSlip* slip, const HeldSchedule& held) {
+  if (config.mode == SimMode::physics)
+    return std::make_unique<PhysicsMotion>(scene, controller, config.robot, T_world_start, slip,
+                                           held);
+  return std::make_unique<KinematicMotion>(controller, config.robot.geometry, T_world_start, held);
+}
+
+std::int64_t physicsStepCount(const SimConfig& config, double duration_s) {
+  return static_cast<std::int64_t>(std::ceil(duration_s * config.physics_rate_hz - 1e-9));
+}
+
+/// Every output's length is known: reserve it, so the logs are not copied while they grow.
+void reserveOutputs(const SimConfig& config, double duration_s, Dataset& data) {
+  data.groundtruth.reserve(static_cast<std::size_t>(physicsStepCount(config, duration_s)) + 1);
+  data.encoders.reserve(static_cast<std::size_t>(duration_s * config.encoders.rate_hz) + 2);
+  data.imu.reserve(static_cast<std::size_t>(duration_s * config.imu.rate_hz) + 2);
+  data.scans.reserve(static_cast<std::size_t>(duration_s * config.lidar.rate_hz) + 2);
+}
+
+/// Throws, naming the scenario segment, when the motion's state cannot be trusted.
+void requireTrustworthyState(const Motion& motion, const Scenario& scenario, double t_s) {
+  const std::string problem = motion.problem();
+  if (problem.empty()) return;
+  const ProfileSegment* segment = scenario.profile.segmentAt(t_s);
+  std::ostringstream what;
+  what << "at t = " << t_s << " s " << problem;
+  throw InputError(segment != nullptr ? segment->where : scenario.source.string(), what.str());
+}
+
+/// Steps the motion from t = 0 to the end of the run, sensing every step; the ground truth
+/// holds the pose at every step.
+void runSteps(const SimConfig& config, const Scenario& scenario, double duration_s,
+              const ProgressCallback& progress, Motion& motion, SensorStreams& sensors,
+              PoseSeries& groundtruth) {
+  const std::int64_t steps = physicsStepCount(config, duration_s);
+  StepState prev = motion.initial();
+  groundtruth.push_back(prev.t_s, prev.T_world_base);
+  sensors.sense(Interval{prev, prev}, duration_s);  // samples at t = 0
+  const std::int64_t report_every = std::max<std::int64_t>(1, steps / 200);
+  for (std::int64_t n = 1; n <= steps; ++n) {
+    const StepState cur = motion.step(prev, static_cast<double>(n) / config.physics_rate_hz);
+    requireTrustworthyState(motion, scenario, cur.t_s);
+    groundtruth.push_back(cur.t_s, cur.T_world_base);
+    sensors.sense(Interval{prev, cur}, duration_s);
+    prev = cur;
+    if (progress && (n % report_every == 0 || n == steps))
+      progress(std::min(cur.t_s, duration_s), duration_s);
+  }
+}
+
+/// Drops the scans the odometry does not cover, so that readDataset accepts the dataset.
+void dropScansOutsideEncoders(Dataset& data) {
+  // A scan completed after the last encoder sample (its last beam inside the final encoder
+  // period) is not covered by the odometry: readDataset would refuse it, so it is not kept.
+  while (!data.scans.empty() && !data.encoders.empty() &&
+         data.scans.back().scan.endTime() > data.encoders.back().stamp_s)
+    data.scans.pop_back();
+  // Stamp jitter can put the first scan's first beam before the first (jittered) encoder
+  // sample; such a scan is not covered either.
+  while (!data.scans.empty() && !data.encoders.empty() &&
+         data.scans.front().scan.stamp_s < data.encoders.front().stamp_s)
+    data.scans.erase(data.scans.begin());
+}
+
+/// The odometry the robot publishes: heading from the wheels, or from the integrated gyro.
+PoseSeries publishedOdometry(const SimConfig& config, const Dataset& data) {
+  const DatasetInfo& info = data.info;
+  return config.odometry.heading_from == OdometryHeading::gyro
+             ? integrateEncodersGyroHeading(data.encoders, data.imu, info.nominal_geometry,
+                                            info.ticks_per_revolution)
+             : integrateEncoders(data.encoders, info.nominal_geometry, info.ticks_per_revolution);
+}
+
 }  // namespace
 
 SimResult simulate(const SimConfig& config, const ProgressCallback& progress) {
@@ -300,88 +424,20 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   checkPathInWorld(scene, scenario, config, T_world_start, duration_s, held);
 
   Dataset data;
-  DatasetInfo& info = data.info;
-  info.world = config.world;
-  info.scenario = config.scenario;
-  info.seed = config.seed;
-  info.true_geometry = config.robot.geometry;
-  info.nominal_geometry = config.nominalGeometry();
-  info.T_base_lidar = config.lidar.T_base_lidar;
-  info.ticks_per_revolution = config.encoders.ticks_per_revolution;
-  info.config = toJson(config);
-  info.config["encoders_from"] = "ticks";  // docs/dataset.md: simulated encoders count ticks
-  // docs/dataset.md: the odometry's heading is the gyro's (absent: the wheels', as before).
-  if (config.odometry.heading_from == OdometryHeading::gyro)
-    info.config["odometry_heading"] = "gyro";
-
-  const Controller controller(scenario.profile, info.nominal_geometry);
-  std::unique_ptr<Motion> motion;
-  std::optional<FloorSlip> slip;
-  if (config.faults.enable.has(Fault::floor_patches) && config.mode == SimMode::physics)
-    slip.emplace(world.floor_patches, config.robot.wheel_friction,
-                 config.robot.geometry.wheel_base_m / 2);
-  if (config.mode == SimMode::physics) {
-    motion = std::make_unique<PhysicsMotion>(scene, controller, config.robot, T_world_start,
-                                             slip ? &*slip : nullptr, held);
-  } else {
-    motion =
-        std::make_unique<KinematicMotion>(controller, config.robot.geometry, T_world_start, held);
-  }
-  LidarStream lidar(config.lidar, streamSeed(config.seed, RngStream::lidar), data.scans);
-  EncoderStream encoders(config.encoders, data.encoders);
-  ImuStream imu(config.imu, streamSeed(config.seed, RngStream::imu), data.imu);
-
-  const auto steps =
-      static_cast<std::int64_t>(std::ceil(duration_s * config.physics_rate_hz - 1e-9));
-  // Every output's length is known: reserve it, so the logs are not copied while they grow.
-  data.groundtruth.reserve(static_cast<std::size_t>(steps) + 1);
-  data.encoders.reserve(static_cast<std::size_t>(duration_s * config.encoders.rate_hz) + 2);
-  data.imu.reserve(static_cast<std::size_t>(duration_s * config.imu.rate_hz) + 2);
-  data.scans.reserve(static_cast<std::size_t>(duration_s * config.lidar.rate_hz) + 2);
-
-  StepState prev = motion->initial();
-  data.groundtruth.push_back(prev.t_s, prev.T_world_base);
-  auto sense = [&](const Interval& step) {
-    encoders.advance(step, duration_s);
-    imu.advance(step, duration_s);
-    lidar.advance(scene, step, duration_s);
-  };
-  sense(Interval{prev, prev});  // samples at t = 0
-
-  const std::int64_t report_every = std::max<std::int64_t>(1, steps / 200);
-  for (std::int64_t n = 1; n <= steps; ++n) {
-    const StepState cur = motion->step(prev, static_cast<double>(n) / config.physics_rate_hz);
-    if (const std::string problem = motion->problem(); !problem.empty()) {
-      const ProfileSegment* segment = scenario.profile.segmentAt(cur.t_s);
-      std::ostringstream what;
-      what << "at t = " << cur.t_s << " s " << problem;
-      throw InputError(segment != nullptr ? segment->where : scenario.source.string(), what.str());
-    }
-    data.groundtruth.push_back(cur.t_s, cur.T_world_base);
-    sense(Interval{prev, cur});
-    prev = cur;
-    if (progress && (n % report_every == 0 || n == steps))
-      progress(std::min(cur.t_s, duration_s), duration_s);
-  }
+  data.info = simulatedDatasetInfo(config);
+  const Controller controller(scenario.profile, data.info.nominal_geometry);
+  std::optional<FloorSlip> slip = floorSlipFor(config, world);
+  FloorSlip* const slip_or_null = slip ? &*slip : nullptr;
+  const std::unique_ptr<Motion> motion =
+      makeMotion(config, scene, controller, T_world_start, slip_or_null, held);
+  SensorStreams sensors(config, scene, data);
+  reserveOutputs(config, duration_s, data);
+  runSteps(config, scenario, duration_s, progress, *motion, sensors, data.groundtruth);
 
   if (config.faults.enable.any())
-    info.faults = injectFaults(config, world, slip ? &*slip : nullptr, held, duration_s, data);
-  // A scan completed after the last encoder sample (its last beam inside the final encoder
-  // period) is not covered by the odometry: readDataset would refuse it, so it is not kept.
-  while (!data.scans.empty() && !data.encoders.empty() &&
-         data.scans.back().scan.endTime() > data.encoders.back().stamp_s)
-    data.scans.pop_back();
-  // Stamp jitter can put the first scan's first beam before the first (jittered) encoder
-  // sample; such a scan is not covered either.
-  while (!data.scans.empty() && !data.encoders.empty() &&
-         data.scans.front().scan.stamp_s < data.encoders.front().stamp_s)
-    data.scans.erase(data.scans.begin());
-  // The odometry the robot publishes: heading from the wheels, or from the integrated gyro.
-  data.odom_nominal =
-      config.odometry.heading_from == OdometryHeading::gyro
-          ? integrateEncodersGyroHeading(data.encoders, data.imu, info.nominal_geometry,
-                                         info.ticks_per_revolution)
-          : integrateEncoders(data.encoders, info.nominal_geometry, info.ticks_per_revolution);
+    data.info.faults = injectFaults(config, world, slip_or_null, held, duration_s, data);
+  dropScansOutsideEncoders(data);
+  data.odom_nominal = publishedOdometry(config, data);
   for (ScanRecord& record : data.scans) {
     record.T_odom_base_nominal = data.odom_nominal.at(record.scan.stamp_s);
   }
