@@ -1,6 +1,5 @@
 #include "slamprep/algo/calibration/calibrate.hpp"
 
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -140,18 +139,15 @@ CalibrationRun fitMethod(CalibrationMethod method, const std::vector<Calibration
 // An ok fit whose sigma is too large for the estimate to mean anything is refused, naming it.
 CalibrationRun refuseUndetermined(CalibrationRun run, double max_relative_sigma) {
   if (!run.result.ok || !(max_relative_sigma > 0.0)) return run;
-  const Eigen::VectorXd sigma = run.result.sigma();
-  const DiffDriveParams& g = run.result.geometry;
-  const std::array<std::pair<const char*, double>, 3> params = {
-      {{"r_L", g.radius_left_m}, {"r_R", g.radius_right_m}, {"b", g.wheel_base_m}}};
-  for (int j = 0; j < 3 && j < sigma.size(); ++j) {
-    const double relative = sigma(j) / std::abs(params[j].second);
+  const Eigen::VectorXd value = calibrationValues(run.result), sigma = run.result.sigma();
+  for (int j = 0; j < 3 && j < sigma.size(); ++j) {  // r_L, r_R, b
+    const double relative = sigma(j) / std::abs(value(j));
     if (!(relative > max_relative_sigma)) continue;
     char reason[240];
     std::snprintf(reason, sizeof reason,
                   "undetermined: %s = %.4g m with a 1-sigma of %.2g m (%.0f %%, limit %.0f %%): "
                   "the drive does not pin the geometry down (too short, too little turning)",
-                  params[j].first, params[j].second, sigma(j), 100.0 * relative,
+                  kCalibrationKeys[j], value(j), sigma(j), 100.0 * relative,
                   100.0 * max_relative_sigma);
     run.result.ok = false;
     run.result.reason = reason;

@@ -234,13 +234,6 @@ class EntryReader {
 
 }  // namespace
 
-Eigen::VectorXd calibrationValues(const CalibrationResult& r) {
-  Eigen::VectorXd v(r.estimates_mount ? 6 : 3);
-  v.head<3>() << r.geometry.radius_left_m, r.geometry.radius_right_m, r.geometry.wheel_base_m;
-  if (r.estimates_mount) v.tail<3>() << r.T_base_lidar.x, r.T_base_lidar.y, r.T_base_lidar.yaw;
-  return v;
-}
-
 Eigen::VectorXd CalibrationTruth::values() const {
   Eigen::VectorXd v(6);
   v << geometry.radius_left_m, geometry.radius_right_m, geometry.wheel_base_m, T_base_lidar.x,

@@ -23,13 +23,6 @@
 
 namespace slamprep::algo {
 
-/// The parameter keys, in the order of the JSON, the `calibrate` table and the covariance.
-inline constexpr std::array<const char*, 6> kCalibrationKeys = {"r_L",     "r_R",     "b",
-                                                                "lidar_x", "lidar_y", "lidar_yaw"};
-
-/// r_L, r_R, b and, when the result estimates the mount, lidar_x, lidar_y, lidar_yaw.
-Eigen::VectorXd calibrationValues(const CalibrationResult& result);
-
 /// estimate(i) - truth(i), the yaw (i = 5) wrapped to (-pi, pi].
 double calibrationError(const Eigen::VectorXd& estimate, const Eigen::VectorXd& truth, int i);
 

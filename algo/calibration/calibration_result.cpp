@@ -18,6 +18,13 @@ std::string formatJ(double J21, double J22) {
 
 }  // namespace
 
+Eigen::VectorXd calibrationValues(const CalibrationResult& r) {
+  Eigen::VectorXd v(r.estimates_mount ? 6 : 3);
+  v.head<3>() << r.geometry.radius_left_m, r.geometry.radius_right_m, r.geometry.wheel_base_m;
+  if (r.estimates_mount) v.tail<3>() << r.T_base_lidar.x, r.T_base_lidar.y, r.T_base_lidar.yaw;
+  return v;
+}
+
 Eigen::VectorXd CalibrationResult::sigma() const {
   const int n = estimates_mount ? 6 : 3;
   if (covariance.rows() != n || covariance.cols() != n) return Eigen::VectorXd::Zero(n);

@@ -2,6 +2,7 @@
 // What every odometry calibration method reports, and the pieces the closed-form methods share.
 
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,13 @@ struct CalibrationResult {
   /// 1-sigma of each estimated parameter (sqrt of the covariance diagonal), zeros if unknown.
   Eigen::VectorXd sigma() const;
 };
+
+/// The parameter keys, in the order of the JSON, the `calibrate` table and the covariance.
+inline constexpr std::array<const char*, 6> kCalibrationKeys = {"r_L",     "r_R",     "b",
+                                                                "lidar_x", "lidar_y", "lidar_yaw"};
+
+/// r_L, r_R, b and, when the result estimates the mount, lidar_x, lidar_y, lidar_yaw.
+Eigen::VectorXd calibrationValues(const CalibrationResult& result);
 
 /// Condition number sigma_max / sigma_min of A after scaling every column to unit norm (units
 /// and scale of the unknowns then do not matter). +inf when a column is zero or rank deficient.

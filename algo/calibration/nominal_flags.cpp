@@ -39,9 +39,8 @@ std::vector<NominalFlag> nominalFlags(const CalibrationResult& result,
                                        g.wheel_base_m / nominal.wheel_base_m};
   std::array<bool, 3> off{};
   for (int i = 0; i < 3; ++i) off[i] = std::abs(ratio[i] - 1.0) > params.max_relative_deviation;
-  static constexpr std::array<const char*, 3> kNames = {"r_L", "r_R", "b"};
   for (int i = 0; i < 3; ++i)
-    if (off[i]) flags.push_back({kNames[i], ratio[i], likelyCause(ratio, off, i)});
+    if (off[i]) flags.push_back({kCalibrationKeys[i], ratio[i], likelyCause(ratio, off, i)});
   return flags;
 }
 
