@@ -32,15 +32,17 @@ SE2 mountOf(const algo::CalibrationRun& run, const SE2& dataset_mount) {
   return run.result.estimates_mount ? run.result.T_base_lidar : dataset_mount;
 }
 
-// The nominal and the calibrated geometry on one held-out part; where the method estimates the
-// mount, its wheels also with the dataset's mount, which tells a wrong mount from wrong wheels.
-algo::ValidationFigures validationOf(const HeldOutPart& part, const DatasetCalibration& c,
-                                     const algo::CalibrationRun& run, double fraction) {
-  algo::ValidationFigures v{fraction, heldOutError(part, c.nominal, c.T_base_lidar),
-                            heldOutError(part, run.result.geometry, mountOf(run, c.T_base_lidar)),
-                            std::nullopt};
+// The nominal and the calibrated geometry on a recording's held-out part; where the method
+// estimates the mount, its wheels also with the dataset's mount, which tells a wrong mount from
+// wrong wheels.
+algo::ValidationFigures validationOf(const RecordingCalibration& r, const algo::CalibrationRun& run,
+                                     double fraction) {
+  const SE2& dataset_mount = r.calibration.T_base_lidar;
+  algo::ValidationFigures v{
+      fraction, r.held_out_raw,
+      heldOutError(*r.held_out, run.result.geometry, mountOf(run, dataset_mount)), std::nullopt};
   if (run.result.estimates_mount)
-    v.calibrated_wheels = heldOutError(part, run.result.geometry, c.T_base_lidar);
+    v.calibrated_wheels = heldOutError(*r.held_out, run.result.geometry, dataset_mount);
   return v;
 }
 
@@ -58,7 +60,7 @@ RecordingCalibration calibrateRecording(const RecordingsCalibrationParams& p,
                                         const std::string& dataset) {
   DatasetCalibrationParams params = p.base;
   if (!dataset.empty()) params.dataset = dataset;
-  RecordingCalibration out{params.dataset, {}, std::nullopt, ""};
+  RecordingCalibration out{params.dataset, {}, std::nullopt, {}, ""};
   if (!(p.validate_fraction > 0.0)) {
     out.calibration = calibrateDataset(params);
     return out;
@@ -71,7 +73,8 @@ RecordingCalibration calibrateRecording(const RecordingsCalibrationParams& p,
   for (EncoderSample& e : odometry.encoders) e.stamp_s += out.calibration.clock_offset_s;
   out.held_out = heldOutPart(split.held_out, odometry, p.held_out);
   try {  // a held-out part the matcher could not track is not scored; the calibration stands
-    heldOutError(*out.held_out, out.calibration.nominal, out.calibration.T_base_lidar);
+    out.held_out_raw =
+        heldOutError(*out.held_out, out.calibration.nominal, out.calibration.T_base_lidar);
   } catch (const InputError& e) {
     out.validation_note = std::string("not validated: ") + e.what();
     out.held_out.reset();
@@ -87,8 +90,7 @@ algo::MethodReport methodReport(const algo::CalibrationRun& run, const Recording
   if (r.calibration.agreement && algo::isIntervalMethod(run.method))
     if (const auto flag = algo::gyroFlag(run.result, *r.calibration.agreement))
       m.flags.push_back(*flag);
-  if (r.held_out && run.result.ok)
-    m.validation = validationOf(*r.held_out, r.calibration, run, p.validate_fraction);
+  if (r.held_out && run.result.ok) m.validation = validationOf(r, run, p.validate_fraction);
   if (m.validation)
     if (const auto flag = algo::validationFlag(*m.validation)) m.flags.push_back(*flag);
   return m;
@@ -179,8 +181,7 @@ std::optional<algo::ValidationFigures> combinedValidation(const RecordingsCalibr
   int parts = 0;
   for (const RecordingCalibration& rec : r.recordings) {
     if (!rec.held_out) continue;
-    const algo::ValidationFigures v =
-        validationOf(*rec.held_out, rec.calibration, combined, fraction);
+    const algo::ValidationFigures v = validationOf(rec, combined, fraction);
     accumulate(mean.raw, v.raw);
     accumulate(mean.calibrated, v.calibrated);
     if (v.calibrated_wheels) accumulate(*mean.calibrated_wheels, *v.calibrated_wheels);

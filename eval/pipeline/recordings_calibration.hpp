@@ -32,6 +32,7 @@ struct RecordingCalibration {
   std::string dataset;
   DatasetCalibration calibration;       ///< of the calibration part with validation
   std::optional<HeldOutPart> held_out;  ///< with validation, where the part could be scored
+  algo::HeldOutError held_out_raw;      ///< the nominal geometry's error on held_out
   std::string validation_note;          ///< why a held-out part was not scored
 };
 
