@@ -57,6 +57,8 @@ void visitFields(Config& c, Visitor&& v) {
   v("lidar.height_m", l.height_m);
   v("encoders.ticks_per_revolution", c.encoders.ticks_per_revolution);
   v("encoders.rate_hz", c.encoders.rate_hz);
+  v("encoders.slip_sigma", c.encoders.slip_sigma);
+  v("encoders.slip_tau_s", c.encoders.slip_tau_s);
   v("imu.rate_hz", c.imu.rate_hz);
   v("imu.gyro_noise_radps", c.imu.gyro_noise_radps);
   v("imu.gyro_bias_radps", c.imu.gyro_bias_radps);
@@ -421,6 +423,10 @@ void validateSensors(const Checker& check, const SimConfig& c) {
                c.encoders.ticks_per_revolution);
   }
   check.positive("encoders.rate_hz", c.encoders.rate_hz);
+  // A slip of half the wheel's turning is no longer odometry.
+  if (!(c.encoders.slip_sigma >= 0.0 && c.encoders.slip_sigma <= 0.5))
+    check.fail("encoders.slip_sigma", "must be in [0, 0.5]", c.encoders.slip_sigma);
+  check.positive("encoders.slip_tau_s", c.encoders.slip_tau_s);
   check.positive("imu.rate_hz", c.imu.rate_hz);
   // Wheel encoders and IMUs are logged at up to a few kHz.
   if (c.encoders.rate_hz > kMaxSensorRate_hz)

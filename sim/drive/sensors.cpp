@@ -25,4 +25,12 @@ ImuSample Imu::sample(double stamp_s, double yaw_rate_radps,
   return s;
 }
 
+Eigen::Vector2d WheelSlip::count(const Eigen::Vector2d& turned_rad, double dt_s) {
+  const double a = std::exp(-std::max(0.0, dt_s) / tau_s_);
+  const double q = sigma_ * std::sqrt(1.0 - a * a);
+  for (int i = 0; i < 2; ++i) s_[i] = a * s_[i] + q * rng_.gaussian();  // left first, then right
+  counted_rad_ += turned_rad.cwiseProduct(Eigen::Vector2d::Ones() + s_);
+  return counted_rad_;
+}
+
 }  // namespace slamprep::sim

@@ -13,6 +13,10 @@ namespace slamprep::sim {
 struct EncoderConfig {
   int ticks_per_revolution = 4096;  ///< quantisation: ticks per wheel revolution
   double rate_hz = 100.0;           ///< sampling rate
+  /// Random wheel slip: each wheel's encoder counts (1 + s) of what it rolled on the floor, s an
+  /// Ornstein-Uhlenbeck process per wheel with this stationary sigma (0: off) ...
+  double slip_sigma = 0.0;
+  double slip_tau_s = 0.5;  ///< ... and this correlation time
 };
 
 struct ImuConfig {
@@ -27,6 +31,25 @@ struct ImuConfig {
 /// Cumulative ticks of a wheel turned by wheel_angle_rad since start: an incremental encoder
 /// counts whole ticks, so ticks = floor(angle / (2 pi / N)) (also for negative angles).
 std::int64_t quantizeTicks(double wheel_angle_rad, int ticks_per_revolution);
+
+/// Random wheel slip (EncoderConfig::slip_sigma): the encoders count (1 + s_i(t)) of each
+/// wheel's turning, s_i an Ornstein-Uhlenbeck process, exact over any step dt:
+///   s_k = a s_{k-1} + sigma sqrt(1 - a^2) n_k,  a = exp(-dt / tau),  n_k ~ N(0, 1).
+/// Over a window of duration T >> tau the counted angle is off by N(0, 2 sigma^2 tau int w^2 dt).
+class WheelSlip {
+ public:
+  WheelSlip(double sigma, double tau_s, std::uint64_t seed)
+      : sigma_(sigma), tau_s_(tau_s), rng_(seed) {}
+  bool on() const { return sigma_ > 0.0; }
+  /// The counted angles after the wheels turned by `turned_rad` over `dt_s`.
+  Eigen::Vector2d count(const Eigen::Vector2d& turned_rad, double dt_s);
+
+ private:
+  double sigma_, tau_s_;
+  SplitMix64 rng_;
+  Eigen::Vector2d s_ = Eigen::Vector2d::Zero();  ///< (left, right); starts at 0: no slip at rest
+  Eigen::Vector2d counted_rad_ = Eigen::Vector2d::Zero();
+};
 
 /// Sample times k / rate_hz (k = 0, 1, ...), computed by division so they never drift.
 class SampleClock {

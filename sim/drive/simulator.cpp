@@ -236,22 +236,37 @@ class LidarStream {
   SE2CosSin T_lidar0_world_;
 };
 
+/// The encoders: the wheel angles at every sample time, counted through the random slip when
+/// it is on (a sample step's turning times (1 + s)), then quantised to ticks.
 class EncoderStream {
  public:
-  EncoderStream(const EncoderConfig& config, EncoderLog& out)
-      : ticks_(config.ticks_per_revolution), clock_(config.rate_hz), out_(out) {}
+  EncoderStream(const EncoderConfig& config, std::uint64_t seed, EncoderLog& out)
+      : ticks_(config.ticks_per_revolution),
+        clock_(config.rate_hz),
+        slip_(config.slip_sigma, config.slip_tau_s, seed),
+        out_(out) {}
 
   void advance(const Interval& step, double t_end_s) {
     const double t_limit = std::min(step.b.t_s, t_end_s);
     for (double t = clock_.next_s(); t <= t_limit; clock_.advance(), t = clock_.next_s()) {
-      const Eigen::Vector2d angle = step.wheelAngles(t);
+      const Eigen::Vector2d angle = counted(t, step.wheelAngles(t));
       out_.push_back({t, quantizeTicks(angle.x(), ticks_), quantizeTicks(angle.y(), ticks_)});
     }
   }
 
  private:
+  Eigen::Vector2d counted(double t_s, const Eigen::Vector2d& angle_rad) {
+    if (!slip_.on()) return angle_rad;
+    const Eigen::Vector2d turned = angle_rad - previous_rad_;
+    const double dt = out_.empty() ? 0.0 : t_s - out_.back().stamp_s;
+    previous_rad_ = angle_rad;
+    return slip_.count(turned, dt);
+  }
+
   int ticks_;
   SampleClock clock_;
+  WheelSlip slip_;
+  Eigen::Vector2d previous_rad_ = Eigen::Vector2d::Zero();
   EncoderLog& out_;
 };
 
@@ -281,7 +296,7 @@ class SensorStreams {
   SensorStreams(const SimConfig& config, const Scene& scene, Dataset& data)
       : scene_(scene),
         lidar_(config.lidar, streamSeed(config.seed, RngStream::lidar), data.scans),
-        encoders_(config.encoders, data.encoders),
+        encoders_(config.encoders, streamSeed(config.seed, RngStream::encoder_slip), data.encoders),
         imu_(config.imu, streamSeed(config.seed, RngStream::imu), data.imu) {}
 
   void sense(const Interval& step, double duration_s) {

@@ -79,6 +79,33 @@ TEST(Sensors, ImuNoiseHasItsStatedMeanAndSigma) {
   EXPECT_NEAR(sigma, 0.05, 4 * 2.5e-4);
 }
 
+// A wheel turning at a constant rate w for T: the counted angle is off by int w s dt, whose
+// variance for an Ornstein-Uhlenbeck s started at 0 is
+// 2 sigma^2 tau w^2 (T - 2 tau (1 - e^(-T/tau)) + (tau / 2)(1 - e^(-2T/tau))).
+TEST(Sensors, WheelSlipHasTheVarianceOfAnOrnsteinUhlenbeckProcess) {
+  const double sigma = 0.05, tau = 0.5, w = 10.0, dt = 0.01, T = 10.0;
+  const int runs = 2000, steps = static_cast<int>(T / dt);
+  double sum = 0.0, sum2 = 0.0;
+  for (int run = 0; run < runs; ++run) {
+    WheelSlip slip(sigma, tau, streamSeed(run, RngStream::encoder_slip));
+    Eigen::Vector2d counted = Eigen::Vector2d::Zero();
+    for (int k = 0; k < steps; ++k) counted = slip.count(Eigen::Vector2d(w * dt, 0.0), dt);
+    const double error = counted.x() - w * T;
+    sum += error;
+    sum2 += error * error;
+  }
+  const double expected =
+      2.0 * sigma * sigma * tau * w * w *
+      (T - 2.0 * tau * (1.0 - std::exp(-T / tau)) + 0.5 * tau * (1.0 - std::exp(-2.0 * T / tau)));
+  // Standard error of a variance from 2000 draws: sqrt(2 / 2000) = 3.2 %; the steps of 10 ms
+  // against tau = 0.5 s add about 1 %.
+  EXPECT_NEAR(sum2 / runs / expected, 1.0, 0.12);
+  EXPECT_NEAR(sum / runs, 0.0, 4.0 * std::sqrt(expected / runs));
+  WheelSlip off(0.0, tau, 1);
+  EXPECT_FALSE(off.on());
+  EXPECT_EQ(off.count({1.0, 2.0}, dt), Eigen::Vector2d(1.0, 2.0));
+}
+
 TEST(Sensors, StreamsAreIndependentAndReproducible) {
   EXPECT_NE(streamSeed(1, RngStream::imu), streamSeed(1, RngStream::lidar));
   EXPECT_NE(streamSeed(1, RngStream::imu), streamSeed(2, RngStream::imu));

@@ -123,6 +123,10 @@ TEST(ConfigLimits, SensorAndFaultRatesBeyondAnySensorAreRefused) {
   EXPECT_NE(refusal("faults.held_robot.rate_hz=1e9").find("must be at most 100"),
             std::string::npos);
   EXPECT_EQ(refusal("lidar.rate_hz=40"), "");
+  EXPECT_EQ(refusal("encoders.slip_sigma=0.6"),
+            "--set: encoders.slip_sigma: must be in [0, 0.5] (got 0.6)");
+  EXPECT_NE(refusal("encoders.slip_tau_s=0").find("encoders.slip_tau_s"), std::string::npos);
+  EXPECT_EQ(refusal("encoders.slip_sigma=0.05"), "");
 }
 
 TEST(ConfigLimits, RunsTooLargeToHoldAreRefusedBeforeSimulating) {
