@@ -8,6 +8,7 @@
 #include "slamprep/algo/agreement/sensor_agreement.hpp"
 #include "slamprep/core/error.hpp"
 #include "slamprep/eval/bench/twin_odometry.hpp"
+#include "slamprep/eval/bench/twin_slip.hpp"
 #include "slamprep/eval/metrics/error_stats.hpp"
 #include "slamprep/eval/pipeline/calibration_run.hpp"
 #include "slamprep/eval/pipeline/match_trajectory.hpp"
@@ -174,6 +175,7 @@ struct Fitted {
   LidarLayout layout;
   LidarAgainstMap against_map;
   OdometryFit odometry;
+  WheelSlipFit slip;  ///< from the recording; the twin's sigma is set after its first run
   DiffDriveParams true_geometry;
   DiffDriveParams nominal;
   SE2 T_base_lidar;
@@ -210,7 +212,8 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
       "lidar.mount.x_m=" + num(f.T_base_lidar.x), "lidar.mount.y_m=" + num(f.T_base_lidar.y),
       "lidar.mount.yaw_rad=" + num(normalizeAngle(f.T_base_lidar.yaw + l.mount_yaw_shift_rad)),
       "encoders.rate_hz=" + num(f.odometry.encoder_rate_hz),
-      "encoders.ticks_per_revolution=" + std::to_string(f.odometry.ticks_per_revolution)};
+      "encoders.ticks_per_revolution=" + std::to_string(f.odometry.ticks_per_revolution),
+      "encoders.slip_tau_s=" + num(f.slip.tau_s)};
   if (f.odometry.has_imu && f.odometry.gyro_noise_radps > 0.0) {
     s.push_back("imu.rate_hz=" + num(f.odometry.imu_rate_hz));
     s.push_back("imu.gyro_bias_radps=" + num(f.odometry.gyro_bias_radps));
@@ -303,6 +306,33 @@ nlohmann::ordered_json lidarJson(const Fitted& f) {
       {"dropout_by_range", fitted(m.dropout_by_range, "per 0.5 m of predicted range from 0")}};
 }
 
+nlohmann::ordered_json slipJson(const WheelSlipFit& s) {
+  return {
+      {"sigma", s.fitted ? nlohmann::ordered_json(s.sigma) : nullptr},
+      {"tau_s", s.tau_s},
+      {"pieces", s.pieces},
+      {"reference_noise_rad", s.fitted ? nlohmann::ordered_json(s.reference_noise_rad) : nullptr},
+      {"how",
+       "the recording's encoders with the true geometry against the matched trajectory over "
+       "1 m pieces of path: the squared heading error of a piece regressed on what an "
+       "Ornstein-Uhlenbeck slip of correlation time tau_s predicts for its wheel speeds, "
+       "plus a constant (the matcher's own noise, reference_noise_rad); sigma: "
+       "the recording's; the twin is given what its physics does not slip already "
+       "(twin_sigma, physics_sigma)"}};
+}
+
+/// The recording's random wheel slip: its wheels against the accepted matches, moved to the
+/// wheels' clock by the scans' measured lag (a lag would otherwise look like slip in turns).
+WheelSlipFit recordingSlip(const Dataset& real, const std::string& name, const MatchTrajectory& run,
+                           const Fitted& f) {
+  const double lag_s = f.lag_measured ? f.scan_lag_s : 0.0;
+  PoseSeries accepted;
+  for (std::size_t k = 0; k < run.tracked.scans.size(); ++k)
+    if (k == 0 || !run.tracked.scans[k].fallback)
+      accepted.push_back(run.T_world_base[k].stamp_s - lag_s, run.T_world_base[k].value);
+  return fitWheelSlip(odometryEncoders(real, name), f.true_geometry, accepted);
+}
+
 nlohmann::ordered_json odometryJson(const Fitted& f, const nlohmann::ordered_json& geometry_how) {
   const OdometryFit& o = f.odometry;
   auto g = [](const DiffDriveParams& p) {
@@ -322,6 +352,7 @@ nlohmann::ordered_json odometryJson(const Fitted& f, const nlohmann::ordered_jso
       {"scan_lag_s", fitted(f.lag_measured ? nlohmann::ordered_json(f.scan_lag_s) : nullptr,
                             "sensor agreement: the scans' stamps behind the wheels' (the twin's "
                             "clock_offset when at least 20 ms)")}};
+  j["slip"] = slipJson(f.slip);
   j["gyro"] = o.has_imu ? nlohmann::ordered_json{{"rate_hz", o.imu_rate_hz},
                                                  {"still_samples", o.still_samples},
                                                  {"bias_radps", o.gyro_bias_radps},
@@ -415,8 +446,10 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   const sim::PlanarCaster caster(built.world);
   f.against_map = compareWithMap(real, run.T_world_base, accepted, caster, f.layout, p.lidar);
   measureLag(real, run, f);
+  f.slip = recordingSlip(real, name, run, f);
   TwinFit out;
   out.residual_median_m = matchedResidual(real);
+  out.recording_slip_sigma = f.slip.sigma;
   out.replay = drive.replay;
   out.sets = twinSets(f, p.seed);
   for (const std::string& s : out.sets) sim::applyOverride(out.config, s);
@@ -513,6 +546,26 @@ double nextRangeNoise(std::vector<std::pair<double, double>> runs, double target
 
 }  // namespace
 
+namespace {
+
+/// The twin's random slip: the recording's less what the physics of the first run slipped
+/// already (variances add). True when the twin is given some.
+bool setSlip(TwinFit& fit, const sim::SimResult& first) {
+  const Dataset& d = first.dataset;
+  const WheelSlipFit physics =
+      fitWheelSlip(odometryEncoders(d, "the twin"), *d.info.true_geometry, d.groundtruth);
+  const double real = fit.recording_slip_sigma;
+  const double sigma = std::sqrt(std::max(0.0, real * real - physics.sigma * physics.sigma));
+  nlohmann::ordered_json& j = fit.json["odometry"]["slip"];
+  j["physics_sigma"] = physics.fitted ? nlohmann::ordered_json(physics.sigma) : nullptr;
+  j["twin_sigma"] = sigma;
+  if (sigma <= 0.0) return false;
+  setKey(fit, "encoders.slip_sigma", num(sigma));
+  return true;
+}
+
+}  // namespace
+
 sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
   const double target = fit.residual_median_m;
   std::vector<std::pair<double, double>> runs;  // (range noise, the twin's residual)
@@ -521,14 +574,17 @@ sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
   j["fitted_against_the_world_m"] = fit.config.lidar.range_noise_m;
   j["recording_residual_m"] = target;
   constexpr int kRuns = 4;
+  bool without_slip = false;  // the last run came before the slip was set
   for (int k = 0; k < kRuns; ++k) {
     r = k == 0 ? firstRun(fit, scenario) : sim::simulate(fit.config, fit.world, scenario);
+    without_slip = k == 0 && setSlip(fit, r);
     if (k == kRuns - 1 || target <= 0.0) break;
     runs.push_back({fit.config.lidar.range_noise_m, matchedResidual(r.dataset)});
     const double next = std::max(0.0, nextRangeNoise(runs, target));
     if (k > 0 && std::abs(next - runs.back().first) < 1e-4) break;  // this run is the twin
     setRangeNoise(fit, next);
   }
+  if (without_slip) r = sim::simulate(fit.config, fit.world, scenario);
   j["tuning_runs"] = runs;
   j["how"] =
       "tuned so the twin's scan-to-map residual (match --deskew none, median) is the "

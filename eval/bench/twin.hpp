@@ -51,6 +51,9 @@ struct TwinFit {
   /// The physics' robot farther than this from `replay` (slip piled up over a long open-loop
   /// drive, a wall touched): the twin is simulated in kinematic mode instead.
   double max_physics_deviation_m = 0.3;
+  /// The random wheel slip the recording shows (its wheels with the true geometry against the
+  /// matched trajectory): simulateTwin gives the twin what its physics does not already slip.
+  double recording_slip_sigma = 0.0;
 };
 
 /// Simulates the twin, in physics mode when its robot follows the replay within
