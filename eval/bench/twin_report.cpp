@@ -52,7 +52,7 @@ std::string twinText(const nlohmann::ordered_json& j) {
 void plotComparison(const TwinComparison& c, const std::filesystem::path& png) {
   plot::Figure fig{
       .width_px = 1400, .height_px = 700, .title = "twin against recording", .cols = 2};
-  plot::Axes ratios{.title = "twin / real per statistic (band: +-25 %)",
+  plot::Axes ratios{.title = "twin / real per statistic (band: +-25 %; n/a: no ratio)",
                     .y_label = "twin / real",
                     .log_y = true,
                     .legend = plot::LegendPosition::None};
@@ -60,7 +60,9 @@ void plotComparison(const TwinComparison& c, const std::filesystem::path& png) {
   const char* const shorts[] = {"rate",  "beams", "no ret.", "res. md", "res. 95",
                                 "conv.", "drift", "sd b",    "b"};
   for (std::size_t i = 0; i < c.rows.size(); ++i) {
-    ratios.categories.push_back(i < std::size(shorts) ? shorts[i] : c.rows[i].name);
+    // No bar can mean no ratio (a real value of 0, a side without the statistic): say so.
+    const std::string name = i < std::size(shorts) ? shorts[i] : c.rows[i].name;
+    ratios.categories.push_back(c.rows[i].ratio ? name : name + " n/a");
     bars.x.push_back(double(i));
     bars.y.push_back(c.rows[i].ratio ? *c.rows[i].ratio : NAN);
   }

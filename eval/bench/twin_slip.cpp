@@ -1,5 +1,6 @@
 #include "slamprep/eval/bench/twin_slip.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -39,8 +40,10 @@ double slipRegressor(const OdometryEncoders& enc, const DiffDriveParams& g, doub
   const double rad_per_tick = radiansPerTick(enc.ticks_per_revolution);
   double sum = 0.0;
   const EncoderLog& e = enc.encoders;
-  for (std::size_t k = 1; k < e.size(); ++k) {
-    if (e[k - 1].stamp_s < t0 || e[k].stamp_s > t1) continue;
+  const auto first = std::lower_bound(
+      e.begin(), e.end(), t0, [](const EncoderSample& s, double t) { return s.stamp_s < t; });
+  for (std::size_t k = std::max<std::size_t>(1, first - e.begin() + 1);
+       k < e.size() && e[k].stamp_s <= t1; ++k) {
     const double dt = e[k].stamp_s - e[k - 1].stamp_s;
     if (dt <= 0.0) continue;
     const double ds_l =
