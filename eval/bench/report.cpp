@@ -267,11 +267,8 @@ std::string perSection(const Sections& parts, Table (*table)(const SummaryMetric
   return out;
 }
 
-}  // namespace
-
-std::string renderReport(const Suite& suite, const SuiteSummary& summary,
-                         const std::vector<std::string>& plots) {
-  const SummaryMetrics& m = summary.metrics;
+// The title and what the suite ran: its trials, how to reproduce it, the ones missing.
+std::string reportHeader(const Suite& suite, const SuiteSummary& summary) {
   std::ostringstream out;
   out << "# Suite `" << suite.name << "`\n\n";
   if (!suite.description.empty()) out << suite.description << "\n\n";
@@ -283,6 +280,16 @@ std::string renderReport(const Suite& suite, const SuiteSummary& summary,
       << "`. Figures are mean ± standard deviation over trials; errors are absolute.\n\n";
   if (const std::size_t missing = summary.missing.size())
     out << "**Missing trials:** " << missing << " (failed or not yet run).\n\n";
+  return out.str();
+}
+
+}  // namespace
+
+std::string renderReport(const Suite& suite, const SuiteSummary& summary,
+                         const std::vector<std::string>& plots) {
+  const SummaryMetrics& m = summary.metrics;
+  std::ostringstream out;
+  out << reportHeader(suite, summary);
   const auto parts = sections(summary);
   const bool any_calibration = !methodsOf(m, TrialSection::kCalibration).empty();
   const bool any_deskew = !methodsOf(m, TrialSection::kDeskew).empty();

@@ -29,7 +29,12 @@ SummaryGroup group(const std::string& scenario, std::map<std::string, std::strin
   m["deskew/none/mean_m"] = stat(0.1 * scale, 0.01);
   m["deskew/odom-linear/mean_m"] = stat(0.005 * scale, 0.001);
   m["sim/mean_speed_mps"] = stat(scale, 0.0);
-  return {.scenario = scenario, .sweep = std::move(sweep), .trials = seeds, .metrics = m};
+  return {.world = "worlds/room.yaml",
+          .scenario = scenario,
+          .sweep = std::move(sweep),
+          .trials = seeds,
+          .metrics = m,
+          .consistency = {}};
 }
 
 bool anyBars(const plot::Figure& f) {
