@@ -204,7 +204,7 @@ Command addMergeCommand(CLI::App& app) {
             std::cout << eval::renderConsoleSummary(outcome.summary)
                       << "\nresults: " << (outcome.out_dir / "README.md").string() << "\n";
             if (!outcome.complete)
-              std::cerr << "incomplete: " << outcome.summary["missing"].size()
+              std::cerr << "incomplete: " << outcome.summary.missing.size()
                         << " trial(s) have no result yet; run the missing shards and merge "
                            "again\n";
             return outcome.complete ? kExitDone : kExitNotDone;

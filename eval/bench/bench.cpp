@@ -46,7 +46,7 @@ void invalidateStaleTrials(const fs::path& run_dir, bool fresh) {
 }
 
 // The plots (if asked) and the README that embeds them.
-SuitePlots writeReport(const Suite& suite, const nlohmann::json& summary, const fs::path& dir,
+SuitePlots writeReport(const Suite& suite, const SuiteSummary& summary, const fs::path& dir,
                        bool plots) {
   SuitePlots written;
   if (plots) written = renderSuitePlots(suite, summary, dir);
@@ -72,12 +72,10 @@ SuitePlots plotResults(const fs::path& results_dir) {
                        "missing: not a finished results folder of `slamprep bench` (or `merge`)");
   requireResultsFolder(results_dir, "RESULTS_DIR");  // before anything is written into it
   const Suite suite = loadSuite(results_dir / "suite.yaml");
-  const fs::path summary_file = results_dir / "summary.json";
-  const nlohmann::json summary = readJsonFile(summary_file, "summary");
-  checkSummaryShape(summary, summary_file.string());
+  const SuiteSummary summary = readSuiteSummary(results_dir / "summary.json");
   try {
     return writeReport(suite, summary, results_dir, true);
-  } catch (const nlohmann::json::exception& e) {  // a field the shape check does not cover
+  } catch (const nlohmann::json::exception& e) {  // the first trial's artifacts, trials.csv
     throw InputError(results_dir.string(), std::string("unexpected content: ") + e.what());
   }
 }
@@ -94,7 +92,7 @@ void writeResults(BenchOutcome& outcome, const std::vector<TrialSpec>& trials, b
     throw InputError((dir / "trials").string(),
                      std::string("a trial result has unexpected content: ") + e.what());
   }
-  writeFileAtomic(dir / "summary.json", outcome.summary.dump(2) + "\n");
+  writeFileAtomic(dir / "summary.json", nlohmann::json(outcome.summary).dump(2) + "\n");
   writeFileAtomic(dir / "trials.csv", trialsCsv(set));
   writeFileAtomic(dir / "timing.json", collectTiming(trials, dir / "timing").dump(2) + "\n");
   outcome.plots = writeReport(outcome.suite, outcome.summary, dir, plots);
@@ -106,7 +104,7 @@ BenchOutcome runBench(const BenchOptions& options, const TrialFunction& trial) {
   outcome.suite = loadSuite(suite_file);
   outcome.out_dir = options.results_root / outcome.suite.name;
   // Read and checked before any trial runs: a bad baseline must not cost the suite's hours.
-  const std::optional<nlohmann::json> baseline =
+  const std::optional<std::map<std::string, double>> baseline =
       options.compare ? std::optional(loadBaseline(*options.compare)) : std::nullopt;
   auto trials = expandTrials(outcome.suite);
   attachInputDigests(trials);  // an edited world or scenario makes its trials stale
@@ -126,7 +124,8 @@ BenchOutcome runBench(const BenchOptions& options, const TrialFunction& trial) {
   if (baseline)
     outcome.regressions = compareToBaseline(outcome.summary, *baseline, outcome.suite.tolerances);
   if (options.update_baseline)
-    writeFileAtomic(outcome.out_dir / "baseline.json", outcome.summary.dump(2) + "\n");
+    writeFileAtomic(outcome.out_dir / "baseline.json",
+                    nlohmann::json(outcome.summary).dump(2) + "\n");
   return outcome;
 }
 

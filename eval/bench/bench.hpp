@@ -30,8 +30,8 @@ struct BenchOutcome {
   Suite suite;
   std::filesystem::path out_dir;
   RunReport run;
-  bool complete = false;   ///< every trial of the suite has a result
-  nlohmann::json summary;  ///< empty for a shard run
+  bool complete = false;  ///< every trial of the suite has a result
+  SuiteSummary summary;   ///< empty for a shard run
   std::vector<Regression> regressions;
   SuitePlots plots;  ///< file names under out_dir/plots
 };

@@ -9,30 +9,31 @@
 namespace slamprep::eval {
 namespace {
 
-using nlohmann::json;
+// The sweep key a faults suite's groups differ in.
+constexpr const char* kFaultsEnable = "faults.enable";
 
 // "mean ± std" of a group metric (scaled), or "-" when no trial has it.
-std::string stat(const json& metrics, const std::string& path, double scale = 1.0) {
-  if (!metrics.contains(path)) return "-";
-  const json& m = metrics[path];
+std::string stat(const SummaryMetrics& metrics, const std::string& path, double scale = 1.0) {
+  const auto it = metrics.find(path);
+  if (it == metrics.end()) return "-";
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3g ± %.2g", scale * m["mean"].get<double>(),
-                scale * m["std"].get<double>());
+  std::snprintf(buf, sizeof buf, "%.3g ± %.2g", scale * it->second.mean, scale * it->second.std);
   return buf;
 }
 
-std::string rate(const json& metrics, const std::string& path) {
-  if (!metrics.contains(path)) return "-";
+std::string rate(const SummaryMetrics& metrics, const std::string& path) {
+  const auto it = metrics.find(path);
+  if (it == metrics.end()) return "-";
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.0f %%", 100.0 * metrics[path]["mean"].get<double>());
+  std::snprintf(buf, sizeof buf, "%.0f %%", 100.0 * it->second.mean);
   return buf;
 }
 
 // Methods present in any group under "calibration/<method>/" or "deskew/<method>/".
-std::set<std::string> methods(const json& groups, TrialSection section) {
+std::set<std::string> methods(const std::vector<SummaryGroup>& groups, TrialSection section) {
   std::set<std::string> out;
   for (const auto& g : groups)
-    for (const auto& [path, v] : g["metrics"].items())
+    for (const auto& [path, v] : g.metrics)
       if (std::string method = methodOfMetric(section, path); !method.empty())
         out.insert(std::move(method));
   return out;
@@ -40,11 +41,11 @@ std::set<std::string> methods(const json& groups, TrialSection section) {
 
 }  // namespace
 
-std::string faultRobustnessSection(const json& summary) {
-  if (!summary.contains("groups") || summary["groups"].empty()) return "";
-  const json& groups = summary["groups"];
+std::string faultRobustnessSection(const SuiteSummary& summary) {
+  const std::vector<SummaryGroup>& groups = summary.groups;
+  if (groups.empty()) return "";
   for (const auto& g : groups)
-    if (!g["sweep"].contains("faults.enable")) return "";
+    if (!g.sweep.contains(kFaultsEnable)) return "";
   std::ostringstream out;
   out << "## Robustness against faults\n\nPer condition (`faults.enable`, docs/faults.md), mean "
          "± standard deviation over the seeds. Errors are absolute, in % of the true value; "
@@ -58,8 +59,8 @@ std::string faultRobustnessSection(const json& summary) {
         << "b err [%] | truth in 3σ | refused, naming the fault |\n| :-- | --: | --: | --: | "
         << "--: | --: | --: |\n";
     for (const auto& g : groups) {
-      const json& x = g["metrics"];
-      out << "| " << g["sweep"]["faults.enable"].get<std::string>() << " | "
+      const SummaryMetrics& x = g.metrics;
+      out << "| " << g.sweep.at(kFaultsEnable) << " | "
           << rate(x, calibrationMetric(m, CalibrationField::kOk)) << " | "
           << stat(x, abs(CalibrationParam::kRL)) << " | " << stat(x, abs(CalibrationParam::kRR))
           << " | " << stat(x, abs(CalibrationParam::kB)) << " | "
@@ -76,10 +77,10 @@ std::string faultRobustnessSection(const json& summary) {
     for (std::size_t i = 0; i < deskew.size(); ++i) out << " --: |";
     out << "\n";
     for (const auto& g : groups) {
-      out << "| " << g["sweep"]["faults.enable"].get<std::string>() << " |";
+      out << "| " << g.sweep.at(kFaultsEnable) << " |";
       for (const auto& m : deskew)
-        out << " " << stat(g["metrics"], deskewMetric(m, DeskewFigure::kMean), 1000.0) << " ("
-            << rate(g["metrics"], deskewMetric(m, DeskewField::kOk)) << " ok) |";
+        out << " " << stat(g.metrics, deskewMetric(m, DeskewFigure::kMean), 1000.0) << " ("
+            << rate(g.metrics, deskewMetric(m, DeskewField::kOk)) << " ok) |";
       out << "\n";
     }
     out << "\n`ok` is the share of trials in which the method de-skewed every scan.\n\n";

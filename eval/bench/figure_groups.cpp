@@ -14,8 +14,6 @@
 namespace slamprep::eval {
 namespace {
 
-using nlohmann::json;
-
 // Scenario files in words; others: the file's stem with spaces.
 std::string scenarioWords(const std::string& file) {
   static const std::map<std::string, std::string> kKnown = {
@@ -58,11 +56,11 @@ std::string sweepWords(const std::string& key, const std::string& value) {
 
 // Methods of `section` whose metric `metric(method)` is in any group, in first-seen order.
 template <typename Metric>
-std::vector<std::string> methodsWith(const json& groups, TrialSection section,
+std::vector<std::string> methodsWith(const std::vector<SummaryGroup>& groups, TrialSection section,
                                      const Metric& metric) {
   std::vector<std::string> out;
   for (const auto& g : groups)
-    for (const auto& [path, _] : g["metrics"].items()) {
+    for (const auto& [path, _] : g.metrics) {
       const std::string method = methodOfMetric(section, path);
       if (!method.empty() && path == metric(method) &&
           std::find(out.begin(), out.end(), method) == out.end())
@@ -73,14 +71,13 @@ std::vector<std::string> methodsWith(const json& groups, TrialSection section,
 
 }  // namespace
 
-std::string conditionLabel(const json& group, const json& groups) {
-  const std::string scenario = group.value("scenario", "");
-  const bool scenarios_differ = std::any_of(groups.begin(), groups.end(), [&](const json& g) {
-    return g.value("scenario", "") != scenario;
-  });
+std::string conditionLabel(const SummaryGroup& group, const std::vector<SummaryGroup>& groups) {
+  const std::string& scenario = group.scenario;
+  const bool scenarios_differ = std::any_of(
+      groups.begin(), groups.end(), [&](const SummaryGroup& g) { return g.scenario != scenario; });
   std::string label = scenarios_differ ? scenarioWords(scenario) : "";
-  for (const auto& [key, value] : group["sweep"].items())
-    label += (label.empty() ? "" : ", ") + sweepWords(key, value.get<std::string>());
+  for (const auto& [key, value] : group.sweep)
+    label += (label.empty() ? "" : ", ") + sweepWords(key, value);
   return label.empty() ? scenarioWords(scenario) : label;
 }
 
@@ -93,27 +90,32 @@ std::string boxSeedsNote(int seeds) {
          " seeds; whiskers: 1.5 IQR; dots: beyond";
 }
 
-void pushMeanWithSpread(plot::Series& s, double x, const json& metrics, const std::string& path,
-                        int seeds, double scale) {
-  const double mean = scale * statOf(metrics, path, "mean");
+void pushMeanWithSpread(plot::Series& s, double x, const SummaryMetrics& metrics,
+                        const std::string& path, int seeds, double scale) {
+  const double mean = scale * statOf(metrics, path, &MetricStats::mean);
   const bool spread = seeds >= 2 && std::isfinite(mean);
   s.x.push_back(x);
   s.y.push_back(mean);
-  s.y_err.push_back(spread ? scale * statOf(metrics, path, "max") - mean : 0.0);
-  s.y_err_low.push_back(spread ? mean - scale * statOf(metrics, path, "min") : 0.0);
+  s.y_err.push_back(spread ? scale * statOf(metrics, path, &MetricStats::max) - mean : 0.0);
+  s.y_err_low.push_back(spread ? mean - scale * statOf(metrics, path, &MetricStats::min) : 0.0);
 }
 
-double statOf(const json& metrics, const std::string& path, const char* stat) {
-  return metrics.contains(path) ? metrics[path][stat].get<double>() : std::nan("");
+double statOf(const SummaryMetrics& metrics, const std::string& path, double MetricStats::*stat) {
+  const auto it = metrics.find(path);
+  return it != metrics.end() ? it->second.*stat : std::nan("");
 }
 
-std::vector<std::string> calibrationMethodsIn(const json& groups) {
+int seedsOf(const SummaryGroup& group) {
+  return static_cast<int>(group.trials);
+}
+
+std::vector<std::string> calibrationMethodsIn(const std::vector<SummaryGroup>& groups) {
   return methodsWith(groups, TrialSection::kCalibration, [](const std::string& method) {
     return calibrationMetric(method, CalibrationField::kOk);
   });
 }
 
-std::vector<std::string> deskewMethodsIn(const json& groups) {
+std::vector<std::string> deskewMethodsIn(const std::vector<SummaryGroup>& groups) {
   return methodsWith(groups, TrialSection::kDeskew, [](const std::string& method) {
     return deskewMetric(method, DeskewFigure::kMean);
   });
@@ -160,12 +162,12 @@ plot::Series methodDots(const std::vector<std::string>& all, const std::string& 
           .marker = methodMarker(all, method)};
 }
 
-std::optional<std::vector<double>> scenarioSeries(const json& groups) {
+std::optional<std::vector<double>> scenarioSeries(const std::vector<SummaryGroup>& groups) {
   static const std::regex kNumbered(R"((.*[^0-9.])([0-9]+(\.[0-9]+)?))");
   std::optional<std::string> stem;
   std::vector<double> values;
   for (const auto& g : groups) {
-    const std::string s = std::filesystem::path(g.value("scenario", "")).stem().string();
+    const std::string s = std::filesystem::path(g.scenario).stem().string();
     std::smatch m;
     if (!std::regex_match(s, m, kNumbered)) return std::nullopt;
     if (stem && *stem != m[1].str()) return std::nullopt;
@@ -196,19 +198,18 @@ bool naturalLess(const std::string& a, const std::string& b) {
   return a.size() - i < b.size() - j;
 }
 
-std::string commonSeedsNote(const json& groups) {
+std::string commonSeedsNote(const std::vector<SummaryGroup>& groups) {
   if (groups.empty()) return "";
-  const int seeds = groups.front().value("trials", 1);
+  const int seeds = seedsOf(groups.front());
   for (const auto& g : groups)
-    if (g.value("trials", 1) != seeds) return "";
+    if (seedsOf(g) != seeds) return "";
   return seedsNote(seeds);
 }
 
-std::string otherSweepLabel(const json& group, const std::string& axis) {
+std::string otherSweepLabel(const SummaryGroup& group, const std::string& axis) {
   std::string label;
-  for (const auto& [key, value] : group["sweep"].items())
-    if (key != axis)
-      label += (label.empty() ? "" : ", ") + sweepWords(key, value.get<std::string>());
+  for (const auto& [key, value] : group.sweep)
+    if (key != axis) label += (label.empty() ? "" : ", ") + sweepWords(key, value);
   return label;
 }
 

@@ -40,17 +40,20 @@ std::optional<ArtifactsRecord> firstArtifacts(const Suite& suite, const fs::path
 
 // Each group's rows of trials.csv (its seeds): a trial's id names its spec in the suite, whose
 // groupKey makes the group (summarize). `rows` and `ids` are trials.csv's, in its order.
-std::vector<TrialRows> trialRowsByGroup(const Suite& suite, const json& groups,
+std::vector<TrialRows> trialRowsByGroup(const Suite& suite, const std::vector<SummaryGroup>& groups,
                                         const TrialRows& rows,
                                         const std::vector<std::string>& ids) {
-  std::map<std::string, json> group_of_id;
-  for (const TrialSpec& spec : expandTrials(suite)) group_of_id[spec.id] = groupKey(specJson(spec));
+  std::map<std::string, TrialSpec> spec_of_id;
+  for (TrialSpec& spec : expandTrials(suite)) spec_of_id[spec.id] = std::move(spec);
   std::vector<TrialRows> by_group(groups.size());
   for (std::size_t r = 0; r < rows.size() && r < ids.size(); ++r) {
-    const auto it = group_of_id.find(ids[r]);
-    if (it == group_of_id.end()) continue;  // a trial the suite no longer has
+    const auto it = spec_of_id.find(ids[r]);
+    if (it == spec_of_id.end()) continue;  // a trial the suite no longer has
+    const TrialSpec& spec = it->second;
     for (std::size_t g = 0; g < groups.size(); ++g)
-      if (groupKey(groups[g]) == it->second) by_group[g].push_back(rows[r]);
+      if (groups[g].world == spec.world && groups[g].scenario == spec.scenario &&
+          groups[g].sweep == spec.sweep)
+        by_group[g].push_back(rows[r]);
   }
   return by_group;
 }
@@ -72,9 +75,10 @@ bool sweeps(const Suite& suite, const std::string& key) {
 
 }  // namespace
 
-SuitePlots renderSuitePlots(const Suite& suite, const json& summary, const fs::path& out_dir) {
+SuitePlots renderSuitePlots(const Suite& suite, const SuiteSummary& summary,
+                            const fs::path& out_dir) {
   std::vector<std::pair<std::string, plot::Figure>> figures;
-  const json& groups = summary["groups"];
+  const std::vector<SummaryGroup>& groups = summary.groups;
   const TrialRows trial_rows = readTrialRows(out_dir / "trials.csv");  // empty without the file
   if (!deskewMethodsIn(groups).empty()) {
     // A scenario series (speeds) is a sweep: lines along it. Otherwise one panel per condition.

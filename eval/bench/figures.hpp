@@ -2,11 +2,11 @@
 // The suite's plots, rendered off-screen from the summary and the trials' artifacts.
 
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "slamprep/eval/bench/suite.hpp"
+#include "slamprep/eval/bench/suite_summary.hpp"
 
 namespace slamprep::eval {
 
@@ -19,7 +19,7 @@ struct SuitePlots {
 /// Renders every plot the data supports into out_dir/plots/. Without trials/ (a committed
 /// results folder: git ignores it) the first trial's figures cannot be rendered, so an existing
 /// trajectory.png, odometry_error.png or scan.png is kept untouched and still named.
-SuitePlots renderSuitePlots(const Suite& suite, const nlohmann::json& summary,
+SuitePlots renderSuitePlots(const Suite& suite, const SuiteSummary& summary,
                             const std::filesystem::path& out_dir);
 
 }  // namespace slamprep::eval

@@ -13,8 +13,6 @@
 namespace slamprep::eval {
 namespace {
 
-using nlohmann::json;
-
 struct Param {
   CalibrationParam param;
   const char* label;  // category label
@@ -42,21 +40,21 @@ const std::vector<PanelSpec>& panelSpecs() {
 
 // One panel of a group: a dot per method and parameter, the methods side by side; only the
 // methods that estimate these parameters (direct and model have no mount).
-plot::Axes calibrationPanel(const json& group, const PanelSpec& spec,
+plot::Axes calibrationPanel(const SummaryGroup& group, const PanelSpec& spec,
                             const std::vector<std::string>& methods, int seeds) {
   plot::Axes axes{.title = spec.title,
                   .y_label = std::string("|error| ") + spec.unit,
                   .log_y = true,
                   .legend = plot::LegendPosition::None};
   for (const Param& p : spec.params) axes.categories.push_back(p.label);
-  const json& m = group["metrics"];
+  const SummaryMetrics& m = group.metrics;
   for (const std::string& method : methods) {
     plot::Series dots = methodDots(calibrationPalette(), method);
     bool any = false;
     for (std::size_t i = 0; i < spec.params.size(); ++i) {
       const std::string path =
           calibrationMetric(method, CalibrationError::kAbs, spec.params[i].param);
-      const double v = statOf(m, path, "mean");
+      const double v = statOf(m, path, &MetricStats::mean);
       any = any || std::isfinite(v);
       pushMeanWithSpread(dots, static_cast<double>(i), m, path, seeds);
     }
@@ -189,8 +187,9 @@ int commonSeeds(const std::vector<std::size_t>& shown, const std::vector<TrialRo
   return static_cast<int>(trials[shown.front()].size());
 }
 
-plot::Figure boxFigure(const json& groups, const std::vector<std::size_t>& shown,
-                       const std::vector<TrialRows>& trials, const std::string& left_out) {
+plot::Figure boxFigure(const std::vector<SummaryGroup>& groups,
+                       const std::vector<std::size_t>& shown, const std::vector<TrialRows>& trials,
+                       const std::string& left_out) {
   const auto methods = calibrationMethodsIn(groups);
   std::vector<const TrialRows*> rows;
   for (const std::size_t g : shown) rows.push_back(&trials[g]);
@@ -229,7 +228,8 @@ plot::Figure boxFigure(const json& groups, const std::vector<std::size_t>& shown
 
 }  // namespace
 
-plot::Figure calibrationFigure(const json& groups, const std::vector<TrialRows>& trials_by_group) {
+plot::Figure calibrationFigure(const std::vector<SummaryGroup>& groups,
+                               const std::vector<TrialRows>& trials_by_group) {
   const auto methods = calibrationMethodsIn(groups);
   // A condition where every method refused (an arc has no excitation to calibrate from) gets
   // no row; the title says so.
@@ -238,10 +238,10 @@ plot::Figure calibrationFigure(const json& groups, const std::vector<TrialRows>&
   for (std::size_t k = 0; k < groups.size(); ++k) {
     bool any = false;
     for (const auto& method : methods)
-      any = any ||
-            std::isfinite(statOf(
-                groups[k]["metrics"],
-                calibrationMetric(method, CalibrationError::kAbs, CalibrationParam::kB), "mean"));
+      any = any || std::isfinite(statOf(
+                       groups[k].metrics,
+                       calibrationMetric(method, CalibrationError::kAbs, CalibrationParam::kB),
+                       &MetricStats::mean));
     if (any)
       shown.push_back(k);
     else
@@ -258,8 +258,8 @@ plot::Figure calibrationFigure(const json& groups, const std::vector<TrialRows>&
   plot::Figure fig{
       .width_px = 1600, .height_px = 70 + 330 * rows, .title = title, .rows = rows, .cols = 3};
   for (const std::size_t k : shown) {
-    const json& g = groups[k];
-    const int seeds = g.value("trials", 1);
+    const SummaryGroup& g = groups[k];
+    const int seeds = seedsOf(g);
     const std::string condition =
         conditionLabel(g, groups) + (common.empty() ? " (" + seedsNote(seeds) + ")" : "");
     for (const PanelSpec& spec : panelSpecs()) {
@@ -275,26 +275,26 @@ plot::Figure calibrationFigure(const json& groups, const std::vector<TrialRows>&
   return fig;
 }
 
-plot::Figure calibrationVsTimeFigure(const json& groups) {
+plot::Figure calibrationVsTimeFigure(const std::vector<SummaryGroup>& groups) {
   const std::vector<std::pair<CalibrationParam, std::string>> params = {
       {CalibrationParam::kB, "b |error| [%]"},
       {CalibrationParam::kRL, "r_{L} |error| [%]"},
       {CalibrationParam::kRR, "r_{R} |error| [%]"},
       {CalibrationParam::kMountYaw, "lidar yaw |error| [deg]"}};
   const auto methods = calibrationMethodsIn(groups);
-  std::map<std::string, std::vector<const json*>, decltype(&naturalLess)> columns(naturalLess);
+  std::map<std::string, std::vector<const SummaryGroup*>, decltype(&naturalLess)> columns(
+      naturalLess);
   for (const auto& g : groups) columns[otherSweepLabel(g, "duration_s")].push_back(&g);
-  const auto duration = [](const json* g) {
-    return std::stod((*g)["sweep"]["duration_s"].get<std::string>());
-  };
+  const auto duration = [](const SummaryGroup* g) { return std::stod(g->sweep.at("duration_s")); };
   for (auto& [_, members] : columns)  // along the driving time
-    std::sort(members.begin(), members.end(),
-              [&](const json* a, const json* b) { return duration(a) < duration(b); });
+    std::sort(members.begin(), members.end(), [&](const SummaryGroup* a, const SummaryGroup* b) {
+      return duration(a) < duration(b);
+    });
   const int cols = static_cast<int>(columns.size());
   plot::Figure fig{.width_px = 560 * cols + 200,
                    .height_px = 1300,
                    .title = "Calibration error vs driving time (" +
-                            seedsNote(groups.front().value("trials", 1)) + " per point)",
+                            seedsNote(seedsOf(groups.front())) + " per point)",
                    .rows = static_cast<int>(params.size()),
                    .cols = cols};
   for (const auto& [param, label] : params)
@@ -309,9 +309,9 @@ plot::Figure calibrationVsTimeFigure(const json& groups) {
       for (const std::string& method : methods) {
         plot::Series line = methodDots(calibrationPalette(), method);
         line.style = plot::Style::LineMarkers;
-        for (const json* g : members) {
+        for (const SummaryGroup* g : members) {
           const std::string path = calibrationMetric(method, CalibrationError::kAbs, param);
-          pushMeanWithSpread(line, duration(g), (*g)["metrics"], path, g->value("trials", 1));
+          pushMeanWithSpread(line, duration(g), g->metrics, path, seedsOf(*g));
         }
         if (std::any_of(line.y.begin(), line.y.end(), [](double v) { return std::isfinite(v); }))
           axes.series.push_back(line);

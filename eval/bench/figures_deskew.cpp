@@ -10,13 +10,11 @@
 namespace slamprep::eval {
 namespace {
 
-using nlohmann::json;
-
 constexpr const char* kOracleNote = "the oracle, at ~1e-12 mm, not drawn";
 
 // De-skew methods of the groups in the order of algo::allDeskewMethods(), without the oracle
 // (it would stretch a log axis over 10 decades; the tables report it).
-std::vector<std::string> plottedDeskewMethods(const json& groups) {
+std::vector<std::string> plottedDeskewMethods(const std::vector<SummaryGroup>& groups) {
   const auto present = deskewMethodsIn(groups);
   std::vector<std::string> out;
   for (const auto method : algo::allDeskewMethods()) {
@@ -30,7 +28,7 @@ std::vector<std::string> plottedDeskewMethods(const json& groups) {
 
 }  // namespace
 
-plot::Figure deskewFigure(const json& groups) {
+plot::Figure deskewFigure(const std::vector<SummaryGroup>& groups) {
   const auto methods = plottedDeskewMethods(groups);
   const int n = static_cast<int>(groups.size());
   // Wide panels: seven method names side by side under each.
@@ -43,7 +41,7 @@ plot::Figure deskewFigure(const json& groups) {
                    .rows = rows,
                    .cols = cols};
   for (const auto& g : groups) {
-    const int seeds = g.value("trials", 1);
+    const int seeds = seedsOf(g);
     plot::Axes axes{.title = conditionLabel(g, groups) + " (" + seedsNote(seeds) + ")",
                     .y_label = "mean point error [mm]",
                     .log_y = true,
@@ -54,7 +52,7 @@ plot::Figure deskewFigure(const json& groups) {
     for (std::size_t i = 0; i < methods.size(); ++i) {
       plot::Series dot = methodDots(deskewPalette(), methods[i]);
       dot.label.clear();  // the category names it
-      pushMeanWithSpread(dot, static_cast<double>(i), g["metrics"],
+      pushMeanWithSpread(dot, static_cast<double>(i), g.metrics,
                          deskewMetric(methods[i], DeskewFigure::kMean), seeds, 1e3);
       axes.series.push_back(dot);
     }
@@ -63,17 +61,17 @@ plot::Figure deskewFigure(const json& groups) {
   return fig;
 }
 
-std::optional<plot::Figure> deskewVsSpeedFigure(const json& groups) {
+std::optional<plot::Figure> deskewVsSpeedFigure(const std::vector<SummaryGroup>& groups) {
   if (!scenarioSeries(groups)) return std::nullopt;
   const auto methods = plottedDeskewMethods(groups);
-  std::map<std::string, std::vector<const json*>, decltype(&naturalLess)> panels(naturalLess);
+  std::map<std::string, std::vector<const SummaryGroup*>, decltype(&naturalLess)> panels(
+      naturalLess);
   for (const auto& g : groups) panels[otherSweepLabel(g, "")].push_back(&g);
   const int cols = static_cast<int>(panels.size());
   plot::Figure fig{.width_px = 640 * cols + 220,
                    .height_px = 700,
                    .title = "De-skew error vs driving speed (" +
-                            seedsNote(groups.front().value("trials", 1)) + " per point; " +
-                            kOracleNote + ")",
+                            seedsNote(seedsOf(groups.front())) + " per point; " + kOracleNote + ")",
                    .rows = 1,
                    .cols = cols};
   for (const auto& [label, members] : panels) {
@@ -83,9 +81,10 @@ std::optional<plot::Figure> deskewVsSpeedFigure(const json& groups) {
                     .log_y = true,
                     .legend = &label == &panels.rbegin()->first ? plot::LegendPosition::Outside
                                                                 : plot::LegendPosition::None};
-    std::vector<std::pair<double, const json*>> points;
-    for (const json* g : members)
-      points.push_back({statOf((*g)["metrics"], simMetric(SimField::kMeanSpeed), "mean"), g});
+    std::vector<std::pair<double, const SummaryGroup*>> points;
+    for (const SummaryGroup* g : members)
+      points.push_back(
+          {statOf(g->metrics, simMetric(SimField::kMeanSpeed), &MetricStats::mean), g});
     std::sort(points.begin(), points.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
     for (const std::string& method : methods) {
@@ -95,8 +94,8 @@ std::optional<plot::Figure> deskewVsSpeedFigure(const json& groups) {
       line.dashed = method == "odom-quadratic";
       if (method == "odom-linear") line.marker_size_px = 14.0;
       for (const auto& [speed, g] : points) {
-        pushMeanWithSpread(line, speed, (*g)["metrics"], deskewMetric(method, DeskewFigure::kMean),
-                           g->value("trials", 1), 1e3);
+        pushMeanWithSpread(line, speed, g->metrics, deskewMetric(method, DeskewFigure::kMean),
+                           seedsOf(*g), 1e3);
       }
       axes.series.push_back(line);
     }

@@ -1,8 +1,8 @@
 #pragma once
 // The suite figures, one function each (figures.cpp decides which a suite gets).
 
-#include <nlohmann/json.hpp>
 #include <optional>
+#include <vector>
 
 #include "slamprep/eval/bench/artifacts_record.hpp"
 #include "slamprep/eval/bench/figure_groups.hpp"
@@ -16,18 +16,18 @@ namespace slamprep::eval {
 /// least kMinSeedsForBoxes seeds in `trials_by_group` (one entry per group, its rows of
 /// trials.csv): box plots of the signed error on linear axes, boxes far off the others' scale on
 /// a panel of their own. Else dots of the mean absolute error with min..max whiskers on log axes.
-plot::Figure calibrationFigure(const nlohmann::json& groups,
+plot::Figure calibrationFigure(const std::vector<SummaryGroup>& groups,
                                const std::vector<TrialRows>& trials_by_group = {});
 /// Error against driving time (the duration_s sweep axis), one column per other sweep value.
-plot::Figure calibrationVsTimeFigure(const nlohmann::json& groups);
+plot::Figure calibrationVsTimeFigure(const std::vector<SummaryGroup>& groups);
 
 // figures_deskew.cpp
 /// Mean point error of every method, one panel per group, dots with min..max whiskers over its
 /// seeds.
-plot::Figure deskewFigure(const nlohmann::json& groups);
+plot::Figure deskewFigure(const std::vector<SummaryGroup>& groups);
 /// Mean point error against the measured speed of a scenario series, one panel per other sweep
 /// value; nullopt when the scenarios are not a series (scenarioSeries).
-std::optional<plot::Figure> deskewVsSpeedFigure(const nlohmann::json& groups);
+std::optional<plot::Figure> deskewVsSpeedFigure(const std::vector<SummaryGroup>& groups);
 
 // figures_maps.cpp
 plot::Figure trajectoryFigure(const Suite& suite, const TrajectoriesRecord& trajectory);

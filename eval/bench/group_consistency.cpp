@@ -1,6 +1,7 @@
 #include "slamprep/eval/bench/group_consistency.hpp"
 
 #include <map>
+#include <optional>
 
 #include "slamprep/eval/bench/trial_metrics.hpp"
 #include "slamprep/eval/metrics/consistency.hpp"
@@ -24,35 +25,26 @@ MethodRecords estimatesByMethod(const std::vector<const nlohmann::json*>& result
 }
 
 // The error statistics of one parameter over the records that reported its sigma.
-void addParameter(const std::string& method, CalibrationParam param,
-                  const std::vector<CalibrationRecord>& records, nlohmann::json& out) {
+std::optional<ErrorConsistency> parameterConsistency(
+    CalibrationParam param, const std::vector<CalibrationRecord>& records) {
   std::vector<double> errors, sigmas;
   for (const CalibrationRecord& c : records)
     if (c.sigma[param] && c.signed_error[param]) {
       errors.push_back(*c.signed_error[param]);
       sigmas.push_back(*c.sigma[param]);
     }
-  if (errors.empty()) return;
-  const ErrorConsistency s = errorConsistency(errors, sigmas);
-  const auto key = [&](ConsistencyStat stat) { return consistencyMetric(method, param, stat); };
-  out[key(ConsistencyStat::kN)] = s.n;
-  out[key(ConsistencyStat::kBias)] = s.bias;
-  out[key(ConsistencyStat::kStd)] = s.std;
-  out[key(ConsistencyStat::kRms)] = s.rms;
-  out[key(ConsistencyStat::kCoverage1Sigma)] = s.coverage_1sigma;
-  out[key(ConsistencyStat::kCoverage3Sigma)] = s.coverage_3sigma;
+  if (errors.empty()) return std::nullopt;
+  return errorConsistency(errors, sigmas);
 }
 
 // The mean NEES over the records that have one.
-void addNees(const std::string& method, const std::vector<CalibrationRecord>& records,
-             nlohmann::json& out) {
+std::optional<NeesConsistency> neesConsistency(const std::vector<CalibrationRecord>& records) {
   double sum = 0.0;
   std::size_t n = 0;
   for (const CalibrationRecord& c : records)
     if (c.nees) sum += *c.nees, ++n;
-  if (n == 0) return;
-  out[consistencyMetric(method, NeesStat::kMean)] = sum / n;
-  out[consistencyMetric(method, NeesStat::kN)] = n;
+  if (n == 0) return std::nullopt;
+  return NeesConsistency{sum / n, n};
 }
 
 }  // namespace
@@ -69,12 +61,14 @@ std::string consistencyMetric(std::string_view method, NeesStat stat) {
          std::string(nameOf(kNeesStatKeys, stat));
 }
 
-nlohmann::json consistencyOver(const std::vector<const nlohmann::json*>& results) {
-  nlohmann::json out = nlohmann::json::object();
+GroupConsistency consistencyOver(const std::vector<const nlohmann::json*>& results) {
+  GroupConsistency out;
   for (const auto& [method, records] : estimatesByMethod(results)) {
+    MethodConsistency m;
     for (const CalibrationParam param : kCalibrationParams)
-      addParameter(method, param, records, out);
-    addNees(method, records, out);
+      if (auto e = parameterConsistency(param, records)) m.params[param] = *e;
+    m.nees = neesConsistency(records);
+    if (!m.params.empty() || m.nees) out[method] = std::move(m);
   }
   return out;
 }

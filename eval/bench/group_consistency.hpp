@@ -12,6 +12,7 @@
 
 #include "slamprep/core/enum_names.hpp"
 #include "slamprep/eval/bench/calibration_param.hpp"
+#include "slamprep/eval/bench/suite_summary.hpp"
 
 namespace slamprep::eval {
 
@@ -39,7 +40,7 @@ std::string consistencyMetric(std::string_view method, CalibrationParam param,
 std::string consistencyMetric(std::string_view method, NeesStat stat);
 
 /// The consistency of every calibration method over `results` (the trial results of one group),
-/// from the runs that did not refuse and reported a sigma; {} when none did.
-nlohmann::json consistencyOver(const std::vector<const nlohmann::json*>& results);
+/// from the runs that did not refuse and reported a sigma; empty when none did.
+GroupConsistency consistencyOver(const std::vector<const nlohmann::json*>& results);
 
 }  // namespace slamprep::eval

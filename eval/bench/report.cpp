@@ -13,8 +13,6 @@
 namespace slamprep::eval {
 namespace {
 
-using nlohmann::json;
-
 // A table: a header row and rows of cells; rendered as Markdown or aligned text.
 struct Table {
   std::vector<std::string> header;
@@ -29,30 +27,33 @@ std::string fmt(double v, int digits = 3) {
 }
 
 // "mean ± std" of a summary metric, scaled; "-" where absent.
-std::string cell(const json& metrics, const std::string& path, double scale = 1.0, int digits = 3) {
-  if (!metrics.contains(path)) return "-";
-  const auto& m = metrics[path];
-  const double mean = m["mean"].get<double>() * scale, sd = m["std"].get<double>() * scale;
-  return m["n"].get<int>() > 1 ? fmt(mean, digits) + " ± " + fmt(sd, 2) : fmt(mean, digits);
+std::string cell(const SummaryMetrics& metrics, const std::string& path, double scale = 1.0,
+                 int digits = 3) {
+  const auto it = metrics.find(path);
+  if (it == metrics.end()) return "-";
+  const MetricStats& m = it->second;
+  const double mean = m.mean * scale, sd = m.std * scale;
+  return m.n > 1 ? fmt(mean, digits) + " ± " + fmt(sd, 2) : fmt(mean, digits);
 }
 
-std::string percent(const json& metrics, const std::string& path) {
-  if (!metrics.contains(path)) return "-";
-  return fmt(100.0 * metrics[path]["mean"].get<double>(), 3) + " %";
+std::string percent(const SummaryMetrics& metrics, const std::string& path) {
+  const auto it = metrics.find(path);
+  if (it == metrics.end()) return "-";
+  return fmt(100.0 * it->second.mean, 3) + " %";
 }
 
-// Method names under a section ("calibration/<method>/...") in first-seen order of the keys.
-std::vector<std::string> methodsOf(const json& metrics, TrialSection section) {
+// Method names under a section ("calibration/<method>/...") in first-seen order of the paths.
+std::vector<std::string> methodsOf(const SummaryMetrics& metrics, TrialSection section) {
   std::vector<std::string> out;
   std::set<std::string> seen;
-  for (const auto& [path, _] : metrics.items()) {
+  for (const auto& [path, _] : metrics) {
     const std::string method = methodOfMetric(section, path);
     if (!method.empty() && seen.insert(method).second) out.push_back(method);
   }
   return out;
 }
 
-Table calibrationTable(const json& m) {
+Table calibrationTable(const SummaryMetrics& m) {
   Table t{{"method", "ok", "r_L err [%]", "r_R err [%]", "b err [%]", "lidar x err [mm]",
            "lidar y err [mm]", "lidar yaw err [deg]", "truth in 3σ", "drift after [m]"},
           {}};
@@ -68,7 +69,7 @@ Table calibrationTable(const json& m) {
   return t;
 }
 
-Table deskewTable(const json& m) {
+Table deskewTable(const SummaryMetrics& m) {
   Table t{{"method", "ok", "mean [mm]", "RMS [mm]", "p95 [mm]", "max [mm]", "rotation part [mm]",
            "translation part [mm]"},
           {}};
@@ -85,9 +86,10 @@ Table deskewTable(const json& m) {
 
 // One line per de-skew method that refused scans, "odom-linear: 12 scans refused in 2 trial(s)
 // (not-bracketed 10, sample-gap 2)"; empty when none did. The error figures leave them out.
-std::string refusalLines(const json& m, const std::string& bullet) {
+std::string refusalLines(const SummaryMetrics& m, const std::string& bullet) {
   const auto total = [&](const std::string& path) {  // mean over the trials that have the key
-    return std::to_string(std::lround(m[path]["mean"].get<double>() * m[path]["n"].get<int>()));
+    const MetricStats& s = m.at(path);
+    return std::to_string(std::lround(s.mean * static_cast<double>(s.n)));
   };
   std::string out;
   for (const auto& method : methodsOf(m, TrialSection::kDeskew)) {
@@ -95,19 +97,19 @@ std::string refusalLines(const json& m, const std::string& bullet) {
     if (!m.contains(refused)) continue;
     const std::string by_reason = deskewRefusalMetric(method, "");
     std::string reasons;
-    for (const auto& [path, _] : m.items())
+    for (const auto& [path, _] : m)
       if (path.rfind(by_reason, 0) == 0)
         reasons +=
             (reasons.empty() ? "" : ", ") + path.substr(by_reason.size()) + " " + total(path);
     out += bullet + method + ": " + total(refused) + " scans refused in " +
-           std::to_string(m[refused]["n"].get<int>()) + " trial(s) (" + reasons + ")\n";
+           std::to_string(m.at(refused).n) + " trial(s) (" + reasons + ")\n";
   }
   return out;
 }
 
 // Dead reckoning with each geometry: the nominal one, the true one (slip and quantisation only)
 // and every calibrated one.
-Table odometryTable(const json& m) {
+Table odometryTable(const SummaryMetrics& m) {
   Table t{{"geometry", "APE RMSE [m]", "APE max [m]", "RPE per m, translation [mm]",
            "RPE per m, rotation [deg]"},
           {}};
@@ -129,7 +131,7 @@ Table odometryTable(const json& m) {
   return t;
 }
 
-Table simulationTable(const json& m) {
+Table simulationTable(const SummaryMetrics& m) {
   return {
       {"quantity", "mean ± std over trials"},
       {{"simulated time [s]", cell(m, simMetric(SimField::kDuration))},
@@ -185,13 +187,11 @@ std::string aligned(const Table& t) {
 }
 
 // "default" or "circle_v1.0, lidar.rate_hz=5": what distinguishes a group.
-std::string groupName(const json& group) {
-  std::string name = std::filesystem::path(group["scenario"].get<std::string>()).stem().string();
-  const std::string world =
-      std::filesystem::path(group["world"].get<std::string>()).stem().string();
+std::string groupName(const SummaryGroup& group) {
+  std::string name = std::filesystem::path(group.scenario).stem().string();
+  const std::string world = std::filesystem::path(group.world).stem().string();
   if (world != "room") name += " in " + world;
-  for (const auto& [key, value] : group["sweep"].items())
-    name += ", " + key + "=" + value.get<std::string>();
+  for (const auto& [key, value] : group.sweep) name += ", " + key + "=" + value;
   return name;
 }
 
@@ -199,23 +199,24 @@ std::string groupName(const json& group) {
 // otherwise the whole suite at once and the plots for the breakdown.
 constexpr std::size_t kMaxGroupSections = 8;
 
-std::vector<std::pair<std::string, const json*>> sections(const json& summary) {
-  static const json kNoGroups = json::array(), kNoMetrics = json::object();
-  const json& groups = summary.contains("groups") ? summary["groups"] : kNoGroups;
-  std::vector<std::pair<std::string, const json*>> out;
+using Sections = std::vector<std::pair<std::string, const SummaryMetrics*>>;
+
+Sections sections(const SuiteSummary& summary) {
+  const auto& groups = summary.groups;
+  Sections out;
   if (groups.size() > 1 && groups.size() <= kMaxGroupSections)
-    for (const auto& g : groups) out.emplace_back(groupName(g), &g["metrics"]);
+    for (const auto& g : groups) out.emplace_back(groupName(g), &g.metrics);
   else
-    out.emplace_back("", summary.contains("metrics") ? &summary["metrics"] : &kNoMetrics);
+    out.emplace_back("", &summary.metrics);
   return out;
 }
 
 // Seeds per group below which coverage and NEES are too noisy to print (1/n steps).
-constexpr int kMinConsistencyTrials = 10;
+constexpr std::size_t kMinConsistencyTrials = 10;
 
 // Bias, spread, RMS and coverage of each method's signed error against its reported sigma over
 // the seeds of one group, and the mean NEES (summary "consistency", docs/results.md).
-Table consistencyTable(const json& c) {
+Table consistencyTable(const GroupConsistency& c) {
   static const EnumNames<CalibrationParam, kCalibrationParams.size()> kLabels = {
       {{CalibrationParam::kRL, "r_L [%]"},
        {CalibrationParam::kRR, "r_R [%]"},
@@ -224,76 +225,71 @@ Table consistencyTable(const json& c) {
        {CalibrationParam::kMountY, "lidar y [mm]"},
        {CalibrationParam::kMountYaw, "lidar yaw [deg]"}}};
   Table t{{"method", "parameter", "n", "bias", "std", "RMS", "within 1σ", "within 3σ"}, {}};
-  const auto value = [&](const std::string& key, double scale = 1.0) {
-    return c.contains(key) ? fmt(c[key].get<double>() * scale) : std::string("-");
-  };
-  for (const auto& method : methodsOf(c, TrialSection::kCalibration))
-    for (const auto& [param_of_row, label] : kLabels) {
-      const CalibrationParam param = param_of_row;  // clang 14 captures no structured binding
-      const auto key = [&](ConsistencyStat stat) { return consistencyMetric(method, param, stat); };
-      if (!c.contains(key(ConsistencyStat::kN))) continue;
-      t.rows.push_back({method, std::string(label), value(key(ConsistencyStat::kN)),
-                        value(key(ConsistencyStat::kBias)), value(key(ConsistencyStat::kStd)),
-                        value(key(ConsistencyStat::kRms)),
-                        value(key(ConsistencyStat::kCoverage1Sigma), 100) + " %",
-                        value(key(ConsistencyStat::kCoverage3Sigma), 100) + " %"});
+  for (const auto& [method, m] : c)
+    for (const auto& [param, label] : kLabels) {
+      const auto it = m.params.find(param);
+      if (it == m.params.end()) continue;
+      const ErrorConsistency& e = it->second;
+      t.rows.push_back({method, std::string(label), fmt(e.n), fmt(e.bias), fmt(e.std), fmt(e.rms),
+                        fmt(e.coverage_1sigma * 100) + " %", fmt(e.coverage_3sigma * 100) + " %"});
     }
   return t;
 }
 
 // Mean NEES per method beside the value an honest covariance gives (its dimension).
-Table neesTable(const json& c) {
+Table neesTable(const GroupConsistency& c) {
   Table t{{"method", "n", "mean NEES", "honest (dimension)"}, {}};
-  for (const auto& method : methodsOf(c, TrialSection::kCalibration)) {
-    if (!c.contains(consistencyMetric(method, NeesStat::kMean))) continue;
-    int dim = 0;
-    for (const CalibrationParam param : kCalibrationParams)
-      dim += c.contains(consistencyMetric(method, param, ConsistencyStat::kN));
-    t.rows.push_back({method, fmt(c[consistencyMetric(method, NeesStat::kN)].get<double>()),
-                      fmt(c[consistencyMetric(method, NeesStat::kMean)].get<double>()),
-                      std::to_string(dim)});
-  }
+  for (const auto& [method, m] : c)
+    if (m.nees)
+      t.rows.push_back({method, fmt(static_cast<double>(m.nees->n)), fmt(m.nees->mean),
+                        std::to_string(m.params.size())});
   return t;
 }
 
-std::string consistencySections(const json& summary) {
+std::string consistencySections(const SuiteSummary& summary) {
   std::string out;
-  const json groups = summary.value("groups", json::array());
+  const auto& groups = summary.groups;
   if (groups.size() > kMaxGroupSections) return out;
   for (const auto& g : groups) {
-    if (!g.contains("consistency") || g.value("trials", 0) < kMinConsistencyTrials) continue;
+    if (g.consistency.empty() || g.trials < kMinConsistencyTrials) continue;
     if (groups.size() > 1) out += "### " + groupName(g) + "\n\n";
-    out += markdown(consistencyTable(g["consistency"])) + "\n" +
-           markdown(neesTable(g["consistency"])) + "\n";
+    out += markdown(consistencyTable(g.consistency)) + "\n" + markdown(neesTable(g.consistency)) +
+           "\n";
   }
   return out;
 }
 
 // One Markdown table per section, under the section's heading when there are several.
-std::string perSection(const std::vector<std::pair<std::string, const json*>>& parts,
-                       Table (*table)(const json&)) {
+std::string perSection(const Sections& parts, Table (*table)(const SummaryMetrics&)) {
   std::string out;
   for (const auto& [name, metrics] : parts)
     out += (name.empty() ? "" : "### " + name + "\n\n") + markdown(table(*metrics)) + "\n";
   return out;
 }
 
-}  // namespace
-
-std::string renderReport(const Suite& suite, const json& summary,
-                         const std::vector<std::string>& plots) {
-  const json& m = summary.value("metrics", json::object());
+// The title and what the suite ran: its trials, how to reproduce it, the ones missing.
+std::string reportHeader(const Suite& suite, const SuiteSummary& summary) {
   std::ostringstream out;
   out << "# Suite `" << suite.name << "`\n\n";
   if (!suite.description.empty()) out << suite.description << "\n\n";
-  out << summary.value("trials", 0) << " trials: " << suite.worlds.size() << " world(s) x "
+  out << summary.trials << " trials: " << suite.worlds.size() << " world(s) x "
       << suite.scenarios.size() << " scenario(s)";
   for (const auto& axis : suite.sweep) out << " x " << axis.values.size() << " " << axis.key;
   out << " x " << suite.seeds << " seed(s), " << suite.mode << " mode, calibration motion from "
       << suite.motion << ".\nReproduce with `slamprep bench --suite " << suite.name
       << "`. Figures are mean ± standard deviation over trials; errors are absolute.\n\n";
-  if (const std::size_t missing = summary.value("missing", json::array()).size())
+  if (const std::size_t missing = summary.missing.size())
     out << "**Missing trials:** " << missing << " (failed or not yet run).\n\n";
+  return out.str();
+}
+
+}  // namespace
+
+std::string renderReport(const Suite& suite, const SuiteSummary& summary,
+                         const std::vector<std::string>& plots) {
+  const SummaryMetrics& m = summary.metrics;
+  std::ostringstream out;
+  out << reportHeader(suite, summary);
   const auto parts = sections(summary);
   const bool any_calibration = !methodsOf(m, TrialSection::kCalibration).empty();
   const bool any_deskew = !methodsOf(m, TrialSection::kDeskew).empty();
@@ -341,7 +337,7 @@ std::string renderReport(const Suite& suite, const json& summary,
   return out.str();
 }
 
-std::string renderConsoleSummary(const json& summary) {
+std::string renderConsoleSummary(const SuiteSummary& summary) {
   std::string out;
   for (const auto& [name, metrics] : sections(summary)) {
     if (!name.empty()) out += "== " + name + " ==\n";

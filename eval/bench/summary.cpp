@@ -4,7 +4,6 @@
 #include <cmath>
 #include <set>
 #include <sstream>
-#include <string_view>
 
 #include "slamprep/core/atomic_file.hpp"
 #include "slamprep/core/error.hpp"
@@ -30,26 +29,13 @@ void flattenInto(const nlohmann::json& node, const std::string& path,
   }
 }
 
-nlohmann::json statsOf(const std::vector<double>& values) {
-  double sum = 0.0;
-  for (double v : values) sum += v;
-  const double mean = sum / values.size();
-  double sq = 0.0;
-  for (double v : values) sq += (v - mean) * (v - mean);
-  return {{"n", values.size()},
-          {"mean", mean},
-          {"std", values.size() > 1 ? std::sqrt(sq / (values.size() - 1)) : 0.0},
-          {"min", *std::min_element(values.begin(), values.end())},
-          {"max", *std::max_element(values.begin(), values.end())}};
-}
-
-// Metric path -> stats over the given results.
-nlohmann::json statsOver(const std::vector<const nlohmann::json*>& results) {
+// Metric path -> its statistics over the given results.
+SummaryMetrics statsOver(const std::vector<const nlohmann::json*>& results) {
   std::map<std::string, std::vector<double>> values;
   for (const auto* r : results)
     for (const auto& [path, v] : flattenMetrics(*r)) values[path].push_back(v);
-  nlohmann::json out = nlohmann::json::object();
-  for (const auto& [path, v] : values) out[path] = statsOf(v);
+  SummaryMetrics out;
+  for (const auto& [path, v] : values) out[path] = metricStats(v);
   return out;
 }
 
@@ -94,70 +80,14 @@ nlohmann::json withoutInputs(nlohmann::json trial_spec) {
   return trial_spec;
 }
 
-namespace {
-
-[[noreturn]] void badField(const std::string& file, const std::string& field,
-                           const std::string& what) {
-  throw InputError(file + ": " + field, what);
+SuiteSummary readSuiteSummary(const std::filesystem::path& file) {
+  return parseSuiteSummary(readJsonFile(file, "summary"), file.string());
 }
 
-// {name: {n, mean, std, min, max}}; with `mean_only` (a baseline) only the mean is required.
-void checkMetrics(const nlohmann::json& metrics, const std::string& file, const std::string& field,
-                  bool mean_only) {
-  if (!metrics.is_object()) badField(file, field, "missing or not an object");
-  for (const auto& [name, stats] : metrics.items()) {
-    const std::string at = field + "." + name;
-    if (!stats.is_object()) badField(file, at, "not an object {n, mean, std, min, max}");
-    for (const char* key : {"mean", "std", "min", "max"}) {
-      if (mean_only && std::string_view(key) != "mean") continue;
-      if (!stats.contains(key) || !stats[key].is_number())
-        badField(file, at + "." + key, "missing or not a number");
-    }
-    if (!mean_only && (!stats.contains("n") || !stats["n"].is_number_unsigned()))
-      badField(file, at + ".n", "missing or not a whole number >= 0");
-  }
-}
-
-void checkGroup(const nlohmann::json& g, const std::string& file, const std::string& at) {
-  if (!g.is_object()) badField(file, at, "not an object");
-  for (const char* key : {"world", "scenario"})
-    if (!g.contains(key) || !g[key].is_string())
-      badField(file, at + "." + key, "missing or not a string");
-  if (!g.contains("sweep") || !g["sweep"].is_object())
-    badField(file, at + ".sweep", "missing or not an object");
-  for (const auto& [key, value] : g["sweep"].items())
-    if (!value.is_string()) badField(file, at + ".sweep." + key, "not a string");
-  if (!g.contains("trials") || !g["trials"].is_number_unsigned())
-    badField(file, at + ".trials", "missing or not a whole number >= 0");
-  checkMetrics(g.value("metrics", nlohmann::json()), file, at + ".metrics", false);
-  if (!g.contains("consistency")) return;
-  if (!g["consistency"].is_object()) badField(file, at + ".consistency", "not an object");
-  for (const auto& [key, value] : g["consistency"].items())
-    if (!value.is_number()) badField(file, at + ".consistency." + key, "not a number");
-}
-
-}  // namespace
-
-void checkSummaryShape(const nlohmann::json& summary, const std::string& file) {
-  if (!summary.is_object()) throw InputError(file, "a summary must be a JSON object");
-  if (!summary.contains("trials") || !summary["trials"].is_number_unsigned())
-    badField(file, "trials", "missing or not a whole number >= 0");
-  if (!summary.contains("missing") || !summary["missing"].is_array())
-    badField(file, "missing", "missing or not an array");
-  checkMetrics(summary.value("metrics", nlohmann::json()), file, "metrics", false);
-  if (!summary.contains("groups") || !summary["groups"].is_array())
-    badField(file, "groups", "missing or not an array");
-  for (std::size_t i = 0; i < summary["groups"].size(); ++i)
-    checkGroup(summary["groups"][i], file, "groups[" + std::to_string(i) + "]");
-}
-
-nlohmann::json loadBaseline(const std::filesystem::path& file) {
+std::map<std::string, double> loadBaseline(const std::filesystem::path& file) {
   const nlohmann::json baseline = readJsonFile(file, "baseline summary");
   if (!baseline.is_object()) throw InputError(file.string(), "a baseline must be a JSON object");
-  // Without "metrics" every toleranced metric is "missing from the baseline" (exit 3).
-  if (baseline.contains("metrics"))
-    checkMetrics(baseline["metrics"], file.string(), "metrics", true);
-  return baseline;
+  return baselineMeans(baseline, file.string());
 }
 
 std::map<std::string, double> flattenMetrics(const nlohmann::json& result) {
@@ -166,32 +96,28 @@ std::map<std::string, double> flattenMetrics(const nlohmann::json& result) {
   return out;
 }
 
-nlohmann::json groupKey(const nlohmann::json& trial_or_group) {
-  return {{"world", trial_or_group.value("world", nlohmann::json())},
-          {"scenario", trial_or_group.value("scenario", nlohmann::json())},
-          {"sweep", trial_or_group.value("sweep", nlohmann::json())}};
+nlohmann::json groupKey(const nlohmann::json& trial_spec) {
+  return {{"world", trial_spec.value("world", nlohmann::json())},
+          {"scenario", trial_spec.value("scenario", nlohmann::json())},
+          {"sweep", trial_spec.value("sweep", nlohmann::json())}};
 }
 
-nlohmann::json summarize(const Suite& suite, const TrialSet& set) {
+SuiteSummary summarize(const Suite& suite, const TrialSet& set) {
   std::vector<const nlohmann::json*> all;
-  std::map<std::string, std::vector<const nlohmann::json*>> by_group;
-  std::map<std::string, nlohmann::json> group_keys;
+  std::map<std::string, std::vector<const nlohmann::json*>> by_group;  // by key, as JSON text
   for (const auto& r : set.results) {
     all.push_back(&r);
-    const nlohmann::json key = groupKey(r["trial"]);
-    by_group[key.dump()].push_back(&r);
-    group_keys[key.dump()] = key;
+    by_group[groupKey(r["trial"]).dump()].push_back(&r);
   }
-  nlohmann::json groups = nlohmann::json::array();
-  for (const auto& [k, members] : by_group) {
-    nlohmann::json g = group_keys[k];
-    g["trials"] = members.size();
-    g["metrics"] = statsOver(members);
-    if (auto c = consistencyOver(members); !c.empty()) g["consistency"] = std::move(c);
-    groups.push_back(g);
+  SuiteSummary summary{kSummaryFormatVersion, suite.name,     set.results.size(),
+                       set.missing,           statsOver(all), {}};
+  for (const auto& [_, members] : by_group) {
+    const nlohmann::json& spec = (*members.front())["trial"];
+    summary.groups.push_back({spec["world"].get<std::string>(), spec["scenario"].get<std::string>(),
+                              spec["sweep"].get<std::map<std::string, std::string>>(),
+                              members.size(), statsOver(members), consistencyOver(members)});
   }
-  return {{"format_version", 1},    {"suite", suite.name},       {"trials", set.results.size()},
-          {"missing", set.missing}, {"metrics", statsOver(all)}, {"groups", groups}};
+  return summary;
 }
 
 std::string trialsCsv(const TrialSet& set) {
@@ -218,30 +144,29 @@ std::string trialsCsv(const TrialSet& set) {
   return csv.str();
 }
 
-std::vector<Regression> compareToBaseline(const nlohmann::json& summary,
-                                          const nlohmann::json& baseline,
+std::vector<Regression> compareToBaseline(const SuiteSummary& summary,
+                                          const std::map<std::string, double>& baseline,
                                           const std::vector<Tolerance>& tolerances) {
   std::vector<Regression> out;
-  const auto mean = [](const nlohmann::json& s,
-                       const std::string& metric) -> std::optional<double> {
-    if (!s.contains("metrics") || !s["metrics"].contains(metric)) return std::nullopt;
-    return s["metrics"][metric]["mean"].get<double>();
-  };
   for (const auto& tol : tolerances) {
-    const auto base = mean(baseline, tol.metric);
-    const auto cur = mean(summary, tol.metric);
-    if (!base) {
-      out.push_back({tol.metric, 0, cur.value_or(0), 0, "missing from the baseline"});
+    const auto base_it = baseline.find(tol.metric);
+    const auto cur_it = summary.metrics.find(tol.metric);
+    const bool has_cur = cur_it != summary.metrics.end();
+    if (base_it == baseline.end()) {
+      out.push_back(
+          {tol.metric, 0, has_cur ? cur_it->second.mean : 0, 0, "missing from the baseline"});
       continue;
     }
-    if (!cur) {
-      out.push_back({tol.metric, *base, 0, 0, "missing from the current run"});
+    const double base = base_it->second;
+    if (!has_cur) {
+      out.push_back({tol.metric, base, 0, 0, "missing from the current run"});
       continue;
     }
-    const double slack = std::max(tol.abs, tol.rel * std::abs(*base));
-    const double allowed = tol.higher_is_better ? *base - slack : *base + slack;
-    const bool worse = tol.higher_is_better ? *cur < allowed : *cur > allowed;
-    if (worse) out.push_back({tol.metric, *base, *cur, allowed, ""});
+    const double cur = cur_it->second.mean;
+    const double slack = std::max(tol.abs, tol.rel * std::abs(base));
+    const double allowed = tol.higher_is_better ? base - slack : base + slack;
+    const bool worse = tol.higher_is_better ? cur < allowed : cur > allowed;
+    if (worse) out.push_back({tol.metric, base, cur, allowed, ""});
   }
   return out;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "slamprep/eval/bench/suite.hpp"
+#include "slamprep/eval/bench/suite_summary.hpp"
 
 namespace slamprep::eval {
 
@@ -38,14 +39,13 @@ nlohmann::json withoutInputs(nlohmann::json trial_spec);
 std::map<std::string, double> flattenMetrics(const nlohmann::json& result);
 
 /// What makes a group: one sweep point in one world and scenario, everything but the seed.
-/// {world, scenario, sweep} of a trial spec (specJson) or of a summary.json group.
-nlohmann::json groupKey(const nlohmann::json& trial_or_group);
+/// {world, scenario, sweep} of a trial spec (specJson).
+nlohmann::json groupKey(const nlohmann::json& trial_spec);
 
-/// summary.json: for every metric path, {n, mean, std, min, max} over all trials, and the same
-/// per sweep point ("groups"); per group also the calibration consistency over its seeds
-/// ("consistency": calibration/<method>/consistency/<param>/<stat>, docs/results.md). Depends only
-/// on the set of results, so shards merge to the same bytes as a single run.
-nlohmann::json summarize(const Suite& suite, const TrialSet& set);
+/// summary.json: for every metric path its statistics over all trials, and the same per sweep
+/// point (groups); per group also the calibration consistency over its seeds. Depends only on
+/// the set of results, so shards merge to the same bytes as a single run.
+SuiteSummary summarize(const Suite& suite, const TrialSet& set);
 
 /// trials.csv: one row per trial (index order), one column per metric path (sorted).
 std::string trialsCsv(const TrialSet& set);
@@ -59,19 +59,18 @@ struct Regression {
   std::string note;      ///< e.g. "missing from the current summary"
 };
 
-/// Refuses a summary.json unlike the ones bench writes (docs/results.md): "metrics" maps names to
-/// {n, mean, std, min, max}, "groups" lists objects with world, scenario, sweep, trials, metrics
-/// and an optional "consistency" of numbers. Throws InputError("file: field", ...).
-void checkSummaryShape(const nlohmann::json& summary, const std::string& file);
+/// A results folder's summary.json, read and checked: InputError("file: field", ...) for one
+/// unlike the ones bench writes (docs/results.md).
+SuiteSummary readSuiteSummary(const std::filesystem::path& file);
 
-/// The --compare baseline, read and checked before any trial runs: a JSON object whose "metrics"
-/// (if present) maps names to objects with a numeric "mean". Throws InputError naming the file
-/// and field.
-nlohmann::json loadBaseline(const std::filesystem::path& file);
+/// The metric means of the --compare baseline, read and checked before any trial runs: a JSON
+/// object whose "metrics" (if present) maps names to objects with a numeric "mean"
+/// (baselineMeans). Throws InputError naming the file and field.
+std::map<std::string, double> loadBaseline(const std::filesystem::path& file);
 
 /// Compares the `mean` of each toleranced metric in its worse direction.
-std::vector<Regression> compareToBaseline(const nlohmann::json& summary,
-                                          const nlohmann::json& baseline,
+std::vector<Regression> compareToBaseline(const SuiteSummary& summary,
+                                          const std::map<std::string, double>& baseline,
                                           const std::vector<Tolerance>& tolerances);
 
 /// Copies the trial results of several shard folders into `trials_dir`; a trial present in two

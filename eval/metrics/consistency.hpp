@@ -16,6 +16,8 @@ struct ErrorConsistency {
   double rms = 0.0;              ///< sqrt(mean error^2) = sqrt(bias^2 + (n-1)/n std^2)
   double coverage_1sigma = 0.0;  ///< fraction of runs with |error| <= 1 sigma
   double coverage_3sigma = 0.0;  ///< fraction of runs with |error| <= 3 sigma
+
+  bool operator==(const ErrorConsistency&) const = default;
 };
 
 /// Statistics of `errors` against their reported 1-sigma `sigmas` (equal lengths, at least one

@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <nlohmann/json.hpp>
 
 #include "slamprep/eval/bench/figure_groups.hpp"
 #include "slamprep/eval/bench/figures_internal.hpp"
@@ -12,17 +11,16 @@
 namespace slamprep::eval {
 namespace {
 
-using nlohmann::json;
-
-json stat(double mean, double std) {
+MetricStats stat(double mean, double std) {
   // An uneven spread, so a whisker from min to max differs from ±1σ.
-  return {{"mean", mean}, {"std", std}, {"min", mean - std}, {"max", mean + 2 * std}, {"n", 1}};
+  return {.n = 1, .mean = mean, .std = std, .min = mean - std, .max = mean + 2 * std};
 }
 
 // A group of `seeds` trials: calibration errors for joint (with mount) and model (without),
 // de-skew errors for none and odom-linear, and the measured mean speed.
-json group(const std::string& scenario, json sweep, int seeds, double scale) {
-  json m;
+SummaryGroup group(const std::string& scenario, std::map<std::string, std::string> sweep,
+                   std::size_t seeds, double scale) {
+  SummaryMetrics m;
   for (const char* p : {"r_L_pct", "r_R_pct", "b_pct", "lidar_x_mm", "lidar_y_mm", "lidar_yaw_deg"})
     m[std::string("calibration/joint/abs_error/") + p] = stat(0.05 * scale, 0.01);
   for (const char* p : {"r_L_pct", "r_R_pct", "b_pct"})
@@ -31,7 +29,12 @@ json group(const std::string& scenario, json sweep, int seeds, double scale) {
   m["deskew/none/mean_m"] = stat(0.1 * scale, 0.01);
   m["deskew/odom-linear/mean_m"] = stat(0.005 * scale, 0.001);
   m["sim/mean_speed_mps"] = stat(scale, 0.0);
-  return {{"scenario", scenario}, {"sweep", sweep}, {"trials", seeds}, {"metrics", m}};
+  return {.world = "worlds/room.yaml",
+          .scenario = scenario,
+          .sweep = std::move(sweep),
+          .trials = seeds,
+          .metrics = m,
+          .consistency = {}};
 }
 
 bool anyBars(const plot::Figure& f) {
@@ -42,8 +45,8 @@ bool anyBars(const plot::Figure& f) {
 }
 
 TEST(Figures, CalibrationHasARowPerConditionAndBarsOfSigmaOnlyFromSeeds) {
-  const json groups = json::array({group("worlds/scenarios/default.yaml", json::object(), 1, 1.0),
-                                   group("worlds/scenarios/arc.yaml", json::object(), 5, 2.0)});
+  const std::vector<SummaryGroup> groups = {group("worlds/scenarios/default.yaml", {}, 1, 1.0),
+                                            group("worlds/scenarios/arc.yaml", {}, 5, 2.0)};
   const plot::Figure f = calibrationFigure(groups);
   ASSERT_EQ(f.axes.size(), 6u);  // two rows of three panels: nothing pooled
   EXPECT_FALSE(anyBars(f));
@@ -88,10 +91,10 @@ TrialRows seedRows(int n) {
   return rows;
 }
 
-json groupWithDirect(int seeds) {
-  json g = group("worlds/scenarios/calibration_3min.yaml", json::object(), seeds, 1.0);
-  g["metrics"]["calibration/direct/ok"] = stat(1, 0);
-  g["metrics"]["calibration/direct/abs_error/b_pct"] = stat(0.1, 0.02);
+SummaryGroup groupWithDirect(int seeds) {
+  SummaryGroup g = group("worlds/scenarios/calibration_3min.yaml", {}, seeds, 1.0);
+  g.metrics["calibration/direct/ok"] = stat(1, 0);
+  g.metrics["calibration/direct/abs_error/b_pct"] = stat(0.1, 0.02);
   return g;
 }
 
@@ -103,8 +106,7 @@ const plot::Series* seriesOf(const plot::Axes& axes, const std::string& method) 
 
 TEST(Figures, ManySeedsGiveBoxPlotsOfTheSignedErrorAndOffScaleBoxesTheirOwnPanel) {
   const int seeds = kMinSeedsForBoxes;
-  const plot::Figure f =
-      calibrationFigure(json::array({groupWithDirect(seeds)}), {seedRows(seeds)});
+  const plot::Figure f = calibrationFigure({groupWithDirect(seeds)}, {seedRows(seeds)});
   EXPECT_NE(f.title.find("10 seeds"), std::string::npos) << f.title;
   ASSERT_EQ(f.axes.size(), 4u);  // wheel geometry, direct's radii, mount position, mount yaw
   EXPECT_EQ(f.cols, 4);
@@ -136,8 +138,7 @@ TEST(Figures, ManySeedsGiveBoxPlotsOfTheSignedErrorAndOffScaleBoxesTheirOwnPanel
 
 TEST(Figures, FewSeedsKeepTheMeanWithMinToMaxOnLogAxes) {
   const int seeds = kMinSeedsForBoxes - 1;
-  const plot::Figure f =
-      calibrationFigure(json::array({groupWithDirect(seeds)}), {seedRows(seeds)});
+  const plot::Figure f = calibrationFigure({groupWithDirect(seeds)}, {seedRows(seeds)});
   ASSERT_EQ(f.axes.size(), 3u);
   for (const auto& a : f.axes) {
     EXPECT_TRUE(a.log_y);
@@ -146,10 +147,10 @@ TEST(Figures, FewSeedsKeepTheMeanWithMinToMaxOnLogAxes) {
 }
 
 TEST(Figures, UnrelatedScenariosAreNotJoinedByLines) {
-  const json groups =
-      json::array({group("worlds/scenarios/default.yaml", json::object(), 1, 1.0),
-                   group("worlds/scenarios/arc.yaml", json::object(), 1, 2.0),
-                   group("worlds/scenarios/random_smooth.yaml", json::object(), 1, 3.0)});
+  const std::vector<SummaryGroup> groups = {
+      group("worlds/scenarios/default.yaml", {}, 1, 1.0),
+      group("worlds/scenarios/arc.yaml", {}, 1, 2.0),
+      group("worlds/scenarios/random_smooth.yaml", {}, 1, 3.0)};
   EXPECT_FALSE(deskewVsSpeedFigure(groups));
   const plot::Figure f = deskewFigure(groups);
   ASSERT_EQ(f.axes.size(), 3u);
@@ -158,7 +159,7 @@ TEST(Figures, UnrelatedScenariosAreNotJoinedByLines) {
 }
 
 TEST(Figures, AScenarioSeriesIsASweepWithOnePanelPerOtherSweepValue) {
-  json groups = json::array();
+  std::vector<SummaryGroup> groups;
   for (const char* rate : {"5", "10"})
     for (const char* v : {"0.25", "0.5", "1.0"})
       groups.push_back(group(std::string("worlds/scenarios/sweep/circle_v") + v + ".yaml",
@@ -175,13 +176,13 @@ TEST(Figures, AScenarioSeriesIsASweepWithOnePanelPerOtherSweepValue) {
 }
 
 TEST(Figures, ConditionsAreNamedInWords) {
-  const json g = group("worlds/scenarios/calibration_3min.yaml",
-                       {{"duration_s", "120"}, {"lidar.range_noise_m", "0.005"}}, 2, 1.0);
-  EXPECT_EQ(conditionLabel(g, json::array({g})), "120 s, range noise 5 mm");
+  const SummaryGroup g = group("worlds/scenarios/calibration_3min.yaml",
+                               {{"duration_s", "120"}, {"lidar.range_noise_m", "0.005"}}, 2, 1.0);
+  EXPECT_EQ(conditionLabel(g, {g}), "120 s, range noise 5 mm");
   EXPECT_EQ(otherSweepLabel(g, "duration_s"), "range noise 5 mm");
-  const json f =
+  const SummaryGroup f =
       group("worlds/scenarios/default.yaml", {{"faults.enable", "encoder_spikes"}}, 5, 1.0);
-  EXPECT_EQ(conditionLabel(f, json::array({f})), "encoder spikes");
+  EXPECT_EQ(conditionLabel(f, {f}), "encoder spikes");
 }
 
 }  // namespace

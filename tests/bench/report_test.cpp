@@ -5,13 +5,17 @@
 namespace slamprep::eval {
 namespace {
 
-nlohmann::json summaryWith(double joint_b_pct, double linear_mean_m) {
-  return {{"trials", 2},
-          {"missing", nlohmann::json::array()},
-          {"metrics",
-           {{"calibration/joint/abs_error/b_pct", {{"n", 2}, {"mean", joint_b_pct}, {"std", 0.01}}},
-            {"calibration/joint/ok", {{"n", 2}, {"mean", 1.0}, {"std", 0.0}}},
-            {"deskew/odom-linear/mean_m", {{"n", 1}, {"mean", linear_mean_m}, {"std", 0.0}}}}}};
+MetricStats stats(std::size_t n, double mean, double std) {
+  return {.n = n, .mean = mean, .std = std, .min = mean, .max = mean};
+}
+
+SuiteSummary summaryWith(double joint_b_pct, double linear_mean_m) {
+  SuiteSummary s;
+  s.trials = 2;
+  s.metrics = {{"calibration/joint/abs_error/b_pct", stats(2, joint_b_pct, 0.01)},
+               {"calibration/joint/ok", stats(2, 1.0, 0.0)},
+               {"deskew/odom-linear/mean_m", stats(1, linear_mean_m, 0.0)}};
+  return s;
 }
 
 TEST(Report, TablesShowEveryMethodWithUnits) {
@@ -28,13 +32,13 @@ TEST(Report, TablesShowEveryMethodWithUnits) {
 }
 
 TEST(Report, RefusedScansAreCountedByReason) {
-  nlohmann::json summary = summaryWith(0.042, 0.00123);
-  auto& m = summary["metrics"];
+  SuiteSummary summary = summaryWith(0.042, 0.00123);
+  auto& m = summary.metrics;
   EXPECT_EQ(renderConsoleSummary(summary).find("refused"), std::string::npos);  // none refused
   // Two trials refused 3 and 5 scans: 6 not-bracketed, 2 with a gap.
-  m["deskew/odom-linear/refused_scans"] = {{"n", 2}, {"mean", 4.0}, {"std", 1.41}};
-  m["deskew/odom-linear/refused_by_reason/not-bracketed"] = {{"n", 2}, {"mean", 3.0}, {"std", 0}};
-  m["deskew/odom-linear/refused_by_reason/sample-gap"] = {{"n", 1}, {"mean", 2.0}, {"std", 0}};
+  m["deskew/odom-linear/refused_scans"] = stats(2, 4.0, 1.41);
+  m["deskew/odom-linear/refused_by_reason/not-bracketed"] = stats(2, 3.0, 0);
+  m["deskew/odom-linear/refused_by_reason/sample-gap"] = stats(1, 2.0, 0);
   const std::string expected =
       "odom-linear: 8 scans refused in 2 trial(s) (not-bracketed 6, sample-gap 2)";
   EXPECT_NE(renderConsoleSummary(summary).find("refused: " + expected), std::string::npos)

@@ -115,13 +115,13 @@ TEST_F(Reuse, MalformedResultsNameTheFileAndField) {
   const std::string summary = readFile(dir / "summary.json");
   nlohmann::json bad = nlohmann::json::parse(summary);
   bad["groups"][0]["world"] = 3;
-  EXPECT_EQ(errorOf([&] { checkSummaryShape(bad, "s.json"); }),
+  EXPECT_EQ(errorOf([&] { parseSuiteSummary(bad, "s.json"); }),
             "s.json: groups[0].world: missing or not a string");
   bad = nlohmann::json::parse(summary);
   bad["metrics"]["deskew/none/mean_m"]["n"] = -1;
-  EXPECT_EQ(errorOf([&] { checkSummaryShape(bad, "s.json"); }),
+  EXPECT_EQ(errorOf([&] { parseSuiteSummary(bad, "s.json"); }),
             "s.json: metrics.deskew/none/mean_m.n: missing or not a whole number >= 0");
-  EXPECT_NO_THROW(checkSummaryShape(nlohmann::json::parse(summary), "s.json"));
+  EXPECT_NO_THROW(parseSuiteSummary(nlohmann::json::parse(summary), "s.json"));
 }
 
 }  // namespace

@@ -41,7 +41,7 @@ Suite fakeSuite() {
 std::string runToSummary(const Suite& suite, const fs::path& dir, int jobs, Shard shard = {}) {
   const auto trials = expandTrials(suite);
   runTrials(trials, fakeTrial, {jobs, shard, dir / "trials", dir / "timing", false});
-  return summarize(suite, loadTrials(trials, dir / "trials")).dump(2);
+  return nlohmann::json(summarize(suite, loadTrials(trials, dir / "trials"))).dump(2);
 }
 
 TEST(Runner, SameBytesWhateverTheJobCount) {
@@ -95,7 +95,7 @@ TEST(Runner, ShardsMergeToTheSingleRun) {
   }
   EXPECT_EQ(selected, trials.size());  // disjoint and complete
   EXPECT_EQ(mergeTrialFolders(shard_dirs, base / "merged"), trials.size());
-  EXPECT_EQ(summarize(suite, loadTrials(trials, base / "merged")).dump(2), single);
+  EXPECT_EQ(nlohmann::json(summarize(suite, loadTrials(trials, base / "merged"))).dump(2), single);
 }
 
 TEST(Runner, ResumesWithoutRecomputingFinishedTrials) {
@@ -137,9 +137,9 @@ TEST(Shard, ParsesAndRejects) {
 }
 
 TEST(Compare, FlagsOnlyMetricsWorseThanTheirTolerance) {
-  const nlohmann::json baseline = {{"metrics", {{"a", {{"mean", 1.0}}}, {"b", {{"mean", 0.001}}}}}};
-  const nlohmann::json current = {
-      {"metrics", {{"a", {{"mean", 1.05}}}, {"b", {{"mean", 0.0021}}}}}};
+  const std::map<std::string, double> baseline = {{"a", 1.0}, {"b", 0.001}};
+  SuiteSummary current;
+  current.metrics = {{"a", {.mean = 1.05}}, {"b", {.mean = 0.0021}}};
   const std::vector<Tolerance> tol = {
       {"a", 0.0, 0.1}, {"b", 0.001, 0.0}, {"c", 1.0, 0.0}, {"a", 0.0, 0.01, true}};
   const auto regressions = compareToBaseline(current, baseline, tol);
@@ -148,7 +148,8 @@ TEST(Compare, FlagsOnlyMetricsWorseThanTheirTolerance) {
   EXPECT_NEAR(regressions[0].allowed, 0.002, 1e-15);
   EXPECT_EQ(regressions[1].metric, "c");  // missing counts as a regression
   // Higher is better: a drop beyond the slack regresses, a rise never does.
-  const nlohmann::json lower = {{"metrics", {{"a", {{"mean", 0.98}}}}}};
+  SuiteSummary lower;
+  lower.metrics = {{"a", {.mean = 0.98}}};
   const auto drop = compareToBaseline(lower, baseline, {{"a", 0.0, 0.01, true}});
   ASSERT_EQ(drop.size(), 1u);
   EXPECT_NEAR(drop[0].allowed, 0.99, 1e-15);
@@ -180,20 +181,30 @@ TEST(Summary, ConsistencyPerGroupOverTheTrialsThatDidNotRefuse) {
   set.results.push_back(consistencyTrial("b.yaml", true, 0.1, 2.0, 1.0));  // another group
   Suite suite;
   suite.name = "s";
-  const nlohmann::json summary = summarize(suite, set);
-  ASSERT_EQ(summary["groups"].size(), 2u);
-  const auto& c = summary["groups"][0]["consistency"];
+  const SuiteSummary summary = summarize(suite, set);
+  ASSERT_EQ(summary.groups.size(), 2u);
+  ASSERT_TRUE(summary.groups[0].consistency.contains("joint"));
+  const MethodConsistency& c = summary.groups[0].consistency.at("joint");
+  ASSERT_TRUE(c.params.contains(CalibrationParam::kRL));
+  const ErrorConsistency& r_L = c.params.at(CalibrationParam::kRL);
+  EXPECT_EQ(r_L.n, 4);
+  EXPECT_DOUBLE_EQ(r_L.bias, 0.625);
+  EXPECT_DOUBLE_EQ(r_L.rms, std::sqrt(14.25 / 4));
+  EXPECT_DOUBLE_EQ(r_L.coverage_1sigma, 0.5);
+  EXPECT_DOUBLE_EQ(r_L.coverage_3sigma, 1.0);
+  ASSERT_TRUE(c.nees);
+  EXPECT_DOUBLE_EQ(c.nees->mean, 6.0);  // (4 + 8 + 5 + 7) / 4
+  EXPECT_EQ(c.nees->n, 4u);
+  EXPECT_FALSE(c.params.contains(CalibrationParam::kMountX));  // no sigma reported for it
+  EXPECT_DOUBLE_EQ(
+      summary.groups[1].consistency.at("joint").params.at(CalibrationParam::kRL).coverage_1sigma,
+      1.0);
+  // In summary.json: flat keys under the group's "consistency", the counts as whole numbers.
+  const nlohmann::json written = summary;
   const std::string p = "calibration/joint/consistency/";
-  EXPECT_EQ(c[p + "r_L/n"], 4);
-  EXPECT_DOUBLE_EQ(c[p + "r_L/bias"].get<double>(), 0.625);
-  EXPECT_DOUBLE_EQ(c[p + "r_L/rms"].get<double>(), std::sqrt(14.25 / 4));
-  EXPECT_DOUBLE_EQ(c[p + "r_L/coverage_1sigma"].get<double>(), 0.5);
-  EXPECT_DOUBLE_EQ(c[p + "r_L/coverage_3sigma"].get<double>(), 1.0);
-  EXPECT_DOUBLE_EQ(c[p + "nees_mean"].get<double>(), 6.0);  // (4 + 8 + 5 + 7) / 4
-  EXPECT_EQ(c[p + "nees_n"], 4);
-  EXPECT_FALSE(c.contains(p + "lidar_x/n"));  // no sigma reported for it
-  EXPECT_DOUBLE_EQ(summary["groups"][1]["consistency"][p + "r_L/coverage_1sigma"].get<double>(),
-                   1.0);
+  EXPECT_EQ(written["groups"][0]["consistency"][p + "r_L/n"].dump(), "4");
+  EXPECT_EQ(written["groups"][0]["consistency"][p + "nees_n"].dump(), "4");
+  EXPECT_EQ(written["groups"][0]["consistency"][p + "r_L/bias"], 0.625);
 }
 
 }  // namespace
