@@ -52,7 +52,7 @@ std::string twinText(const nlohmann::ordered_json& j) {
 void plotComparison(const TwinComparison& c, const std::filesystem::path& png) {
   plot::Figure fig{
       .width_px = 1400, .height_px = 700, .title = "twin against recording", .cols = 2};
-  plot::Axes ratios{.title = "twin / real per statistic (band: +-25 %; n/a: no ratio)",
+  plot::Axes ratios{.title = "twin / real (band +-25 %; n/a: no ratio, real value 0 or missing)",
                     .y_label = "twin / real",
                     .log_y = true,
                     .legend = plot::LegendPosition::None};
@@ -62,7 +62,7 @@ void plotComparison(const TwinComparison& c, const std::filesystem::path& png) {
   for (std::size_t i = 0; i < c.rows.size(); ++i) {
     // No bar can mean no ratio (a real value of 0, a side without the statistic): say so.
     const std::string name = i < std::size(shorts) ? shorts[i] : c.rows[i].name;
-    ratios.categories.push_back(c.rows[i].ratio ? name : name + " n/a");
+    ratios.categories.push_back(c.rows[i].ratio ? name : "n/a");
     bars.x.push_back(double(i));
     bars.y.push_back(c.rows[i].ratio ? *c.rows[i].ratio : NAN);
   }
