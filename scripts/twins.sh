@@ -9,7 +9,7 @@
 # WORK_DIR gets the imported datasets, the twins and the match outputs (large: not committed);
 # RESULTS_DIR gets the small outputs: per recording and seed the comparison JSON, per recording
 # the comparison plot of seed 1 and the de-skew errors, summary.json and README.md (written by
-# scripts/twins_report.py). SEEDS (default "1 2 3") sets the seeds. Per recording: import, match
+# scripts/twins_report.py). SEEDS (default "1 2 3 4 5 6 7 8") sets the seeds. Per recording: import, match
 # with every de-skew method (the real ranking by residual), then per seed: twin, twin --compare,
 # deskew on the twin (the twin's ranking by ground-truth error). REUSE=1 keeps what an earlier
 # run left in WORK_DIR and RESULTS_DIR (an interrupted run goes on where it stopped).
@@ -18,7 +18,7 @@ data=${1:?usage: $0 DATA_DIR WORK_DIR RESULTS_DIR [SLAMPREP]}
 work=${2:?usage: $0 DATA_DIR WORK_DIR RESULTS_DIR [SLAMPREP]}
 results=${3:?usage: $0 DATA_DIR WORK_DIR RESULTS_DIR [SLAMPREP]}
 slamprep=$(realpath "${4:-build/slamprep}")
-seeds=${SEEDS:-1 2 3}
+seeds=${SEEDS:-1 2 3 4 5 6 7 8}
 first=${seeds%% *}
 here=$(cd "$(dirname "$0")" && pwd)
 deskew_methods="none const-velocity odom-linear odom-quadratic vicp odom-icp"
