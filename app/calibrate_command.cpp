@@ -42,6 +42,7 @@ struct CalibrateFlags : CommonFlags {
   std::string stamps = "auto";  // auto: jittered constant-rate streams back on their grids
   double trim_sigmas = algo::TrimParams{}.threshold_sigmas;
   double validate_fraction = 0.0;    // --validate-fraction: hold out the last F of the scans
+  bool leave_one_out = false;        // --leave-one-out: each recording scored with the others'
   std::vector<std::string> squares;  // extra UMBmark square-run datasets
   // The shared interval policy (algo::IntervalParams: every scan match) unless overridden.
   double keyframe_cm = algo::IntervalParams{}.keyframe_translation_m * 100.0;
@@ -69,6 +70,7 @@ eval::RecordingsCalibrationParams paramsOf(const CalibrateFlags& flags) {
   eval::RecordingsCalibrationParams recordings;
   recordings.datasets = flags.datasets;
   recordings.validate_fraction = flags.validate_fraction;
+  recordings.leave_one_out = flags.leave_one_out;
   recordings.held_out.stamp_is_last_beam = flags.stamp_is_last_beam;
   eval::DatasetCalibrationParams& p = recordings.base;
   if (flags.method != "all")
@@ -144,6 +146,10 @@ void checkPaths(const CalibrateFlags& flags) {
     throw InputError("--validate-fraction",
                      "needs 0 < F < 1 and DATASET's scans (not --tuples): the last F of each "
                      "recording's scans are held out");
+  if (flags.leave_one_out && (flags.datasets.size() < 2 || !flags.tuples_in.empty()))
+    throw InputError("--leave-one-out",
+                     "needs two or more DATASETs (not --tuples): each recording is scored with "
+                     "the others' combined estimate");
   eval::checkSameNominal(flags.datasets, nominalOf(flags));
 }
 
@@ -247,6 +253,7 @@ void printSeveral(const eval::RecordingsCalibration& r) {
   }
   printValidation(r.report.combined, "of the combined estimate, mean over the recordings ");
   printFlags(r.report.combined, "combined ");
+  printLeaveOneOut(r.report.leave_one_out);
 }
 
 // Exit 3 when every method refused (several recordings: every combined one), or with --strict
@@ -381,6 +388,10 @@ void addCalibrateFilesAndChecks(CLI::App* cli, CalibrateFlags& flags) {
                   "the raw (nominal) and calibrated odometry's relative pose error over 10 s "
                   "windows of the last F against their scan-to-map matched trajectory (JSON "
                   "\"validation\")");
+  cli->add_flag("--leave-one-out", flags.leave_one_out,
+                "with several DATASETs: score every recording whole (relative pose error over 10 s "
+                "windows against its scan-to-map matched trajectory) with the combination of the "
+                "OTHER recordings' estimates, beside the raw geometry (JSON \"leave_one_out\")");
   cli->add_option("--trim-sigmas", flags.trim_sigmas,
                   "drop intervals whose residual against a first fit exceeds N robust (MAD) "
                   "sigmas, refit until the kept set repeats; 0: keep every interval")

@@ -208,4 +208,46 @@ void printValidation(const std::vector<algo::MethodReport>& methods, const std::
   }
 }
 
+namespace {
+
+void printLeaveOneOutRow(const algo::LeaveOneOutScore& s, std::size_t index) {
+  std::cout << "  " << std::left << std::setw(6) << index << std::setw(8) << s.others;
+  if (!s.figures) {
+    std::cout << s.note << "\n";
+    return;
+  }
+  const algo::ValidationFigures& v = *s.figures;
+  std::cout << std::fixed << std::setprecision(4) << std::setw(14) << v.raw.trans_m << std::setw(14)
+            << v.raw.rot_deg << std::setw(16) << v.calibrated.trans_m << std::setw(16)
+            << v.calibrated.rot_deg << std::defaultfloat;
+  if (v.calibrated.trans_m > v.raw.trans_m) std::cout << "WORSE in translation  ";
+  if (v.calibrated.rot_deg > v.raw.rot_deg) std::cout << "WORSE in rotation";
+  std::cout << "\n";
+}
+
+}  // namespace
+
+void printLeaveOneOut(const std::vector<algo::LeaveOneOutMethod>& methods) {
+  for (const algo::LeaveOneOutMethod& m : methods) {
+    std::cout << "\nleave one recording out, " << algo::calibrationMethodName(m.method)
+              << " (each recording whole, with the other recordings' combined estimate; relative "
+                 "pose error over 10 s windows against scan-to-map matching):\n  "
+              << std::left << std::setw(6) << "rec." << std::setw(8) << "others" << std::setw(14)
+              << "raw m" << std::setw(14) << "raw deg" << std::setw(16) << "calibrated m"
+              << std::setw(16) << "calibrated deg"
+              << "\n";
+    int trans = 0, rot = 0, scored = 0;
+    for (std::size_t i = 0; i < m.recordings.size(); ++i) {
+      const algo::LeaveOneOutScore& s = m.recordings[i];
+      printLeaveOneOutRow(s, i + 1);
+      if (!s.figures) continue;
+      ++scored;
+      trans += s.figures->calibrated.trans_m < s.figures->raw.trans_m;
+      rot += s.figures->calibrated.rot_deg < s.figures->raw.rot_deg;
+    }
+    std::cout << "  calibrated beats raw on " << trans << " of " << scored
+              << " recordings in translation, " << rot << " of " << scored << " in rotation\n";
+  }
+}
+
 }  // namespace slamprep::app

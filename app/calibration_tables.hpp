@@ -26,4 +26,8 @@ void printFlags(const std::vector<algo::MethodReport>& methods, const std::strin
 /// The held-out validation table, and which methods' calibrated odometry is worse than raw.
 void printValidation(const std::vector<algo::MethodReport>& methods, const std::string& label);
 
+/// --leave-one-out: per method, every recording scored with the others' combined estimate, and
+/// on how many the calibrated odometry beat raw (nothing when `methods` is empty).
+void printLeaveOneOut(const std::vector<algo::LeaveOneOutMethod>& methods);
+
 }  // namespace slamprep::app

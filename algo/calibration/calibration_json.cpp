@@ -26,6 +26,13 @@ json errorJson(const HeldOutError& e) {
   return {{"trans_m", e.trans_m}, {"rot_deg", e.rot_deg}};
 }
 
+json validationJson(const ValidationFigures& v) {
+  json j = {
+      {"fraction", v.fraction}, {"raw", errorJson(v.raw)}, {"calibrated", errorJson(v.calibrated)}};
+  if (v.calibrated_wheels) j["calibrated_wheels"] = errorJson(*v.calibrated_wheels);
+  return j;
+}
+
 json runJson(const CalibrationRun& run, const std::optional<Eigen::VectorXd>& truth) {
   const CalibrationResult& r = run.result;
   json j = {{"method", calibrationMethodName(run.method)}, {"ok", r.ok}, {"reason", r.reason}};
@@ -74,13 +81,7 @@ json methodJson(const MethodReport& m, const std::optional<Eigen::VectorXd>& tru
       flags.push_back({{"param", f.param}, {"ratio", f.ratio}, {"likely_cause", f.likely_cause}});
     j["flags"] = flags;
   }
-  if (const auto& v = m.validation) {
-    j["validation"] = {{"fraction", v->fraction},
-                       {"raw", errorJson(v->raw)},
-                       {"calibrated", errorJson(v->calibrated)}};
-    if (v->calibrated_wheels)
-      j["validation"]["calibrated_wheels"] = errorJson(*v->calibrated_wheels);
-  }
+  if (m.validation) j["validation"] = validationJson(*m.validation);
   return j;
 }
 
@@ -106,6 +107,32 @@ json consistencyJson(const std::vector<MethodConsistency>& consistency) {
       params[p.param] = {{"chi2_dof", std::isfinite(p.chi2_dof) ? json(p.chi2_dof) : json(nullptr)},
                          {"n", p.n}};
     out[std::string(calibrationMethodName(c.method))] = params;
+  }
+  return out;
+}
+
+// {METHOD: {"recordings": [...], "beats_raw": {"trans", "rot", "scored"}}}.
+json leaveOneOutJson(const std::vector<LeaveOneOutMethod>& methods) {
+  json out = json::object();
+  for (const LeaveOneOutMethod& m : methods) {
+    json recordings = json::array();
+    int trans = 0, rot = 0, scored = 0;
+    for (const LeaveOneOutScore& s : m.recordings) {
+      json entry = {{"dataset", s.dataset}, {"others", s.others}};
+      if (s.figures) {
+        entry.update(validationJson(*s.figures));
+        entry.erase("fraction");  // the whole recording
+        trans += s.figures->calibrated.trans_m < s.figures->raw.trans_m;
+        rot += s.figures->calibrated.rot_deg < s.figures->raw.rot_deg;
+        ++scored;
+      } else {
+        entry["note"] = s.note;
+      }
+      recordings.push_back(entry);
+    }
+    out[std::string(calibrationMethodName(m.method))] = {
+        {"recordings", recordings},
+        {"beats_raw", {{"trans", trans}, {"rot", rot}, {"scored", scored}}}};
   }
   return out;
 }
@@ -270,9 +297,10 @@ std::string formatCalibrateJson(const CalibrateReport& report) {
     if (r.agreement) entry["sensor_agreement"] = agreementOf(r);
     recordings.push_back(entry);
   }
-  const json out = {{"recordings", recordings},
-                    {"combined", methodsJson(report.combined, report.combined_truth)},
-                    {"consistency", consistencyJson(report.consistency)}};
+  json out = {{"recordings", recordings},
+              {"combined", methodsJson(report.combined, report.combined_truth)},
+              {"consistency", consistencyJson(report.consistency)}};
+  if (!report.leave_one_out.empty()) out["leave_one_out"] = leaveOneOutJson(report.leave_one_out);
   return out.dump(2) + "\n";
 }
 
@@ -280,7 +308,9 @@ std::string formatCalibrationJson(const std::vector<CalibrationRun>& runs,
                                   const std::optional<CalibrationTruth>& truth) {
   RecordingReport recording{"", {}, truth, std::nullopt, ""};
   for (const CalibrationRun& run : runs) recording.methods.push_back({run, {}, std::nullopt});
-  return formatCalibrateJson({{recording}, {}, std::nullopt, {}});
+  CalibrateReport report;
+  report.recordings = {recording};
+  return formatCalibrateJson(report);
 }
 
 void writeCalibrationJson(const std::filesystem::path& path,

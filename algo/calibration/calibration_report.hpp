@@ -68,6 +68,20 @@ struct MethodConsistency {
   std::vector<ParameterConsistency> params;
 };
 
+/// One recording scored whole with the combination of the OTHER recordings' estimates
+/// (`calibrate DATASET... --leave-one-out`): does a calibration hold on the next run?
+struct LeaveOneOutScore {
+  std::string dataset;
+  std::size_t others = 0;                    ///< the other recordings' ok estimates combined
+  std::optional<ValidationFigures> figures;  ///< fraction 1: the whole recording; absent: note
+  std::string note;                          ///< why the recording was not scored
+};
+
+struct LeaveOneOutMethod {
+  CalibrationMethod method;
+  std::vector<LeaveOneOutScore> recordings;  ///< in the order of the DATASETs
+};
+
 struct CalibrateReport {
   /// One: the JSON is today's list of method objects. Several: the object with "recordings",
   /// "combined" and "consistency".
@@ -75,6 +89,7 @@ struct CalibrateReport {
   std::vector<MethodReport> combined;
   std::optional<CalibrationTruth> combined_truth;  ///< when every recording has the same truth
   std::vector<MethodConsistency> consistency;
+  std::vector<LeaveOneOutMethod> leave_one_out;  ///< with --leave-one-out
 };
 
 }  // namespace slamprep::algo

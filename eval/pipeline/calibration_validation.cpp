@@ -101,4 +101,16 @@ algo::HeldOutError heldOutError(const HeldOutPart& part, const DiffDriveParams& 
   return error;
 }
 
+algo::ValidationFigures validationFigures(const HeldOutPart& part, const algo::HeldOutError& raw,
+                                          const algo::CalibrationRun& run, const SE2& dataset_mount,
+                                          double fraction) {
+  const algo::CalibrationResult& r = run.result;
+  algo::ValidationFigures v{
+      fraction, raw,
+      heldOutError(part, r.geometry, r.estimates_mount ? r.T_base_lidar : dataset_mount),
+      std::nullopt};
+  if (r.estimates_mount) v.calibrated_wheels = heldOutError(part, r.geometry, dataset_mount);
+  return v;
+}
+
 }  // namespace slamprep::eval

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "slamprep/algo/calibration/calibrate.hpp"
 #include "slamprep/algo/calibration/calibration_report.hpp"
 #include "slamprep/core/dataset.hpp"
 #include "slamprep/eval/formats/wheel_odometry.hpp"
@@ -54,5 +55,12 @@ HeldOutPart heldOutPart(const Dataset& held_out, const OdometryEncoders& odometr
 /// the mean of |t(E)| and of |yaw(E)|.
 algo::HeldOutError heldOutError(const HeldOutPart& part, const DiffDriveParams& geometry,
                                 const SE2& T_base_lidar);
+
+/// The nominal geometry's error `raw` beside a method's run on `part`: its wheels with its own
+/// mount where it estimates one (else the dataset's), and then also with the dataset's mount,
+/// which tells a wrong mount from wrong wheels.
+algo::ValidationFigures validationFigures(const HeldOutPart& part, const algo::HeldOutError& raw,
+                                          const algo::CalibrationRun& run, const SE2& dataset_mount,
+                                          double fraction);
 
 }  // namespace slamprep::eval

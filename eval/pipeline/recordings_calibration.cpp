@@ -12,6 +12,7 @@
 #include "slamprep/core/error.hpp"
 #include "slamprep/eval/formats/dataset_io.hpp"
 #include "slamprep/eval/formats/dataset_json.hpp"
+#include "slamprep/eval/pipeline/leave_one_out.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -27,23 +28,9 @@ bool sameGeometry(const DiffDriveParams& a, const DiffDriveParams& b) {
          a.wheel_base_m == b.wheel_base_m;
 }
 
-// The mount a run's odometry is scored with: the calibrated one where the method estimates it.
-SE2 mountOf(const algo::CalibrationRun& run, const SE2& dataset_mount) {
-  return run.result.estimates_mount ? run.result.T_base_lidar : dataset_mount;
-}
-
-// The nominal and the calibrated geometry on a recording's held-out part; where the method
-// estimates the mount, its wheels also with the dataset's mount, which tells a wrong mount from
-// wrong wheels.
 algo::ValidationFigures validationOf(const RecordingCalibration& r, const algo::CalibrationRun& run,
                                      double fraction) {
-  const SE2& dataset_mount = r.calibration.T_base_lidar;
-  algo::ValidationFigures v{
-      fraction, r.held_out_raw,
-      heldOutError(*r.held_out, run.result.geometry, mountOf(run, dataset_mount)), std::nullopt};
-  if (run.result.estimates_mount)
-    v.calibrated_wheels = heldOutError(*r.held_out, run.result.geometry, dataset_mount);
-  return v;
+  return validationFigures(*r.held_out, r.held_out_raw, run, r.calibration.T_base_lidar, fraction);
 }
 
 void accumulate(algo::HeldOutError& sum, const algo::HeldOutError& e) {
@@ -210,6 +197,8 @@ RecordingsCalibration calibrateRecordings(const RecordingsCalibrationParams& par
     if (done) done(r.dataset);
   }
   if (out.recordings.size() > 1) combine(params, out);
+  if (params.leave_one_out && out.recordings.size() > 1)
+    out.report.leave_one_out = leaveOneOut(out, params);
   return out;
 }
 

@@ -23,6 +23,8 @@ struct RecordingsCalibrationParams {
   /// The recordings; empty: base as it is (one recording, e.g. --tuples alone).
   std::vector<std::string> datasets;
   double validate_fraction = 0.0;  ///< 0: no held-out validation, else in (0, 1)
+  /// With several recordings: each one scored whole with the others' combination (leaveOneOut).
+  bool leave_one_out = false;
   HeldOutParams held_out;
   algo::CombineParams combine;
   algo::NominalFlagParams flags;

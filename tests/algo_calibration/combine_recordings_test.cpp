@@ -187,7 +187,7 @@ TEST(CalibrateJson, OneRecordingIsTodaysArraySeveralTheCombinedObject) {
   const CalibrationRun b =
       run(CalibrationMethod::kModel, vec({0.1, 0.1, 0.6}), diag({1e-4, 1e-4, 1e-3}));
   RecordingReport one{"a", {{a, {}, std::nullopt}}, std::nullopt, std::nullopt, ""};
-  EXPECT_EQ(formatCalibrateJson({{one}, {}, std::nullopt, {}}),
+  EXPECT_EQ(formatCalibrateJson({{one}, {}, std::nullopt, {}, {}}),
             formatCalibrationJson({a}, std::nullopt));
   EXPECT_EQ(formatCalibrationJson({a}, std::nullopt).front(), '[');
 
@@ -204,7 +204,8 @@ TEST(CalibrateJson, OneRecordingIsTodaysArraySeveralTheCombinedObject) {
       {combined},
       std::nullopt,
       {{CalibrationMethod::kModel,
-        {{"r_L", c.estimate.chi2_dof(0), 2}, {"b", c.estimate.chi2_dof(2), 2}}}}};
+        {{"r_L", c.estimate.chi2_dof(0), 2}, {"b", c.estimate.chi2_dof(2), 2}}}},
+      {}};
   const auto j = nlohmann::json::parse(formatCalibrateJson(report));
   ASSERT_TRUE(j.is_object());
   EXPECT_EQ(j.size(), 3u);
@@ -225,6 +226,21 @@ TEST(CalibrateJson, OneRecordingIsTodaysArraySeveralTheCombinedObject) {
   const CalibrationFile file = parseCalibrationJson(formatCalibrateJson(report), "cal.json");
   ASSERT_EQ(file.runs.size(), 1u);
   EXPECT_DOUBLE_EQ(file.requireBest().result.geometry.wheel_base_m, 0.55);
+  EXPECT_FALSE(j.contains("leave_one_out"));  // only with --leave-one-out
+
+  // --leave-one-out: one recording scored (better in translation, worse in rotation), one not.
+  CalibrateReport loo = report;
+  loo.leave_one_out = {{CalibrationMethod::kModel,
+                        {{"a", 1, ValidationFigures{1.0, {0.5, 3.0}, {0.1, 3.5}, std::nullopt}, ""},
+                         {"b", 0, std::nullopt, "not scored: the other recordings give none"}}}};
+  const auto l = nlohmann::json::parse(formatCalibrateJson(loo))["leave_one_out"]["model"];
+  EXPECT_EQ(l["recordings"][0]["dataset"], "a");
+  EXPECT_EQ(l["recordings"][0]["others"], 1);
+  EXPECT_DOUBLE_EQ(l["recordings"][0]["calibrated"]["rot_deg"].get<double>(), 3.5);
+  EXPECT_FALSE(l["recordings"][0].contains("fraction"));  // always the whole recording
+  EXPECT_EQ(l["recordings"][1]["note"], "not scored: the other recordings give none");
+  EXPECT_FALSE(l["recordings"][1].contains("raw"));
+  EXPECT_EQ(l["beats_raw"], nlohmann::json({{"trans", 1}, {"rot", 0}, {"scored", 1}}));
 }
 
 }  // namespace

@@ -94,11 +94,13 @@ fig8b=$dir/fig8b
 "$slamprep" simulate --scenario worlds/scenarios/figure_eight.yaml --mode kinematic --seed 2 \
   --quiet --out "$fig8b" >/dev/null || fail "simulate figure eight 2"
 expect 0 calibrate "$fig8" "$fig8b" --motion groundtruth --method joint --validate-fraction 0.3 \
-  --json "$dir/multi.json" --ros2-params "$dir/multi.yaml"
+  --leave-one-out --json "$dir/multi.json" --ros2-params "$dir/multi.yaml"
 out_has "combined over 2 recordings"
 out_has "held-out validation"
 grep -q '"consistency"' "$dir/multi.json" || fail "several DATASETs: no consistency in --json"
 grep -q '"validation"' "$dir/multi.json" || fail "--validate-fraction: no validation in --json"
+out_has "leave one recording out"
+grep -q '"leave_one_out"' "$dir/multi.json" || fail "--leave-one-out: nothing in --json"
 [ -s "$dir/multi.yaml" ] || fail "several DATASETs: --ros2-params not written"
 expect 0 export "$fig8" --format tum --out "$dir/multi_tum" --calibration "$dir/multi.json"
 [ -s "$dir/multi_tum/odom_calibrated.tum" ] || fail "export read no combined calibration"
@@ -115,6 +117,8 @@ expect 2 calibrate "$fig8" "$dir/other" --motion groundtruth
 err_has "nominal geometries differ"
 expect 2 calibrate "$fig8" --validate-fraction 1.5
 err_has "--validate-fraction"
+expect 2 calibrate "$fig8" --leave-one-out
+err_has "--leave-one-out: needs two or more DATASETs"
 expect 0 calibrate "$fig8" --motion groundtruth --method joint --nominal 0.1,0.1,0.7
 out_has "FLAG joint: b = 0.7"
 expect 3 calibrate "$fig8" --motion groundtruth --method joint --nominal 0.1,0.1,0.7 --strict

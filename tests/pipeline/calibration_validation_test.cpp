@@ -108,5 +108,40 @@ TEST(CalibrationValidation, CalibratedBeatsTheWrongNominalOnHeldOutScans) {
   EXPECT_GT(r.recordings[0].held_out->stamps_s.size(), 50u);
 }
 
+// Two recordings of one robot (the figure eight with seeds 1 and 2): each scored whole with the
+// other's estimate beats the wrong nominal geometry as the held-out part did above.
+TEST(CalibrationValidation, LeaveOneOutScoresEachRecordingWithTheOthersEstimate) {
+  const test::ScratchDir scratch("calibration_leave_one_out");
+  RecordingsCalibrationParams params;
+  for (const int seed : {1, 2}) {
+    sim::SimConfig config;
+    config.scenario = "worlds/scenarios/figure_eight.yaml";
+    config.mode = sim::SimMode::kinematic;
+    config.seed = seed;
+    const auto dir = scratch / ("seed" + std::to_string(seed));
+    writeDataset(dir, sim::simulate(config).dataset);
+    params.datasets.push_back(dir.string());
+  }
+  params.base.methods = {algo::CalibrationMethod::kJoint};
+  params.leave_one_out = true;
+  const RecordingsCalibration r = calibrateRecordings(params);
+  ASSERT_EQ(r.report.leave_one_out.size(), 1u);
+  const algo::LeaveOneOutMethod& joint = r.report.leave_one_out[0];
+  EXPECT_EQ(joint.method, algo::CalibrationMethod::kJoint);
+  ASSERT_EQ(joint.recordings.size(), 2u);
+  for (const algo::LeaveOneOutScore& s : joint.recordings) {
+    EXPECT_EQ(s.others, 1u);
+    ASSERT_TRUE(s.figures) << s.note;
+    EXPECT_EQ(s.figures->fraction, 1.0);
+    // The whole 26 s drive: raw about 8 deg per 10 s window, as on the held-out part above.
+    EXPECT_GT(s.figures->raw.rot_deg, 4.0);
+    EXPECT_LT(s.figures->calibrated.rot_deg, 0.25 * s.figures->raw.rot_deg);
+    EXPECT_LT(s.figures->calibrated.trans_m, 0.25 * s.figures->raw.trans_m);
+  }
+  // Each recording's score uses the other's estimate, not its own: the two differ.
+  EXPECT_NE(joint.recordings[0].figures->calibrated.trans_m,
+            joint.recordings[1].figures->calibrated.trans_m);
+}
+
 }  // namespace
 }  // namespace slamprep::eval
