@@ -10,7 +10,8 @@ and the turning ones: |yaw rate| > 0.3 rad/s from the odometry). For every robot
 all its recordings together with the protocol's settings (CALIBRATE_FLAGS), with a held-out
 validation; then per unit (one physical robot, LIST's third column) with two or more recordings,
 which is what the consistency across recordings is about, with joint and with the wheels alone
-(model with the mount from tf).
+(model with the mount from tf); and per unit, every recording scored whole with the other
+recordings' estimate (--leave-one-out).
 Prints the tables of the README. The bags are not in the repository (their sources are in LIST).
 """
 import json
@@ -24,6 +25,10 @@ PROTOCOL = ["--motion", "map", "--keyframe-cm", "20", "--validate-fraction", "0.
 CALIBRATE_FLAGS = ["--method", "joint", *PROTOCOL]
 # The wheels alone, the mount taken from the bag's tf (docs/calibration.md, --lidar-mount).
 WHEELS_FLAGS = ["--method", "model", "--lidar-mount", "dataset", *PROTOCOL]
+# Leave one recording out: each recording calibrated whole, scored with the others' combination.
+LOO_PROTOCOL = ["--motion", "map", "--keyframe-cm", "20", "--leave-one-out"]
+LOO_METHODS = (("model, tf mount", ["--method", "model", "--lidar-mount", "dataset"]),
+               ("joint", ["--method", "joint"]))
 TURNING_RADPS = 0.3
 
 
@@ -117,6 +122,27 @@ def main():
         for label, flags in (("joint", CALIBRATE_FLAGS), ("model, tf mount", WHEELS_FLAGS)):
             name = unit + "." + flags[1]
             print_unit(unit, label, datasets, calibrate(bin_, name, nominal, datasets, out, flags))
+    print_leave_one_out(bin_, by_unit, out)
+
+
+def print_leave_one_out(bin_, by_unit, out):
+    print("\n### Leave one recording out (" + " ".join(LOO_PROTOCOL) + ")\n")
+    print("| unit | method | beats raw: trans, rot (of scored) | raw / calibrated m per recording |")
+    print("|---|---|---|---|")
+    for (unit, nominal), datasets in by_unit.items():
+        if len(datasets) < 2:
+            continue
+        for label, method in LOO_METHODS:
+            name = unit + ".loo." + method[1]
+            code, j, error = calibrate(bin_, name, nominal, datasets, out, [*method, *LOO_PROTOCOL])
+            loo = (j or {}).get("leave_one_out", {}).get(method[1])
+            if loo is None:
+                print(f"| {unit} | {label} | calibrate exit {code}: {error.strip()[:80]} | |")
+                continue
+            b = loo["beats_raw"]
+            cells = ", ".join(f"{r['raw']['trans_m']:.3f}/{r['calibrated']['trans_m']:.3f}"
+                              if "raw" in r else "-" for r in loo["recordings"])
+            print(f"| {unit} | {label} | {b['trans']}, {b['rot']} (of {b['scored']}) | {cells} |")
 
 
 def print_recordings(rows):
