@@ -236,17 +236,11 @@ void printLeaveOneOut(const std::vector<algo::LeaveOneOutMethod>& methods) {
               << "raw m" << std::setw(14) << "raw deg" << std::setw(16) << "calibrated m"
               << std::setw(16) << "calibrated deg"
               << "\n";
-    int trans = 0, rot = 0, scored = 0;
-    for (std::size_t i = 0; i < m.recordings.size(); ++i) {
-      const algo::LeaveOneOutScore& s = m.recordings[i];
-      printLeaveOneOutRow(s, i + 1);
-      if (!s.figures) continue;
-      ++scored;
-      trans += s.figures->calibrated.trans_m < s.figures->raw.trans_m;
-      rot += s.figures->calibrated.rot_deg < s.figures->raw.rot_deg;
-    }
-    std::cout << "  calibrated beats raw on " << trans << " of " << scored
-              << " recordings in translation, " << rot << " of " << scored << " in rotation\n";
+    for (std::size_t i = 0; i < m.recordings.size(); ++i)
+      printLeaveOneOutRow(m.recordings[i], i + 1);
+    const algo::BeatsRaw b = algo::beatsRaw(m);
+    std::cout << "  calibrated beats raw on " << b.trans << " of " << b.scored
+              << " recordings in translation, " << b.rot << " of " << b.scored << " in rotation\n";
   }
 }
 

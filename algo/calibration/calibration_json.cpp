@@ -116,23 +116,20 @@ json leaveOneOutJson(const std::vector<LeaveOneOutMethod>& methods) {
   json out = json::object();
   for (const LeaveOneOutMethod& m : methods) {
     json recordings = json::array();
-    int trans = 0, rot = 0, scored = 0;
     for (const LeaveOneOutScore& s : m.recordings) {
       json entry = {{"dataset", s.dataset}, {"others", s.others}};
       if (s.figures) {
         entry.update(validationJson(*s.figures));
         entry.erase("fraction");  // the whole recording
-        trans += s.figures->calibrated.trans_m < s.figures->raw.trans_m;
-        rot += s.figures->calibrated.rot_deg < s.figures->raw.rot_deg;
-        ++scored;
       } else {
         entry["note"] = s.note;
       }
       recordings.push_back(entry);
     }
+    const BeatsRaw b = beatsRaw(m);
     out[std::string(calibrationMethodName(m.method))] = {
         {"recordings", recordings},
-        {"beats_raw", {{"trans", trans}, {"rot", rot}, {"scored", scored}}}};
+        {"beats_raw", {{"trans", b.trans}, {"rot", b.rot}, {"scored", b.scored}}}};
   }
   return out;
 }

@@ -82,6 +82,22 @@ struct LeaveOneOutMethod {
   std::vector<LeaveOneOutScore> recordings;  ///< in the order of the DATASETs
 };
 
+/// On how many scored recordings the calibrated odometry beat raw (JSON "beats_raw").
+struct BeatsRaw {
+  int trans = 0, rot = 0, scored = 0;
+};
+
+inline BeatsRaw beatsRaw(const LeaveOneOutMethod& m) {
+  BeatsRaw b;
+  for (const LeaveOneOutScore& s : m.recordings) {
+    if (!s.figures) continue;
+    ++b.scored;
+    b.trans += s.figures->calibrated.trans_m < s.figures->raw.trans_m;
+    b.rot += s.figures->calibrated.rot_deg < s.figures->raw.rot_deg;
+  }
+  return b;
+}
+
 struct CalibrateReport {
   /// One: the JSON is today's list of method objects. Several: the object with "recordings",
   /// "combined" and "consistency".
