@@ -16,15 +16,18 @@ namespace {
 constexpr int kMsaaSamples = 4;  ///< llvmpipe's GL_MAX_SAMPLES
 
 /// llvmpipe is slow to touch fresh memory (a 4x MSAA 2400x1600 colour buffer takes ~0.6 s here),
-/// so one context with its framebuffers is kept for the process and reused while the size stays
-/// the same. A mutex serialises renders; the canvas is made current on the rendering thread.
+/// so one context with its framebuffers is kept for the process and reused for every figure that
+/// fits: a figure draws into the bottom-left corner, where GL's window coordinates start, so its
+/// pixels do not depend on the buffer around it. A mutex serialises renders; the canvas is made
+/// current on the rendering thread.
 struct SharedGl {
   OSMesaContext context = nullptr;
   std::vector<unsigned char> dummy = std::vector<unsigned char>(16 * 16 * 4);  ///< OSMesa's own
   const OsMesaLibrary& gl = osmesa();  ///< loaded with the first canvas; a throw is retried
   GLuint msaa_fbo = 0, resolve_fbo = 0;
   GLuint msaa_color = 0, msaa_stencil = 0, resolve_color = 0;
-  int width = 0, height = 0, scale = 0;  ///< size the framebuffers were made for
+  int width = 0, height = 0, scale = 0;     ///< the figure being drawn
+  int buffer_width = 0, buffer_height = 0;  ///< the framebuffers' size in samples, >= the figure's
   int samples = 0;
   std::vector<unsigned char> pixels;  ///< glReadPixels target, reused
   int stencil_ref = 0;                ///< stencil value of the last no-overlap fill
@@ -65,15 +68,15 @@ struct SharedGl {
     gl.deleteFramebuffers(2, fbos);
     gl.deleteRenderbuffers(3, rbs);
     msaa_fbo = resolve_fbo = msaa_color = msaa_stencil = resolve_color = 0;
-    width = height = scale = 0;
+    buffer_width = buffer_height = 0;
   }
 
   GLuint renderbuffer(int samples_wanted, GLenum format) {
     GLuint rb = 0;
     gl.genRenderbuffers(1, &rb);
     gl.bindRenderbuffer(GL_RENDERBUFFER, rb);
-    gl.renderbufferStorageMultisample(GL_RENDERBUFFER, samples_wanted, format, width * scale,
-                                      height * scale);
+    gl.renderbufferStorageMultisample(GL_RENDERBUFFER, samples_wanted, format, buffer_width,
+                                      buffer_height);
     return rb;
   }
 
@@ -86,8 +89,14 @@ struct SharedGl {
     }
   }
 
+  /// Grows the framebuffers to hold a w x h figure at supersample s; never shrinks them.
   void ensureFramebuffers(int w, int h, int s) {
-    if (w == width && h == height && s == scale) return;
+    if (w * s <= buffer_width && h * s <= buffer_height) {
+      width = w, height = h, scale = s;
+      return;
+    }
+    const int grown_width = std::max(buffer_width, w * s);
+    const int grown_height = std::max(buffer_height, h * s);
     deleteFramebuffers();
     GLint max_size = 0;
     gl.getIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
@@ -97,6 +106,7 @@ struct SharedGl {
                                std::to_string(max_size) + "; lower Figure::supersample");
     }
     width = w, height = h, scale = s;
+    buffer_width = grown_width, buffer_height = grown_height;
     gl.genFramebuffers(1, &msaa_fbo);
     gl.bindFramebuffer(GL_FRAMEBUFFER, msaa_fbo);
     msaa_color = renderbuffer(kMsaaSamples, GL_RGBA8);
