@@ -11,7 +11,8 @@ namespace slamprep::eval::plot {
 
 class GlCanvas {
  public:
-  /// Throws std::runtime_error naming the failing step (context, framebuffer) when OSMesa fails.
+  /// Throws std::runtime_error naming the failing step (loading libOSMesa, context, framebuffer)
+  /// when OSMesa fails.
   GlCanvas(int width_px, int height_px, int supersample);
   ~GlCanvas();
   GlCanvas(const GlCanvas&) = delete;

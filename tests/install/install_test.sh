@@ -3,7 +3,7 @@
 # install_manifest.txt in the build folder), moves the prefix to prove it is relocatable, then
 # from an unrelated working directory and without SLAMPREP_DATA_DIR:
 #   1. `slamprep simulate` (default world and scenario) and one shard of `slamprep bench`
-#      (suite by name) find their data beside the moved binary;
+#      (suite by name) find their data beside the moved binary, which does not link OSMesa;
 #   2. examples/consumer configures with find_package(slamprep COMPONENTS pipeline) against the
 #      moved prefix while pkg-config finds neither Bullet nor OSMesa, builds with the same
 #      generator and compiler without naming either (build.ninja, the binary's NEEDED entries),
@@ -63,6 +63,10 @@ mkdir "$dir/work" && cd "$dir/work"
   tail -20 "$dir/bench.log"; fail "slamprep bench --shard 2/3 from the moved prefix"; }
 [ -d "$dir/results/default/shards/2-of-3" ] || fail "bench wrote no shard"
 echo "ok: the moved binary finds worlds, scenarios and suites"
+# OSMesa (and the libLLVM behind it) is loaded at the first plot, not at every start.
+if readelf -d "$prefix/bin/slamprep" | grep -i 'NEEDED.*\(osmesa\|llvm\)'; then
+  fail "slamprep links OSMesa; plot loads it at the first render (eval/plot/osmesa_library.cpp)"
+fi
 
 # 2. The consumer project against the moved prefix, on a machine as if it had neither Bullet nor
 # OSMesa: pkg-config sees every module but those.

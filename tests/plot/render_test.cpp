@@ -349,6 +349,24 @@ TEST(Render, ConcurrentRendersMatchSerialOnes) {
   EXPECT_EQ(threaded_b.rgba, serial_b.rgba);
 }
 
+TEST(Render, AFigureDrawsTheSameInTheLargerBuffersOfEarlierOnes) {
+  // The shared framebuffers only grow; a figure draws in their bottom-left corner. Drawn first
+  // (buffers its own size when this test runs alone, as under ctest), then after a wider and a
+  // taller figure grew them, the same figure must give the same bytes.
+  const Figure small{.width_px = 300, .height_px = 200, .axes = {samples::trajectoryAxes()}};
+  const Figure wide{.width_px = 520, .height_px = 150, .axes = {samples::deskewAxes()}};
+  const Figure tall{.width_px = 200, .height_px = 430, .axes = {samples::scanAxes()}};
+  const Image first = render(small);
+  const Image wide_image = render(wide);
+  const Image tall_image = render(tall);
+  const Image again = render(small);
+  EXPECT_EQ(again.width, 300);
+  EXPECT_EQ(again.height, 200);
+  EXPECT_EQ(again.rgba, first.rgba);
+  EXPECT_EQ(render(wide).rgba, wide_image.rgba);  // in the buffers grown by the tall one
+  EXPECT_EQ(tall_image.height, 430);
+}
+
 TEST(Render, FontScaleGrowsTheMargins) {
   Axes axes{.x_label = "x", .y_label = "y", .x_range = Range{0, 1}, .y_range = Range{0, 1}};
   Figure normal = plain(axes), large = plain(axes);
