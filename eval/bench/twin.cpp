@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "slamprep/algo/agreement/dataset_sources.hpp"
@@ -379,11 +380,21 @@ nlohmann::ordered_json worldJson(const WallMap& map, const WorldBuild& b) {
           {"world_cylinders", b.world.cylinders.size()}};
 }
 
-nlohmann::ordered_json driveJson(const TrackedDrive& d, const TrackParams& p) {
+nlohmann::ordered_json driveJson(const TrackedDrive& d, const TrackParams& p,
+                                 const sim::TrackingParams& t) {
   return {{"how",
            "commands: wheel rates every period_s (scenario type track) that a kinematic "
-           "robot of the true geometry drives onto the matched trajectory; the physics "
-           "adds its slip"},
+           "robot of the true geometry drives onto the matched trajectory; in physics mode "
+           "they are the feed-forward of a closed loop that steers the true pose back onto "
+           "that kinematic replay (Kanayama et al. 1990), so the physics' slip does not pile up"},
+          {"closed_loop",
+           {{"k_x_per_s", t.k_x_per_s},
+            {"k_y_per_m2", t.k_y_per_m2},
+            {"k_theta_per_m", t.k_theta_per_m},
+            {"how",
+             "v = v_r cos(e_theta) + k_x e_x, w = w_r + v_r (k_y e_y + k_theta sin(e_theta)), "
+             "(e_x, e_y, e_theta) the replay's pose in the robot's frame; wheel rates capped at "
+             "max_wheel_radps"}}},
           {"period_s", p.period_s},
           {"knots", d.wheel_rates.size()},
           {"max_wheel_radps", p.max_wheel_radps},
@@ -456,7 +467,7 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   const nlohmann::ordered_json world_json = worldJson(map, built);
   out.world = std::move(built.world);
   out.world_yaml = worldYaml(out.world, "The world of slamprep twin " + name + " (docs/twin.md)");
-  out.scenario_yaml = scenarioYaml(drive, p.track.period_s,
+  out.scenario_yaml = scenarioYaml(drive, track, p.tracking,
                                    "The matched trajectory of " + name + " as wheel-rate commands");
   out.json = {{"dataset", name},
               {"match",
@@ -465,7 +476,7 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
                 {"matched", run.tracked.matched},
                 {"accepted_for_the_map", std::count(accepted.begin(), accepted.end(), 1)}}},
               {"world", world_json},
-              {"drive", driveJson(drive, track)},
+              {"drive", driveJson(drive, track, p.tracking)},
               {"lidar", lidarJson(f)},
               {"odometry", odometryJson(f, geometry_how)},
               {"not_reproduced", kNotReproduced},
@@ -510,14 +521,20 @@ sim::SimResult firstRun(TwinFit& fit, const sim::Scenario& scenario) {
   if (fit.config.mode != sim::SimMode::physics) return r;
   const double deviation = replayDeviation(r, fit.replay);
   drive["physics_max_deviation_m"] = deviation;
-  if (deviation <= fit.max_physics_deviation_m) return r;
+  char limit[32];
+  std::snprintf(limit, sizeof limit, "%g m", fit.max_physics_deviation_m);
+  if (deviation <= fit.max_physics_deviation_m) {
+    drive["mode_how"] = std::string("the physics' robot, driven in closed loop, stayed within ") +
+                        limit + " of the kinematic replay";
+    return r;
+  }
   setKey(fit, "mode", "kinematic");
   drive["mode"] = "kinematic";
   drive["mode_how"] =
-      "the physics' robot left the kinematic replay by more than " +
-      num(fit.max_physics_deviation_m) +
-      " m (open-loop slip piles up; a robot that touches a wall stops): the commands are driven "
-      "exactly (kinematic mode), the odometry errors are the nominal geometry's and the ticks'";
+      std::string("the physics' robot left the kinematic replay by more than ") + limit +
+      " although driven in closed loop (a robot that touches a wall stops; capped wheels "
+      "cannot catch up): the commands are driven exactly (kinematic mode), the odometry errors "
+      "are the nominal geometry's and the ticks'";
   return sim::simulate(fit.config, fit.world, scenario);
 }
 

@@ -24,6 +24,9 @@ struct TwinParams {
   std::string deskew = "vicp";  ///< how the scans are matched (slamprep match --deskew)
   WallExtractionParams walls;
   TrackParams track;
+  /// The physics' robot follows the drive in closed loop (the scenario's track segment has
+  /// closed_loop: true with these gains; its cap is the drive's max_wheel_radps).
+  sim::TrackingParams tracking;
   LidarMapParams lidar;
   /// The true geometry of the twin: given (--calibration), else calibrated here (joint, the
   /// scan-to-map motion, 20 cm intervals: results/real's protocol), else the nominal one.
@@ -48,8 +51,9 @@ struct TwinFit {
   double residual_median_m = 0.0;
   /// The kinematic robot's path at the knots (scenario time): what the physics must follow.
   PoseSeries replay;
-  /// The physics' robot farther than this from `replay` (slip piled up over a long open-loop
-  /// drive, a wall touched): the twin is simulated in kinematic mode instead.
+  /// The physics' robot farther than this from `replay` although driven in closed loop (a wall
+  /// touched, a turn the capped wheels cannot follow): the twin is simulated in kinematic mode
+  /// instead.
   double max_physics_deviation_m = 0.3;
   /// The random wheel slip the recording shows (its wheels with the true geometry against the
   /// matched trajectory): simulateTwin gives the twin what its physics does not already slip.
@@ -70,7 +74,9 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
 /// The world as a world file (docs/worlds.md); the walls keep their faces where the returns lay.
 std::string worldYaml(const sim::World& world, const std::string& comment);
 
-/// The drive as a scenario file with one `track` segment of wheel rates (docs/simulate.md).
-std::string scenarioYaml(const TrackedDrive& drive, double period_s, const std::string& comment);
+/// The drive as a scenario file with one `track` segment of wheel rates (docs/simulate.md),
+/// driven in closed loop with `tracking`'s gains and `track`'s wheel-rate cap.
+std::string scenarioYaml(const TrackedDrive& drive, const TrackParams& track,
+                         const sim::TrackingParams& tracking, const std::string& comment);
 
 }  // namespace slamprep::eval

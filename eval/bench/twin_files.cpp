@@ -40,11 +40,16 @@ std::string worldYaml(const sim::World& w, const std::string& comment) {
   return y;
 }
 
-std::string scenarioYaml(const TrackedDrive& drive, double period_s, const std::string& comment) {
+std::string scenarioYaml(const TrackedDrive& drive, const TrackParams& track,
+                         const sim::TrackingParams& tracking, const std::string& comment) {
   std::string y = commentLines(comment);
   y += "name: twin\nsegments:\n";
-  y +=
-      format("  - type: track\n    kind: wheel_rates\n    period_s: %.6g\n    values:\n", period_s);
+  y += format("  - type: track\n    kind: wheel_rates\n    period_s: %.6g\n", track.period_s);
+  y += format(
+      "    closed_loop: true\n    k_x_per_s: %.6g\n    k_y_per_m2: %.6g\n    k_theta_per_m: "
+      "%.6g\n    max_wheel_radps: %.6g\n",
+      tracking.k_x_per_s, tracking.k_y_per_m2, tracking.k_theta_per_m, track.max_wheel_radps);
+  y += "    values:\n";
   for (const Eigen::Vector2d& c : drive.wheel_rates)
     y += format("      - [%.5f, %.5f]\n", c.x(), c.y());
   return y;

@@ -28,6 +28,12 @@ std::string twinText(const nlohmann::ordered_json& j) {
                 d["replay_rms_position_m"].get<double>(), d["replay_max_position_m"].get<double>(),
                 d["replay_rms_heading_deg"].get<double>());
   out += buf;
+  if (d.contains("mode") && d.contains("physics_max_deviation_m")) {
+    std::snprintf(buf, sizeof buf,
+                  "drive mode: %s (the closed-loop physics at most %.4f m from the replay)\n",
+                  d["mode"].get<std::string>().c_str(), d["physics_max_deviation_m"].get<double>());
+    out += buf;
+  }
   const auto& l = j["lidar"];
   std::snprintf(
       buf, sizeof buf,

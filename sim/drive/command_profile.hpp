@@ -5,10 +5,12 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "slamprep/core/enum_names.hpp"
+#include "slamprep/sim/drive/tracking_law.hpp"
 
 namespace slamprep::sim {
 
@@ -50,6 +52,9 @@ struct ProfileSegment {
   /// An `explore` segment before planning: its knots are a stop of the same length until
   /// planExplore (sim/drive/explore.hpp) replaces them with a path through the world.
   std::shared_ptr<const ExploreParams> explore;
+  /// A `track` segment driven in closed loop (physics mode): its knots are the feed-forward,
+  /// corrected by the robot's error from the kinematic replay of the commands (tracking_law.hpp).
+  std::optional<TrackingParams> closed_loop;
 
   double start_s() const { return knots.front().t_s; }
   double end_s() const { return knots.back().t_s; }
@@ -90,7 +95,14 @@ void CommandProfile::forEachPiece(double t0_s, double t1_s, Fn&& fn) const {
   for (const ProfileSegment& segment : segments_) {
     if (segment.end_s() <= t0_s) continue;
     if (segment.start_s() >= t1_s) break;
-    for (std::size_t k = 0; k + 1 < segment.knots.size(); ++k) {
+    // From the piece holding t0 on (a long track has thousands of knots; the earlier pieces
+    // would all be empty), until the pieces start after t1.
+    const auto& knots = segment.knots;
+    const auto after = std::upper_bound(knots.begin(), knots.end(), t0_s,
+                                        [](double t, const CommandKnot& k) { return t < k.t_s; });
+    const auto first =
+        static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, after - knots.begin() - 1));
+    for (std::size_t k = first; k + 1 < knots.size() && knots[k].t_s < t1_s; ++k) {
       const double a = std::max(t0_s, segment.knots[k].t_s);
       const double b = std::min(t1_s, segment.knots[k + 1].t_s);
       if (b <= a) continue;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <utility>
 
@@ -88,7 +89,7 @@ struct SegmentBuilder {
 
   void add(const std::string& type, const std::string& at, CommandKind kind,
            std::vector<CommandKnot> knots) {
-    out.push_back({type, at, kind, std::move(knots), nullptr});
+    out.push_back({type, at, kind, std::move(knots), nullptr, std::nullopt});
   }
   void twist(const std::string& type, const std::string& at, const Eigen::Vector2d& peak,
              double area_s) {
@@ -232,6 +233,26 @@ void parseExplore(const YAML::Node& seg, const std::string& p, const std::string
   build.out.back().explore = std::move(params);
 }
 
+/// A track's closed loop (tracking_law.hpp): `closed_loop: true` and its optional gains and cap;
+/// none when closed_loop is absent or false (the gains are then refused: they would do nothing).
+std::optional<TrackingParams> parseClosedLoop(const Context& ctx, const YAML::Node& seg,
+                                              const std::string& p) {
+  const YAML::Node on = seg["closed_loop"];
+  const bool closed = on && ctx.doc.boolean(on, joinKey(p, "closed_loop"));
+  TrackingParams t;
+  const Bounds gain{0.0, kMaxValue};
+  for (const char* name : {"k_x_per_s", "k_y_per_m2", "k_theta_per_m", "max_wheel_radps"})
+    if (seg[name] && !closed)
+      ctx.doc.fail(seg[name], joinKey(p, name), "only with closed_loop: true");
+  if (!closed) return std::nullopt;
+  t.k_x_per_s = field(ctx, seg, p, "k_x_per_s", t.k_x_per_s, gain);
+  t.k_y_per_m2 = field(ctx, seg, p, "k_y_per_m2", t.k_y_per_m2, gain);
+  t.k_theta_per_m = field(ctx, seg, p, "k_theta_per_m", t.k_theta_per_m, gain);
+  if (seg["max_wheel_radps"])
+    t.max_wheel_radps = positiveField(ctx, seg, p, "max_wheel_radps", t.max_wheel_radps);
+  return t;
+}
+
 /// track: knots every period_s, linear between them, as a tool writes a recorded drive
 /// (slamprep twin); a zero knot before the first value and after the last keep it rest to rest.
 void parseTrack(const YAML::Node& seg, const std::string& p, const std::string& type,
@@ -256,6 +277,7 @@ void parseTrack(const YAML::Node& seg, const std::string& p, const std::string& 
                      ctx.doc.point(values[k], key + "[" + std::to_string(k) + "]", signed_value)});
   knots.push_back({double(values.size() + 1) * period_s, {0.0, 0.0}});
   build.add(type, at, *kind, std::move(knots));
+  build.out.back().closed_loop = parseClosedLoop(ctx, seg, p);
 }
 
 // ---- The file ------------------------------------------------------------------------------
@@ -337,7 +359,10 @@ const std::vector<SegmentType>& segmentTypes() {
         "clearance_m", "lookahead_m", "min_goal_distance_m", "grid_resolution_m",
         "control_period_s"},
        parseExplore},
-      {"track", {"kind", "period_s", "values"}, parseTrack},
+      {"track",
+       {"kind", "period_s", "values", "closed_loop", "k_x_per_s", "k_y_per_m2", "k_theta_per_m",
+        "max_wheel_radps"},
+       parseTrack},
   };
   return types;
 }

@@ -70,7 +70,10 @@ class Motion {
 };
 
 /// Bullet: the controller's wheel-rate targets go to the motors; the joints give the encoders.
-/// A step that starts inside a held window runs with the chassis held (Robot::setHeld).
+/// A step that starts inside a held window runs with the chassis held (Robot::setHeld). With a
+/// closed-loop segment the motion also drives the reference: the commands' kinematic replay with
+/// the TRUE geometry (as KinematicMotion and the path check drive them), which the controller
+/// compares with the true pose.
 class PhysicsMotion : public Motion {
  public:
   PhysicsMotion(Scene& scene, const Controller& controller, const RobotConfig& config,
@@ -79,7 +82,9 @@ class PhysicsMotion : public Motion {
         controller_(controller),
         robot_(scene, config, T_world_start),
         slip_(slip),
-        held_(held) {
+        held_(held),
+        true_geometry_(config.geometry),
+        T_world_reference_(T_world_start) {
     angle0_ = {robot_.wheelAngleLeft(), robot_.wheelAngleRight()};
   }
   StepState initial() const override { return read(0.0); }
@@ -96,7 +101,7 @@ class PhysicsMotion : public Motion {
     return "";
   }
   StepState step(const StepState& prev, double t_s) override {
-    const Eigen::Vector2d target = controller_.wheelRates(t_s);
+    const Eigen::Vector2d target = targetRates(prev, t_s);
     robot_.setWheelRateTargets(target.x(), target.y());
     robot_.setHeld(held_.heldAt(prev.t_s));
     if (slip_) {
@@ -109,6 +114,16 @@ class PhysicsMotion : public Motion {
   }
 
  private:
+  /// The open-loop command at the step's end, or the closed loop's from the error at its start.
+  Eigen::Vector2d targetRates(const StepState& prev, double t_s) {
+    if (!controller_.closedLoop()) return controller_.wheelRates(t_s);
+    const Eigen::Vector2d target =
+        controller_.wheelRates(t_s, prev.T_world_base, T_world_reference_);
+    T_world_reference_ =
+        T_world_reference_ * held_.bodyIncrement(controller_, true_geometry_, prev.t_s, t_s);
+    return target;
+  }
+
   StepState read(double t_s) const {
     StepState s;
     s.t_s = t_s;
@@ -125,6 +140,8 @@ class PhysicsMotion : public Motion {
   Robot robot_;
   FloorSlip* slip_;  // null: the floor is uniform
   const HeldSchedule& held_;
+  DiffDriveParams true_geometry_;
+  SE2 T_world_reference_;  ///< where the kinematic replay of the commands is (closed loop)
   Eigen::Vector2d angle0_ = Eigen::Vector2d::Zero();
 };
 

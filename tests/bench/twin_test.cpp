@@ -86,6 +86,10 @@ TEST(Twin, SimulatesWhatItFitted) {
   p.calibrate = false;
   TwinFit fit = fitTwin(recording(), "figure-eight", p);
   const sim::Scenario s = sim::parseScenario(fit.scenario_yaml, "twin-scenario.yaml");
+  ASSERT_EQ(s.profile.segments().size(), 1u);
+  ASSERT_TRUE(s.profile.segments()[0].closed_loop);  // the physics follows in closed loop ...
+  EXPECT_NEAR(s.profile.segments()[0].closed_loop->max_wheel_radps,
+              fit.json["drive"]["max_wheel_radps"].get<double>(), 1e-4);  // ... within the cap
   const sim::SimResult r = simulateTwin(fit, s);
   EXPECT_EQ(r.dataset.scans.size() / 10, recording().scans.size() / 10);  // the same length
   const auto& runs = fit.json["lidar"]["range_noise_m"]["tuning_runs"];

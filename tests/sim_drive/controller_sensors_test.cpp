@@ -23,6 +23,57 @@ TEST(Controller, UsesTheNominalGeometry) {
   EXPECT_NEAR(twist.y(), 0.4, 1e-12);
 }
 
+// Kanayama et al. 1990: v = v_r cos(e_theta) + k_x e_x, w = w_r + v_r (k_y e_y + k_theta
+// sin(e_theta)), the error in the robot's frame whatever the robot's heading; driving backwards
+// the heading term keeps its sign (|v_r|), the cross-track term turns the other way.
+TEST(Controller, TrackingLawCorrectsTheErrorInTheRobotsFrame) {
+  const TrackingParams gains{2.0, 16.0, 8.0, 0.0};
+  const Eigen::Vector2d reference(0.5, 0.2);
+  const SE2 error(0.1, 0.05, 0.1);
+  for (const SE2& T_world_base : {SE2(), SE2(1.0, -2.0, 2.5)}) {
+    const Eigen::Vector2d twist =
+        trackingTwist(T_world_base, T_world_base * error, reference, gains);
+    EXPECT_NEAR(twist.x(), 0.5 * std::cos(0.1) + 2.0 * 0.1, 1e-12);
+    EXPECT_NEAR(twist.y(), 0.2 + 0.5 * (16.0 * 0.05 + 8.0 * std::sin(0.1)), 1e-12);
+    const Eigen::Vector2d back =
+        trackingTwist(T_world_base, T_world_base * error, {-0.5, 0.2}, gains);
+    EXPECT_NEAR(back.x(), -0.5 * std::cos(0.1) + 2.0 * 0.1, 1e-12);
+    EXPECT_NEAR(back.y(), 0.2 - 0.5 * 16.0 * 0.05 + 0.5 * 8.0 * std::sin(0.1), 1e-12);
+    // No error: the feed-forward.
+    EXPECT_NEAR((trackingTwist(T_world_base, T_world_base, reference, gains) - reference).norm(),
+                0.0, 1e-15);
+  }
+  EXPECT_EQ(capWheelRates({3.0, -6.0}, 4.0), Eigen::Vector2d(2.0, -4.0));  // the ratio stays
+  EXPECT_EQ(capWheelRates({3.0, -2.0}, 4.0), Eigen::Vector2d(3.0, -2.0));
+}
+
+// Closed loop: the feed-forward where the robot is on its reference, a correction toward it
+// elsewhere, capped; open-loop segments ignore the poses.
+TEST(Controller, ClosedLoopTrackCorrectsTowardTheReferenceWithinItsCap) {
+  const DiffDriveParams nominal{0.1, 0.1, 0.5};
+  const Scenario closed = parseScenario(
+      "segments:\n  - {type: track, kind: wheel_rates, period_s: 1, closed_loop: true, "
+      "k_y_per_m2: 16, values: [[4, 4], [4, 6]]}\n",
+      "t.yaml");
+  const Controller controller(closed.profile, nominal);
+  ASSERT_TRUE(controller.closedLoop());
+  const SE2 here(1.0, 1.0, 0.3);
+  EXPECT_NEAR((controller.wheelRates(1.5, here, here) - Eigen::Vector2d(4, 5)).norm(), 0.0, 1e-12);
+  // The reference 0.1 m to the left: turn left (right wheel faster), at most 6 rad/s (the
+  // knots' largest).
+  const Eigen::Vector2d left = controller.wheelRates(1.5, here, here * SE2(0.0, 0.1, 0.0));
+  const Eigen::Vector2d expected_twist(0.45, 0.2 + 0.45 * 16.0 * 0.1);
+  const Eigen::Vector2d uncapped = nominal.wheelRates(expected_twist.x(), expected_twist.y());
+  EXPECT_GT(uncapped.y(), 6.0);
+  EXPECT_NEAR((left - uncapped * (6.0 / uncapped.y())).norm(), 0.0, 1e-12);
+  const Scenario open = parseScenario(
+      "segments:\n  - {type: track, kind: wheel_rates, period_s: 1, values: [[4, 4]]}\n", "t.yaml");
+  const Controller open_controller(open.profile, nominal);
+  EXPECT_FALSE(open_controller.closedLoop());
+  EXPECT_EQ(open_controller.wheelRates(0.5, here, here * SE2(0.0, 0.1, 0.0)),
+            open_controller.wheelRates(0.5));
+}
+
 TEST(Controller, WheelAngleIncrementIsTheExactIntegral) {
   const Scenario s = parseScenario(
       "segments:\n  - {type: straight, distance_m: 1.3, speed_mps: 0.7}\n"

@@ -137,6 +137,36 @@ TEST(Scenario, TrackRefusesAnUnknownKindAndBadValues) {
   EXPECT_NO_THROW(parse("kind: twist, period_s: 0.1, values: [[0.1, 0.2]]"));
 }
 
+TEST(Scenario, TrackIsOpenLoopUnlessClosedLoopIsAsked) {
+  auto parse = [](const std::string& seg) {
+    return parseScenario("segments:\n  - {type: track, kind: wheel_rates, period_s: 0.1, " + seg +
+                             "values: [[1, 2]]}\n",
+                         "t.yaml");
+  };
+  EXPECT_FALSE(parse("").profile.segments()[0].closed_loop);
+  EXPECT_FALSE(parse("closed_loop: false, ").profile.segments()[0].closed_loop);
+  const auto defaults = parse("closed_loop: true, ").profile.segments()[0].closed_loop;
+  ASSERT_TRUE(defaults);
+  EXPECT_EQ(defaults->k_x_per_s, TrackingParams{}.k_x_per_s);
+  EXPECT_EQ(defaults->max_wheel_radps, 0.0);  // the knots' largest, found by the controller
+  const auto set = parse(
+                       "closed_loop: true, k_x_per_s: 1, k_y_per_m2: 4, k_theta_per_m: 3, "
+                       "max_wheel_radps: 9, ")
+                       .profile.segments()[0]
+                       .closed_loop;
+  ASSERT_TRUE(set);
+  EXPECT_EQ(set->k_x_per_s, 1.0);
+  EXPECT_EQ(set->k_y_per_m2, 4.0);
+  EXPECT_EQ(set->k_theta_per_m, 3.0);
+  EXPECT_EQ(set->max_wheel_radps, 9.0);
+  // Gains of an open-loop track would do nothing: refused, as are negative gains and caps.
+  EXPECT_THROW(parse("k_x_per_s: 1, "), InputError);
+  EXPECT_THROW(parse("closed_loop: false, max_wheel_radps: 9, "), InputError);
+  EXPECT_THROW(parse("closed_loop: true, k_y_per_m2: -1, "), InputError);
+  EXPECT_THROW(parse("closed_loop: true, max_wheel_radps: 0, "), InputError);
+  EXPECT_THROW(parse("closed_loop: yes please, "), InputError);
+}
+
 TEST(Scenario, UmbmarkIsFourLegsAndFourRightAngles) {
   const Scenario s = loadScenario(kScenarios / "umbmark_cw.yaml");
   const Eigen::Vector2d total = integral(s.profile);
