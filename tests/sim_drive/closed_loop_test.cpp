@@ -14,10 +14,13 @@
 #include "slamprep/eval/formats/dataset_io.hpp"
 #include "slamprep/sim/drive/simulator.hpp"
 #include "slamprep/tests/sim_drive/square_room.hpp"
+#include "slamprep/tests/support/cli_run.hpp"
 #include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::sim {
 namespace {
+
+using slamprep::test::slurp;
 
 /// A straight track of wheel rates whose speed swings between 0.15 and 0.55 m/s (period 2 s)
 /// for 8 s: each swing accelerates the robot, which a wheel on a slippery floor cannot follow.
@@ -75,13 +78,6 @@ TEST(ClosedLoop, KeepsASlippingRobotOnTheReplay) {
   EXPECT_GT(open_m, 0.1);
   EXPECT_LT(closed_m, 0.06);
   EXPECT_LT(closed_m, 0.5 * open_m);
-}
-
-std::string slurp(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 TEST(ClosedLoop, SameSeedGivesTheSameBytes) {

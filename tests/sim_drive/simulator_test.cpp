@@ -14,10 +14,13 @@
 #include "slamprep/eval/formats/dataset_io.hpp"
 #include "slamprep/sim/drive/controller.hpp"
 #include "slamprep/tests/sim_drive/square_room.hpp"
+#include "slamprep/tests/support/cli_run.hpp"
 #include "slamprep/tests/support/scratch_dir.hpp"
 
 namespace slamprep::sim {
 namespace {
+
+using slamprep::test::slurp;
 
 using test::scenario;
 using test::squareRoom;
@@ -259,13 +262,6 @@ TEST(Simulator, DatasetHasEverySensorAtItsRate) {
   EXPECT_NEAR(gyro / n, twist.y() + c.imu.gyro_bias_radps, 4 * 0.002 / std::sqrt(n));
   EXPECT_NEAR(accel_y / n, twist.x() * twist.y() + c.imu.accel_bias_y_mps2,
               4 * 0.02 / std::sqrt(n) + 1e-3);
-}
-
-std::string slurp(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // A run that ends just before a scan's last beam reaches the next encoder sample: with 10 Hz,
