@@ -43,6 +43,36 @@ void divide(algo::HeldOutError& e, int n) {
   e.rot_deg /= n;
 }
 
+}  // namespace
+
+std::vector<const algo::CalibrationRun*> methodRuns(const std::vector<RecordingCalibration>& recs,
+                                                    algo::CalibrationMethod method,
+                                                    std::size_t skip) {
+  std::vector<const algo::CalibrationRun*> runs;
+  for (std::size_t i = 0; i < recs.size(); ++i) {
+    const auto& all = recs[i].calibration.runs;
+    const auto it = std::find_if(all.begin(), all.end(),
+                                 [&](const algo::CalibrationRun& x) { return x.method == method; });
+    runs.push_back(i == skip || it == all.end() ? nullptr : &*it);
+  }
+  return runs;
+}
+
+ScoredPart scorePart(const Dataset& scans, const DatasetCalibration& calibration,
+                     const HeldOutParams& params) {
+  OdometryEncoders odometry = calibration.odometry;
+  for (EncoderSample& e : odometry.encoders) e.stamp_s += calibration.clock_offset_s;
+  ScoredPart out{heldOutPart(scans, odometry, params), std::nullopt, ""};
+  try {
+    out.raw = heldOutError(out.part, calibration.nominal, calibration.T_base_lidar);
+  } catch (const InputError& e) {
+    out.why = e.what();
+  }
+  return out;
+}
+
+namespace {
+
 RecordingCalibration calibrateRecording(const RecordingsCalibrationParams& p,
                                         const std::string& dataset) {
   DatasetCalibrationParams params = p.base;
@@ -55,16 +85,13 @@ RecordingCalibration calibrateRecording(const RecordingsCalibrationParams& p,
   ValidationSplit split =
       splitForValidation(readDataset(params.dataset), p.validate_fraction, params.dataset);
   out.calibration = calibrateDataset(params, std::move(split.calibration));
-  // The held-out odometry on the scans' clock too, as the calibration part's was (--sync).
-  OdometryEncoders odometry = out.calibration.odometry;
-  for (EncoderSample& e : odometry.encoders) e.stamp_s += out.calibration.clock_offset_s;
-  out.held_out = heldOutPart(split.held_out, odometry, p.held_out);
-  try {  // a held-out part the matcher could not track is not scored; the calibration stands
-    out.held_out_raw =
-        heldOutError(*out.held_out, out.calibration.nominal, out.calibration.T_base_lidar);
-  } catch (const InputError& e) {
-    out.validation_note = std::string("not validated: ") + e.what();
-    out.held_out.reset();
+  // A held-out part the matcher could not track is not scored; the calibration stands.
+  ScoredPart scored = scorePart(split.held_out, out.calibration, p.held_out);
+  if (scored.raw) {
+    out.held_out = std::move(scored.part);
+    out.held_out_raw = *scored.raw;
+  } else {
+    out.validation_note = "not validated: " + scored.why;
   }
   return out;
 }
@@ -117,15 +144,7 @@ std::optional<algo::CalibrationTruth> sharedTruth(const std::vector<RecordingCal
 void combine(const RecordingsCalibrationParams& p, RecordingsCalibration& out) {
   const std::vector<RecordingCalibration>& recs = out.recordings;
   for (const algo::CalibrationMethod method : methodsRun(recs)) {
-    std::vector<const algo::CalibrationRun*> runs;
-    for (const RecordingCalibration& r : recs) {
-      const auto& all = r.calibration.runs;
-      const auto it = std::find_if(all.begin(), all.end(), [&](const algo::CalibrationRun& x) {
-        return x.method == method;
-      });
-      runs.push_back(it == all.end() ? nullptr : &*it);
-    }
-    out.combined.push_back(algo::combineRuns(method, runs, p.combine));
+    out.combined.push_back(algo::combineRuns(method, methodRuns(recs, method), p.combine));
   }
   out.report.combined_truth = sharedTruth(recs);
   for (const algo::CombinedRun& c : out.combined) {

@@ -4,6 +4,7 @@
 // its estimates flagged when far from the nominal geometry, then one combined estimate per
 // method with the recordings' consistency; and the report `--json` writes.
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -37,6 +38,24 @@ struct RecordingCalibration {
   algo::HeldOutError held_out_raw;      ///< the nominal geometry's error on held_out
   std::string validation_note;          ///< why a held-out part was not scored
 };
+
+/// Each recording's run of `method`: nullptr where it did not run, and for recording `skip`
+/// (leave one out; the default skips none).
+std::vector<const algo::CalibrationRun*> methodRuns(const std::vector<RecordingCalibration>& recs,
+                                                    algo::CalibrationMethod method,
+                                                    std::size_t skip = SIZE_MAX);
+
+/// A part of a recording scored as every geometry is: its scans tracked (heldOutPart), the
+/// calibration's wheels moved onto the scans' clock as the intervals had them (--sync), and the
+/// nominal geometry's error on it.
+struct ScoredPart {
+  HeldOutPart part;
+  std::optional<algo::HeldOutError> raw;  ///< absent: the part could not be scored (`why`)
+  std::string why;
+};
+
+ScoredPart scorePart(const Dataset& scans, const DatasetCalibration& calibration,
+                     const HeldOutParams& params);
 
 struct RecordingsCalibration {
   std::vector<RecordingCalibration> recordings;
