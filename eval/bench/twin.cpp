@@ -307,6 +307,17 @@ nlohmann::ordered_json lidarJson(const Fitted& f) {
       {"dropout_by_range", fitted(m.dropout_by_range, "per 0.5 m of predicted range from 0")}};
 }
 
+/// "1.5, 3, 6 and 12 s": the pieces' durations as the fit cuts them.
+std::string pieceDurations(const std::vector<double>& durations_s) {
+  std::string out;
+  char buf[32];
+  for (std::size_t i = 0; i < durations_s.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "%g", durations_s[i]);
+    out += (i == 0 ? "" : i + 1 == durations_s.size() ? " and " : ", ") + std::string(buf);
+  }
+  return out + " s";
+}
+
 nlohmann::ordered_json slipJson(const WheelSlipFit& s) {
   return {
       {"sigma", s.fitted ? nlohmann::ordered_json(s.sigma) : nullptr},
@@ -314,12 +325,13 @@ nlohmann::ordered_json slipJson(const WheelSlipFit& s) {
       {"pieces", s.pieces},
       {"reference_noise_rad", s.fitted ? nlohmann::ordered_json(s.reference_noise_rad) : nullptr},
       {"how",
-       "the recording's encoders with the true geometry against the matched trajectory over "
-       "1 m pieces of path: the squared heading error of a piece regressed on what an "
-       "Ornstein-Uhlenbeck slip of correlation time tau_s predicts for its wheel speeds, "
-       "plus a constant (the matcher's own noise, reference_noise_rad); sigma: "
-       "the recording's; the twin is given what its physics does not slip already "
-       "(twin_sigma, physics_sigma)"}};
+       "the recording's encoders with the true geometry against the matched trajectory (moved "
+       "by scan_lag_s) over pieces of " +
+           pieceDurations(WheelSlipParams{}.piece_s) +
+           ": the squared heading error of a piece regressed on what an Ornstein-Uhlenbeck slip "
+           "of correlation time tau_s predicts for its wheel speeds, plus a constant (the "
+           "matcher's own noise, reference_noise_rad); sigma: the recording's; the twin is given "
+           "what its physics does not slip already (twin_sigma, physics_sigma)"}};
 }
 
 /// The recording's random wheel slip: its wheels against the accepted matches, moved to the
