@@ -562,6 +562,8 @@ void summarizeScans(const BagData& d, const ImportParams& p, std::size_t message
   if (s.range->suspect) {
     ds.info.config["range_max_suspect"] = s.range->text();
     r.notes.push_back(s.range->text());
+  } else if (s.range->no_return) {
+    r.notes.push_back(s.range->noReturnText());
   }
   for (const auto& [role, topic] : d.topics) s.topics[std::string(typeOf(role))] = topic;
 }

@@ -215,12 +215,17 @@ StaleReport& staleReport(ImportSummary& s) {
   return s.stale.back();
 }
 
-/// --max-range, recorded. No note on a range_max far beyond the readings: FLASER's 80 m is
-/// CARMEN's convention, not a claim of the log (the summary still gives the percentile).
+/// --max-range and the no-return value, recorded. No note on a range_max far beyond the readings:
+/// FLASER's 80 m is CARMEN's convention, not a claim of the log (the summary still gives the
+/// percentile).
 void noteRange(RangeReport range, ImportResult& r) {
   range.suspect = false;
   r.summary.range = range;
   if (range.max_range_m) r.dataset.info.config["max_range_m"] = *range.max_range_m;
+  if (range.no_return_applied) {
+    r.dataset.info.config["no_return_value_m"] = range.no_return->value_m;
+    r.notes.push_back(range.noReturnText());
+  }
 }
 
 /// What the import did not take from the log as written: reordered or dropped late stamps, the
@@ -261,7 +266,11 @@ void addScans(const std::vector<CarmenLaser>& lasers, double time_increment,
     d.scans.push_back(std::move(r));
     where.push_back(file + ":" + std::to_string(l.line));
   }
-  noteRange(rangeReport(ranges, p.max_range_m, cut), result);
+  const auto no_return = noReturnValue(ranges);
+  const bool apply = no_return && !(p.max_range_m && *p.max_range_m < no_return->value_m);
+  if (apply)
+    for (auto& r : d.scans) applyNoReturnValue(r.scan, no_return->value_m);
+  noteRange(rangeReport(ranges, p.max_range_m, cut, apply), result);
   const double scan_time = medianSpacing(stamps);
   for (auto& r : d.scans) r.scan.scan_time_s = scan_time;
 }

@@ -14,15 +14,19 @@ ordered_json orNull(const std::string& s) {
 
 ordered_json rangeJson(const std::optional<RangeReport>& r) {
   if (!r) return nullptr;
-  return {{"max_range_m", r->max_range_m ? ordered_json(*r->max_range_m) : ordered_json()},
-          {"range_max_m", r->range_max_m},
-          {"readings", r->readings},
-          {"readings_p999_m", r->p999_m},
-          {"largest_reading_m", r->largest_m},
-          {"cut_readings", r->cut},
-          {"range_max_suspect", r->suspect},
-          {"rule", "suspect when range_max > 2 x the 99.9th percentile of the finite readings"},
-          {"text", r->text()}};
+  return {
+      {"max_range_m", r->max_range_m ? ordered_json(*r->max_range_m) : ordered_json()},
+      {"range_max_m", r->range_max_m},
+      {"readings", r->readings},
+      {"readings_p999_m", r->p999_m},
+      {"largest_reading_m", r->largest_m},
+      {"cut_readings", r->cut},
+      {"range_max_suspect", r->suspect},
+      {"no_return_value_m", r->no_return ? ordered_json(r->no_return->value_m) : ordered_json()},
+      {"no_return_readings", r->no_return ? r->no_return->readings : 0},
+      {"no_return_applied", r->no_return_applied},
+      {"rule", "suspect when range_max > 2 x the 99.9th percentile of the finite readings"},
+      {"text", r->text()}};
 }
 
 ordered_json staleJson(const StaleReport& s) {

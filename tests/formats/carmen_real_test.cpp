@@ -50,7 +50,18 @@ TEST(CarmenExcerpts, AcesImportsWithItsOdomLinesAndZeroMount) {
   EXPECT_TRUE(contains(r.summary.lidar_mount, "from PARAM robot_frontlaser_offset"));
   EXPECT_TRUE(r.summary.reordered.empty());
   EXPECT_TRUE(r.summary.dropped.empty());
-  EXPECT_EQ(r.notes.size(), 0u);  // laser pose == odometry on every line
+  // laser pose == odometry on every line; the one note is the no-return value: ACES's SICK
+  // writes 50.00 m for no return (987 of 133 200 readings, none within a metre below).
+  ASSERT_EQ(r.notes.size(), 1u);
+  EXPECT_TRUE(contains(r.notes[0], "987 readings (0.741 %) at 50 m")) << r.notes[0];
+  ASSERT_TRUE(r.summary.range && r.summary.range->no_return_applied);
+  EXPECT_EQ(d.info.config.at("no_return_value_m"), 50.0);
+  std::size_t no_return = 0;
+  for (const auto& s : d.scans) {
+    EXPECT_EQ(s.scan.range_max_m, 50.0);
+    for (double range : s.scan.ranges_m) no_return += std::isinf(range);
+  }
+  EXPECT_EQ(no_return, 987u);
   // No per-beam timing in CARMEN: said, not invented.
   EXPECT_EQ(d.scans[0].scan.time_increment_s, 0.0);
   EXPECT_TRUE(contains(r.summary.time_increment, "no per-beam timing"));
@@ -104,11 +115,13 @@ TEST(CarmenExcerpts, FrClinicRobotLaserCarriesItsOwnAnglesAndPoses) {
   EXPECT_EQ(r.summary.scans,
             "200 ROBOTLASER1 lines, 180..181 beams; angles and max range from each line");
   EXPECT_EQ(d.scans[0].scan.angle_min_rad, -1.570796);
-  EXPECT_EQ(d.scans[0].scan.range_max_m, 81.9);
+  // The lines say 81.9 m; 81.83 m is the SICK's code for no return (90 readings here).
+  EXPECT_EQ(d.scans[0].scan.range_max_m, 81.83);
   // No PARAM: identity, and the 0.22 m between laser and robot pose is reported, not adopted.
   EXPECT_EQ(d.info.T_base_lidar.x, 0.0);
-  ASSERT_EQ(r.notes.size(), 1u);
+  ASSERT_EQ(r.notes.size(), 2u);
   EXPECT_TRUE(contains(r.notes[0], "by up to 0.22")) << r.notes[0];
+  EXPECT_TRUE(contains(r.notes[1], "90 readings")) << r.notes[1];
   ImportParams p;
   p.lidar_mount_from_poses = true;
   EXPECT_NEAR(importExcerpt("carmen_fr_clinic/fr-clinic_robotlaser_first200lines.clf", p)
