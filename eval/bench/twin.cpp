@@ -221,9 +221,9 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
     s.push_back("imu.gyro_noise_radps=" + num(f.odometry.gyro_noise_radps));
   }
   std::vector<std::string> faults;
-  if (f.against_map.dropout_probability > 0.0) {
+  if (f.against_map.twin_dropout_probability > 0.0) {
     faults.push_back("dropped_beams");
-    s.push_back("faults.dropped_beams.probability=" + num(f.against_map.dropout_probability));
+    s.push_back("faults.dropped_beams.probability=" + num(f.against_map.twin_dropout_probability));
   }
   if (f.lag_measured && std::abs(f.scan_lag_s) >= 0.02) {
     faults.push_back("clock_offset");
@@ -299,7 +299,15 @@ nlohmann::ordered_json lidarJson(const Fitted& f) {
       {"residuals", m.residuals},
       {"dropout_probability", fitted(m.dropout_probability,
                                      "no return where the world predicts one within the usable "
-                                     "range; the twin drops beams uniformly at this rate")},
+                                     "range")},
+      {"escape_fraction", fitted(m.escape_fraction,
+                                 "beams for which the world predicts no wall within the usable "
+                                 "range: the twin returns nothing there")},
+      {"twin_dropout_probability",
+       fitted(m.twin_dropout_probability,
+              "(no-return fraction within the usable range - escape_fraction) / (1 - "
+              "escape_fraction): the twin drops beams uniformly at this rate, so that its "
+              "escapes and drops together make the recording's no-returns")},
       {"spurious_fraction", fitted(m.spurious_fraction,
                                    "a return where the world predicts none "
                                    "(people, what the walls missed)")},

@@ -126,6 +126,13 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
   m.range_noise_m = 1.4826 * median(residuals);  // robust sigma: people and clutter are outliers
   m.dropout_probability = predicted > 0 ? double(dropped) / double(predicted) : 0.0;
   m.spurious_fraction = unpredicted > 0 ? double(spurious) / double(unpredicted) : 0.0;
+  if (m.beams > 0) {
+    m.escape_fraction = double(unpredicted) / double(m.beams);
+    m.no_return_fraction = double(dropped + unpredicted - spurious) / double(m.beams);
+    if (m.escape_fraction < 1.0)
+      m.twin_dropout_probability =
+          std::max(0.0, (m.no_return_fraction - m.escape_fraction) / (1.0 - m.escape_fraction));
+  }
   for (std::size_t b = 0; b < angle_bins; ++b)
     m.dropout_by_angle.push_back(by_angle[b] ? double(drop_angle[b]) / double(by_angle[b]) : 0.0);
   for (std::size_t b = 0; b < range_bins; ++b)

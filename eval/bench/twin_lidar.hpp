@@ -46,6 +46,12 @@ struct LidarAgainstMap {
   double residual_median_m = 0.0;    ///< signed median (a bias of the world's walls)
   double dropout_probability = 0.0;  ///< no return where the map predicts one within usable range
   double spurious_fraction = 0.0;    ///< a return where the map predicts none
+  double escape_fraction = 0.0;      ///< beams for which the map predicts no wall (of all)
+  double no_return_fraction = 0.0;   ///< no return within the usable range (of all)
+  /// What the twin drops where its world has a wall: the no-returns its world's escapes do not
+  /// already give, (no_return - escape) / (1 - escape), at least 0. Where the walls missed what
+  /// the robot saw (spurious returns), dropout_probability would count those beams twice.
+  double twin_dropout_probability = 0.0;
   std::vector<double> dropout_by_angle;         ///< per angle bin from -180 deg (lidar frame)
   std::vector<double> dropout_by_range;         ///< per predicted-range bin from 0
   std::vector<std::size_t> predicted_by_range;  ///< beams per range bin (the denominators)

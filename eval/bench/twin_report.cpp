@@ -41,7 +41,8 @@ std::string twinText(const nlohmann::ordered_json& j) {
       "range noise %.4f m, dropout %.3f where the world has a wall\n",
       l["rate_hz"]["value"].get<double>(), l["beams_per_scan"]["value"]["mean"].get<double>(),
       l["beams_per_revolution"]["value"].get<int>(), l["usable_max_range_m"]["value"].get<double>(),
-      l["range_noise_m"]["value"].get<double>(), l["dropout_probability"]["value"].get<double>());
+      l["range_noise_m"]["value"].get<double>(),
+      l["twin_dropout_probability"]["value"].get<double>());
   out += buf;
   const auto& o = j["odometry"];
   const auto& t = o["true"]["value"];

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "slamprep/eval/bench/twin_lidar.hpp"
 #include "slamprep/eval/bench/twin_slip.hpp"
 #include "slamprep/eval/metrics/error_stats.hpp"
 #include "slamprep/eval/pipeline/match_trajectory.hpp"
@@ -162,6 +163,33 @@ TEST(Twin, FitsTheWheelSlipItWasSimulatedWith) {
   const WheelSlipFit none =
       fitWheelSlip(odometryEncoders(clean, "clean"), *clean.info.true_geometry, clean.groundtruth);
   EXPECT_LT(none.sigma, 0.004);
+}
+
+// Dropped beams, forward and inverse: a recording that drops 5 % of its beams gives a twin whose
+// no-return fraction is the recording's.
+TEST(Twin, DropsTheBeamsTheRecordingDropped) {
+  sim::SimConfig c;
+  c.lidar.beams_per_revolution = 360;
+  c.faults.enable.add(sim::Fault::dropped_beams);
+  c.faults.dropped_beam_probability = 0.05;
+  const sim::Scenario s = sim::parseScenario(
+      "segments:\n  - {type: figure_eight, radius_m: 0.8, speed_mps: 0.4}\n", "t.yaml");
+  const Dataset real = sim::simulate(c, sim::loadWorld(kWorlds / "box_room.yaml"), s).dataset;
+  TwinParams p;
+  p.calibrate = false;
+  TwinFit fit = fitTwin(real, "drops", p);
+  const auto& lidar = fit.json["lidar"];
+  // The twin's range ends at the 99.9th percentile of the readings (5.3 m here): beams to the
+  // room's far corners escape it, and the twin drops that much less where it has a wall.
+  const double escape = lidar["escape_fraction"]["value"].get<double>();
+  EXPECT_GT(escape, 0.001);
+  EXPECT_LT(escape, 0.01);
+  EXPECT_NEAR(lidar["twin_dropout_probability"]["value"].get<double>(),
+              (0.05 - escape) / (1 - escape), 0.004);
+  const sim::SimResult twin =
+      simulateTwin(fit, sim::parseScenario(fit.scenario_yaml, "twin-scenario.yaml"));
+  const double real_fraction = fitLidarLayout(real).no_return_fraction;
+  EXPECT_NEAR(fitLidarLayout(twin.dataset).no_return_fraction, real_fraction, 0.1 * real_fraction);
 }
 
 }  // namespace
