@@ -211,8 +211,9 @@ void printNotes(const eval::DatasetCalibration& c, const std::string& who) {
   if (c.agreement) std::cerr << prefixed(algo::agreementText(*c.agreement), who);
   if (c.clock_offset_s != 0.0)
     std::cerr << who << "the scans lag the wheels by " << c.clock_offset_s
-              << " s (sensor agreement): the wheels' stamps moved onto the scans' clock before "
-                 "the intervals were cut (--sync none keeps them)\n";
+              << " s (sensor agreement, refined after matching again): the wheels' stamps "
+                 "moved onto the scans' clock and the scans matched again before the intervals "
+                 "were cut (--sync none keeps them)\n";
   if (c.intervals_excluded > 0)
     std::cerr << who << c.intervals_excluded
               << " intervals overlapping spans where the wheels and the gyro disagree left out "

@@ -228,23 +228,31 @@ double trimmedRms(const Fit& f) {
   return std::sqrt(sum / double(sq.size()));
 }
 
+/// Where, within +-0.5 of grid point k, the parabola through the scores at k-1, k, k+1 is
+/// lowest: the grid's step no longer bounds the delay's resolution.
+double parabolaVertex(const std::vector<double>& s, std::size_t k) {
+  if (k == 0 || k + 1 >= s.size()) return 0.0;
+  const double curve = s[k - 1] - 2.0 * s[k] + s[k + 1];
+  if (!(curve > 0.0) || !std::isfinite(curve)) return 0.0;
+  return std::clamp(0.5 * (s[k - 1] - s[k + 1]) / curve, -0.5, 0.5);
+}
+
 /// The delay of b's clock behind a's over a grid of +-max_lag_s: the one whose fit explains
-/// most windows best (trimmed RMS), kept only where it beats no delay by a fifth (a delay the
-/// data cannot show is none).
+/// most windows best (trimmed RMS), refined between grid points by a parabola, kept only where it
+/// beats no delay by lag_gain (a delay the data cannot show is none).
 double bestLag(const Source& a, const Source& b, const AgreementParams& p) {
   const auto score = [&](double lag) {
     const std::vector<Row> rows = rowsOf(a, b, lag, p);
     return rows.size() < 3 ? std::numeric_limits<double>::infinity()
                            : trimmedRms(robustFit(rows, p));
   };
-  const double none = score(0.0);
-  double best = 0.0, best_score = none;
   const auto steps = static_cast<int>(std::round(p.max_lag_s / p.lag_step_s));
-  for (int k = -steps; k <= steps; ++k) {
-    const double s = k == 0 ? none : score(k * p.lag_step_s);
-    if (s < best_score) best = k * p.lag_step_s, best_score = s;
-  }
-  return best_score < 0.8 * none ? best : 0.0;
+  std::vector<double> scores;
+  for (int k = -steps; k <= steps; ++k) scores.push_back(score(k * p.lag_step_s));
+  const auto best =
+      static_cast<std::size_t>(std::min_element(scores.begin(), scores.end()) - scores.begin());
+  if (!(scores[best] < p.lag_gain * scores[static_cast<std::size_t>(steps)])) return 0.0;
+  return (double(best) - steps + parabolaVertex(scores, best)) * p.lag_step_s;
 }
 
 PairAgreement comparePair(const Source& a, const Source& b, const AgreementParams& p) {

@@ -17,17 +17,41 @@
 namespace slamprep::eval {
 namespace {
 
-/// The wheels' stamps moved onto the scans' clock by the delay the sensor agreement measured
-/// between them (where over min_sync_lag_s), and the intervals cut again: a real robot's
-/// odometry reached the log 0.1-0.35 s before its scans, and an interval one scan period long
-/// then pairs the scans' motion with the wheels' motion of another moment.
-void syncClocks(Dataset& dataset, const std::vector<PoseSeries>& chains,
-                const DatasetCalibrationParams& params, DatasetCalibration& out) {
+/// The wheels' stamps (and the gyro's, by its own delay) moved onto the scans' clock by the
+/// delay the sensor agreement measured between them, where over min_sync_lag_s; true when
+/// moved. A real robot's odometry reached the log 0.1-0.35 s before its scans: an interval one
+/// scan period long then pairs the scans' motion with the wheels' motion of another moment,
+/// and the scans were de-skewed with the motion of another moment.
+bool syncClocks(Dataset& dataset, const DatasetCalibrationParams& params, DatasetCalibration& out) {
   const algo::PairAgreement* ws = out.agreement->pair("wheels", "scans");
-  if (!ws || std::abs(ws->lag_s) <= params.min_sync_lag_s) return;
+  if (!ws || std::abs(ws->lag_s) <= params.min_sync_lag_s) return false;
   for (EncoderSample& e : dataset.encoders) e.stamp_s += ws->lag_s;
   out.clock_offset_s = ws->lag_s;
-  out.intervals = algo::buildIntervals(dataset, chains, params.motion.intervals);
+  const algo::PairAgreement* gs = out.agreement->pair("gyro", "scans");
+  if (gs && std::abs(gs->lag_s) > params.min_sync_lag_s)
+    for (ImuSample& i : dataset.imu) i.stamp_s += gs->lag_s;
+  return true;
+}
+
+/// What delay is left once synced and matched again, measured where a delay shows most (1 s
+/// windows every 0.25 s, +-0.1 s, any gain), moved and matched once more: the first measure is
+/// made on scans de-skewed with the motion of another moment, and reads 0.27 s as 0.2 s.
+void refineSync(Dataset& dataset, const DatasetCalibrationParams& params, CalibrationMotion& motion,
+                DatasetCalibration& out) {
+  algo::AgreementParams fine;
+  fine.window_s = 1.0;
+  fine.step_s = 0.25;
+  fine.max_lag_s = 0.1;
+  fine.lag_gain = 1.0;
+  const algo::SensorAgreement left =
+      algo::compareSensors(algo::datasetSources(dataset, algo::scanPieces(motion.chains)), fine);
+  const algo::PairAgreement* ws = left.pair("wheels", "scans");
+  if (!ws || std::abs(ws->lag_s) < params.min_refine_lag_s) return;
+  for (EncoderSample& e : dataset.encoders) e.stamp_s += ws->lag_s;
+  if (const algo::PairAgreement* gs = left.pair("gyro", "scans"))
+    for (ImuSample& i : dataset.imu) i.stamp_s += gs->lag_s;
+  out.clock_offset_s += ws->lag_s;
+  motion = calibrationMotion(dataset, params.motion);
 }
 
 /// `--deskew` resolved: auto is none on instantaneous scans (time_increment 0, e.g. CARMEN),
@@ -200,7 +224,15 @@ void cutIntervals(const DatasetCalibrationParams& params, std::optional<Dataset>
   out.from_motion = true;
   out.agreement = algo::compareSensors(algo::datasetSources(d, algo::scanPieces(motion.chains)));
   out.encoders_from = algo::encodersFrom(d.info);
-  if (params.sync_clocks) syncClocks(used, motion.chains, params, out);
+  // Synced, the scans are matched again (their de-skew and guesses read the wheels and the gyro
+  // at the beams' times), and the intervals cut from that.
+  if (params.sync_clocks && syncClocks(used, params, out)) {
+    if (params.motion.source != MotionSource::kGroundTruth) {
+      motion = calibrationMotion(used, params.motion);
+      refineSync(used, params, motion, out);
+    }
+    out.intervals = algo::buildIntervals(used, motion.chains, params.motion.intervals);
+  }
   out.failed_matches = motion.failed_matches;
   out.loops = motion.loops;
   input.heading_loops = std::move(motion.heading_loops);

@@ -101,6 +101,7 @@ struct DatasetCalibrationParams {
   /// between them, where it exceeds min_sync_lag_s (`--sync auto`; docs/calibration.md).
   bool sync_clocks = true;
   double min_sync_lag_s = 0.02;
+  double min_refine_lag_s = 0.005;  ///< what is left after a sync, moved again from here
   /// Take the dataset's lidar mount as known in the methods that do not estimate one (direct,
   /// model; `--lidar-mount dataset`); false: they assume the lidar at the robot centre.
   bool mount_from_dataset = false;
