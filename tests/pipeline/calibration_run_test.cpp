@@ -132,10 +132,11 @@ TEST(CalibrationRun, TheScansDelayBehindTheWheelsIsMeasuredAndRemoved) {
   DatasetCalibrationParams params = jointAndCeres();
   params.methods = {algo::CalibrationMethod::kJoint};
   const DatasetCalibration synced = calibrateDataset(params, d);
-  EXPECT_NEAR(synced.clock_offset_s, 0.2, 0.02);
+  // Measured on the scans matched again with the wheels and gyro synced: 0.199 s here.
+  EXPECT_NEAR(synced.clock_offset_s, 0.2, 0.005);
   ASSERT_TRUE(synced.runs.front().result.ok);
   EXPECT_NEAR(synced.runs.front().result.geometry.wheel_base_m, d.info.true_geometry->wheel_base_m,
-              0.002);
+              0.0015);
   params.sync_clocks = false;
   EXPECT_EQ(calibrateDataset(params, d).clock_offset_s, 0.0);
   const DatasetCalibration clean = calibrateDataset(jointAndCeres(), drive());
