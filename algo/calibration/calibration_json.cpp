@@ -285,13 +285,19 @@ std::string formatCalibrateJson(const CalibrateReport& report) {
     const RecordingReport& only = report.recordings.front();
     json methods = methodsJson(only.methods, only.truth);
     if (only.agreement)
-      for (json& m : methods) m["sensor_agreement"] = agreementOf(only);
+      for (json& m : methods) {
+        m["sensor_agreement"] = agreementOf(only);
+        m["clock_sync_s"] = only.clock_sync_s;
+      }
     return methods.dump(2) + "\n";
   }
   json recordings = json::array();
   for (const RecordingReport& r : report.recordings) {
     json entry = {{"dataset", r.dataset}, {"methods", methodsJson(r.methods, r.truth)}};
-    if (r.agreement) entry["sensor_agreement"] = agreementOf(r);
+    if (r.agreement) {
+      entry["sensor_agreement"] = agreementOf(r);
+      entry["clock_sync_s"] = r.clock_sync_s;
+    }
     recordings.push_back(entry);
   }
   json out = {{"recordings", recordings},

@@ -54,6 +54,9 @@ struct RecordingReport {
   /// "sensor_agreement" (one recording: in every method object, the list staying a list).
   std::optional<SensorAgreement> agreement;
   std::string encoders_from;
+  /// "clock_sync_s": what `--sync auto` added to the wheels' stamps (0: nothing; one recording:
+  /// in every method object).
+  double clock_sync_s = 0.0;
 };
 
 /// chi2/dof of one parameter of one method over the recordings (combine_recordings.hpp).

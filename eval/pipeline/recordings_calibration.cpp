@@ -208,8 +208,12 @@ RecordingsCalibration calibrateRecordings(const RecordingsCalibrationParams& par
   for (const std::string& dataset : datasets) {
     out.recordings.push_back(calibrateRecording(params, dataset));
     const RecordingCalibration& r = out.recordings.back();
-    algo::RecordingReport report{
-        r.dataset, {}, r.calibration.truth, r.calibration.agreement, r.calibration.encoders_from};
+    algo::RecordingReport report{r.dataset,
+                                 {},
+                                 r.calibration.truth,
+                                 r.calibration.agreement,
+                                 r.calibration.encoders_from,
+                                 r.calibration.clock_offset_s};
     for (const algo::CalibrationRun& run : r.calibration.runs)
       report.methods.push_back(methodReport(run, r, params));
     out.report.recordings.push_back(std::move(report));
