@@ -190,6 +190,11 @@ TEST(CalibrateJson, OneRecordingIsTodaysArraySeveralTheCombinedObject) {
   EXPECT_EQ(formatCalibrateJson({{one}, {}, std::nullopt, {}, {}}),
             formatCalibrationJson({a}, std::nullopt));
   EXPECT_EQ(formatCalibrationJson({a}, std::nullopt).front(), '[');
+  // With the sensor agreement: the clock sync beside it, in every method object.
+  RecordingReport synced{"a", {{a, {}, std::nullopt}}, std::nullopt, SensorAgreement{}, "", 0.17};
+  const auto s = nlohmann::json::parse(formatCalibrateJson({{synced}, {}, std::nullopt, {}, {}}));
+  EXPECT_EQ(s[0]["clock_sync_s"].get<double>(), 0.17);
+  EXPECT_TRUE(s[0].contains("sensor_agreement"));
 
   const CombinedRun c = combineRuns(CalibrationMethod::kModel, {&a, &b});
   RecordingReport two{"b",
