@@ -75,12 +75,18 @@ def deskew(work, name, seeds):
         for row in load(os.path.join(work, f"{name}.seed{seed}.deskew.json")) or []:
             if row["method"] in DESKEW and row.get("ok"):
                 twin.setdefault(row["method"], []).append(row["mean_m"])
+    twin_sd = {m: sd(v) for m, v in twin.items() if len(v) == len(seeds)}
     twin = {m: statistics.mean(v) for m, v in twin.items() if len(v) == len(seeds)}
     both = [m for m in DESKEW if m in real and m in twin]
-    return {"real_residual_median_m": real, "twin_truth_error_mean_m": twin, "methods": both,
+    best_twin = min(both, key=lambda m: twin[m]) if both else None
+    # Methods the twin cannot tell from its best: within the best's spread over the seeds.
+    tied = [m for m in both if m != best_twin and
+            twin[m] - twin[best_twin] <= (twin_sd.get(best_twin) or 0.0)] if both else []
+    return {"real_residual_median_m": real, "twin_truth_error_mean_m": twin,
+            "twin_truth_error_sd_m": twin_sd, "methods": both,
             "spearman": spearman([real[m] for m in both], [twin[m] for m in both]),
             "best_real": min(both, key=lambda m: real[m]) if both else None,
-            "best_twin": min(both, key=lambda m: twin[m]) if both else None}
+            "best_twin": best_twin, "tied_with_best_twin": tied}
 
 
 def judge(recs):
@@ -145,15 +151,20 @@ def tables(recs, spread, seeds):
         out.append("")
     out.append("### De-skew ranking\n")
     out.append("Real: residual median of `match --deskew M` (lower is better); twin: mean "
-               "ground-truth error of `deskew --method M` on the twin, mean over the seeds.\n")
+               "ground-truth error of `deskew --method M` on the twin, mean (sd) over the seeds; "
+               "twin best with the methods within the best's sd over the seeds (tied).\n")
     out.append("| recording | real best | twin best | Spearman rho (n methods) | real residual "
                "[mm] per method | twin error [mm] per method |")
     out.append("|---|---|---|---|---|---|")
     for r in recs:
         d = r["deskew"]
         real = ", ".join(f"{m} {1e3 * d['real_residual_median_m'][m]:.1f}" for m in d["methods"])
-        twin = ", ".join(f"{m} {1e3 * d['twin_truth_error_mean_m'][m]:.1f}" for m in d["methods"])
-        out.append(f"| {r['name']} | {d['best_real']} | {d['best_twin']} | "
+        twin = ", ".join(f"{m} {1e3 * d['twin_truth_error_mean_m'][m]:.1f} "
+                         f"({1e3 * (d['twin_truth_error_sd_m'].get(m) or 0.0):.1f})"
+                         for m in d["methods"])
+        best = d["best_twin"] if not d["tied_with_best_twin"] else \
+            f"{d['best_twin']} (tied: {', '.join(d['tied_with_best_twin'])})"
+        out.append(f"| {r['name']} | {d['best_real']} | {best} | "
                    f"{fmt(d['spearman'], 2)} ({len(d['methods'])}) | {real} | {twin} |")
     out.append("\n### Spread of the calibrated wheel base\n")
     out.append("| robot | b over its real recordings [mm] | sd real (n) | sd over twin seeds per "
