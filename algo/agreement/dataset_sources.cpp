@@ -1,5 +1,7 @@
 #include "slamprep/algo/agreement/dataset_sources.hpp"
 
+#include <cmath>
+
 #include "slamprep/core/odometry.hpp"
 
 namespace slamprep::algo {
@@ -50,6 +52,31 @@ std::vector<HeadingSeries> scanPieces(const std::vector<PoseSeries>& matched) {
   std::vector<HeadingSeries> pieces;
   for (const PoseSeries& p : matched) pieces.push_back(poseHeading(p));
   return pieces;
+}
+
+ClockShift scanClockShift(const SensorAgreement& agreement, double min_lag_s) {
+  const PairAgreement* ws = agreement.pair("wheels", "scans");
+  if (!ws || std::abs(ws->lag_s) <= min_lag_s) return {};
+  const PairAgreement* gs = agreement.pair("gyro", "scans");
+  return {ws->lag_s, gs && std::abs(gs->lag_s) > min_lag_s ? gs->lag_s : 0.0};
+}
+
+AgreementParams leftoverLagParams() {
+  AgreementParams fine;
+  fine.window_s = 1.0;
+  fine.step_s = 0.25;
+  fine.max_lag_s = 0.1;
+  fine.lag_gain = 1.0;
+  return fine;
+}
+
+void shiftOntoScanClock(Dataset& dataset, const ClockShift& shift) {
+  for (EncoderSample& e : dataset.encoders) e.stamp_s += shift.wheels_s;
+  PoseSeries odometry;
+  for (const auto& s : dataset.odom_nominal.samples())
+    odometry.push_back(s.stamp_s + shift.wheels_s, s.value);
+  dataset.odom_nominal = std::move(odometry);
+  for (ImuSample& i : dataset.imu) i.stamp_s += shift.gyro_s;
 }
 
 }  // namespace slamprep::algo

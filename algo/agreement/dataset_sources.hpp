@@ -24,4 +24,20 @@ RotationSources datasetSources(const Dataset& dataset, std::vector<HeadingSeries
 /// Scan headings from matched poses: one piece per pose series.
 std::vector<HeadingSeries> scanPieces(const std::vector<PoseSeries>& matched);
 
+/// How far the wheels' and the gyro's stamps are moved onto the scans' clock: the delays of the
+/// scans behind them that the agreement measured, each where over min_lag_s; nothing at all
+/// (both 0) where the wheels' is not.
+struct ClockShift {
+  double wheels_s = 0.0, gyro_s = 0.0;
+  bool any() const { return wheels_s != 0.0; }
+};
+ClockShift scanClockShift(const SensorAgreement& agreement, double min_lag_s);
+
+/// The agreement that measures what delay is left once synced: 1 s windows every 0.25 s (a
+/// delay shows at a window's ends, where the turning rate changes), within +-0.1 s, any gain.
+AgreementParams leftoverLagParams();
+
+/// The wheels (encoder samples and the odometry poses) and the gyro moved by `shift`.
+void shiftOntoScanClock(Dataset& dataset, const ClockShift& shift);
+
 }  // namespace slamprep::algo

@@ -23,13 +23,10 @@ namespace {
 /// scan period long then pairs the scans' motion with the wheels' motion of another moment,
 /// and the scans were de-skewed with the motion of another moment.
 bool syncClocks(Dataset& dataset, const DatasetCalibrationParams& params, DatasetCalibration& out) {
-  const algo::PairAgreement* ws = out.agreement->pair("wheels", "scans");
-  if (!ws || std::abs(ws->lag_s) <= params.min_sync_lag_s) return false;
-  for (EncoderSample& e : dataset.encoders) e.stamp_s += ws->lag_s;
-  out.clock_offset_s = ws->lag_s;
-  const algo::PairAgreement* gs = out.agreement->pair("gyro", "scans");
-  if (gs && std::abs(gs->lag_s) > params.min_sync_lag_s)
-    for (ImuSample& i : dataset.imu) i.stamp_s += gs->lag_s;
+  const algo::ClockShift shift = algo::scanClockShift(*out.agreement, params.min_sync_lag_s);
+  if (!shift.any()) return false;
+  algo::shiftOntoScanClock(dataset, shift);
+  out.clock_offset_s = shift.wheels_s;
   return true;
 }
 
@@ -38,19 +35,13 @@ bool syncClocks(Dataset& dataset, const DatasetCalibrationParams& params, Datase
 /// made on scans de-skewed with the motion of another moment, and reads 0.27 s as 0.2 s.
 void refineSync(Dataset& dataset, const DatasetCalibrationParams& params, CalibrationMotion& motion,
                 DatasetCalibration& out) {
-  algo::AgreementParams fine;
-  fine.window_s = 1.0;
-  fine.step_s = 0.25;
-  fine.max_lag_s = 0.1;
-  fine.lag_gain = 1.0;
-  const algo::SensorAgreement left =
-      algo::compareSensors(algo::datasetSources(dataset, algo::scanPieces(motion.chains)), fine);
-  const algo::PairAgreement* ws = left.pair("wheels", "scans");
-  if (!ws || std::abs(ws->lag_s) < params.min_refine_lag_s) return;
-  for (EncoderSample& e : dataset.encoders) e.stamp_s += ws->lag_s;
-  if (const algo::PairAgreement* gs = left.pair("gyro", "scans"))
-    for (ImuSample& i : dataset.imu) i.stamp_s += gs->lag_s;
-  out.clock_offset_s += ws->lag_s;
+  const algo::ClockShift left = algo::scanClockShift(
+      algo::compareSensors(algo::datasetSources(dataset, algo::scanPieces(motion.chains)),
+                           algo::leftoverLagParams()),
+      params.min_refine_lag_s);
+  if (!left.any()) return;
+  algo::shiftOntoScanClock(dataset, left);
+  out.clock_offset_s += left.wheels_s;
   motion = calibrationMotion(dataset, params.motion);
 }
 
