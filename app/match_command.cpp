@@ -42,6 +42,7 @@ struct MatchFlags : CommonFlags {
   double keyframe_angle_deg = params.keyframe_angle_rad * kDegPerRad;
   double odometry_sigma_deg = params.odometry_sigma_rad * kDegPerRad;
   bool stamp_is_last_beam = false;
+  std::string sync = "none";  // --sync
 };
 
 /// The point-to-line RMS residual of the accepted matches (docs/matching.md): how well the
@@ -72,6 +73,45 @@ PoseSeries acceptedPoses(const eval::MatchTrajectory& run) {
     if (!run.tracked.scans[k].fallback)
       accepted.push_back(run.T_world_base[k].stamp_s, run.T_world_base[k].value);
   return accepted;
+}
+
+/// One match of the dataset's scans (de-skewed first), with the sensor agreement against the
+/// accepted poses.
+struct MatchPass {
+  eval::MatchTrajectory run;
+  int refused = 0;
+  algo::SensorAgreement agreement;
+};
+
+MatchPass matchPass(const Dataset& d, const MatchFlags& flags) {
+  MatchPass pass;
+  const std::vector<Points2> points =
+      eval::matchScanPoints(d, flags.deskew, flags.stamp_is_last_beam, &pass.refused);
+  pass.run = eval::matchTrajectory(d, points, {flags.params, flags.stamp_is_last_beam});
+  pass.agreement =
+      algo::compareSensors(algo::datasetSources(d, algo::scanPieces({acceptedPoses(pass.run)})));
+  return pass;
+}
+
+/// --sync auto: where the scans lag the wheels by over 20 ms, the wheels and the gyro moved
+/// onto the scans' clock and the scans matched again (guesses and de-skew read them at the
+/// beams' times); returns the shift (0 when nothing moved).
+double syncAndMatchAgain(Dataset& d, const MatchFlags& flags, MatchPass& pass) {
+  constexpr double kMinLagS = 0.02;  // calibrate's --sync threshold
+  const algo::ClockShift shift = algo::scanClockShift(pass.agreement, kMinLagS);
+  if (flags.sync != "auto" || !shift.any()) return 0.0;
+  algo::shiftOntoScanClock(d, shift);
+  pass = matchPass(d, flags);
+  // What is left, measured on the scans matched with the wheels in sync (as calibrate does).
+  constexpr double kMinLeftS = 0.005;
+  const algo::ClockShift left = algo::scanClockShift(
+      algo::compareSensors(algo::datasetSources(d, algo::scanPieces({acceptedPoses(pass.run)})),
+                           algo::leftoverLagParams()),
+      kMinLeftS);
+  if (!left.any()) return shift.wheels_s;
+  algo::shiftOntoScanClock(d, left);
+  pass = matchPass(d, flags);
+  return shift.wheels_s + left.wheels_s;
 }
 
 nlohmann::ordered_json residualJson(const eval::ErrorStats& s) {
@@ -153,18 +193,19 @@ int runMatch(MatchFlags flags) {
   flags.params.keyframe_angle_rad = flags.keyframe_angle_deg / kDegPerRad;
   flags.params.odometry_sigma_rad = flags.odometry_sigma_deg / kDegPerRad;
   const auto begin = std::chrono::steady_clock::now();
-  const Dataset d = eval::readDataset(flags.dataset);
+  Dataset d = eval::readDataset(flags.dataset);
   if (d.scans.size() < 2) throw InputError(flags.dataset, "needs at least two scans to match");
-  int refused = 0;
-  const std::vector<Points2> points =
-      eval::matchScanPoints(d, flags.deskew, flags.stamp_is_last_beam, &refused);
-  eval::MatchTrajectoryOptions options{flags.params, flags.stamp_is_last_beam};
-  const eval::MatchTrajectory run = [&] {
+  double clock_sync_s = 0.0;
+  const MatchPass pass = [&] {
     CommandProgress progress(1, "runs", "match", !flags.quiet);
     StageReporter stages(flags.dataset, 1);
     stages.begin("match");
-    return eval::matchTrajectory(d, points, options);
+    MatchPass first = matchPass(d, flags);
+    clock_sync_s = syncAndMatchAgain(d, flags, first);
+    return first;
   }();
+  const eval::MatchTrajectory& run = pass.run;
+  const int refused = pass.refused;
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   const algo::KeyframeOdometry& t = run.tracked;
@@ -172,10 +213,10 @@ int runMatch(MatchFlags flags) {
   if (!flags.out.empty()) writeFileAtomic(flags.out, eval::formatTrackedMatches(run));
   if (!flags.trajectory.empty())
     writeFileAtomic(flags.trajectory, eval::formatTum(run.T_world_base, flags.trajectory));
-  const algo::SensorAgreement agreement =
-      algo::compareSensors(algo::datasetSources(d, algo::scanPieces({acceptedPoses(run)})));
-  const auto summary = summaryJson(flags, run, refused, seconds,
-                                   algo::agreementJson(agreement, algo::encodersFrom(d.info)));
+  const algo::SensorAgreement& agreement = pass.agreement;
+  auto summary = summaryJson(flags, run, refused, seconds,
+                             algo::agreementJson(agreement, algo::encodersFrom(d.info)));
+  summary["clock_sync_s"] = clock_sync_s;
   if (!flags.json_out.empty()) writeFileAtomic(flags.json_out, summary.dump(2) + "\n");
   std::printf(
       "matched %zu of %zu scans against the local map (%.2f %%), %zu fell back to a "
@@ -191,6 +232,11 @@ int runMatch(MatchFlags flags) {
   std::printf("de-skew %s", flags.deskew.c_str());
   if (flags.deskew != "none") std::printf(" (%d scans refused, matched as measured)", refused);
   std::printf("; %.2f s\n", seconds);
+  if (clock_sync_s != 0.0)
+    std::printf(
+        "--sync auto: the scans lagged the wheels by %.3f s; the wheels (and the gyro) moved "
+        "onto the scans' clock and the scans matched again (the agreement below is after it)\n",
+        clock_sync_s);
   std::printf("%s", algo::agreementText(agreement).c_str());
   for (const auto& [file, what] : {std::pair{flags.out, "matches"},
                                    {flags.trajectory, "trajectory"},
@@ -233,6 +279,13 @@ void addMatchInOut(CLI::App* cli, const std::shared_ptr<MatchFlags>& flags) {
       ->capture_default_str();
   cli->add_flag("--stamp-is-last-beam", flags->stamp_is_last_beam,
                 "the scans' stamps mark their last beam, not their first");
+  cli->add_option("--sync", flags->sync,
+                  "auto: where the sensor agreement finds the scans lagging the wheels by more "
+                  "than 20 ms, move the wheels' (and the gyro's) stamps onto the scans' clock and "
+                  "match again (the guesses and de-skew read them at each beam's time); none: "
+                  "the stamps as logged")
+      ->check(oneOf("sync", {"auto", "none"}))
+      ->capture_default_str();
 }
 
 /// The registration and the local map of keyframes it matches against.

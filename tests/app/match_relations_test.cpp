@@ -3,6 +3,7 @@
 // method measured on them (docs/matching.md "Measured"), and match's JSON summary.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -83,6 +84,35 @@ TEST_F(MatchRelations, ImportMatchScoreOnEachExcerptStaysWithinItsBounds) {
     EXPECT_LE(s["all"]["translation_m"]["mean"].get<double>(), e.all_mean_m);
     EXPECT_LE(s["all"]["translation_m"]["max"].get<double>(), e.all_max_m);
     EXPECT_LE(s["short"]["translation_m"]["mean"].get<double>(), e.short_mean_m);
+  }
+}
+
+// match --sync auto on a simulated drive whose lidar stamps run 0.2 s late: the delay is found
+// and removed (clock_sync_s), the agreement after it finds none left; --sync none moves nothing.
+TEST(MatchSync, TheScansDelayIsMovedOntoTheirClockAndMatchedAgain) {
+  const std::string dataset = (dir() / "late_scans").string();
+  ASSERT_EQ(
+      cli({"simulate", "--set", "faults.enable=clock_offset", "--set",
+           "faults.clock_offset.offset_s=0.2", "--set", "duration_s=30", "--out", dataset, "-q"})
+          .exit_code,
+      0);
+  const std::string synced = (dir() / "synced.json").string();
+  const std::string logged = (dir() / "logged.json").string();
+  ASSERT_EQ(cli({"match", dataset, "--sync", "auto", "--json", synced, "-q"}).exit_code, 0);
+  ASSERT_EQ(cli({"match", dataset, "--json", logged, "-q"}).exit_code, 0);
+  const auto s = nlohmann::json::parse(slurp(synced));
+  const auto l = nlohmann::json::parse(slurp(logged));
+  EXPECT_NEAR(s["clock_sync_s"].get<double>(), 0.2, 0.01);
+  EXPECT_EQ(l["clock_sync_s"].get<double>(), 0.0);
+  for (const auto& pair : s["sensor_agreement"]["pairs"]) {
+    if (pair["a"] == "wheels" && pair["b"] == "scans") {
+      EXPECT_LT(std::abs(pair["lag_s"].get<double>()), 0.01);
+    }
+  }
+  for (const auto& pair : l["sensor_agreement"]["pairs"]) {
+    if (pair["a"] == "wheels" && pair["b"] == "scans") {
+      EXPECT_NEAR(pair["lag_s"].get<double>(), 0.2, 0.03);
+    }
   }
 }
 
