@@ -93,25 +93,14 @@ MatchPass matchPass(const Dataset& d, const MatchFlags& flags) {
   return pass;
 }
 
-/// --sync auto: where the scans lag the wheels by over 20 ms, the wheels and the gyro moved
-/// onto the scans' clock and the scans matched again (guesses and de-skew read them at the
-/// beams' times); returns the shift (0 when nothing moved).
+/// --sync auto (algo::syncOntoScanClock, as calibrate does): returns the shift (0: none).
 double syncAndMatchAgain(Dataset& d, const MatchFlags& flags, MatchPass& pass) {
-  constexpr double kMinLagS = 0.02;  // calibrate's --sync threshold
-  const algo::ClockShift shift = algo::scanClockShift(pass.agreement, kMinLagS);
-  if (flags.sync != "auto" || !shift.any()) return 0.0;
-  algo::shiftOntoScanClock(d, shift);
-  pass = matchPass(d, flags);
-  // What is left, measured on the scans matched with the wheels in sync (as calibrate does).
-  constexpr double kMinLeftS = 0.005;
-  const algo::ClockShift left = algo::scanClockShift(
-      algo::compareSensors(algo::datasetSources(d, algo::scanPieces({acceptedPoses(pass.run)})),
-                           algo::leftoverLagParams()),
-      kMinLeftS);
-  if (!left.any()) return shift.wheels_s;
-  algo::shiftOntoScanClock(d, left);
-  pass = matchPass(d, flags);
-  return shift.wheels_s + left.wheels_s;
+  constexpr double kMinLagS = 0.02, kMinLeftS = 0.005;  // calibrate's defaults
+  if (flags.sync != "auto") return 0.0;
+  return algo::syncOntoScanClock(d, pass.agreement, kMinLagS, kMinLeftS, [&](const Dataset& s) {
+    pass = matchPass(s, flags);
+    return std::vector<PoseSeries>{acceptedPoses(pass.run)};
+  });
 }
 
 nlohmann::ordered_json residualJson(const eval::ErrorStats& s) {

@@ -61,15 +61,6 @@ ClockShift scanClockShift(const SensorAgreement& agreement, double min_lag_s) {
   return {ws->lag_s, gs && std::abs(gs->lag_s) > min_lag_s ? gs->lag_s : 0.0};
 }
 
-AgreementParams leftoverLagParams() {
-  AgreementParams fine;
-  fine.window_s = 1.0;
-  fine.step_s = 0.25;
-  fine.max_lag_s = 0.1;
-  fine.lag_gain = 1.0;
-  return fine;
-}
-
 void shiftOntoScanClock(Dataset& dataset, const ClockShift& shift) {
   for (EncoderSample& e : dataset.encoders) e.stamp_s += shift.wheels_s;
   PoseSeries odometry;
@@ -77,6 +68,25 @@ void shiftOntoScanClock(Dataset& dataset, const ClockShift& shift) {
     odometry.push_back(s.stamp_s + shift.wheels_s, s.value);
   dataset.odom_nominal = std::move(odometry);
   for (ImuSample& i : dataset.imu) i.stamp_s += shift.gyro_s;
+}
+
+double syncOntoScanClock(Dataset& dataset, const SensorAgreement& first, double min_lag_s,
+                         double min_left_s, const MatchScans& match_again) {
+  const ClockShift shift = scanClockShift(first, min_lag_s);
+  if (!shift.any()) return 0.0;
+  shiftOntoScanClock(dataset, shift);
+  const std::vector<PoseSeries> matched = match_again(dataset);
+  AgreementParams fine;
+  fine.window_s = 1.0;
+  fine.step_s = 0.25;
+  fine.max_lag_s = 0.1;
+  fine.lag_gain = 1.0;
+  const ClockShift left = scanClockShift(
+      compareSensors(datasetSources(dataset, scanPieces(matched)), fine), min_left_s);
+  if (!left.any()) return shift.wheels_s;
+  shiftOntoScanClock(dataset, left);
+  match_again(dataset);
+  return shift.wheels_s + left.wheels_s;
 }
 
 }  // namespace slamprep::algo

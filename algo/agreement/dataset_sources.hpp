@@ -3,6 +3,7 @@
 // robot's own odometry topic where the encoders were not derived from it, and a scan-matched
 // trajectory when one was computed.
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,11 +34,20 @@ struct ClockShift {
 };
 ClockShift scanClockShift(const SensorAgreement& agreement, double min_lag_s);
 
-/// The agreement that measures what delay is left once synced: 1 s windows every 0.25 s (a
-/// delay shows at a window's ends, where the turning rate changes), within +-0.1 s, any gain.
-AgreementParams leftoverLagParams();
-
 /// The wheels (encoder samples and the odometry poses) and the gyro moved by `shift`.
 void shiftOntoScanClock(Dataset& dataset, const ClockShift& shift);
+
+/// Matches the dataset's scans and returns the scan-matched poses (one series per chain).
+using MatchScans = std::function<std::vector<PoseSeries>(const Dataset&)>;
+
+/// The clock sync of calibrate and match. Where `first` finds the scans lagging the wheels by
+/// over min_lag_s: the wheels and gyro moved onto the scans' clock and the scans matched again
+/// (their de-skew and guesses read the wheels and gyro at each beam's time); then what delay is
+/// left, measured on that match where a delay shows most (1 s windows every 0.25 s, within
+/// +-0.1 s), moved where over min_left_s and matched once more: the first measure was made on
+/// scans de-skewed with the motion of another moment (0.27 s read as 0.2 s). Returns the total
+/// moved (0: nothing, and nothing matched).
+double syncOntoScanClock(Dataset& dataset, const SensorAgreement& first, double min_lag_s,
+                         double min_left_s, const MatchScans& match_again);
 
 }  // namespace slamprep::algo

@@ -17,34 +17,6 @@
 namespace slamprep::eval {
 namespace {
 
-/// The wheels' stamps (and the gyro's, by its own delay) moved onto the scans' clock by the
-/// delay the sensor agreement measured between them, where over min_sync_lag_s; true when
-/// moved. A real robot's odometry reached the log 0.1-0.35 s before its scans: an interval one
-/// scan period long then pairs the scans' motion with the wheels' motion of another moment,
-/// and the scans were de-skewed with the motion of another moment.
-bool syncClocks(Dataset& dataset, const DatasetCalibrationParams& params, DatasetCalibration& out) {
-  const algo::ClockShift shift = algo::scanClockShift(*out.agreement, params.min_sync_lag_s);
-  if (!shift.any()) return false;
-  algo::shiftOntoScanClock(dataset, shift);
-  out.clock_offset_s = shift.wheels_s;
-  return true;
-}
-
-/// What delay is left once synced and matched again, measured where a delay shows most (1 s
-/// windows every 0.25 s, +-0.1 s, any gain), moved and matched once more: the first measure is
-/// made on scans de-skewed with the motion of another moment, and reads 0.27 s as 0.2 s.
-void refineSync(Dataset& dataset, const DatasetCalibrationParams& params, CalibrationMotion& motion,
-                DatasetCalibration& out) {
-  const algo::ClockShift left = algo::scanClockShift(
-      algo::compareSensors(algo::datasetSources(dataset, algo::scanPieces(motion.chains)),
-                           algo::leftoverLagParams()),
-      params.min_refine_lag_s);
-  if (!left.any()) return;
-  algo::shiftOntoScanClock(dataset, left);
-  out.clock_offset_s += left.wheels_s;
-  motion = calibrationMotion(dataset, params.motion);
-}
-
 /// `--deskew` resolved: auto is none on instantaneous scans (time_increment 0, e.g. CARMEN),
 /// else imu where the log has one (independent of the geometry being calibrated), else
 /// odom-linear.
@@ -215,14 +187,25 @@ void cutIntervals(const DatasetCalibrationParams& params, std::optional<Dataset>
   out.from_motion = true;
   out.agreement = algo::compareSensors(algo::datasetSources(d, algo::scanPieces(motion.chains)));
   out.encoders_from = algo::encodersFrom(d.info);
-  // Synced, the scans are matched again (their de-skew and guesses read the wheels and the gyro
-  // at the beams' times), and the intervals cut from that.
-  if (params.sync_clocks && syncClocks(used, params, out)) {
-    if (params.motion.source != MotionSource::kGroundTruth) {
-      motion = calibrationMotion(used, params.motion);
-      refineSync(used, params, motion, out);
+  // Synced (algo::syncOntoScanClock), the intervals are cut from the last match. A real robot's
+  // odometry reached the log 0.1-0.35 s before its scans: an interval one scan period long then
+  // pairs the scans' motion with the wheels' motion of another moment.
+  if (params.sync_clocks && params.motion.source != MotionSource::kGroundTruth) {
+    out.clock_offset_s =
+        algo::syncOntoScanClock(used, *out.agreement, params.min_sync_lag_s,
+                                params.min_refine_lag_s, [&](const Dataset& synced) {
+                                  motion = calibrationMotion(synced, params.motion);
+                                  return motion.chains;
+                                });
+    if (out.clock_offset_s != 0.0)
+      out.intervals = algo::buildIntervals(used, motion.chains, params.motion.intervals);
+  } else if (params.sync_clocks) {
+    const algo::ClockShift shift = algo::scanClockShift(*out.agreement, params.min_sync_lag_s);
+    if (shift.any()) {
+      algo::shiftOntoScanClock(used, shift);
+      out.clock_offset_s = shift.wheels_s;
+      out.intervals = algo::buildIntervals(used, motion.chains, params.motion.intervals);
     }
-    out.intervals = algo::buildIntervals(used, motion.chains, params.motion.intervals);
   }
   out.failed_matches = motion.failed_matches;
   out.loops = motion.loops;
