@@ -2,6 +2,7 @@
 // comparison's figure.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iterator>
 
 #include "slamprep/eval/bench/twin_compare.hpp"
@@ -56,9 +57,21 @@ std::string twinText(const nlohmann::ordered_json& j) {
   return out;
 }
 
+namespace {
+
+/// The recording's folder name ("a/b/" and "a/b" both give "b").
+std::string recordingName(const std::string& path) {
+  const std::filesystem::path p = std::filesystem::path(path).lexically_normal();
+  return (p.has_filename() ? p.filename() : p.parent_path().filename()).string();
+}
+
+}  // namespace
+
 void plotComparison(const TwinComparison& c, const std::filesystem::path& png) {
-  plot::Figure fig{
-      .width_px = 1400, .height_px = 700, .title = "twin against recording", .cols = 2};
+  plot::Figure fig{.width_px = 1400,
+                   .height_px = 700,
+                   .title = "twin against recording " + recordingName(c.real),
+                   .cols = 2};
   plot::Axes ratios{.title = "twin / real (band +-25 %; n/a: no ratio, real value 0 or missing)",
                     .y_label = "twin / real",
                     .log_y = true,
