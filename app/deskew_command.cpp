@@ -167,6 +167,7 @@ nlohmann::ordered_json toJson(const MethodRun& run) {
               {"refused", run.result.refused},
               {"ok", scans - run.result.refused},
               {"refused_by_reason", eval::refusedByReason(run.result.refusals)},
+              {"warnings", run.result.warnings},
               {"refusals", eval::deskewRefusalsJson(run.result, method)}});
   return out;
 }
@@ -201,6 +202,11 @@ void printRow(const MethodRun& run) {
     std::cout << "    ok " << scans - run.result.refused << " of " << scans
               << " scans; refused: " << reasonCounts(eval::refusedByReason(run.result.refusals))
               << "\n";
+  // A method that falls back (ICP failed: odometry alone, or the last motion) still counts as
+  // de-skewed: say how often, or a mean equal to another method's is a puzzle.
+  if (run.result.warnings > 1)
+    std::cout << "    " << run.result.warnings
+              << " warnings (fell back or kept the round before; the first below)\n";
   if (!run.result.first_note.empty())
     std::cout << "    first note: " << run.result.first_note << "\n";
 }

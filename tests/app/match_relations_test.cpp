@@ -116,4 +116,20 @@ TEST(MatchSync, TheScansDelayIsMovedOntoTheirClockAndMatchedAgain) {
   }
 }
 
+// deskew --json counts each method's warnings: const-velocity has no motion for its first scan
+// (a warning, the scan still counted as de-skewed); none never warns.
+TEST(DeskewWarnings, AreCountedPerMethod) {
+  const std::string dataset = (dir() / "short_drive").string();
+  ASSERT_EQ(cli({"simulate", "--set", "duration_s=5", "--out", dataset, "-q"}).exit_code, 0);
+  const std::string json = (dir() / "deskew.json").string();
+  ASSERT_EQ(cli({"deskew", dataset, "--json", json, "-q"}).exit_code, 0);
+  for (const auto& m : nlohmann::json::parse(slurp(json))) {
+    if (m["method"] == "none") {
+      EXPECT_EQ(m["warnings"].get<int>(), 0);
+    } else if (m["method"] == "const-velocity") {
+      EXPECT_GE(m["warnings"].get<int>(), 1);
+    }
+  }
+}
+
 }  // namespace
