@@ -266,11 +266,12 @@ void addScans(const std::vector<CarmenLaser>& lasers, double time_increment,
     d.scans.push_back(std::move(r));
     where.push_back(file + ":" + std::to_string(l.line));
   }
-  const auto no_return = noReturnValue(ranges);
-  const bool apply = no_return && !(p.max_range_m && *p.max_range_m < no_return->value_m);
-  if (apply)
-    for (auto& r : d.scans) applyNoReturnValue(r.scan, no_return->value_m);
-  noteRange(rangeReport(ranges, p.max_range_m, cut, apply), result);
+  RangeReport range = rangeReport(ranges, p.max_range_m, cut);
+  if (range.no_return) {
+    for (auto& r : d.scans) applyNoReturnValue(r.scan, range.no_return->value_m);
+    range.no_return_applied = true;
+  }
+  noteRange(range, result);
   const double scan_time = medianSpacing(stamps);
   for (auto& r : d.scans) r.scan.scan_time_s = scan_time;
 }

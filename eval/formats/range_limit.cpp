@@ -95,8 +95,8 @@ std::size_t applyMaxRange(LaserScan& scan, double max_range_m) {
   return cut;
 }
 
-RangeReport rangeReport(const RangeHistogram& h, std::optional<double> max_range_m, std::size_t cut,
-                        bool no_return_applied) {
+RangeReport rangeReport(const RangeHistogram& h, std::optional<double> max_range_m,
+                        std::size_t cut) {
   RangeReport r;
   r.max_range_m = max_range_m;
   r.range_max_m = h.largestRangeMax();
@@ -107,7 +107,6 @@ RangeReport rangeReport(const RangeHistogram& h, std::optional<double> max_range
   r.suspect = !max_range_m && r.readings > 0 && r.range_max_m > 2 * r.p999_m;
   r.no_return = noReturnValue(h);
   if (r.no_return && max_range_m && r.no_return->value_m > *max_range_m) r.no_return.reset();
-  r.no_return_applied = r.no_return && no_return_applied;
   return r;
 }
 
@@ -130,11 +129,10 @@ std::string RangeReport::noReturnText() const {
 std::string RangeReport::text() const {
   const std::string reach = "99.9 % of " + std::to_string(readings) + " readings under " +
                             number(p999_m) + " m, largest " + number(largest_m) + " m";
+  const std::string tail = no_return ? "; " + noReturnText() : "";
   if (max_range_m)
     return number(*max_range_m) + " m (--max-range; the scans said " + number(range_max_m) +
-           " m): " + std::to_string(cut) + " readings beyond it made no return; " + reach +
-           (no_return ? "; " + noReturnText() : "");
-  const std::string tail = no_return ? "; " + noReturnText() : "";
+           " m): " + std::to_string(cut) + " readings beyond it made no return; " + reach + tail;
   if (suspect)
     return "range_max " + number(range_max_m) + " m is not the sensor's: readings reach " +
            number(p999_m) + " m (" + reach + "); give --max-range" + tail;

@@ -73,9 +73,10 @@ struct RangeReport {
   std::string noReturnText() const;        ///< "" without a no-return value
 };
 
-/// `no_return_applied`: the import made the no-return value's readings +inf (CARMEN); a bag's
-/// report only names it (a LaserScan marks no return itself; --max-range cuts it).
-RangeReport rangeReport(const RangeHistogram& h, std::optional<double> max_range_m, std::size_t cut,
-                        bool no_return_applied = false);
+/// The report of the histogram; `no_return` found but left to the caller to apply (a CARMEN
+/// import makes its readings +inf and sets no_return_applied; a bag's report only names it: a
+/// LaserScan marks no return itself, and --max-range cuts it).
+RangeReport rangeReport(const RangeHistogram& h, std::optional<double> max_range_m,
+                        std::size_t cut);
 
 }  // namespace slamprep::eval

@@ -71,7 +71,7 @@ TEST(NoReturnValue, AMaxRangeBelowTheValueLeavesItToTheCut) {
   r.insert(r.end(), 80, 50.0);
   h.add(scanOf(r));
   EXPECT_FALSE(rangeReport(h, 40.0, 0).no_return);  // --max-range 40 cuts them already
-  const RangeReport kept = rangeReport(h, std::nullopt, 0, false);
+  const RangeReport kept = rangeReport(h, std::nullopt, 0);
   ASSERT_TRUE(kept.no_return);
   EXPECT_FALSE(kept.no_return_applied);
   EXPECT_NE(kept.text().find("give --max-range 49.98"), std::string::npos) << kept.text();
