@@ -25,6 +25,7 @@
 #include "slamprep/eval/formats/dataset_io.hpp"
 #include "slamprep/eval/formats/tum.hpp"
 #include "slamprep/eval/metrics/error_stats.hpp"
+#include "slamprep/eval/pipeline/calibration_run.hpp"
 #include "slamprep/eval/pipeline/dataset_deskew.hpp"
 #include "slamprep/eval/pipeline/match_trajectory.hpp"
 
@@ -95,12 +96,13 @@ MatchPass matchPass(const Dataset& d, const MatchFlags& flags) {
 
 /// --sync auto (algo::syncOntoScanClock, as calibrate does): returns the shift (0: none).
 double syncAndMatchAgain(Dataset& d, const MatchFlags& flags, MatchPass& pass) {
-  constexpr double kMinLagS = 0.02, kMinLeftS = 0.005;  // calibrate's defaults
   if (flags.sync != "auto") return 0.0;
-  return algo::syncOntoScanClock(d, pass.agreement, kMinLagS, kMinLeftS, [&](const Dataset& s) {
-    pass = matchPass(s, flags);
-    return std::vector<PoseSeries>{acceptedPoses(pass.run)};
-  });
+  const eval::DatasetCalibrationParams calibrate;  // its thresholds, not a copy of them
+  return algo::syncOntoScanClock(d, pass.agreement, calibrate.min_sync_lag_s,
+                                 calibrate.min_refine_lag_s, [&](const Dataset& s) {
+                                   pass = matchPass(s, flags);
+                                   return std::vector<PoseSeries>{acceptedPoses(pass.run)};
+                                 });
 }
 
 nlohmann::ordered_json residualJson(const eval::ErrorStats& s) {
