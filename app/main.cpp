@@ -14,6 +14,7 @@
 #include "slamprep/app/commands.hpp"
 #include "slamprep/app/exit_codes.hpp"
 #include "slamprep/core/error.hpp"
+#include "slamprep/core/freed_memory.hpp"
 #include "slamprep/core/partial_cleanup.hpp"
 
 namespace {
@@ -84,6 +85,7 @@ int main(int argc, char** argv) {
   // Past a file size limit (ulimit -f) a write fails with EFBIG and the error names the file;
   // the default SIGXFSZ would kill the process without a word.
   std::signal(SIGXFSZ, SIG_IGN);
+  slamprep::keepFreedMemory();  // `bench` runs trial after trial: no fresh pages for each
   CLI::App app{
       "slamprep: simulate a differential-drive robot with a rotating lidar in Bullet, then measure "
       "how well odometry calibration and lidar de-skew recover the truth."};
