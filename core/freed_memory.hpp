@@ -1,7 +1,7 @@
 #pragma once
 // Freed memory kept for the next allocation instead of being returned to the kernel: a process
 // that runs one simulation after another (`bench`, the benchmarks) then touches fresh pages only
-// once. On this project's 2-core VMs a first touch of a 4 KiB page costs about 10 us (the
+// once. On this project's 2-core VMs a first touch of a 4 KiB page costs about 20 us (the
 // paravirtual fault path): a figure-eight simulation re-faulted its scans' memory for 20 % of its
 // time (docs/notebook.md, "Physics real-time factor").
 
