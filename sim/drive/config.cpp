@@ -76,6 +76,9 @@ void visitFields(Config& c, Visitor&& v) {
   v("faults.clock_offset.offset_s", f.clock_offset_s);
   v("faults.dropped_scans.probability", f.dropped_scan_probability);
   v("faults.dropped_beams.probability", f.dropped_beam_probability);
+  v("faults.dropped_beams.by_angle", f.dropped_beam_by_angle);
+  v("faults.dropped_beams.by_range", f.dropped_beam_by_range);
+  v("faults.dropped_beams.range_bin_m", f.dropped_beam_range_bin_m);
   v("faults.imu_bias_drift.gyro_walk_radps_per_sqrt_s", f.imu_gyro_bias_walk_radps);
   v("faults.stale_odometry.rate_hz", f.stale_odometry_rate_hz);
   v("faults.stale_odometry.min_hold_s", f.stale_odometry_min_hold_s);
@@ -231,6 +234,14 @@ void validateFaults(const Checker& check, const FaultsConfig& f) {
        {std::pair{"faults.dropped_scans.probability", f.dropped_scan_probability},
         std::pair{"faults.dropped_beams.probability", f.dropped_beam_probability}})
     if (!(p >= 0.0 && p <= 1.0)) check.fail(key, "must be in [0, 1]", p);
+  for (const auto& [key, text] :
+       {std::pair{"faults.dropped_beams.by_angle", &f.dropped_beam_by_angle},
+        std::pair{"faults.dropped_beams.by_range", &f.dropped_beam_by_range}}) {
+    std::string error;
+    if (!parseFactors(*text, &error))
+      check.fail(key, "expected comma-separated factors: " + error, *text);
+  }
+  check.positive("faults.dropped_beams.range_bin_m", f.dropped_beam_range_bin_m);
   check.nonNegative("faults.imu_bias_drift.gyro_walk_radps_per_sqrt_s", f.imu_gyro_bias_walk_radps);
   // The lasting faults: a rate, and a length drawn from [min, max] with min > 0.
   const auto lasting = [&check](const std::string& prefix, double rate_hz, const char* length,

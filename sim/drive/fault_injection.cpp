@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include "slamprep/sim/drive/fault_windows.hpp"
@@ -116,16 +117,54 @@ bool inWindow(const std::vector<std::pair<double, double>>& windows, double t) {
 
 // ---- Scans -----------------------------------------------------------------------------------
 
-/// Dropped beams by the scan's index in the clean log; the beam reads no return.
+/// A beam's chance of a return: (1 - probability), times the factor of its angle's bin and of
+/// its range's bin (FaultsConfig), capped at 1.
+class BeamKeep {
+ public:
+  explicit BeamKeep(const FaultsConfig& f)
+      : keep_(1.0 - f.dropped_beam_probability),
+        by_angle_(parseFactors(f.dropped_beam_by_angle, nullptr).value_or(std::vector<double>{})),
+        by_range_(parseFactors(f.dropped_beam_by_range, nullptr).value_or(std::vector<double>{})),
+        range_bin_m_(f.dropped_beam_range_bin_m) {}
+
+  bool shaped() const { return !by_angle_.empty() || !by_range_.empty(); }
+
+  double probability(double angle_rad, double range_m) const {
+    double keep = keep_;
+    if (!by_angle_.empty()) {
+      const double turn = (std::remainder(angle_rad, 2 * std::numbers::pi) + std::numbers::pi) /
+                          (2 * std::numbers::pi);  // [0, 1] from -180 deg
+      keep *= by_angle_[std::min(by_angle_.size() - 1,
+                                 static_cast<std::size_t>(turn * double(by_angle_.size())))];
+    }
+    if (!by_range_.empty() && std::isfinite(range_m))
+      keep *= by_range_[std::min(by_range_.size() - 1,
+                                 static_cast<std::size_t>(std::max(0.0, range_m) / range_bin_m_))];
+    return std::min(1.0, keep);
+  }
+
+ private:
+  double keep_;
+  std::vector<double> by_angle_, by_range_;
+  double range_bin_m_;
+};
+
+/// Dropped beams by the scan's index in the clean log; the beam reads no return. One draw per
+/// beam, shaped or not, so the same seed drops the same beams of an unshaped run.
 json dropBeams(const FaultsConfig& f, std::uint64_t seed, std::vector<ScanRecord>& scans) {
   SplitMix64 rng = stream(seed, RngStream::fault_dropped_beams);
+  const BeamKeep keep(f);
   json events = json::array();
   std::size_t count = 0;
   for (std::size_t k = 0; k < scans.size(); ++k) {
     ScanRecord& r = scans[k];
     json beams = json::array();
     for (std::size_t i = 0; i < r.scan.size(); ++i) {
-      if (!(rng.uniform() < f.dropped_beam_probability)) continue;
+      const double u = rng.uniform();
+      const bool drop = keep.shaped()
+                            ? !(u < keep.probability(r.scan.beamAngle(i), r.scan.ranges_m[i]))
+                            : u < f.dropped_beam_probability;
+      if (!drop) continue;
       r.scan.ranges_m[i] = std::numeric_limits<double>::infinity();
       if (i < r.p_ref_true.size()) r.p_ref_true[i].reset();
       beams.push_back(i);
@@ -133,7 +172,13 @@ json dropBeams(const FaultsConfig& f, std::uint64_t seed, std::vector<ScanRecord
     count += beams.size();
     if (!beams.empty()) events.push_back({{"scan", k}, {"beams", beams}});
   }
-  return {{"probability", f.dropped_beam_probability}, {"count", count}, {"events", events}};
+  json record = {{"probability", f.dropped_beam_probability}, {"count", count}, {"events", events}};
+  if (keep.shaped()) {
+    record["by_angle"] = f.dropped_beam_by_angle;
+    record["by_range"] = f.dropped_beam_by_range;
+    record["range_bin_m"] = f.dropped_beam_range_bin_m;
+  }
+  return record;
 }
 
 std::vector<bool> droppedScans(const FaultsConfig& f, std::uint64_t seed, double lidar_hz,

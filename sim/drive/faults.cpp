@@ -1,5 +1,8 @@
 #include "slamprep/sim/drive/faults.hpp"
 
+#include <charconv>
+#include <cmath>
+
 namespace slamprep::sim {
 
 std::string_view faultName(Fault fault) {
@@ -36,6 +39,29 @@ std::optional<FaultSet> parseFaultSet(std::string_view text, std::string* error)
     text = comma == std::string_view::npos ? std::string_view{} : text.substr(comma + 1);
   }
   return set;
+}
+
+std::optional<std::vector<double>> parseFactors(std::string_view text, std::string* error) {
+  constexpr std::size_t kMaxFactors = 3600;  // 0.1 deg bins
+  std::vector<double> factors;
+  while (!text.empty()) {
+    const std::size_t comma = text.find(',');
+    const std::string_view item = text.substr(0, comma);
+    double value = 0.0;
+    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
+    if (ec != std::errc() || end != item.data() + item.size() || !std::isfinite(value) ||
+        value < 0.0) {
+      if (error) *error = std::string("'").append(item).append("' is not a number >= 0");
+      return std::nullopt;
+    }
+    factors.push_back(value);
+    if (factors.size() > kMaxFactors) {
+      if (error) *error = "more than 3600 factors";
+      return std::nullopt;
+    }
+    text = comma == std::string_view::npos ? std::string_view{} : text.substr(comma + 1);
+  }
+  return factors;
 }
 
 }  // namespace slamprep::sim

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "slamprep/core/enum_names.hpp"
 
@@ -63,6 +64,9 @@ std::string toString(const FaultSet& faults);
 /// Reads "none", "all" or comma-separated names; nullopt (and *error set) for an unknown name.
 std::optional<FaultSet> parseFaultSet(std::string_view text, std::string* error);
 
+/// Reads comma-separated factors >= 0 ("" gives none); nullopt (and *error set) otherwise.
+std::optional<std::vector<double>> parseFactors(std::string_view text, std::string* error);
+
 /// Strength of every fault: used only when the fault is in `enable`. The defaults are ordinary
 /// for a real indoor robot (docs/faults.md says where each comes from).
 struct FaultsConfig {
@@ -75,9 +79,16 @@ struct FaultsConfig {
   double clock_offset_s = 0.005;            ///< lidar stamps = true time + this
   double dropped_scan_probability = 0.01;   ///< per scan
   double dropped_beam_probability = 0.005;  ///< per beam
-  double imu_gyro_bias_walk_radps = 1e-4;   ///< gyro bias random walk, rad/s per sqrt(s)
-  double stale_odometry_rate_hz = 0.01;     ///< holds per second
-  double stale_odometry_min_hold_s = 0.3;   ///< each hold lasts uniform [min, max]
+  /// The no-return pattern of a real lidar (a sector its housing blocks, fewer returns far away):
+  /// comma-separated factors on a beam's chance of a return, (1 - probability) x angle factor x
+  /// range factor, capped at 1. by_angle: equal bins of the beam's angle in the lidar frame over
+  /// [-180, 180) deg; by_range: bins of range_bin_m from 0 (the last one beyond). "" = 1.
+  std::string dropped_beam_by_angle;
+  std::string dropped_beam_by_range;
+  double dropped_beam_range_bin_m = 0.5;
+  double imu_gyro_bias_walk_radps = 1e-4;  ///< gyro bias random walk, rad/s per sqrt(s)
+  double stale_odometry_rate_hz = 0.01;    ///< holds per second
+  double stale_odometry_min_hold_s = 0.3;  ///< each hold lasts uniform [min, max]
   double stale_odometry_max_hold_s = 1.0;
   double held_robot_rate_hz = 0.01;        ///< holds of the body per second
   double held_robot_min_duration_s = 1.0;  ///< each lasts uniform [min, max]

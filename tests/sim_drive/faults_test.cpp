@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 #include "slamprep/core/error.hpp"
@@ -175,6 +176,43 @@ TEST(Faults, ClockOffsetShiftsEveryScanAndNothingElse) {
                 1e-12);
   EXPECT_EQ(clean.dataset.encoders.size(), r.dataset.encoders.size());
   EXPECT_EQ(clean.dataset.encoders.back().stamp_s, r.dataset.encoders.back().stamp_s);
+}
+
+// A lidar whose housing blocks a quarter of its view and which returns half of its far beams:
+// no return in the blocked bins, every near beam elsewhere, half of the far ones (binomial).
+TEST(Faults, DroppedBeamsFollowTheirAngleAndRangeProfiles) {
+  SimConfig c = longRun("dropped_beams", 100.0);
+  applyOverride(c, "faults.dropped_beams.probability=0");
+  applyOverride(c, "faults.dropped_beams.by_angle=0,1,1,1");  // [-180, -90) deg blocked
+  applyOverride(c, "faults.dropped_beams.by_range=1,1,1,1,0.5");
+  applyOverride(c, "faults.dropped_beams.range_bin_m=0.4");  // half from 1.6 m on
+  const SimResult clean = run(longRun("none", 100.0)), shaped = run(c);
+  ASSERT_EQ(clean.dataset.scans.size(), shaped.dataset.scans.size());
+  std::size_t blocked_returns = 0, near_lost = 0, far = 0, far_kept = 0;
+  for (std::size_t k = 0; k < clean.dataset.scans.size(); ++k) {
+    const LaserScan &a = clean.dataset.scans[k].scan, &b = shaped.dataset.scans[k].scan;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (!a.valid(i)) continue;
+      const double angle = std::remainder(a.beamAngle(i), 2 * std::numbers::pi);
+      if (angle < -std::numbers::pi / 2) {
+        blocked_returns += b.valid(i);
+      } else if (a.ranges_m[i] < 1.6) {
+        near_lost += !b.valid(i);
+      } else {
+        ++far;
+        far_kept += b.valid(i);
+      }
+    }
+  }
+  EXPECT_EQ(blocked_returns, 0U);
+  EXPECT_EQ(near_lost, 0U);
+  ASSERT_GT(far, 1000U);
+  expectCount(double(far_kept), 0.5 * double(far), "far beams kept");
+  const auto& record = shaped.dataset.info.faults["dropped_beams"];
+  EXPECT_EQ(record["by_angle"], "0,1,1,1");
+  EXPECT_DOUBLE_EQ(record["range_bin_m"].get<double>(), 0.4);
+  EXPECT_THROW(applyOverride(c, "faults.dropped_beams.by_angle=1,x"), InputError);
+  EXPECT_THROW(applyOverride(c, "faults.dropped_beams.by_range=-1"), InputError);
 }
 
 TEST(Faults, DroppedScansAndBeamsHaveTheirProbability) {
