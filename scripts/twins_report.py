@@ -106,7 +106,7 @@ def twin_figures(work, name, seeds):
     for seed in seeds:
         for row in load(os.path.join(work, f"{name}.seed{seed}.deskew.json")) or []:
             m = row["method"]
-            if m in DESKEW and row.get("ok"):
+            if (m in DESKEW or m == "oracle") and row.get("ok"):
                 kept.setdefault(m, []).append(row["mean_m"])
                 if row.get("fallback_mean_m") is not None:
                     fallback.setdefault(m, []).append(row["fallback_mean_m"])
@@ -124,6 +124,10 @@ def deskew(work, name, seeds):
         if r is not None:
             real[m] = r
     (kept, kept_sd), (twin, twin_sd), (resid, resid_sd) = twin_figures(work, name, seeds)
+    # The oracle de-skews with the truth at the scans' stamps: what the twin's clock offset (the
+    # recording's scan delay) alone costs. Not ranked (the recording has no truth).
+    oracle = twin.pop("oracle", None)
+    twin_sd.pop("oracle", None), kept.pop("oracle", None), kept_sd.pop("oracle", None)
     both = [m for m in DESKEW if m in real and m in twin]
     best_twin, tied = best_and_tied(both, twin, twin_sd)
     best_kept, tied_kept = best_and_tied([m for m in both if m in kept], kept, kept_sd)
@@ -143,6 +147,7 @@ def deskew(work, name, seeds):
                                             [kept[m] for m in both if m in kept]),
             "best_twin_kept_scans": best_kept, "tied_with_best_twin_kept_scans": tied_kept,
             "twin_residual_median_m": resid, "twin_residual_median_sd_m": resid_sd,
+            "twin_oracle_error_mean_m": oracle,
             "twin_residual_methods": on_twin,
             "twin_residual_seeds": len(seeds) if resid else 0,
             "best_twin_residual": best_resid, "tied_with_best_twin_residual": tied_resid,
@@ -194,6 +199,10 @@ def fmt(v, digits=4):
     if isinstance(v, bool):
         return "yes" if v else "no"
     return f"{v:.{digits}g}"
+
+
+def mm(v):
+    return "-" if v is None else f"{1e3 * v:.1f}"
 
 
 def with_ties(best, tied):
@@ -259,11 +268,13 @@ def tables(recs, spread, seeds):
                "residual median, mean (sd) over the seeds, against the twin's ground-truth "
                "ranking (all scans, above). A rho near 1 says the residual finds the better "
                "de-skew where the truth is known; the last rho compares the twin's residual "
-               "ranking with the recording's.\n")
+               "ranking with the recording's. Oracle: the error of de-skewing with the truth at "
+               "the scans' stamps, what the twin's clock offset (the recording's scan delay "
+               "behind the wheels) alone costs.\n")
     out.append("| recording | seeds | best by residual | best by truth | rho residual vs truth "
-               "(n methods) | rho twin vs real residual | twin residual (sd) / error [mm] per "
-               "method |")
-    out.append("|---|---|---|---|---|---|---|")
+               "(n methods) | rho twin vs real residual | oracle error [mm] | twin residual (sd) "
+               "/ error [mm] per method |")
+    out.append("|---|---|---|---|---|---|---|---|")
     for r in recs:
         d = r["deskew"]
         on_twin = d["twin_residual_methods"]
@@ -273,6 +284,7 @@ def tables(recs, spread, seeds):
                    f"{with_ties(d['best_twin_residual'], d['tied_with_best_twin_residual'])} | "
                    f"{best_truth} | {fmt(d['spearman_twin_residual_vs_truth'], 2)} "
                    f"({len(on_twin)}) | {fmt(d['spearman_twin_residual_vs_real_residual'], 2)} | "
+                   f"{mm(d['twin_oracle_error_mean_m'])} | "
                    f"{residual_and_truth(d)} |")
     out.append("\n### Spread of the calibrated wheel base\n")
     out.append("| robot | b over its real recordings [mm] | sd real (n) | sd over twin seeds per "
