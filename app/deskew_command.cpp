@@ -162,6 +162,10 @@ nlohmann::ordered_json toJson(const MethodRun& run) {
   const std::size_t scans = run.result.scans.size();
   nlohmann::ordered_json out = {{"method", method}};
   out.update(eval::deskewFiguresJson(run.result, eval::AbsentFigure::kNull));
+  // Over every scan, a refused one as measured (as `match` keeps it): comparable across methods.
+  const auto& fallback = run.result.fallback_error_m;
+  out["fallback_mean_m"] = fallback ? nlohmann::ordered_json(fallback->mean) : nullptr;
+  out["fallback_p95_m"] = fallback ? nlohmann::ordered_json(fallback->p95) : nullptr;
   out.update({{"seconds", run.result.seconds},
               {"scans", scans},
               {"refused", run.result.refused},
@@ -202,6 +206,11 @@ void printRow(const MethodRun& run) {
     std::cout << "    ok " << scans - run.result.refused << " of " << scans
               << " scans; refused: " << reasonCounts(eval::refusedByReason(run.result.refusals))
               << "\n";
+  // The figure a method that refuses different scans can be compared by (`fallback_*`).
+  if (run.result.refused > 0 && run.result.fallback_error_m)
+    std::cout << "    all scans, the refused as measured: mean " << std::setprecision(3)
+              << run.result.fallback_error_m->mean * 1e3 << " mm, p95 "
+              << run.result.fallback_error_m->p95 * 1e3 << " mm\n";
   // A method that falls back (ICP failed: odometry alone, or the last motion) still counts as
   // de-skewed: say how often, or a mean equal to another method's is a puzzle.
   if (run.result.warnings > 1)

@@ -11,8 +11,10 @@
 # the comparison plot of seed 1 and the de-skew errors, summary.json and README.md (written by
 # scripts/twins_report.py). SEEDS (default "1 2 3 4 5 6 7 8") sets the seeds. Per recording: import, match
 # with every de-skew method (the real ranking by residual), then per seed: twin, twin --compare,
-# deskew on the twin (the twin's ranking by ground-truth error). REUSE=1 keeps what an earlier
-# run left in WORK_DIR and RESULTS_DIR (an interrupted run goes on where it stopped).
+# deskew on the twin (the twin's ranking by ground-truth error), match on the twin with every
+# method (the twin's ranking by the real side's residual). REUSE=1 keeps what an earlier run left
+# in WORK_DIR and RESULTS_DIR (an interrupted run goes on where it stopped; a step added since is
+# run on the twins already made).
 set -euo pipefail
 data=${1:?usage: $0 DATA_DIR WORK_DIR RESULTS_DIR [SLAMPREP]}
 work=${2:?usage: $0 DATA_DIR WORK_DIR RESULTS_DIR [SLAMPREP]}
@@ -33,6 +35,9 @@ recordings=(
   "neato-DanPark13-test-bag|neato|rosbag2|neato-DanPark13-comprobo24_warmup_project/test-bag|--nominal 0.036,0.036,0.248 --trim"
   "neato-lhwitten-fsm_bag|neato|rosbag2|neato-lhwitten-comprobo_warmup/fsm_bag|--nominal 0.036,0.036,0.248 --trim"
 )
+
+# REUSE=1 and FILE made before from the twin at hand ($fresh = 0: not made again in this run).
+done_before() { [ "${REUSE:-0}" = 1 ] && [ "$fresh" = 0 ] && [ -f "$1" ]; }
 
 mkdir -p "$work" "$results"
 echo "slamprep results folder: scripts/twins.sh created it and rewrites what it wrote (docs/twin.md)." \
@@ -61,20 +66,35 @@ for entry in "${recordings[@]}"; do
   fi
   for seed in $seeds; do
     twin="$work/$name.twin.$seed"
-    if [ "${REUSE:-0}" = 1 ] && [ -f "$results/$name.seed$seed.json" ] &&
-      [ -f "$work/$name.seed$seed.deskew.json" ]; then
+    # REUSE: a seed whose outputs all exist is done; a twin made before is not made again, and
+    # what is missing of its outputs is made from it.
+    made=("$results/$name.seed$seed.json" "$work/$name.seed$seed.deskew.json")
+    for m in $deskew_methods; do made+=("$work/$name.twin.$seed.match.$m.json"); done
+    fresh=0
+    if done_before "${made[0]}" && ls "${made[@]}" >/dev/null 2>&1; then
       continue
     fi
-    "$slamprep" twin "$real" --out "$twin" --seed "$seed" --force -q >"$work/$name.twin.$seed.log"
-    tail -1 "$work/$name.twin.$seed.log"
-    cp "$twin/twin.json" "$work/$name.seed$seed.twin.json"
-    [ "$seed" = "$first" ] && cp "$twin/twin.json" "$results/$name.twin.json"
-    plot=()
-    [ "$seed" = "$first" ] && plot=(--plot "$results/$name.png")
-    "$slamprep" twin --compare "$real" "$twin" --json "$results/$name.seed$seed.json" \
-      "${plot[@]}" --force -q >/dev/null
-    "$slamprep" deskew "$twin/dataset" --json "$work/$name.seed$seed.deskew.json" --force -q \
-      >/dev/null 2>&1 || true
+    if ! done_before "${made[0]}" || [ ! -f "$twin/dataset/scans.jsonl" ]; then
+      fresh=1
+      "$slamprep" twin "$real" --out "$twin" --seed "$seed" --force -q >"$work/$name.twin.$seed.log"
+      tail -1 "$work/$name.twin.$seed.log"
+      cp "$twin/twin.json" "$work/$name.seed$seed.twin.json"
+      [ "$seed" = "$first" ] && cp "$twin/twin.json" "$results/$name.twin.json"
+      plot=()
+      [ "$seed" = "$first" ] && plot=(--plot "$results/$name.png")
+      "$slamprep" twin --compare "$real" "$twin" --json "$results/$name.seed$seed.json" \
+        "${plot[@]}" --force -q >/dev/null
+    fi
+    # The twin's ranking by ground-truth error ...
+    done_before "$work/$name.seed$seed.deskew.json" ||
+      "$slamprep" deskew "$twin/dataset" --json "$work/$name.seed$seed.deskew.json" --force -q \
+        >/dev/null 2>&1 || true
+    # ... and by the residual the real ranking uses: can that residual rank at all?
+    for m in $deskew_methods; do
+      done_before "$work/$name.twin.$seed.match.$m.json" ||
+        "$slamprep" match "$twin/dataset" --deskew "$m" --json \
+          "$work/$name.twin.$seed.match.$m.json" --force -q >/dev/null 2>&1 || true
+    done
   done
 done
 python3 "$here/twins_report.py" "$work" "$results" "$seeds"

@@ -27,21 +27,33 @@ def sd(values):
     return statistics.stdev(values) if len(values) > 1 else 0.0
 
 
+# Figures closer than this are one value (method pairs that de-skew alike, e.g. odom-icp falling
+# back to odom-linear, differ by the summation order only).
+TIE_M = 1e-9
+
+
 def ranks(values):
+    """Ranks from 0; values within TIE_M of their neighbour share their mean rank."""
     order = sorted(range(len(values)), key=lambda i: values[i])
     out = [0.0] * len(values)
-    for r, i in enumerate(order):
-        out[i] = float(r)
+    start = 0
+    for end in range(1, len(order) + 1):
+        if end == len(order) or values[order[end]] - values[order[end - 1]] > TIE_M:
+            for i in order[start:end]:
+                out[i] = (start + end - 1) / 2
+            start = end
     return out
 
 
 def spearman(a, b):
-    """Rank correlation of two equally long lists (no ties expected)."""
+    """Rank correlation of two equally long lists: Pearson's r of their ranks (ties share)."""
     if len(a) < 3:
         return None
     ra, rb = ranks(a), ranks(b)
-    n = len(a)
-    return 1 - 6 * sum((x - y) ** 2 for x, y in zip(ra, rb)) / (n * (n * n - 1))
+    ma, mb = statistics.mean(ra), statistics.mean(rb)
+    cov = sum((x - ma) * (y - mb) for x, y in zip(ra, rb))
+    var = math.sqrt(sum((x - ma) ** 2 for x in ra) * sum((y - mb) ** 2 for y in rb))
+    return cov / var if var > 0 else None
 
 
 def recording(work, results, name, robot, seeds):
@@ -63,30 +75,88 @@ def recording(work, results, name, robot, seeds):
     return rec
 
 
+def over_seeds(per_seed, seeds):
+    """{method: [value per seed]} -> means and sds of the methods every seed has."""
+    full = {m: v for m, v in per_seed.items() if len(v) == len(seeds)}
+    return ({m: statistics.mean(v) for m, v in full.items()}, {m: sd(v) for m, v in full.items()})
+
+
+def residual_median(path):
+    """`match --deskew M --json`'s residual median; None when M refused every scan (matched as
+    measured: no figure of its own) or nothing matched."""
+    j = load(path)
+    if j and j.get("residual_rms_m") and j["deskew_refused"] < j["scans"]:
+        return j["residual_rms_m"]["median"]
+    return None
+
+
+def best_and_tied(methods, mean, spread):
+    """The lowest, and the methods within its sd over the seeds (the twin cannot tell them)."""
+    if not methods:
+        return None, []
+    best = min(methods, key=lambda m: mean[m])
+    return best, [m for m in methods if m != best and
+                  mean[m] - mean[best] <= (spread.get(best) or 0.0)]
+
+
+def twin_figures(work, name, seeds):
+    """Per method over the seeds: the truth error over the scans kept (mean_m), over every
+    scan with the refused ones as measured (fallback_mean_m), and match's residual median."""
+    kept, fallback, residual = {}, {}, {}
+    for seed in seeds:
+        for row in load(os.path.join(work, f"{name}.seed{seed}.deskew.json")) or []:
+            m = row["method"]
+            if (m in DESKEW or m == "oracle") and row.get("ok"):
+                kept.setdefault(m, []).append(row["mean_m"])
+                if row.get("fallback_mean_m") is not None:
+                    fallback.setdefault(m, []).append(row["fallback_mean_m"])
+        for m in DESKEW:
+            r = residual_median(os.path.join(work, f"{name}.twin.{seed}.match.{m}.json"))
+            if r is not None:
+                residual.setdefault(m, []).append(r)
+    return over_seeds(kept, seeds), over_seeds(fallback, seeds), over_seeds(residual, seeds)
+
+
 def deskew(work, name, seeds):
     real = {}
     for m in DESKEW:
-        j = load(os.path.join(work, f"{name}.match.{m}.json"))
-        # A method that refused every scan matched them as measured: no figure of its own.
-        if j and j.get("residual_rms_m") and j["deskew_refused"] < j["scans"]:
-            real[m] = j["residual_rms_m"]["median"]
-    twin = {}
-    for seed in seeds:
-        for row in load(os.path.join(work, f"{name}.seed{seed}.deskew.json")) or []:
-            if row["method"] in DESKEW and row.get("ok"):
-                twin.setdefault(row["method"], []).append(row["mean_m"])
-    twin_sd = {m: sd(v) for m, v in twin.items() if len(v) == len(seeds)}
-    twin = {m: statistics.mean(v) for m, v in twin.items() if len(v) == len(seeds)}
+        r = residual_median(os.path.join(work, f"{name}.match.{m}.json"))
+        if r is not None:
+            real[m] = r
+    (kept, kept_sd), (twin, twin_sd), (resid, resid_sd) = twin_figures(work, name, seeds)
+    # The oracle de-skews with the truth at the scans' stamps: what the twin's clock offset (the
+    # recording's scan delay) alone costs. Not ranked (the recording has no truth).
+    oracle = twin.pop("oracle", None)
+    twin_sd.pop("oracle", None), kept.pop("oracle", None), kept_sd.pop("oracle", None)
     both = [m for m in DESKEW if m in real and m in twin]
-    best_twin = min(both, key=lambda m: twin[m]) if both else None
-    # Methods the twin cannot tell from its best: within the best's spread over the seeds.
-    tied = [m for m in both if m != best_twin and
-            twin[m] - twin[best_twin] <= (twin_sd.get(best_twin) or 0.0)] if both else []
-    return {"real_residual_median_m": real, "twin_truth_error_mean_m": twin,
-            "twin_truth_error_sd_m": twin_sd, "methods": both,
+    best_twin, tied = best_and_tied(both, twin, twin_sd)
+    best_kept, tied_kept = best_and_tied([m for m in both if m in kept], kept, kept_sd)
+    # Can the residual rank at all? On the twin, where the truth is known.
+    on_twin = [m for m in DESKEW if m in resid and m in twin]
+    best_resid, tied_resid = best_and_tied(on_twin, resid, resid_sd)
+    best_truth, tied_truth = best_and_tied(on_twin, twin, twin_sd)
+    same = [m for m in on_twin if m in real]
+    return {"real_residual_median_m": real,
+            "twin_truth_error_mean_m": twin, "twin_truth_error_sd_m": twin_sd,
+            "twin_kept_scans_error_mean_m": kept, "twin_kept_scans_error_sd_m": kept_sd,
+            "methods": both,
             "spearman": spearman([real[m] for m in both], [twin[m] for m in both]),
             "best_real": min(both, key=lambda m: real[m]) if both else None,
-            "best_twin": best_twin, "tied_with_best_twin": tied}
+            "best_twin": best_twin, "tied_with_best_twin": tied,
+            "spearman_kept_scans": spearman([real[m] for m in both if m in kept],
+                                            [kept[m] for m in both if m in kept]),
+            "best_twin_kept_scans": best_kept, "tied_with_best_twin_kept_scans": tied_kept,
+            "twin_residual_median_m": resid, "twin_residual_median_sd_m": resid_sd,
+            "twin_oracle_error_mean_m": oracle,
+            "twin_residual_methods": on_twin,
+            "twin_residual_seeds": len(seeds) if resid else 0,
+            "best_twin_residual": best_resid, "tied_with_best_twin_residual": tied_resid,
+            "best_twin_truth_of_residual_methods": best_truth,
+            "tied_with_best_twin_truth_of_residual_methods": tied_truth,
+            "spearman_twin_residual_vs_truth": spearman([resid[m] for m in on_twin],
+                                                        [twin[m] for m in on_twin]),
+            "spearman_twin_residual_vs_real_residual": spearman([resid[m] for m in same],
+                                                                [real[m] for m in same])}
 
 
 def judge(recs):
@@ -131,6 +201,30 @@ def fmt(v, digits=4):
     return f"{v:.{digits}g}"
 
 
+def mm(v):
+    return "-" if v is None else f"{1e3 * v:.1f}"
+
+
+def with_ties(best, tied):
+    if best is None:
+        return "-"
+    return best if not tied else f"{best} (tied: {', '.join(tied)})"
+
+
+def per_method(methods, mean, spread):
+    """"m 12.3 (0.4), ..." in mm: mean (sd over the seeds)."""
+    return ", ".join(f"{m} {1e3 * mean[m]:.1f} ({1e3 * (spread.get(m) or 0.0):.1f})"
+                     for m in methods if m in mean)
+
+
+def residual_and_truth(d):
+    """"m 25.3 (0.3) / 37.2, ..." in mm: the twin's residual (sd over the seeds) / its error."""
+    res, res_sd, truth = (d["twin_residual_median_m"], d["twin_residual_median_sd_m"],
+                          d["twin_truth_error_mean_m"])
+    return ", ".join(f"{m} {1e3 * res[m]:.1f} ({1e3 * res_sd[m]:.1f}) / {1e3 * truth[m]:.1f}"
+                     for m in d["twin_residual_methods"])
+
+
 def tables(recs, spread, seeds):
     out = []
     for r in recs:
@@ -150,22 +244,48 @@ def tables(recs, spread, seeds):
                        f"| {fmt(s['ratio'], 3)} | {spread_cell} | {ok} |")
         out.append("")
     out.append("### De-skew ranking\n")
-    out.append("Real: residual median of `match --deskew M` (lower is better); twin: mean "
-               "ground-truth error of `deskew --method M` on the twin, mean (sd) over the seeds; "
-               "twin best with the methods within the best's sd over the seeds (tied).\n")
-    out.append("| recording | real best | twin best | Spearman rho (n methods) | real residual "
-               "[mm] per method | twin error [mm] per method |")
-    out.append("|---|---|---|---|---|---|")
+    out.append("Real: residual median of `match --deskew M` (lower is better); twin: ground-truth "
+               "error of `deskew --method M` on the twin over every scan, a scan M refused counted "
+               "as measured as `match` keeps it (`fallback_mean_m`), mean (sd) over the seeds; "
+               "twin best with the methods within the best's sd over the seeds (tied). Before: "
+               "the same over the scans M kept (`mean_m`), which differ by method.\n")
+    out.append("| recording | real best | twin best | Spearman rho (n methods) | before: twin "
+               "best, rho | real residual [mm] per method | twin error [mm] per method, all "
+               "scans | before: twin error [mm], scans kept |")
+    out.append("|---|---|---|---|---|---|---|---|")
     for r in recs:
         d = r["deskew"]
         real = ", ".join(f"{m} {1e3 * d['real_residual_median_m'][m]:.1f}" for m in d["methods"])
-        twin = ", ".join(f"{m} {1e3 * d['twin_truth_error_mean_m'][m]:.1f} "
-                         f"({1e3 * (d['twin_truth_error_sd_m'].get(m) or 0.0):.1f})"
-                         for m in d["methods"])
-        best = d["best_twin"] if not d["tied_with_best_twin"] else \
-            f"{d['best_twin']} (tied: {', '.join(d['tied_with_best_twin'])})"
-        out.append(f"| {r['name']} | {d['best_real']} | {best} | "
-                   f"{fmt(d['spearman'], 2)} ({len(d['methods'])}) | {real} | {twin} |")
+        out.append(f"| {r['name']} | {d['best_real']} | "
+                   f"{with_ties(d['best_twin'], d['tied_with_best_twin'])} | "
+                   f"{fmt(d['spearman'], 2)} ({len(d['methods'])}) | "
+                   f"{with_ties(d['best_twin_kept_scans'], d['tied_with_best_twin_kept_scans'])}, "
+                   f"{fmt(d['spearman_kept_scans'], 2)} | {real} | "
+                   f"{per_method(d['methods'], d['twin_truth_error_mean_m'], d['twin_truth_error_sd_m'])} | "
+                   f"{per_method(d['methods'], d['twin_kept_scans_error_mean_m'], d['twin_kept_scans_error_sd_m'])} |")
+    out.append("\n### Can the residual rank de-skew methods? (on the twins)\n")
+    out.append("On each twin, `match --deskew M` as on the recording: methods ranked by the same "
+               "residual median, mean (sd) over the seeds, against the twin's ground-truth "
+               "ranking (all scans, above). A rho near 1 says the residual finds the better "
+               "de-skew where the truth is known; the last rho compares the twin's residual "
+               "ranking with the recording's. Oracle: the error of de-skewing with the truth at "
+               "the scans' stamps, what the twin's clock offset (the recording's scan delay "
+               "behind the wheels) alone costs.\n")
+    out.append("| recording | seeds | best by residual | best by truth | rho residual vs truth "
+               "(n methods) | rho twin vs real residual | oracle error [mm] | twin residual (sd) "
+               "/ error [mm] per method |")
+    out.append("|---|---|---|---|---|---|---|---|")
+    for r in recs:
+        d = r["deskew"]
+        on_twin = d["twin_residual_methods"]
+        best_truth = with_ties(d["best_twin_truth_of_residual_methods"],
+                               d["tied_with_best_twin_truth_of_residual_methods"])
+        out.append(f"| {r['name']} | {d['twin_residual_seeds']} | "
+                   f"{with_ties(d['best_twin_residual'], d['tied_with_best_twin_residual'])} | "
+                   f"{best_truth} | {fmt(d['spearman_twin_residual_vs_truth'], 2)} "
+                   f"({len(on_twin)}) | {fmt(d['spearman_twin_residual_vs_real_residual'], 2)} | "
+                   f"{mm(d['twin_oracle_error_mean_m'])} | "
+                   f"{residual_and_truth(d)} |")
     out.append("\n### Spread of the calibrated wheel base\n")
     out.append("| robot | b over its real recordings [mm] | sd real (n) | sd over twin seeds per "
                "recording [mm] | twin sd / real sd |")

@@ -59,6 +59,7 @@ std::vector<SE2> beamPoseErrors(const Dataset& dataset, const ScanRecord& record
 // Per-beam errors of all scans, pooled before summarising.
 struct PooledErrors {
   std::vector<double> total_m, rotation_m, translation_m, repacked_m;
+  std::vector<double> as_measured_m;  ///< refused scans left as measured: method none's errors
   std::size_t repacked_lost = 0;
   double max_residual_m = 0.0;
   bool split = true;  ///< every compared scan had its pose errors
@@ -90,6 +91,36 @@ void measure(const Dataset& dataset, const ScanRecord& record, const algo::Deske
   pooled.repacked_lost += r.lost;
 }
 
+/// What method none reads of `inputs`: no series, the stamps' convention and the reference.
+algo::DeskewInputs noneInputs(const algo::DeskewInputs& inputs) {
+  algo::DeskewInputs out;
+  out.T_base_lidar = inputs.T_base_lidar;
+  out.stamp_is_last_beam = inputs.stamp_is_last_beam;
+  out.reference = inputs.reference;
+  return out;
+}
+
+/// A refused scan as `match` keeps it: method none's points, measured as none's are.
+void measureAsMeasured(const Dataset& dataset, const ScanRecord& record,
+                       const algo::DeskewInputs& none_inputs, algo::DeskewParams params,
+                       PooledErrors& pooled) {
+  params.repack = false;  // the repacked figures cover de-skewed scans only
+  const algo::DeskewResult none =
+      algo::deskew(algo::DeskewMethod::kNone, record.scan, none_inputs, params);
+  if (!none.ok) return;  // no beams or beam times: none refuses it too
+  PooledErrors scan;
+  measure(dataset, record, none, params.repacking, scan);
+  pooled.as_measured_m.insert(pooled.as_measured_m.end(), scan.total_m.begin(), scan.total_m.end());
+}
+
+/// The de-skewed scans' errors and the refused scans' as measured, over every measured scan.
+std::optional<ErrorStats> fallbackErrors(const PooledErrors& pooled) {
+  if (pooled.total_m.empty() && pooled.as_measured_m.empty()) return std::nullopt;
+  std::vector<double> all = pooled.total_m;
+  all.insert(all.end(), pooled.as_measured_m.begin(), pooled.as_measured_m.end());
+  return summarize(std::move(all));
+}
+
 }  // namespace
 
 DatasetDeskewOptions nominalDeskewOptions(const Dataset& dataset) {
@@ -114,6 +145,7 @@ DatasetDeskew deskewDataset(const Dataset& dataset, algo::DeskewMethod method,
   inputs.reference = options.reference;
   algo::DeskewParams params = options.params;
   params.max_sample_gap_s = sampleGapLimit(inputs, params.max_sample_gap_s);
+  const algo::DeskewInputs none_inputs = noneInputs(inputs);
   algo::DeskewSequence sequence(method, std::move(inputs), params);
   DatasetDeskew out;
   PooledErrors pooled;
@@ -132,11 +164,16 @@ DatasetDeskew deskewDataset(const Dataset& dataset, algo::DeskewMethod method,
     if (!result.ok) out.refusals.push_back({k, result.refusal, result.reason});
     const double stamp = record.scan.stamp_s;
     const bool counted = stamp >= options.measure_from_s && stamp <= options.measure_to_s;
-    if (result.ok && counted && !record.p_ref_true.empty())
-      measure(dataset, record, result, options.params.repacking, pooled);
+    if (counted && !record.p_ref_true.empty()) {
+      if (result.ok)
+        measure(dataset, record, result, options.params.repacking, pooled);
+      else
+        measureAsMeasured(dataset, record, none_inputs, params, pooled);
+    }
     out.scans.push_back(std::move(result));
     if (options.on_scan) options.on_scan(k + 1, dataset.scans.size());
   }
+  out.fallback_error_m = fallbackErrors(pooled);
   if (pooled.total_m.empty()) return out;
   out.error_m = summarize(std::move(pooled.total_m));
   if (!pooled.repacked_m.empty()) {

@@ -68,6 +68,10 @@ struct DatasetDeskew {
   std::optional<ErrorStats> repacked_error_m;
   /// Grid rays of the measured scans where the truth has a range and the repacked scan none.
   std::size_t repacked_lost_beams = 0;
+  /// error_m over every measured scan with a refused one counted as measured (method none's
+  /// error on it), as `slamprep match --deskew` keeps it: comparable between methods that refuse
+  /// different scans. nullopt without truth.
+  std::optional<ErrorStats> fallback_error_m;
 };
 
 /// Refused scans counted by reason name ("not-bracketed": 3), names sorted.

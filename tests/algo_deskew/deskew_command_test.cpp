@@ -2,6 +2,7 @@
 // files written, JSON keys, exit codes and messages for bad input.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -58,6 +59,9 @@ TEST_F(DeskewCommand, AllMethodsWriteScansAndJson) {
     EXPECT_EQ(m["ok"], m["scans"]);
     EXPECT_TRUE(m["refused_by_reason"].is_object() && m["refused_by_reason"].empty());
     EXPECT_TRUE(m["refusals"].is_array() && m["refusals"].empty());
+    // Nothing refused: the figure over every scan is the one over the de-skewed scans.
+    EXPECT_EQ(m["fallback_mean_m"], m["mean_m"]);
+    EXPECT_EQ(m["fallback_p95_m"], m["p95_m"]);
   }
   EXPECT_EQ(j[0]["method"], "none");
   EXPECT_LT(j[1]["mean_m"].get<double>(), 1e-9);  // oracle
@@ -148,6 +152,44 @@ TEST_F(DeskewCommand, EveryRefusalIsListedAndCounted) {
   EXPECT_EQ(cli({"deskew", data(), "--method", "odom-linear", "--stamp-is-last-beam", "--strict"})
                 .exit_code,
             3);
+}
+
+// fallback_* count a refused scan as measured, as `match` keeps it: odom-linear's mean over every
+// scan is the beam-weighted mix of its own mean over the scans it kept and none's over the scans
+// it refused (the first ones, stamped before the odometry starts).
+TEST_F(DeskewCommand, FallbackCountsRefusedScansAsMeasured) {
+  auto run = [&](const std::vector<std::string>& extra, std::string* out) {
+    const fs::path json = dir() / "fallback.json";
+    std::vector<std::string> args = {"deskew",  data(),   "--stamp-is-last-beam",
+                                     "--force", "--json", json.string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const CliRun r = cli(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    if (out) *out = r.out;
+    return nlohmann::json::parse(slurp(json)).at(0);
+  };
+  std::string printed;
+  const auto linear = run({"--method", "odom-linear"}, &printed);
+  const int refused = linear["refused"];
+  ASSERT_GT(refused, 0);
+  for (int k = 0; k < refused; ++k) ASSERT_EQ(linear["refusals"][k]["scan"], k);
+  // none over the refused scans only: a window ending between the last refused and the next.
+  std::vector<double> stamps;
+  std::ifstream in(dir() / "data" / "scans.jsonl");
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) stamps.push_back(nlohmann::json::parse(line)["stamp_s"].get<double>());
+  ASSERT_LT(static_cast<std::size_t>(refused), stamps.size());
+  const double end = 0.5 * (stamps[refused - 1] + stamps[refused]);
+  const auto none = run({"--method", "none", "--window", "0", std::to_string(end)}, nullptr);
+  const double n_kept = linear["beams"], n_refused = none["beams"];
+  ASSERT_GT(n_refused, 0.0);
+  const double mix =
+      (linear["mean_m"].get<double>() * n_kept + none["mean_m"].get<double>() * n_refused) /
+      (n_kept + n_refused);
+  EXPECT_NEAR(linear["fallback_mean_m"].get<double>(), mix, 1e-12);
+  EXPECT_GT(std::abs(mix - linear["mean_m"].get<double>()), 1e-4);  // the refused scans count
+  EXPECT_GE(linear["fallback_p95_m"].get<double>(), 0.0);
+  EXPECT_NE(printed.find("all scans, the refused as measured: mean"), std::string::npos) << printed;
 }
 
 // 1 ms of stamp jitter on every stream: odom-icp's error on the 3 s arc (seeds 1, 2, 4, 5) was
