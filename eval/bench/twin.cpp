@@ -172,6 +172,18 @@ std::string num(double v) {
   return buf;
 }
 
+/// "1,0.5,0": factors to 4 significant digits, as faults.dropped_beams.by_angle reads them.
+std::string factors(const std::vector<double>& values) {
+  std::string out;
+  char buf[32];
+  for (const double v : values) {
+    std::snprintf(buf, sizeof buf, "%.4g", v);
+    if (!out.empty()) out += ',';
+    out += buf;
+  }
+  return out;
+}
+
 struct Fitted {
   LidarLayout layout;
   LidarAgainstMap against_map;
@@ -224,6 +236,10 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
   if (f.against_map.twin_dropout_probability > 0.0) {
     faults.push_back("dropped_beams");
     s.push_back("faults.dropped_beams.probability=" + num(f.against_map.twin_dropout_probability));
+    s.push_back("faults.dropped_beams.by_angle=" +
+                factors(f.against_map.keep_factor_by_twin_angle));
+    s.push_back("faults.dropped_beams.by_range=" + factors(f.against_map.keep_factor_by_range));
+    s.push_back("faults.dropped_beams.range_bin_m=" + num(LidarMapParams{}.range_bin_m));
   }
   if (f.lag_measured && std::abs(f.scan_lag_s) >= 0.02) {
     faults.push_back("clock_offset");
@@ -306,13 +322,22 @@ nlohmann::ordered_json lidarJson(const Fitted& f) {
       {"twin_dropout_probability",
        fitted(m.twin_dropout_probability,
               "(no-return fraction within the usable range - escape_fraction) / (1 - "
-              "escape_fraction): the twin drops beams uniformly at this rate, so that its "
-              "escapes and drops together make the recording's no-returns")},
+              "escape_fraction): the twin drops beams at this mean rate, so that its "
+              "escapes and drops together make the recording's no-returns; shaped by "
+              "keep_factor_by_twin_angle and keep_factor_by_range")},
       {"spurious_fraction", fitted(m.spurious_fraction,
                                    "a return where the world predicts none "
                                    "(people, what the walls missed)")},
       {"dropout_by_angle", fitted(m.dropout_by_angle, "per 10 deg of beam angle from -180")},
-      {"dropout_by_range", fitted(m.dropout_by_range, "per 0.5 m of predicted range from 0")}};
+      {"dropout_by_range", fitted(m.dropout_by_range, "per 0.5 m of predicted range from 0")},
+      {"keep_factor_by_twin_angle",
+       fitted(m.keep_factor_by_twin_angle,
+              "(1 - dropout in the bin) / (1 - dropout_probability), per 10 deg of the twin's "
+              "beam angle from -180 (the recorded angle minus mount_yaw_shift_deg): the twin's "
+              "faults.dropped_beams.by_angle")},
+      {"keep_factor_by_range",
+       fitted(m.keep_factor_by_range,
+              "the same per 0.5 m of predicted range: the twin's faults.dropped_beams.by_range")}};
 }
 
 /// "1.5, 3, 6 and 12 s": the pieces' durations as the fit cuts them.
@@ -438,7 +463,8 @@ double matchedResidual(const Dataset& d) {
 
 const char* const kNotReproduced[] = {
     "the beam count varies only where the recording's does not: the twin has one count",
-    "the no-return pattern by angle and range: the twin drops beams uniformly at its mean",
+    "the no-return pattern by angle and by range together: the twin's chance of a return is "
+    "the product of the two (independent) patterns",
     "twist spikes (import --json reports them; the dataset does not keep the twist)",
     "slip in turns beyond the physics' own",
     "moving people and objects: their returns are cut from the world where the robot drove"};

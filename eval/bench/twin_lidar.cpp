@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <tuple>
 
 #include "slamprep/core/order_statistics.hpp"
 
@@ -74,6 +75,49 @@ LidarLayout fitLidarLayout(const Dataset& d) {
   return l;
 }
 
+namespace {
+
+/// Beams and returns per (twin angle bin, range bin).
+struct PatternCounts {
+  std::vector<std::vector<double>> beams, returns;
+  PatternCounts(std::size_t angle_bins, std::size_t range_bins)
+      : beams(angle_bins, std::vector<double>(range_bins)),
+        returns(angle_bins, std::vector<double>(range_bins)) {}
+};
+
+/// Separable factors on the chance of a return, keep(a, r) = K A[a] R[r] with K = 1 - dropout:
+/// alternating fits of A to the returns of each angle bin given R, and of R given A (iterative
+/// proportional fitting of a multiplicative model; the marginals alone would count the range's
+/// effect twice in bins that see far walls more often). A bin without beams keeps factor 1.
+std::pair<std::vector<double>, std::vector<double>> keepFactors(const PatternCounts& c,
+                                                                double dropout) {
+  const std::size_t na = c.beams.size(), nr = na ? c.beams[0].size() : 0;
+  std::vector<double> A(na, 1.0), R(nr, 1.0);
+  const double K = 1.0 - dropout;
+  if (!(K > 0.0)) return {A, R};
+  for (int pass = 0; pass < 20; ++pass) {
+    for (std::size_t a = 0; a < na; ++a) {
+      double got = 0.0, expected = 0.0;
+      for (std::size_t r = 0; r < nr; ++r) {
+        got += c.returns[a][r];
+        expected += c.beams[a][r] * K * R[r];
+      }
+      A[a] = expected > 0.0 ? got / expected : 1.0;
+    }
+    for (std::size_t r = 0; r < nr; ++r) {
+      double got = 0.0, expected = 0.0;
+      for (std::size_t a = 0; a < na; ++a) {
+        got += c.returns[a][r];
+        expected += c.beams[a][r] * K * A[a];
+      }
+      R[r] = expected > 0.0 ? got / expected : 1.0;
+    }
+  }
+  return {A, R};
+}
+
+}  // namespace
+
 LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
                                const std::vector<char>& use, const sim::PlanarCaster& world,
                                const LidarLayout& layout, const LidarMapParams& p) {
@@ -82,6 +126,11 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
   const auto range_bins = static_cast<std::size_t>(
       std::ceil(std::max(layout.usable_max_m, p.range_bin_m) / p.range_bin_m));
   std::vector<std::size_t> by_angle(angle_bins), drop_angle(angle_bins);
+  PatternCounts pattern(angle_bins, range_bins);
+  const auto angleBin = [&](double angle_rad) {
+    const double turn = (std::remainder(angle_rad, kTwoPi) + std::numbers::pi) / kTwoPi;
+    return std::min(angle_bins - 1, static_cast<std::size_t>(turn * double(angle_bins)));
+  };
   std::vector<std::size_t> drop_range(range_bins);
   m.predicted_by_range.assign(range_bins, 0);
   std::vector<double> residuals;
@@ -104,18 +153,19 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
         continue;
       }
       ++predicted;
-      const double beam = std::remainder(s.beamAngle(i), kTwoPi) + std::numbers::pi;
-      const auto ab =
-          std::min(angle_bins - 1, static_cast<std::size_t>(beam / kTwoPi * angle_bins));
+      const std::size_t ab = angleBin(s.beamAngle(i));
+      const std::size_t tb = angleBin(s.beamAngle(i) - layout.mount_yaw_shift_rad);
       const auto rb = std::min(range_bins - 1, static_cast<std::size_t>(*hit / p.range_bin_m));
       ++by_angle[ab];
       ++m.predicted_by_range[rb];
+      ++pattern.beams[tb][rb];
       if (!valid) {
         ++dropped;
         ++drop_angle[ab];
         ++drop_range[rb];
         continue;
       }
+      ++pattern.returns[tb][rb];
       const double r = s.ranges_m[i] - *hit;
       if (std::abs(r) <= p.max_residual_m) residuals.push_back(r);
     }
@@ -138,6 +188,8 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
   for (std::size_t b = 0; b < range_bins; ++b)
     m.dropout_by_range.push_back(
         m.predicted_by_range[b] ? double(drop_range[b]) / double(m.predicted_by_range[b]) : 0.0);
+  std::tie(m.keep_factor_by_twin_angle, m.keep_factor_by_range) =
+      keepFactors(pattern, m.dropout_probability);
   return m;
 }
 
