@@ -85,10 +85,26 @@ struct PatternCounts {
         returns(angle_bins, std::vector<double>(range_bins)) {}
 };
 
+/// One half of an alternating fit: every factor of `fit` (by angle when by_angle, else by
+/// range) such that its bin's expected returns, beams x K x factor x the other's factor, are the
+/// returns seen; 1 for a bin without beams.
+void fitHalf(const PatternCounts& c, double K, const std::vector<double>& other, bool by_angle,
+             std::vector<double>& fit) {
+  for (std::size_t i = 0; i < fit.size(); ++i) {
+    double got = 0.0, expected = 0.0;
+    for (std::size_t j = 0; j < other.size(); ++j) {
+      const std::size_t a = by_angle ? i : j, r = by_angle ? j : i;
+      got += c.returns[a][r];
+      expected += c.beams[a][r] * K * other[j];
+    }
+    fit[i] = expected > 0.0 ? got / expected : 1.0;
+  }
+}
+
 /// Separable factors on the chance of a return, keep(a, r) = K A[a] R[r] with K = 1 - dropout:
-/// alternating fits of A to the returns of each angle bin given R, and of R given A (iterative
-/// proportional fitting of a multiplicative model; the marginals alone would count the range's
-/// effect twice in bins that see far walls more often). A bin without beams keeps factor 1.
+/// alternating fits of A given R and of R given A (iterative proportional fitting of a
+/// multiplicative model; the marginals alone would count the range's effect twice in bins that
+/// see far walls more often).
 std::pair<std::vector<double>, std::vector<double>> keepFactors(const PatternCounts& c,
                                                                 double dropout) {
   const std::size_t na = c.beams.size(), nr = na ? c.beams[0].size() : 0;
@@ -96,22 +112,8 @@ std::pair<std::vector<double>, std::vector<double>> keepFactors(const PatternCou
   const double K = 1.0 - dropout;
   if (!(K > 0.0)) return {A, R};
   for (int pass = 0; pass < 20; ++pass) {
-    for (std::size_t a = 0; a < na; ++a) {
-      double got = 0.0, expected = 0.0;
-      for (std::size_t r = 0; r < nr; ++r) {
-        got += c.returns[a][r];
-        expected += c.beams[a][r] * K * R[r];
-      }
-      A[a] = expected > 0.0 ? got / expected : 1.0;
-    }
-    for (std::size_t r = 0; r < nr; ++r) {
-      double got = 0.0, expected = 0.0;
-      for (std::size_t a = 0; a < na; ++a) {
-        got += c.returns[a][r];
-        expected += c.beams[a][r] * K * A[a];
-      }
-      R[r] = expected > 0.0 ? got / expected : 1.0;
-    }
+    fitHalf(c, K, R, true, A);
+    fitHalf(c, K, A, false, R);
   }
   return {A, R};
 }

@@ -167,17 +167,35 @@ TEST(Twin, FitsTheWheelSlipItWasSimulatedWith) {
 
 // Dropped beams, forward and inverse: a recording that drops 5 % of its beams gives a twin whose
 // no-return fraction is the recording's.
-TEST(Twin, DropsTheBeamsTheRecordingDropped) {
+/// A figure eight in box_room with a 360-beam lidar that drops beams as `faults` says.
+Dataset droppingRecording(const sim::FaultsConfig& faults, double mount_yaw_rad = 0.0) {
   sim::SimConfig c;
   c.lidar.beams_per_revolution = 360;
+  c.lidar.T_base_lidar.yaw = mount_yaw_rad;
+  c.faults = faults;
   c.faults.enable.add(sim::Fault::dropped_beams);
-  c.faults.dropped_beam_probability = 0.05;
   const sim::Scenario s = sim::parseScenario(
       "segments:\n  - {type: figure_eight, radius_m: 0.8, speed_mps: 0.4}\n", "t.yaml");
-  const Dataset real = sim::simulate(c, sim::loadWorld(kWorlds / "box_room.yaml"), s).dataset;
+  return sim::simulate(c, sim::loadWorld(kWorlds / "box_room.yaml"), s).dataset;
+}
+
+/// The twin's simulated dataset.
+Dataset simulatedTwin(TwinFit& fit) {
+  return simulateTwin(fit, sim::parseScenario(fit.scenario_yaml, "twin-scenario.yaml")).dataset;
+}
+
+/// The twin of `real` with the nominal geometry as its truth (no calibration run).
+TwinFit uncalibratedTwin(const Dataset& real) {
   TwinParams p;
   p.calibrate = false;
-  TwinFit fit = fitTwin(real, "drops", p);
+  return fitTwin(real, "drops", p);
+}
+
+TEST(Twin, DropsTheBeamsTheRecordingDropped) {
+  sim::FaultsConfig faults;
+  faults.dropped_beam_probability = 0.05;
+  const Dataset real = droppingRecording(faults);
+  TwinFit fit = uncalibratedTwin(real);
   const auto& lidar = fit.json["lidar"];
   // The twin's range ends at the 99.9th percentile of the readings (5.3 m here): beams to the
   // room's far corners escape it, and the twin drops that much less where it has a wall.
@@ -186,10 +204,9 @@ TEST(Twin, DropsTheBeamsTheRecordingDropped) {
   EXPECT_LT(escape, 0.01);
   EXPECT_NEAR(lidar["twin_dropout_probability"]["value"].get<double>(),
               (0.05 - escape) / (1 - escape), 0.004);
-  const sim::SimResult twin =
-      simulateTwin(fit, sim::parseScenario(fit.scenario_yaml, "twin-scenario.yaml"));
   const double real_fraction = fitLidarLayout(real).no_return_fraction;
-  EXPECT_NEAR(fitLidarLayout(twin.dataset).no_return_fraction, real_fraction, 0.1 * real_fraction);
+  EXPECT_NEAR(fitLidarLayout(simulatedTwin(fit)).no_return_fraction, real_fraction,
+              0.1 * real_fraction);
 }
 
 /// No-return fraction of every 10 deg bin of the lidar-frame beam angle, from -180 deg.
@@ -213,26 +230,18 @@ std::vector<double> noReturnByAngle(const Dataset& d) {
 // with the same pattern by angle (within 0.04 in every bin, ~3 binomial sigmas of the two; the
 // product of the two marginals missed one bin by 0.068) and the same no-return fraction.
 TEST(Twin, ReproducesTheNoReturnPatternByAngleAndRange) {
-  sim::SimConfig c;
-  c.lidar.beams_per_revolution = 360;
-  c.lidar.T_base_lidar.yaw = std::numbers::pi;
-  c.faults.enable.add(sim::Fault::dropped_beams);
-  c.faults.dropped_beam_probability = 0.02;
-  c.faults.dropped_beam_by_angle = "0,1,1,1";
-  c.faults.dropped_beam_by_range = "1,1,1,1,0.3";
-  const sim::Scenario s = sim::parseScenario(
-      "segments:\n  - {type: figure_eight, radius_m: 0.8, speed_mps: 0.4}\n", "t.yaml");
-  const Dataset real = sim::simulate(c, sim::loadWorld(kWorlds / "box_room.yaml"), s).dataset;
-  TwinParams p;
-  p.calibrate = false;
-  TwinFit fit = fitTwin(real, "pattern", p);
-  const sim::SimResult twin =
-      simulateTwin(fit, sim::parseScenario(fit.scenario_yaml, "twin-scenario.yaml"));
-  const std::vector<double> want = noReturnByAngle(real), got = noReturnByAngle(twin.dataset);
+  sim::FaultsConfig faults;
+  faults.dropped_beam_probability = 0.02;
+  faults.dropped_beam_by_angle = "0,1,1,1";
+  faults.dropped_beam_by_range = "1,1,1,1,0.3";
+  const Dataset real = droppingRecording(faults, std::numbers::pi);
+  TwinFit fit = uncalibratedTwin(real);
+  const Dataset twin = simulatedTwin(fit);
+  const std::vector<double> want = noReturnByAngle(real), got = noReturnByAngle(twin);
   for (std::size_t b = 0; b < 36; ++b) EXPECT_NEAR(got[b], want[b], 0.04) << "bin " << b;
   EXPECT_GT(want[0], 0.99);  // the blocked sector
   const double real_fraction = fitLidarLayout(real).no_return_fraction;
-  EXPECT_NEAR(fitLidarLayout(twin.dataset).no_return_fraction, real_fraction, 0.1 * real_fraction);
+  EXPECT_NEAR(fitLidarLayout(twin).no_return_fraction, real_fraction, 0.1 * real_fraction);
 }
 
 }  // namespace
