@@ -332,9 +332,11 @@ nlohmann::ordered_json lidarJson(const Fitted& f) {
       {"dropout_by_range", fitted(m.dropout_by_range, "per 0.5 m of predicted range from 0")},
       {"keep_factor_by_twin_angle",
        fitted(m.keep_factor_by_twin_angle,
-              "(1 - dropout in the bin) / (1 - dropout_probability), per 10 deg of the twin's "
-              "beam angle from -180 (the recorded angle minus mount_yaw_shift_deg): the twin's "
-              "faults.dropped_beams.by_angle")},
+              "keep(angle, range) = (1 - twin_dropout_probability) x this x "
+              "keep_factor_by_range, fitted to the returns of every (10 deg, 0.5 m) bin with its "
+              "drops scaled by twin_dropout_probability / dropout_probability; per 10 deg of the "
+              "twin's beam angle from -180 (the recorded angle minus mount_yaw_shift_deg): the "
+              "twin's faults.dropped_beams.by_angle")},
       {"keep_factor_by_range",
        fitted(m.keep_factor_by_range,
               "the same per 0.5 m of predicted range: the twin's faults.dropped_beams.by_range")}};

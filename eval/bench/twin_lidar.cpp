@@ -101,16 +101,24 @@ void fitHalf(const PatternCounts& c, double K, const std::vector<double>& other,
   }
 }
 
-/// Separable factors on the chance of a return, keep(a, r) = K A[a] R[r] with K = 1 - dropout:
-/// alternating fits of A given R and of R given A (iterative proportional fitting of a
-/// multiplicative model; the marginals alone would count the range's effect twice in bins that
-/// see far walls more often).
-std::pair<std::vector<double>, std::vector<double>> keepFactors(const PatternCounts& c,
-                                                                double dropout) {
+/// Separable factors on the chance of a return for a twin that drops twin_dropout of its beams
+/// where its world has a wall, its recording dropout: keep(a, r) = (1 - twin_dropout) A[a] R[r]
+/// fitted by alternating fits of A given R and of R given A (iterative proportional fitting of
+/// a multiplicative model; the marginals alone would count the range's effect twice in bins that
+/// see far walls more often) to the recording's returns with its drops scaled by twin_dropout /
+/// dropout in every bin: the twin drops less where its escapes already give no-returns, in
+/// proportion (fitted to the returns as seen, bins that almost never drop asked for returns
+/// above 1, and the cap lost them: ACES's twin then missed 1.34x its recording's beams).
+std::pair<std::vector<double>, std::vector<double>> keepFactors(PatternCounts c, double dropout,
+                                                                double twin_dropout) {
   const std::size_t na = c.beams.size(), nr = na ? c.beams[0].size() : 0;
   std::vector<double> A(na, 1.0), R(nr, 1.0);
-  const double K = 1.0 - dropout;
-  if (!(K > 0.0)) return {A, R};
+  const double K = 1.0 - twin_dropout;
+  if (!(K > 0.0) || !(dropout > 0.0)) return {A, R};
+  const double scale = twin_dropout / dropout;
+  for (std::size_t a = 0; a < na; ++a)
+    for (std::size_t r = 0; r < nr; ++r)
+      c.returns[a][r] = c.beams[a][r] - scale * (c.beams[a][r] - c.returns[a][r]);
   for (int pass = 0; pass < 20; ++pass) {
     fitHalf(c, K, R, true, A);
     fitHalf(c, K, A, false, R);
@@ -191,7 +199,7 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
     m.dropout_by_range.push_back(
         m.predicted_by_range[b] ? double(drop_range[b]) / double(m.predicted_by_range[b]) : 0.0);
   std::tie(m.keep_factor_by_twin_angle, m.keep_factor_by_range) =
-      keepFactors(pattern, m.dropout_probability);
+      keepFactors(pattern, m.dropout_probability, m.twin_dropout_probability);
   return m;
 }
 

@@ -56,10 +56,11 @@ struct LidarAgainstMap {
   std::vector<double> dropout_by_range;         ///< per predicted-range bin from 0
   std::vector<std::size_t> predicted_by_range;  ///< beams per range bin (the denominators)
   /// The pattern as the twin's factors on a beam's chance of a return
-  /// (faults.dropped_beams.by_angle, by_range): keep(angle, range) = (1 - dropout_probability)
-  /// x angle factor x range factor, fitted to the returns of every (angle, range) bin; 1 for a
-  /// bin without beams. By angle in the twin's lidar frame (the recording's beam angle minus
-  /// mount_yaw_shift), so a blocked sector stays where the robot has it.
+  /// (faults.dropped_beams.by_angle, by_range): keep(angle, range) = (1 -
+  /// twin_dropout_probability) x angle factor x range factor, fitted to the returns of every
+  /// (angle, range) bin with its drops scaled by twin_dropout_probability / dropout_probability;
+  /// 1 for a bin without beams. By angle in the twin's lidar frame (the recording's beam angle
+  /// minus mount_yaw_shift), so a blocked sector stays where the robot has it.
   std::vector<double> keep_factor_by_twin_angle;
   std::vector<double> keep_factor_by_range;
 };
