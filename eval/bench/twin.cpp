@@ -465,8 +465,7 @@ double matchedResidual(const Dataset& d) {
 
 const char* const kNotReproduced[] = {
     "the beam count varies only where the recording's does not: the twin has one count",
-    "the no-return pattern by angle and by range together: the twin's chance of a return is "
-    "the product of the two (independent) patterns",
+    "a no-return pattern in which angle and range interact: the twin's is the two's product",
     "twist spikes (import --json reports them; the dataset does not keep the twist)",
     "slip in turns beyond the physics' own",
     "moving people and objects: their returns are cut from the world where the robot drove"};
