@@ -129,7 +129,7 @@ class BeamKeep {
 
   bool shaped() const { return !by_angle_.empty() || !by_range_.empty(); }
 
-  double probability(double angle_rad, double range_m) const {
+  double returnProbability(double angle_rad, double range_m) const {
     double keep = keep_;
     if (!by_angle_.empty()) {
       const double turn = (std::remainder(angle_rad, 2 * std::numbers::pi) + std::numbers::pi) /
@@ -162,7 +162,7 @@ json dropBeams(const FaultsConfig& f, std::uint64_t seed, std::vector<ScanRecord
     for (std::size_t i = 0; i < r.scan.size(); ++i) {
       const double u = rng.uniform();
       const bool drop = keep.shaped()
-                            ? !(u < keep.probability(r.scan.beamAngle(i), r.scan.ranges_m[i]))
+                            ? !(u < keep.returnProbability(r.scan.beamAngle(i), r.scan.ranges_m[i]))
                             : u < f.dropped_beam_probability;
       if (!drop) continue;
       r.scan.ranges_m[i] = std::numeric_limits<double>::infinity();
