@@ -164,6 +164,23 @@ algo::CalibrationInput datasetInput(const DatasetCalibrationParams& params,
   return input;
 }
 
+/// The wheels and the gyro moved onto the scans' clock (algo::syncOntoScanClock), `motion`
+/// matched again from the moved data; a ground-truth motion does not depend on the clocks, so
+/// it is moved once and kept. Returns the wheels' shift (0: none).
+double syncClocks(Dataset& used, const algo::SensorAgreement& first,
+                  const DatasetCalibrationParams& params, CalibrationMotion& motion) {
+  if (params.motion.source == MotionSource::kGroundTruth) {
+    const algo::ClockShift shift = algo::scanClockShift(first, params.min_sync_lag_s);
+    if (shift.any()) algo::shiftOntoScanClock(used, shift);
+    return shift.wheels_s;
+  }
+  return algo::syncOntoScanClock(used, first, params.min_sync_lag_s, params.min_refine_lag_s,
+                                 [&](const Dataset& synced) {
+                                   motion = calibrationMotion(synced, params.motion);
+                                   return motion.chains;
+                                 });
+}
+
 // The intervals of the interval methods: read from --tuples, or cut from the dataset's motion
 // (scan matching or the truth), with the sensor agreement and the clock sync on the way.
 void cutIntervals(const DatasetCalibrationParams& params, std::optional<Dataset>& dataset,
@@ -187,25 +204,13 @@ void cutIntervals(const DatasetCalibrationParams& params, std::optional<Dataset>
   out.from_motion = true;
   out.agreement = algo::compareSensors(algo::datasetSources(d, algo::scanPieces(motion.chains)));
   out.encoders_from = algo::encodersFrom(d.info);
-  // Synced (algo::syncOntoScanClock), the intervals are cut from the last match. A real robot's
-  // odometry reached the log 0.1-0.35 s before its scans: an interval one scan period long then
-  // pairs the scans' motion with the wheels' motion of another moment.
-  if (params.sync_clocks && params.motion.source != MotionSource::kGroundTruth) {
-    out.clock_offset_s =
-        algo::syncOntoScanClock(used, *out.agreement, params.min_sync_lag_s,
-                                params.min_refine_lag_s, [&](const Dataset& synced) {
-                                  motion = calibrationMotion(synced, params.motion);
-                                  return motion.chains;
-                                });
+  // Synced, the intervals are cut again from the (last) motion. A real robot's odometry reached
+  // the log 0.1-0.35 s before its scans: an interval one scan period long then pairs the scans'
+  // motion with the wheels' motion of another moment.
+  if (params.sync_clocks) {
+    out.clock_offset_s = syncClocks(used, *out.agreement, params, motion);
     if (out.clock_offset_s != 0.0)
       out.intervals = algo::buildIntervals(used, motion.chains, params.motion.intervals);
-  } else if (params.sync_clocks) {
-    const algo::ClockShift shift = algo::scanClockShift(*out.agreement, params.min_sync_lag_s);
-    if (shift.any()) {
-      algo::shiftOntoScanClock(used, shift);
-      out.clock_offset_s = shift.wheels_s;
-      out.intervals = algo::buildIntervals(used, motion.chains, params.motion.intervals);
-    }
   }
   out.failed_matches = motion.failed_matches;
   out.loops = motion.loops;
