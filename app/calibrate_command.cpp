@@ -431,8 +431,9 @@ void addCalibrateModel(CLI::App* cli, CalibrateFlags& flags) {
                 "reads as r_R != r_L and which no sigma of the same log can show");
   cli->add_option("--sync", flags.sync,
                   "auto: where the sensor agreement finds the scans lagging the wheels by more "
-                  "than 20 ms, move the wheels' stamps onto the scans' clock before cutting "
-                  "intervals; none: the stamps as logged")
+                  "than 20 ms, move the wheels' (and the gyro's) stamps onto the scans' clock, "
+                  "match the scans again and move what delay is left, before cutting intervals; "
+                  "none: the stamps as logged")
       ->check(oneOf("sync", {"auto", "none"}))
       ->capture_default_str();
   cli->add_option("--lidar-mount", flags.lidar_mount,
