@@ -1,5 +1,7 @@
 #include "slamprep/core/heading.hpp"
 
+#include <cmath>
+
 namespace slamprep {
 
 HeadingSeries gyroHeading(const ImuLog& imu) {
@@ -24,6 +26,22 @@ HeadingSeries poseHeading(const PoseSeries& poses) {
     heading.push_back(poses[k].stamp_s, yaw);
   }
   return heading;
+}
+
+TimeSeries<double> poseTravel(const PoseSeries& poses) {
+  TimeSeries<double> travel;
+  travel.reserve(poses.size());
+  double s = 0.0;
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    if (k > 0) {
+      const SE2& a = poses[k - 1].value;
+      const SE2& b = poses[k].value;
+      const double yaw = a.yaw + 0.5 * normalizeAngle(b.yaw - a.yaw);
+      s += (b.x - a.x) * std::cos(yaw) + (b.y - a.y) * std::sin(yaw);
+    }
+    travel.push_back(poses[k].stamp_s, s);
+  }
+  return travel;
 }
 
 std::optional<double> turned(const HeadingSeries& heading, double t0_s, double t1_s,

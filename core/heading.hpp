@@ -18,6 +18,10 @@ HeadingSeries gyroHeading(const ImuLog& imu);
 /// The poses' yaw, unwrapped (each step taken as the shorter way round).
 HeadingSeries poseHeading(const PoseSeries& poses);
 
+/// The poses' signed travel along their heading, cumulative (m): each step's displacement
+/// projected onto the mean of its two headings, so reversing counts negative.
+TimeSeries<double> poseTravel(const PoseSeries& poses);
+
 /// What `heading` turned from t0 to t1; nullopt where it does not cover both or, inside them,
 /// two samples lie more than max_gap_s apart (nothing is known of the turn in between).
 std::optional<double> turned(const HeadingSeries& heading, double t0_s, double t1_s,

@@ -34,6 +34,7 @@ nlohmann::ordered_json pairJson(const PairAgreement& p) {
                               {"sigma_deg", p.sigma_rad * kDeg}};
   if (p.wheel_ratios) j["wheel_ratios"] = {(*p.wheel_ratios)(0), (*p.wheel_ratios)(1)};
   if (p.effective_wheel_base_m) j["effective_wheel_base_m"] = *p.effective_wheel_base_m;
+  if (p.travel_rad_per_m) j["travel_deg_per_m"] = *p.travel_rad_per_m * kDeg;
   j["agree"] = p.disagreements.empty();
   j["disagreements"] = spans;
   return j;
@@ -51,6 +52,8 @@ std::string pairText(const PairAgreement& p, double t_start) {
                        p.windows, p.a.c_str(), p.scale, p.b.c_str());
   if (p.effective_wheel_base_m)
     s += line(" (wheel base %.1f mm with the nominal radii)", *p.effective_wheel_base_m * 1e3);
+  if (p.travel_rad_per_m)
+    s += line(" and %.2f deg per m of the odometry's travel", *p.travel_rad_per_m * kDeg);
   if (p.lag_s != 0.0) s += line(", %s %.2f s late", p.b.c_str(), p.lag_s);
   s += line(", rms %.2f deg per window", p.rms_residual_rad * kDeg);
   if (p.disagreements.empty()) return s + ", agree\n";

@@ -40,10 +40,15 @@ RotationSources datasetSources(const Dataset& d, std::vector<HeadingSeries> scan
   // the logged topic beside joint states, or a dataset odometry whose heading is the gyro's.
   const bool gyro_headed =
       d.info.config.is_object() && d.info.config.value("odometry_heading", "") == "gyro";
+  const PoseSeries* topic = nullptr;
   if (!d.odometry_logged.empty() && (!s.wheels || s.wheels->from != "odometry_poses"))
-    s.odometry = poseHeading(d.odometry_logged);
+    topic = &d.odometry_logged;
   else if ((!s.wheels || gyro_headed) && d.odom_nominal.size() >= 2)
-    s.odometry = poseHeading(d.odom_nominal);
+    topic = &d.odom_nominal;
+  if (topic) {
+    s.odometry = poseHeading(*topic);
+    s.odometry_travel = poseTravel(*topic);
+  }
   s.scans = std::move(scan_pieces);
   return s;
 }

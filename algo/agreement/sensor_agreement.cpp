@@ -29,6 +29,7 @@ struct Source {
   std::vector<HeadingSeries> pieces;
   const WheelTrack* wheels = nullptr;
   bool is_gyro = false;
+  const TimeSeries<double>* travel = nullptr;  ///< the odometry topic's signed travel
   /// Poses and wheel angles keep what they turned across a gap between samples; rates do not.
   double gapLimit(double max_gap_s) const {
     return is_gyro ? max_gap_s : std::numeric_limits<double>::infinity();
@@ -52,6 +53,21 @@ std::optional<Eigen::Vector2d> wheelTurn(const WheelTrack& w, double t0, double 
   return *w.phi_rad.at(t1) - *w.phi_rad.at(t0);
 }
 
+/// The columns of a pair's equation: Eq. 1's (a, c) or Eq. 2's s, then g and k where they apply.
+struct Columns {
+  bool bias = false;              ///< g: one source is the gyro
+  const Source* mover = nullptr;  ///< k: Eq. 2 with the odometry topic, whose travel it is
+  Eigen::Index size() const { return 2 + (bias ? 1 : 0) + (mover ? 1 : 0); }
+  Eigen::Index travelIndex() const { return bias ? 3 : 2; }
+};
+
+Columns columnsOf(const Source& a, const Source& b) {
+  Columns c;
+  c.bias = a.is_gyro || b.is_gyro;
+  if (!a.wheels) c.mover = a.travel ? &a : (b.travel ? &b : nullptr);
+  return c;
+}
+
 /// The equation of one window [t0, t1] (Eq. 1 where a is the wheels, else Eq. 2); nullopt where
 /// a source does not cover it.
 std::optional<Row> rowAt(const Source& a, const Source& b, double t0, double t1, double lag_s,
@@ -59,8 +75,8 @@ std::optional<Row> rowAt(const Source& a, const Source& b, double t0, double t1,
   const auto da = a.turn(t0, t1, p.max_gap_s);
   const auto db = b.turn(t0 + lag_s, t1 + lag_s, p.max_gap_s);
   if (!da || !db) return std::nullopt;
-  const bool bias = a.is_gyro || b.is_gyro;
-  Eigen::VectorXd x(bias ? 3 : 2);
+  const Columns c = columnsOf(a, b);
+  Eigen::VectorXd x(c.size());
   if (a.wheels) {
     const auto dphi = wheelTurn(*a.wheels, t0, t1, a.gapLimit(p.max_gap_s));
     if (!dphi) return std::nullopt;
@@ -68,7 +84,14 @@ std::optional<Row> rowAt(const Source& a, const Source& b, double t0, double t1,
   } else {
     x.head<2>() << *da, 0.0;  // Eq. 2: s dA (the second column stays unused)
   }
-  if (bias) x(2) = t1 - t0;
+  if (c.bias) x(2) = t1 - t0;
+  if (c.mover) {
+    const double shift = c.mover == &b ? lag_s : 0.0;
+    const auto ds =
+        turned(*c.mover->travel, t0 + shift, t1 + shift, c.mover->gapLimit(p.max_gap_s));
+    if (!ds) return std::nullopt;
+    x(c.travelIndex()) = *ds;
+  }
   return Row{t0, t1, *db, x, *da, *db};
 }
 
@@ -276,7 +299,9 @@ PairAgreement comparePair(const Source& a, const Source& b, const AgreementParam
   out.scale = sum_b > 0.0 ? sum_a / sum_b : 1.0;
   out.rms_residual_rad = out.kept ? std::sqrt(sum_sq / double(out.kept)) : 0.0;
   out.sigma_rad = f.sigma;
-  if (f.coef.size() == 3) out.bias_radps = f.coef(2);
+  const Columns c = columnsOf(a, b);
+  if (c.bias) out.bias_radps = f.coef(2);
+  if (c.mover) out.travel_rad_per_m = f.coef(c.travelIndex());
   if (a.wheels) {
     out.wheel_ratios = Eigen::Vector2d(f.coef(0), f.coef(1));
     const DiffDriveParams& g = a.wheels->nominal;
@@ -307,13 +332,15 @@ std::vector<HeadingSeries> usable(std::vector<HeadingSeries> pieces) {
 std::vector<Source> namedSources(const RotationSources& in) {
   std::vector<Source> out;
   auto add = [&](const char* name, std::vector<HeadingSeries> pieces, const WheelTrack* wheels,
-                 bool gyro) {
+                 bool gyro, const TimeSeries<double>* travel = nullptr) {
     pieces = usable(std::move(pieces));
-    if (!pieces.empty()) out.push_back({name, std::move(pieces), wheels, gyro});
+    if (!pieces.empty()) out.push_back({name, std::move(pieces), wheels, gyro, travel});
   };
   if (in.wheels) add("wheels", {wheelHeading(*in.wheels, in.wheels->nominal)}, &*in.wheels, false);
   if (in.gyro) add("gyro", {*in.gyro}, nullptr, true);
-  if (in.odometry) add("odometry", {*in.odometry}, nullptr, false);
+  const bool travels = in.odometry_travel && in.odometry_travel->size() >= 2;
+  if (in.odometry)
+    add("odometry", {*in.odometry}, nullptr, false, travels ? &*in.odometry_travel : nullptr);
   add("scans", in.scans, nullptr, false);
   return out;
 }

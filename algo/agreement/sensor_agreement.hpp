@@ -13,7 +13,8 @@
 //     a = r_R / b, c = r_L / b: every wheel geometry is such a pair, so what Eq. 1 leaves
 //     over is what no wheel geometry explains;
 //   two rotation references A and B:
-//     dB_w = s dA_w  (+ g dt_w where one of them is the gyro).                           (Eq. 2)
+//     dB_w = s dA_w  (+ g dt_w where one is the gyro) (+ k ds_w where one is the odometry
+//     topic, ds_w its signed travel: unequal radii in its geometry turn it as it drives). (Eq. 2)
 // Fit: least absolute deviations first (a block of faulty windows drags least squares, not it),
 // then the windows beyond outlier_sigmas robust sigmas (1.4826 MAD over all windows) dropped and
 // least squares on the rest, repeated until the kept set repeats; b's clock delay behind a's is
@@ -48,6 +49,9 @@ struct RotationSources {
   /// The scan-matched heading, in pieces: chained scan-to-scan matches break where a match
   /// failed, and nothing is known of the turn across a break.
   std::vector<HeadingSeries> scans;
+  /// The odometry topic's signed travel (poseTravel), for Eq. 2's k: a topic integrated from
+  /// wheels with unequal nominal radii turns in proportion to it.
+  std::optional<TimeSeries<double>> odometry_travel;
 };
 
 struct AgreementParams {
@@ -98,6 +102,8 @@ struct PairAgreement {
   double lag_s = 0.0;       ///< b's stamps lag a's by this (b read at t + lag_s)
   double scale = 1.0;       ///< over the kept windows: sum |dA| / sum |dB| (wheels: nominal)
   double bias_radps = 0.0;  ///< g of Eq. 1 / Eq. 2 (0 without a gyro)
+  /// k of Eq. 2 where one source is the odometry topic: what it turns per metre of its travel.
+  std::optional<double> travel_rad_per_m;
   /// Eq. 1: (a, c) = (r_R / b, r_L / b), and b with the nominal radii: (r_L + r_R) / (a + c).
   std::optional<Eigen::Vector2d> wheel_ratios;
   std::optional<double> effective_wheel_base_m;
