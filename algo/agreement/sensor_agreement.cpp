@@ -345,10 +345,11 @@ std::vector<Source> namedSources(const RotationSources& in) {
   return out;
 }
 
-std::string fmtPercent(double ratio) {
+/// "3.8 % more" or "3.8 % less": a ratio as words, never "-3.8 % more".
+std::string fmtMoreOrLess(double ratio) {
   std::ostringstream s;
   s.precision(1);
-  s << std::fixed << 100.0 * (ratio - 1.0);
+  s << std::fixed << 100.0 * std::abs(ratio - 1.0) << (ratio >= 1.0 ? " % more" : " % less");
   return s.str();
 }
 
@@ -367,8 +368,8 @@ void findGyroHeading(const SensorAgreement& s, const RotationSources& in,
         " deg RMS per window (the wheels: " + fmtDeg(wg->rms_residual_rad) +
         " deg) while the wheels, with the nominal "
         "geometry, turn " +
-        fmtPercent(wo->scale) +
-        " % more than it: a gyro-heading odometry (e.g. TurtleBot3's use_imu). "
+        fmtMoreOrLess(wo->scale) +
+        " than it: a gyro-heading odometry (e.g. TurtleBot3's use_imu). "
         "Calibration uses the wheels, not the odometry topic");
   if (!og && wg && in.wheels && in.wheels->from == "odometry_poses" && wg->kept > 0 &&
       std::abs(wg->scale - 1.0) < 0.01 && wg->rms_residual_rad < 0.5 / kDeg)
