@@ -2,10 +2,12 @@
 // (1 kHz physics, 720-beam 10 Hz lidar, 100 Hz encoders, 200 Hz IMU) on one core.
 // Goal: real-time factor >= 150 (simulated seconds per CPU second), memory reused between runs as
 // in slamprep (core/freed_memory.hpp); ColdPages: each run on fresh pages.
-// Counters: rtf = simulated seconds per CPU second; beams_per_s = lidar beams per CPU second.
+// Counters: rtf = simulated seconds per CPU second; beams_per_s = lidar beams per CPU second;
+// faults = page faults per run (each costs ~20 us on this project's VMs).
 // Run: bench_sim [--benchmark_out=results.json --benchmark_out_format=json]
 
 #include <benchmark/benchmark.h>
+#include <sys/resource.h>
 
 #include <filesystem>
 
@@ -35,6 +37,13 @@ const Inputs& inputs() {
 /// BM_FigureEightPhysicsColdPages measures a run on fresh pages.
 [[maybe_unused]] const bool kKeepFreedMemory = (keepFreedMemory(), true);
 
+/// Minor page faults of the process so far.
+double pageFaults() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_minflt);
+}
+
 /// Every run on fresh pages, as the only simulation of a process: the freed memory goes back to
 /// the kernel between runs (outside the timing).
 void returnFreedMemory(benchmark::State& state) {
@@ -48,6 +57,7 @@ void returnFreedMemory(benchmark::State& state) {
 void runSimulation(benchmark::State& state, const SimConfig& config, bool cold_pages = false) {
   const Inputs& in = inputs();
   double sim_s = 0.0, beams = 0.0;
+  const double faults_before = pageFaults();
   for (auto _ : state) {
     {
       const SimResult result = simulate(config, in.world, in.scenario);
@@ -59,6 +69,8 @@ void runSimulation(benchmark::State& state, const SimConfig& config, bool cold_p
   }
   state.counters["rtf"] = benchmark::Counter(sim_s, benchmark::Counter::kIsRate);
   state.counters["beams_per_s"] = benchmark::Counter(beams, benchmark::Counter::kIsRate);
+  state.counters["faults"] =
+      benchmark::Counter(pageFaults() - faults_before, benchmark::Counter::kAvgIterations);
 }
 
 /// The goal: everything on, physics mode.

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "slamprep/core/error.hpp"
+#include "slamprep/core/freed_memory.hpp"
 #include "slamprep/core/gyro_odometry.hpp"
 #include "slamprep/core/odometry.hpp"
 #include "slamprep/core/paths.hpp"
@@ -369,8 +370,20 @@ std::int64_t physicsStepCount(const SimConfig& config, double duration_s) {
   return static_cast<std::int64_t>(std::ceil(duration_s * config.physics_rate_hz - 1e-9));
 }
 
-/// Every output's length is known: reserve it, so the logs are not copied while they grow.
+/// Bytes of the logs a run fills; the scans' ranges and true points are most of them.
+std::size_t outputBytes(const SimConfig& config, double duration_s) {
+  const double beams = duration_s * config.lidar.rate_hz * config.lidar.beams_per_revolution;
+  const double poses = duration_s * (config.physics_rate_hz + config.encoders.rate_hz);
+  return static_cast<std::size_t>(
+      beams * (sizeof(double) + sizeof(std::optional<Eigen::Vector2d>)) +
+      poses * sizeof(Stamped<SE2>) + duration_s * config.encoders.rate_hz * sizeof(EncoderSample) +
+      duration_s * config.imu.rate_hz * sizeof(ImuSample));
+}
+
+/// Every output's length is known: reserve it, so the logs are not copied while they grow. In a
+/// process's first run their memory is fresh: on huge pages it takes 512x fewer page faults.
 void reserveOutputs(const SimConfig& config, double duration_s, Dataset& data) {
+  backNextAllocationsWithHugePages(outputBytes(config, duration_s));
   data.groundtruth.reserve(static_cast<std::size_t>(physicsStepCount(config, duration_s)) + 1);
   data.encoders.reserve(static_cast<std::size_t>(duration_s * config.encoders.rate_hz) + 2);
   data.imu.reserve(static_cast<std::size_t>(duration_s * config.imu.rate_hz) + 2);
