@@ -2,6 +2,7 @@
 
 #include <btBulletDynamicsCommon.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -383,7 +384,9 @@ std::size_t outputBytes(const SimConfig& config, double duration_s) {
 /// Every output's length is known: reserve it, so the logs are not copied while they grow. In a
 /// process's first run their memory is fresh: on huge pages it takes 512x fewer page faults.
 void reserveOutputs(const SimConfig& config, double duration_s, Dataset& data) {
-  backNextAllocationsWithHugePages(outputBytes(config, duration_s));
+  // Capped: a day-long run's logs are gigabytes, and its faults are not what it waits for.
+  constexpr std::size_t kMaxHugePageBytes = std::size_t{256} << 20;
+  backNextAllocationsWithHugePages(std::min(outputBytes(config, duration_s), kMaxHugePageBytes));
   data.groundtruth.reserve(static_cast<std::size_t>(physicsStepCount(config, duration_s)) + 1);
   data.encoders.reserve(static_cast<std::size_t>(duration_s * config.encoders.rate_hz) + 2);
   data.imu.reserve(static_cast<std::size_t>(duration_s * config.imu.rate_hz) + 2);
