@@ -218,7 +218,10 @@ void addImportSources(CLI::App* cli, const std::shared_ptr<ImportFlags>& flags) 
       ->check(oneOf("odometry source", {"odom", "laser"}));
   cli->add_option("--base-frame", flags->params.base_frame, "bags: the robot's base frame in tf")
       ->capture_default_str();
-  cli->add_flag("--trim", flags->params.trim, "drop scans the odometry does not cover");
+  cli->add_flag("--trim,!--no-trim", flags->params.trim,
+                "drop the scans the odometry does not cover, before its first sample or after its "
+                "last (the default: topics start and stop at different times; the note says how "
+                "many); --no-trim refuses such a log instead, naming the first such scan");
   cli->add_option("--scan-topic", flags->params.scan_topic, "bags: LaserScan topic");
   cli->add_option("--odom-topic", flags->params.odom_topic, "bags: Odometry topic");
   cli->add_option("--joint-topic", flags->params.joint_topic, "bags: JointState topic");

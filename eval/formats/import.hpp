@@ -57,8 +57,9 @@ struct ImportParams {
   std::string odometry;
   /// MCAP: the robot's base frame in the tf tree.
   std::string base_frame = "base_link";
-  /// Drop the scans that the odometry does not cover instead of refusing the log.
-  bool trim = false;
+  /// Drop the scans that the odometry does not cover (before its first sample or after its last,
+  /// as topics start and stop at different times) instead of refusing the log (--no-trim).
+  bool trim = true;
   /// MCAP topics; empty = the only channel of that message type (or /scan, /odom,
   /// /joint_states, /imu when there are several).
   std::string scan_topic, odom_topic, joint_topic, imu_topic;
@@ -99,7 +100,7 @@ struct ImportSummary {
 
 /// The scans of an import that spilled them (ImportParams::spill_dir), in stamp order, ready to
 /// be written: mount, time increment and odometry pose applied as the in-memory import applies
-/// them; a scan the odometry does not cover is dropped with --trim, else next() throws.
+/// them; a scan the odometry does not cover is dropped (ImportParams::trim), else next() throws.
 class ScanStream {
  public:
   virtual ~ScanStream() = default;

@@ -35,7 +35,7 @@ bool attachOdometryTo(ScanRecord& r, const PoseSeries& odometry, bool trim,
                          (odometry.empty() ? std::string("none")
                                            : std::to_string(odometry.frontStamp()) + ".." +
                                                  std::to_string(odometry.backStamp()) + " s") +
-                         "); use --trim to drop such scans");
+                         "); without --no-trim such scans are dropped");
   }
   r.T_odom_base_nominal = odometry.at(r.scan.stamp_s);
   return true;
@@ -44,7 +44,9 @@ bool attachOdometryTo(ScanRecord& r, const PoseSeries& odometry, bool trim,
 std::string trimmedNote(std::size_t dropped) {
   return dropped == 0
              ? ""
-             : std::to_string(dropped) + " scans outside the odometry were dropped (--trim)";
+             : std::to_string(dropped) +
+                   " scans outside the odometry (before its first sample or after its last) "
+                   "were dropped (--trim, the default; --no-trim refuses them)";
 }
 
 void attachOdometry(Dataset& d, bool trim, const std::vector<std::string>& scan_where,

@@ -22,7 +22,7 @@ void checkParams(const ImportParams& p);
 bool attachOdometryTo(ScanRecord& scan, const PoseSeries& odometry, bool trim,
                       const std::string& where);
 
-/// "N scans outside the odometry were dropped (--trim)"; empty when none was.
+/// "N scans outside the odometry ... were dropped (--trim, ...)"; empty when none was.
 std::string trimmedNote(std::size_t dropped);
 
 /// Attaches the odometry to the scans; refuses (or with trim drops) scans it does not cover.

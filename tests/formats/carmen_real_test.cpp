@@ -69,12 +69,13 @@ TEST(CarmenExcerpts, AcesImportsWithItsOdomLinesAndZeroMount) {
 }
 
 TEST(CarmenExcerpts, Fr079MountIsTheFrontLaserOffsetParam) {
-  // The first FLASER (1211.520329) precedes the first ODOM (1211.530144): --trim drops it.
-  EXPECT_TRUE(contains(refusal(readTextFile(excerpt("carmen_fr079/fr079_first60s.clf"))),
+  // The first FLASER (1211.520329) precedes the first ODOM (1211.530144): dropped unless
+  // --no-trim, which refuses it.
+  ImportParams strict;
+  strict.trim = false;
+  EXPECT_TRUE(contains(refusal(readTextFile(excerpt("carmen_fr079/fr079_first60s.clf")), strict),
                        "scan at 1211.520329"));
-  ImportParams p;
-  p.trim = true;
-  const ImportResult r = importExcerpt("carmen_fr079/fr079_first60s.clf", p);
+  const ImportResult r = importExcerpt("carmen_fr079/fr079_first60s.clf", {});
   const Dataset& d = r.dataset;
   EXPECT_EQ(d.info.T_base_lidar.x, -0.04);
   EXPECT_EQ(d.info.T_base_lidar.y, 0.0);

@@ -92,15 +92,21 @@ TEST(ImportCarmen, ScansOutsideTheOdometryAreRefusedOrTrimmed) {
                           "ROBOTLASER1 0 -1.5707963267948966 3.141592653589793 "
                           "0.7853981633974483 20 0.01 0 5 1 1 1 1 1 0 0 0 0 0 0 0 0 0 0 0 0 "
                           "101 host 101\n";
+  ImportParams strict;
+  strict.trim = false;  // --no-trim
   try {
-    importCarmen(log, "run.clf");
+    importCarmen(log, "run.clf", strict);
     FAIL();
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("run.clf:7: scan at 101"), std::string::npos) << e.what();
   }
-  ImportParams p;
-  p.trim = true;
-  EXPECT_EQ(importCarmen(log, "run.clf", p).dataset.scans.size(), 2u);
+  const ImportResult trimmed = importCarmen(log, "run.clf");  // the default drops it
+  EXPECT_EQ(trimmed.dataset.scans.size(), 2u);
+  const std::string notes = ::testing::PrintToString(trimmed.notes);
+  EXPECT_NE(notes.find("1 scans outside the odometry (before its first sample or after its last) "
+                       "were dropped"),
+            std::string::npos)
+      << notes;
   EXPECT_THROW(importCarmen("ODOM 0 0 0 0 0 0 1 h 1\n", "x.clf"), InputError);  // no laser
 }
 
