@@ -355,8 +355,8 @@ std::string fmtMoreOrLess(double ratio) {
 
 /// A heading taken from the gyro shows as an odometry topic that follows the gyro far more
 /// closely than the robot's own wheels do, and turns differently from its wheels.
-void findGyroHeading(const SensorAgreement& s, const RotationSources& in,
-                     std::vector<std::string>& findings) {
+void findGyroHeading(SensorAgreement& s, const RotationSources& in) {
+  std::vector<std::string>& findings = s.findings;
   const PairAgreement* og = s.pair("gyro", "odometry");
   const PairAgreement* wg = s.pair("wheels", "gyro");
   const PairAgreement* wo = s.pair("wheels", "odometry");
@@ -372,12 +372,14 @@ void findGyroHeading(const SensorAgreement& s, const RotationSources& in,
         " than it: a gyro-heading odometry (e.g. TurtleBot3's use_imu). "
         "Calibration uses the wheels, not the odometry topic");
   if (!og && wg && in.wheels && in.wheels->from == "odometry_poses" && wg->kept > 0 &&
-      std::abs(wg->scale - 1.0) < 0.01 && wg->rms_residual_rad < 0.5 / kDeg)
+      std::abs(wg->scale - 1.0) < 0.01 && wg->rms_residual_rad < 0.5 / kDeg) {
+    s.wheels_follow_gyro = true;
     findings.push_back(
         "the odometry's heading follows the gyro to " + fmtDeg(wg->rms_residual_rad) +
         " deg RMS per window: if the robot takes its heading from the gyro (a gyro-heading "
         "odometry, e.g. TurtleBot3's use_imu), the wheel increments derived from its poses carry "
         "the gyro's rotation and the wheel base cannot be calibrated from them");
+  }
 }
 
 }  // namespace
@@ -410,7 +412,7 @@ SensorAgreement compareSensors(const RotationSources& in, const AgreementParams&
   for (std::size_t i = 0; i < sources.size(); ++i)
     for (std::size_t j = i + 1; j < sources.size(); ++j)
       out.pairs.push_back(comparePair(sources[i], sources[j], params));
-  findGyroHeading(out, in, out.findings);
+  findGyroHeading(out, in);
   return out;
 }
 

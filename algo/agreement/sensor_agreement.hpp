@@ -118,6 +118,10 @@ struct SensorAgreement {
   std::vector<PairAgreement> pairs;
   /// Recording-level conclusions in words (a gyro-heading odometry, ...).
   std::vector<std::string> findings;
+  /// The wheel angles were derived from an odometry topic that turns as the gyro does (scale
+  /// within 1 %, under 0.5 deg RMS per window): if its heading is the gyro's, their rotation is
+  /// too, and no wheel base can be calibrated from them (one of the findings).
+  bool wheels_follow_gyro = false;
 
   const PairAgreement* pair(const std::string& a, const std::string& b) const;
   /// The wheels and the gyro disagree beyond every wheel geometry somewhere: what calibrate

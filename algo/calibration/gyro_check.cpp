@@ -33,4 +33,14 @@ std::optional<NominalFlag> gyroFlag(const CalibrationResult& result,
   return NominalFlag{"b_vs_gyro", b / *b_gyro, cause};
 }
 
+std::optional<NominalFlag> gyroHeadedWheelsFlag(const CalibrationResult& result,
+                                                const SensorAgreement& agreement) {
+  if (!result.ok || !agreement.wheels_follow_gyro) return std::nullopt;
+  return NominalFlag{"b_not_measured", 1.0,
+                     "the wheel increments were derived from an odometry topic that turns as the "
+                     "gyro does (to within 1 %): if its heading is the gyro's (e.g. TurtleBot3's "
+                     "use_imu), b compares the gyro with the scans, not the wheels; record the "
+                     "wheel joints (/joint_states) to calibrate b"};
+}
+
 }  // namespace slamprep::algo

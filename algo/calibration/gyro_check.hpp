@@ -29,4 +29,10 @@ std::optional<NominalFlag> gyroFlag(const CalibrationResult& result,
                                     const SensorAgreement& agreement,
                                     const GyroCheckParams& params = {});
 
+/// A flag with param "b_not_measured" (ratio 1) where the wheels follow the gyro
+/// (SensorAgreement::wheels_follow_gyro): the b of such a result is the gyro's rotation against
+/// the scans', whatever the wheels are.
+std::optional<NominalFlag> gyroHeadedWheelsFlag(const CalibrationResult& result,
+                                                const SensorAgreement& agreement);
+
 }  // namespace slamprep::algo

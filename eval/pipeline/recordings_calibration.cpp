@@ -101,9 +101,12 @@ algo::MethodReport methodReport(const algo::CalibrationRun& run, const Recording
   algo::MethodReport m{run, {}, std::nullopt};
   if (!r.dataset.empty())  // --tuples alone has no nominal geometry to compare with
     m.flags = algo::nominalFlags(run.result, r.calibration.nominal, p.flags);
-  if (r.calibration.agreement && algo::isIntervalMethod(run.method))
+  if (r.calibration.agreement && algo::isIntervalMethod(run.method)) {
     if (const auto flag = algo::gyroFlag(run.result, *r.calibration.agreement))
       m.flags.push_back(*flag);
+    if (const auto flag = algo::gyroHeadedWheelsFlag(run.result, *r.calibration.agreement))
+      m.flags.push_back(*flag);
+  }
   if (r.held_out && run.result.ok) m.validation = validationOf(r, run, p.validate_fraction);
   if (m.validation)
     if (const auto flag = algo::validationFlag(*m.validation)) m.flags.push_back(*flag);

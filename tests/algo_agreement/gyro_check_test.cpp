@@ -46,5 +46,18 @@ TEST(GyroCheck, FlagsAWheelBaseTheGyroDoesNotSupport) {
   EXPECT_FALSE(gyroFlag(result(0.55, 0.001), SensorAgreement{}));  // no gyro: nothing to say
 }
 
+TEST(GyroCheck, FlagsAWheelBaseFromWheelsThatFollowTheGyro) {
+  SensorAgreement derived = gyroSays(0.1, 0.1, 0.5);
+  EXPECT_FALSE(gyroHeadedWheelsFlag(result(0.5, 0.001), derived));
+  derived.wheels_follow_gyro = true;
+  const auto flag = gyroHeadedWheelsFlag(result(0.5, 0.001), derived);
+  ASSERT_TRUE(flag);
+  EXPECT_EQ(flag->param, "b_not_measured");
+  EXPECT_NE(flag->likely_cause.find("/joint_states"), std::string::npos) << flag->likely_cause;
+  CalibrationResult refused = result(0.5, 0.001);
+  refused.ok = false;
+  EXPECT_FALSE(gyroHeadedWheelsFlag(refused, derived));  // a refusal has nothing to flag
+}
+
 }  // namespace
 }  // namespace slamprep::algo

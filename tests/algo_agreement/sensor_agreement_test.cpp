@@ -53,7 +53,8 @@ Drive drive(double lifted_from_s = 1e9, double lifted_to_s = 1e9) {
 
 TEST(SensorAgreement, AWrongNominalWheelBaseIsAScaleNotADisagreement) {
   const Drive d = drive();
-  const SensorAgreement a = compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}});
+  const SensorAgreement a =
+      compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}, std::nullopt});
   const PairAgreement* p = a.pair("wheels", "gyro");
   ASSERT_NE(p, nullptr);
   EXPECT_NEAR(p->lag_s, 0.0, 0.02);  // the two clocks agree
@@ -70,7 +71,8 @@ TEST(SensorAgreement, AWrongNominalWheelBaseIsAScaleNotADisagreement) {
 
 TEST(SensorAgreement, ALiftedRobotIsADisagreementWithItsCause) {
   const Drive d = drive(50.0, 60.0);  // turning -338 deg meanwhile
-  const SensorAgreement a = compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}});
+  const SensorAgreement a =
+      compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}, std::nullopt});
   const PairAgreement* p = a.wheelsGyroConflict();
   ASSERT_NE(p, nullptr) << agreementText(a);
   ASSERT_EQ(p->disagreements.size(), 1u) << agreementText(a);
@@ -95,8 +97,8 @@ TEST(SensorAgreement, ScanPiecesAreComparedWithinEachPieceOnly) {
     if (s.stamp_s <= 50.0) first.push_back(s.stamp_s, s.value);
     if (s.stamp_s >= 50.2) second.push_back(s.stamp_s, s.value + 3.0);
   }
-  const SensorAgreement a =
-      compareSensors({std::nullopt, gyroHeading(d.imu), std::nullopt, {first, second}});
+  const SensorAgreement a = compareSensors(
+      {std::nullopt, gyroHeading(d.imu), std::nullopt, {first, second}, std::nullopt});
   const PairAgreement* p = a.pair("gyro", "scans");
   ASSERT_NE(p, nullptr);
   EXPECT_EQ(p->model, "scale");
@@ -112,7 +114,8 @@ TEST(SensorAgreement, ScanPiecesAreComparedWithinEachPieceOnly) {
 TEST(SensorAgreement, AClockDelayBetweenTwoSensorsIsFound) {
   Drive d = drive();
   for (ImuSample& s : d.imu) s.stamp_s += 0.2;
-  const SensorAgreement a = compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}});
+  const SensorAgreement a =
+      compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}, std::nullopt});
   const PairAgreement* p = a.pair("wheels", "gyro");
   ASSERT_NE(p, nullptr);
   EXPECT_NEAR(p->lag_s, 0.2, 0.015);
@@ -121,19 +124,21 @@ TEST(SensorAgreement, AClockDelayBetweenTwoSensorsIsFound) {
   EXPECT_NEAR(*p->effective_wheel_base_m, 0.178, 0.0005);
   AgreementParams no_lag;
   no_lag.max_lag_s = 0.0;
-  const PairAgreement* q = compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}}, no_lag)
-                               .pair("wheels", "gyro");
+  const PairAgreement* q =
+      compareSensors({d.wheels, gyroHeading(d.imu), std::nullopt, {}, std::nullopt}, no_lag)
+          .pair("wheels", "gyro");
   EXPECT_GT(q->rms_residual_rad, 5.0 * p->rms_residual_rad);
 }
 
 TEST(SensorAgreement, AnOdometryTopicThatFollowsTheGyroIsFound) {
   const Drive d = drive();
   const HeadingSeries gyro = gyroHeading(d.imu);
-  const SensorAgreement a = compareSensors({d.wheels, gyro, gyro, {}});
+  const SensorAgreement a = compareSensors({d.wheels, gyro, gyro, {}, std::nullopt});
   ASSERT_EQ(a.findings.size(), 1u) << agreementText(a);
   EXPECT_NE(a.findings[0].find("takes its heading from the gyro"), std::string::npos);
   // Odometry from the same wheels instead: no such finding.
-  const SensorAgreement b = compareSensors({d.wheels, gyro, wheelHeading(d.wheels, kNominal), {}});
+  const SensorAgreement b =
+      compareSensors({d.wheels, gyro, wheelHeading(d.wheels, kNominal), {}, std::nullopt});
   EXPECT_TRUE(b.findings.empty()) << agreementText(b);
 }
 
@@ -159,8 +164,8 @@ PoseSeries wheelOdometry(const WheelTrack& wheels, const DiffDriveParams& g) {
 TEST(SensorAgreement, UnequalNominalRadiiInTheOdometryTopicAreNotADisagreement) {
   const Drive d = drive();
   const PoseSeries odom = wheelOdometry(d.wheels, {0.0340, 0.0325, 0.160});
-  RotationSources sources{d.wheels, gyroHeading(d.imu), poseHeading(odom), {d.truth}};
-  sources.odometry_travel = poseTravel(odom);
+  RotationSources sources{
+      d.wheels, gyroHeading(d.imu), poseHeading(odom), {d.truth}, poseTravel(odom)};
   const SensorAgreement a = compareSensors(sources);
   for (const char* b : {"gyro", "scans"}) {
     const PairAgreement* p = a.pair(b, "odometry") ? a.pair(b, "odometry") : a.pair("odometry", b);
@@ -174,6 +179,33 @@ TEST(SensorAgreement, UnequalNominalRadiiInTheOdometryTopicAreNotADisagreement) 
   const SensorAgreement without = compareSensors(sources);
   EXPECT_GT(without.pair("gyro", "odometry")->rms_residual_rad,
             10.0 * a.pair("gyro", "odometry")->rms_residual_rad);
+}
+
+// Wheel angles derived from a gyro-heading odometry (an odometry-only bag of a TurtleBot3 with
+// use_imu): their rotation is the gyro's, and the agreement says that b cannot come from them.
+TEST(SensorAgreement, WheelsDerivedFromAGyroHeadedOdometryAreFound) {
+  const Drive d = drive();
+  const HeadingSeries gyro = gyroHeading(d.imu);
+  WheelTrack derived;
+  derived.nominal = kNominal;
+  derived.from = "odometry_poses";
+  const double r = kNominal.radius_left_m, half_b = 0.5 * kNominal.wheel_base_m;
+  for (std::size_t k = 0; k < d.wheels.phi_rad.size(); ++k) {
+    const Eigen::Vector2d& phi = d.wheels.phi_rad[k].value;  // its travel, the gyro's heading
+    const double s = 0.5 * kTrue.radius_left_m * (phi(0) + phi(1));
+    const double yaw = *gyro.at(d.wheels.phi_rad[k].stamp_s);
+    derived.phi_rad.push_back(d.wheels.phi_rad[k].stamp_s,
+                              Eigen::Vector2d((s - half_b * yaw) / r, (s + half_b * yaw) / r));
+  }
+  const SensorAgreement a = compareSensors({derived, gyro, std::nullopt, {d.truth}, std::nullopt});
+  EXPECT_TRUE(a.wheels_follow_gyro) << agreementText(a);
+  ASSERT_EQ(a.findings.size(), 1u) << agreementText(a);
+  EXPECT_NE(a.findings[0].find("cannot be calibrated"), std::string::npos);
+  // The wheels themselves (joint states): turning 1.11x the gyro, not derived from it.
+  const SensorAgreement wheels =
+      compareSensors({d.wheels, gyro, std::nullopt, {d.truth}, std::nullopt});
+  EXPECT_FALSE(wheels.wheels_follow_gyro) << agreementText(wheels);
+  EXPECT_TRUE(wheels.findings.empty());
 }
 
 TEST(Heading, TurnedIsTheDifferenceAndRefusesGaps) {
