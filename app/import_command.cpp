@@ -31,6 +31,8 @@ struct ImportFlags : CommonFlags {
   bool time_increment_given = false;
   std::string lidar_mount;  // "x,y,yaw_deg"
   std::string nominal;      // "r_L,r_R,b"
+  bool trim = true;         // --trim: the default, accepted for scripts that pass it
+  bool no_trim = false;     // --no-trim: refuse scans the odometry does not cover
   eval::ImportParams params;
 };
 
@@ -75,6 +77,7 @@ int runImport(ImportFlags flags) {
   if (flags.wheel_radius_m > 0)
     flags.geometry.radius_left_m = flags.geometry.radius_right_m = flags.wheel_radius_m;
   if (flags.geometry_given) flags.params.nominal_geometry = flags.geometry;
+  flags.params.trim = !flags.no_trim;
   if (flags.time_increment_given) flags.params.time_increment_s = flags.time_increment_s;
   if (!flags.lidar_mount.empty()) flags.params.T_base_lidar = parseMount(flags.lidar_mount);
   if (!flags.nominal.empty()) {
@@ -218,10 +221,13 @@ void addImportSources(CLI::App* cli, const std::shared_ptr<ImportFlags>& flags) 
       ->check(oneOf("odometry source", {"odom", "laser"}));
   cli->add_option("--base-frame", flags->params.base_frame, "bags: the robot's base frame in tf")
       ->capture_default_str();
-  cli->add_flag("--trim,!--no-trim", flags->params.trim,
+  cli->add_flag("--trim", flags->trim,
                 "drop the scans the odometry does not cover, before its first sample or after its "
                 "last (the default: topics start and stop at different times; the note says how "
-                "many); --no-trim refuses such a log instead, naming the first such scan");
+                "many)");
+  cli->add_flag("--no-trim", flags->no_trim,
+                "refuse a log with scans the odometry does not cover, naming the first such scan")
+      ->excludes("--trim");
   cli->add_option("--scan-topic", flags->params.scan_topic, "bags: LaserScan topic");
   cli->add_option("--odom-topic", flags->params.odom_topic, "bags: Odometry topic");
   cli->add_option("--joint-topic", flags->params.joint_topic, "bags: JointState topic");

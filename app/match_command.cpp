@@ -172,7 +172,7 @@ void printGuesses(const eval::MatchTrajectory& run) {
   std::printf("\n");
 }
 
-int runMatch(MatchFlags flags) {
+void checkMatchOutputs(const MatchFlags& flags) {
   checkInputDataset(flags.dataset, "DATASET");
   OutputGuard guard(flags.force);
   guard.input(flags.dataset, "DATASET");
@@ -181,6 +181,43 @@ int runMatch(MatchFlags flags) {
                                      {flags.json_out, "--json"}})
     if (!file.empty()) guard.file(file, option);
   guard.check();
+}
+
+/// What stdout says of a match: the counts, the guesses, the residual, the de-skew, the sync,
+/// the sensor agreement and the files written.
+void printMatch(const MatchFlags& flags, const MatchPass& pass,
+                const nlohmann::ordered_json& summary, double seconds, double clock_sync_s) {
+  const algo::KeyframeOdometry& t = pass.run.tracked;
+  std::printf(
+      "matched %zu of %zu scans against the local map (%.2f %%), %zu fell back to a "
+      "guess (%zu converged beyond the correction limit, %zu without the map's support); %zu "
+      "keyframes\n",
+      t.matched, t.scans.size() - 1, summary["converged_percent"].get<double>(), t.fallbacks,
+      t.rejected, t.unsupported, t.keyframes);
+  printGuesses(pass.run);
+  const eval::ErrorStats residual = acceptedResiduals(t);
+  if (residual.ok)
+    std::printf("point-to-line residual of the accepted matches: median %.4f m, p95 %.4f m\n",
+                residual.median, residual.p95);
+  std::printf("de-skew %s", flags.deskew.c_str());
+  if (flags.deskew != "none") std::printf(" (%d scans refused, matched as measured)", pass.refused);
+  std::printf("; %.2f s\n", seconds);
+  if (clock_sync_s != 0.0)
+    std::printf(
+        "--sync auto: the scans lagged the wheels by %.3f s; the wheels (and the gyro) moved "
+        "onto the scans' clock and the scans matched again (the agreement below is after it)\n",
+        clock_sync_s);
+  std::printf("%s", algo::agreementText(pass.agreement).c_str());
+  for (const auto& [file, what] : {std::pair{flags.out, "matches"},
+                                   {flags.trajectory, "trajectory"},
+                                   {flags.json_out, "summary"}})
+    if (!file.empty()) std::printf("wrote %s %s\n", what, file.c_str());
+  if (flags.out.empty() && flags.trajectory.empty() && flags.json_out.empty())
+    std::printf("no --out, --trajectory or --json: nothing written\n");
+}
+
+int runMatch(MatchFlags flags) {
+  checkMatchOutputs(flags);
   flags.params.keyframe_angle_rad = flags.keyframe_angle_deg / kDegPerRad;
   flags.params.odometry_sigma_rad = flags.odometry_sigma_deg / kDegPerRad;
   const auto begin = std::chrono::steady_clock::now();
@@ -196,45 +233,17 @@ int runMatch(MatchFlags flags) {
     return first;
   }();
   const eval::MatchTrajectory& run = pass.run;
-  const int refused = pass.refused;
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  const algo::KeyframeOdometry& t = run.tracked;
-  const std::size_t attempted = t.scans.size() - 1;
   if (!flags.out.empty()) writeFileAtomic(flags.out, eval::formatTrackedMatches(run));
   if (!flags.trajectory.empty())
     writeFileAtomic(flags.trajectory, eval::formatTum(run.T_world_base, flags.trajectory));
-  const algo::SensorAgreement& agreement = pass.agreement;
-  auto summary = summaryJson(flags, run, refused, seconds,
-                             algo::agreementJson(agreement, algo::encodersFrom(d.info)));
+  auto summary = summaryJson(flags, run, pass.refused, seconds,
+                             algo::agreementJson(pass.agreement, algo::encodersFrom(d.info)));
   summary["clock_sync_s"] = clock_sync_s;
   if (!flags.json_out.empty()) writeFileAtomic(flags.json_out, summary.dump(2) + "\n");
-  std::printf(
-      "matched %zu of %zu scans against the local map (%.2f %%), %zu fell back to a "
-      "guess (%zu converged beyond the correction limit, %zu without the map's support); %zu "
-      "keyframes\n",
-      t.matched, attempted, summary["converged_percent"].get<double>(), t.fallbacks, t.rejected,
-      t.unsupported, t.keyframes);
-  printGuesses(run);
-  const eval::ErrorStats residual = acceptedResiduals(t);
-  if (residual.ok)
-    std::printf("point-to-line residual of the accepted matches: median %.4f m, p95 %.4f m\n",
-                residual.median, residual.p95);
-  std::printf("de-skew %s", flags.deskew.c_str());
-  if (flags.deskew != "none") std::printf(" (%d scans refused, matched as measured)", refused);
-  std::printf("; %.2f s\n", seconds);
-  if (clock_sync_s != 0.0)
-    std::printf(
-        "--sync auto: the scans lagged the wheels by %.3f s; the wheels (and the gyro) moved "
-        "onto the scans' clock and the scans matched again (the agreement below is after it)\n",
-        clock_sync_s);
-  std::printf("%s", algo::agreementText(agreement).c_str());
-  for (const auto& [file, what] : {std::pair{flags.out, "matches"},
-                                   {flags.trajectory, "trajectory"},
-                                   {flags.json_out, "summary"}})
-    if (!file.empty()) std::printf("wrote %s %s\n", what, file.c_str());
-  if (flags.out.empty() && flags.trajectory.empty() && flags.json_out.empty())
-    std::printf("no --out, --trajectory or --json: nothing written\n");
+  printMatch(flags, pass, summary, seconds, clock_sync_s);
+  const algo::KeyframeOdometry& t = run.tracked;
   return refusalExitCode(t.matched == 0, t.fallbacks > 0, flags.strict);
 }
 

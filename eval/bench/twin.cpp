@@ -280,9 +280,8 @@ nlohmann::ordered_json fitted(nlohmann::ordered_json value, const std::string& h
   return {{"value", std::move(value)}, {"how", how}};
 }
 
-nlohmann::ordered_json lidarJson(const Fitted& f) {
-  const LidarLayout& l = f.layout;
-  const LidarAgainstMap& m = f.against_map;
+/// The lidar's layout as the recording's scans state it.
+nlohmann::ordered_json layoutJson(const LidarLayout& l) {
   return {
       {"rate_hz", fitted(l.rate_hz, "1 / median step between scan stamps")},
       {"beams_per_scan", fitted({{"mean", l.beams_per_scan_mean},
@@ -306,7 +305,12 @@ nlohmann::ordered_json lidarJson(const Fitted& f) {
       {"range_min_m", fitted(l.range_min_m, "median of the scans' range_min")},
       {"range_max_m", fitted(l.range_max_m, "median of the scans' range_max")},
       {"usable_max_range_m", fitted(l.usable_max_m, "99.9th percentile of the valid readings")},
-      {"no_return_fraction", fitted(l.no_return_fraction, "invalid beams of all beams")},
+      {"no_return_fraction", fitted(l.no_return_fraction, "invalid beams of all beams")}};
+}
+
+/// What the recording's scans measure against the twin's world: noise, drops, their pattern.
+nlohmann::ordered_json againstMapJson(const LidarAgainstMap& m) {
+  return {
       {"range_noise_m", fitted(m.range_noise_m,
                                "1.4826 MAD of measured - cast range of the "
                                "accepted scans in the twin's world; includes the "
@@ -340,6 +344,13 @@ nlohmann::ordered_json lidarJson(const Fitted& f) {
       {"keep_factor_by_range",
        fitted(m.keep_factor_by_range,
               "the same per 0.5 m of predicted range: the twin's faults.dropped_beams.by_range")}};
+}
+
+nlohmann::ordered_json lidarJson(const Fitted& f) {
+  nlohmann::ordered_json j = layoutJson(f.layout);
+  const nlohmann::ordered_json against_map = againstMapJson(f.against_map);  // outlives items()
+  for (const auto& [key, value] : against_map.items()) j[key] = value;
+  return j;
 }
 
 /// "1.5, 3, 6 and 12 s": the pieces' durations as the fit cuts them.
