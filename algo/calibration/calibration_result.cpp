@@ -81,6 +81,29 @@ double adjacentCorrelationFactor(const std::vector<CalibrationInterval>& interva
   return 1.0 + 2.0 * std::clamp(rho, -0.45, 0.5);
 }
 
+namespace {
+
+std::string wrongSignReason(const RotationFit& fit) {
+  // A sign is only a finding 3 sigmas from zero; nearer, the wheels' turns do not follow the
+  // scans' (a lifted or blocked robot on a short recording looked like a channel swap).
+  const bool clear21 = std::abs(fit.J21) > 3.0 * std::sqrt(fit.covariance(0, 0));
+  const bool clear22 = std::abs(fit.J22) > 3.0 * std::sqrt(fit.covariance(1, 1));
+  const std::string j = formatJ(fit.J21, fit.J22) + " (r_L = -J21 b, r_R = J22 b)";
+  const std::string unless =
+      ", unless the wheels turned while the robot did not (a lifted or blocked robot: the "
+      "sensor agreement names such spans)";
+  if (fit.J21 > 0.0 && fit.J22 < 0.0 && clear21 && clear22)
+    return "left/right encoder channels swapped: " + j + " gives negative radii; swap them" +
+           unless;
+  if ((fit.J21 > 0.0 && clear21) || (fit.J22 < 0.0 && clear22))
+    return "negative wheel radius: " + j + "; one encoder counts backwards" + unless;
+  return "undetermined: " + j +
+         " has a sign that is not 3 sigmas from zero: the wheels' turns do not follow the "
+         "scans' (too little turning, or wheels that turned while the robot did not)";
+}
+
+}  // namespace
+
 RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, double max_condition,
                         const std::vector<LoopSpan>& heading_loops) {
   RotationFit fit;
@@ -117,14 +140,8 @@ RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, doubl
                      loopScoreCovariance(intervals, heading_loops, A, normalized, f) * AtA_inv;
   }
   // r_L = -J21 b and r_R = J22 b must both be positive for b > 0.
-  if (fit.J21 > 0.0 && fit.J22 < 0.0) {
-    fit.reason = "left/right encoder channels swapped: " + formatJ(fit.J21, fit.J22) +
-                 " gives negative radii (r_L = -J21 b, r_R = J22 b); swap the channels";
-    return fit;
-  }
   if (!(fit.J21 < 0.0 && fit.J22 > 0.0)) {
-    fit.reason = "negative wheel radius: " + formatJ(fit.J21, fit.J22) +
-                 " (r_L = -J21 b, r_R = J22 b); one encoder counts backwards";
+    fit.reason = wrongSignReason(fit);
     return fit;
   }
   fit.ok = true;

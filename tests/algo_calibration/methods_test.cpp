@@ -1,6 +1,8 @@
 // Noiseless recovery (1e-9 relative) and refusals of every calibration method.
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "slamprep/algo/calibration/calibration.hpp"
 #include "synthetic.hpp"
 
@@ -281,6 +283,23 @@ TEST(Refusals, SwapIsNamedWithTheNegativeRadius) {
   EXPECT_GT(r.J21, 0.0);  // r_L = -J21 b would be negative
   EXPECT_LT(r.J22, 0.0);
   EXPECT_NE(r.reason.find("negative radii"), std::string::npos) << r.reason;
+}
+
+// Wheels whose turns barely follow the scans' (a tenth, the wrong way, in noise that is larger):
+// both signs come out wrong (J21 +0.008, J22 -0.002) but not 3 sigmas from zero, and the
+// refusal says undetermined, not "swapped" (a real recording was refused so while its channels
+// were right).
+TEST(Refusals, AWrongSignWithinItsNoiseIsUndeterminedNotASwap) {
+  SyntheticSpec spec;
+  std::vector<CalibrationInterval> intervals = makeIntervals(spec);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  for (CalibrationInterval& in : intervals)
+    in.T_lidarStart_lidarEnd.yaw = -0.1 * in.T_lidarStart_lidarEnd.yaw + noise(rng);
+  const ModelBasedResult r = calibrateModelBased(intervals);
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.reason.find("undetermined"), std::string::npos) << r.reason;
+  EXPECT_EQ(r.reason.find("swapped"), std::string::npos) << r.reason;
 }
 
 }  // namespace
