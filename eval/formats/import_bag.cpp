@@ -84,6 +84,7 @@ struct BagData {
   ScanSpill* spill = nullptr;       ///< with one: the scans go there ...
   Samples<SpilledScan> spilled;     ///< ... and this is what stays in memory
   std::string laser_frame;
+  std::string imu_frame;  ///< of the first Imu message
   Samples<OdometrySample> odom;
   Samples<EncoderSample> joints;
   Samples<ImuSample> imu;
@@ -167,9 +168,12 @@ void decode(const BagMessage& m, const Place& place, const ImportParams& p, BagD
             ticksOf(msg.position[w.right], rad_per_tick, where)}});
       break;
     }
-    case Role::kImu:
-      d.imu.push_back({m.log_time_ns, place, imuFromMsg(decodeImu(data, where), where)});
+    case Role::kImu: {
+      const ImuMsg msg = decodeImu(data, where);
+      if (d.imu.empty()) d.imu_frame = msg.header.frame_id;
+      d.imu.push_back({m.log_time_ns, place, imuFromMsg(msg, where)});
       break;
+    }
     case Role::kTf:
     case Role::kTfStatic:
       for (const auto& t : decodeTf(data, where).transforms)
@@ -453,6 +457,50 @@ void mountLidar(const BagData& d, const ImportParams& p, ImportResult& r) {
                       std::to_string(path.motion_rad) + " rad): its first value is used");
 }
 
+/// The gyro in the base frame. For planar motion the base turns about its z axis only, so an IMU
+/// whose z axis is tilted by t from the base's reads gyro_z = R_zz w (R = R_base_imu, R_zz =
+/// cos t, -1 upside down): w = gyro_z / R_zz, exact at any tilt up to 60 degrees; beyond, the IMU
+/// says little of the yaw rate and is left out. The accelerometer's x, y turn with the 2 x 2 block
+/// of R where the IMU is level or upside down (no method reads them).
+void levelImu(const BagData& d, const ImportParams& p, ImportResult& r) {
+  std::vector<ImuSample>& imu = r.dataset.imu;
+  if (imu.empty() || d.imu_frame.empty() || d.imu_frame == p.base_frame) return;
+  TfPath path;
+  const auto T =
+      d.tf.has(d.imu_frame) ? d.tf.lookup(p.base_frame, d.imu_frame, &path) : std::nullopt;
+  if (!T) {
+    r.notes.push_back("no tf transform from " + p.base_frame + " reaches the IMU's frame \"" +
+                      d.imu_frame + "\": its z axis taken as the base's");
+    return;
+  }
+  const Eigen::Matrix3d R = T->linear();
+  r.dataset.info.config["imu_mount_from"] = "tf " + path.frames;
+  if (R == Eigen::Matrix3d::Identity()) return;
+  if (std::abs(R(2, 2)) < 0.5) {
+    r.notes.push_back("the IMU (tf " + path.frames + ") is tilted " +
+                      std::to_string(std::acos(std::clamp(std::abs(R(2, 2)), 0.0, 1.0)) * 180 /
+                                     std::numbers::pi) +
+                      " deg from the base's z axis: its gyro does not measure the yaw rate, the "
+                      "IMU is left out");
+    imu.clear();
+    return;
+  }
+  const bool planar = std::abs(std::abs(R(2, 2)) - 1.0) <= 1.0 - std::cos(kMaxTiltRad);
+  const Eigen::Matrix2d M = R.topLeftCorner<2, 2>();
+  for (ImuSample& s : imu) {
+    s.gyro_z_radps /= R(2, 2);
+    if (!planar) continue;
+    const Eigen::Vector2d a = M * Eigen::Vector2d(s.accel_x_mps2, s.accel_y_mps2);
+    s.accel_x_mps2 = a.x();
+    s.accel_y_mps2 = a.y();
+  }
+  if (R(2, 2) < 0.0)
+    r.notes.push_back("IMU mounted upside down (tf " + path.frames + "): its gyro z negated");
+  if (!planar)
+    r.notes.push_back("the IMU (tf " + path.frames + ") is tilted: its gyro z divided by " +
+                      std::to_string(R(2, 2)) + ", its accelerometer kept as logged");
+}
+
 /// Scans whose time_increment --time-increment replaced, and those left at 0.
 struct TimeIncrementCounts {
   std::size_t replaced = 0, zero = 0;
@@ -595,6 +643,7 @@ ImportResult importBag(const std::vector<BagStorage*>& files, const BagLayout& l
   if (files.size() > 1) ds.info.config["bag_files"] = std::to_string(files.size());
   summarizeScans(d, p, messages, r);
   mountLidar(d, p, r);
+  levelImu(d, p, r);
   const SE2& m = ds.info.T_base_lidar;
   if (!std::isfinite(m.x) || !std::isfinite(m.y) || !std::isfinite(m.yaw))
     throw InputError(bag, "lidar mount not finite");

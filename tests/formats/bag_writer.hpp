@@ -77,6 +77,9 @@ struct RobotBagParams {
   std::vector<std::string> joints = {"wheel_left_joint", "wheel_right_joint"};
   bool joint_states = true;  ///< else only Odometry
   float time_increment_s = 1e-3f;
+  /// Non-empty: /imu at every odometry sample in this frame, gyro (0.1, 0.2, 0.3) rad/s and
+  /// accelerometer (1, 2, 9.8) m/s^2 in the IMU's axes.
+  std::string imu_frame;
 };
 
 /// Beam ranges of the robot bag's scans: 1 + 0.25 i metres.
@@ -108,6 +111,13 @@ inline std::string robotBag(const RobotBagParams& p) {
       tf.transforms.push_back(d);
     }
     bag.add("/tf", eval::kTfType, t, tf);
+    if (!p.imu_frame.empty()) {
+      eval::ImuMsg imu;
+      imu.header = header(t, p.imu_frame);
+      imu.angular_velocity = {0.1, 0.2, 0.3};
+      imu.linear_acceleration = {1.0, 2.0, 9.8};
+      bag.add("/imu", eval::kImuType, t, imu);
+    }
     if (k == 0 && !p.tf_static.empty())
       bag.add("/tf_static", eval::kTfType, t, eval::TfMsg{p.tf_static});
   }

@@ -150,5 +150,44 @@ TEST(ImportTf, ABaseFrameNotConnectedToTheLaserIsRefusedUnlessChosen) {
   EXPECT_NE(errorOf(test::robotBag(b), p).find("two parents"), std::string::npos);
 }
 
+/// The imported gyro and accelerometer of a bag whose IMU sits at `T_base_imu`, and its notes.
+ImportResult importWithImu(const Eigen::Isometry3d& T_base_imu) {
+  test::RobotBagParams b;
+  b.imu_frame = "imu_link";
+  b.tf_static = {transform("base_link", "imu_link", T_base_imu)};
+  return importMcap(test::robotBag(b), "tf.mcap", withGeometry());
+}
+
+bool noted(const ImportResult& r, const std::string& part) {
+  for (const auto& n : r.notes)
+    if (n.find(part) != std::string::npos) return true;
+  return false;
+}
+
+// The base turns about its z axis: an IMU's gyro reads R_zz w of it, so the yaw rate is gyro_z /
+// R_zz at any tilt (the bag's IMU reads 0.3 rad/s about its own z).
+TEST(ImportTf, TheGyroIsTurnedIntoTheBaseFrame) {
+  const ImportResult level = importWithImu(pose3(0.1, 0.0, 0.05, 0.0, 0.0, 0.5));  // yawed
+  ASSERT_FALSE(level.dataset.imu.empty());
+  EXPECT_EQ(level.dataset.imu[0].gyro_z_radps, 0.3);
+  EXPECT_NEAR(level.dataset.imu[0].accel_x_mps2, std::cos(0.5) - 2.0 * std::sin(0.5), 1e-12);
+  EXPECT_NEAR(level.dataset.imu[0].accel_y_mps2, std::sin(0.5) + 2.0 * std::cos(0.5), 1e-12);
+  EXPECT_EQ(level.dataset.info.config["imu_mount_from"], "tf base_link -> imu_link");
+
+  const ImportResult down = importWithImu(pose3(0.0, 0.0, 0.05, std::numbers::pi, 0.0, 0.0));
+  EXPECT_NEAR(down.dataset.imu[0].gyro_z_radps, -0.3, 1e-12);
+  EXPECT_NEAR(down.dataset.imu[0].accel_y_mps2, -2.0, 1e-12);
+  EXPECT_TRUE(noted(down, "IMU mounted upside down"));
+
+  const ImportResult tilted = importWithImu(pose3(0.0, 0.0, 0.05, 0.0, 0.4, 0.0));  // pitch
+  EXPECT_NEAR(tilted.dataset.imu[0].gyro_z_radps, 0.3 / std::cos(0.4), 1e-12);
+  EXPECT_EQ(tilted.dataset.imu[0].accel_x_mps2, 1.0);  // kept: its gravity part is unknown
+  EXPECT_TRUE(noted(tilted, "is tilted"));
+
+  const ImportResult sideways = importWithImu(pose3(0.0, 0.0, 0.05, 1.3, 0.0, 0.0));
+  EXPECT_TRUE(sideways.dataset.imu.empty());
+  EXPECT_TRUE(noted(sideways, "left out"));
+}
+
 }  // namespace
 }  // namespace slamprep::eval
