@@ -36,6 +36,8 @@ inline constexpr auto kMotionSourceNames = std::to_array<EnumName<MotionSource>>
 });
 
 struct CalibrationMotionOptions {
+  /// The bench's (its suites' honest sigma was measured with chained matches); `slamprep
+  /// calibrate` sets kMap, its default (docs/calibration.md "Scan-to-map motion").
   MotionSource source = MotionSource::kIcp;
   /// Match scans de-skewed with this method first. "auto": the gyro (imu) when the log has one,
   /// since it does not depend on the wheel geometry being calibrated (de-skewing with the wrong
