@@ -290,6 +290,22 @@ void validateFigure(const Figure& f) {
 
 namespace {
 
+/// The ticks of a panel of w x h pixels: as many as fit, the x labels thinned until none collide.
+void chooseTicks(const Axes& axes, const Metrics& m, TextRenderer& text, double w, double h,
+                 PanelPlan& plan) {
+  const PanelLayout& L = plan.layout;
+  const int max_y = std::clamp(static_cast<int>(h / (5.0 * m.tick_font)), 2, 8);
+  plan.y_ticks = axisTicks(L.y, axes.log_y, max_y);
+  if (!axes.categories.empty()) {
+    plan.x_ticks = categoryTicks(axes, L.x);
+    return;
+  }
+  int max_x = std::clamp(static_cast<int>(w / (7.0 * m.tick_font)), 2, 9);
+  plan.x_ticks = axisTicks(L.x, axes.log_x, max_x);
+  while (max_x > 2 && labelsCollide(plan.x_ticks, L, m.tick_font, 1.5 * m.pad, text))
+    plan.x_ticks = axisTicks(L.x, axes.log_x, --max_x);
+}
+
 PanelPlan planPanel(const Axes& axes, const PixelRect& cell, const Metrics& m, TextRenderer& text) {
   const Extents extents = dataExtents(axes);
   const Range base_x = axes.x_range               ? *axes.x_range
@@ -324,17 +340,7 @@ PanelPlan planPanel(const Axes& axes, const PixelRect& cell, const Metrics& m, T
     const double w = L.right_px - L.left_px, h = L.bottom_px - L.top_px;
     if (axes.equal_aspect && !axes.log_x && !axes.log_y) equalizeAspect(L.x, L.y, w, h);
 
-    const int max_y = std::clamp(static_cast<int>(h / (5.0 * m.tick_font)), 2, 8);
-    plan.y_ticks = axisTicks(L.y, axes.log_y, max_y);
-    if (!axes.categories.empty()) {
-      plan.x_ticks = categoryTicks(axes, L.x);
-    } else {
-      int max_x = std::clamp(static_cast<int>(w / (7.0 * m.tick_font)), 2, 9);
-      plan.x_ticks = axisTicks(L.x, axes.log_x, max_x);
-      while (max_x > 2 && labelsCollide(plan.x_ticks, L, m.tick_font, 1.5 * m.pad, text)) {
-        plan.x_ticks = axisTicks(L.x, axes.log_x, --max_x);
-      }
-    }
+    chooseTicks(axes, m, text, w, h, plan);
 
     // Margins that fit the labels just measured; the next pass uses them.
     left = m.pad + label_column + widestLabel(plan.y_ticks, m.tick_font, text) + m.pad * 0.5 +
