@@ -11,19 +11,8 @@
 namespace slamprep::sim {
 namespace {
 
-// One list of (key, field) pairs drives JSON output, JSON input and overrides alike.
 template <typename Config, typename Visitor>
-void visitFields(Config& c, Visitor&& v) {
-  v("world", c.world);
-  v("scenario", c.scenario);
-  v("duration_s", c.duration_s);
-  v("seed", c.seed);
-  v("mode", c.mode);
-  v("physics_rate_hz", c.physics_rate_hz);
-  v("solver_iterations", c.solver_iterations);
-  v("path_margin_m", c.path_margin_m);
-  v("start_jitter.position_m", c.start_jitter.position_m);
-  v("start_jitter.yaw_deg", c.start_jitter.yaw_deg);
+void visitRobotFields(Config& c, Visitor&& v) {
   auto& r = c.robot;
   v("robot.radius_left_m", r.geometry.radius_left_m);
   v("robot.radius_right_m", r.geometry.radius_right_m);
@@ -43,6 +32,10 @@ void visitFields(Config& c, Visitor&& v) {
   v("nominal.radius_left_error", c.nominal.radius_left_error);
   v("nominal.radius_right_error", c.nominal.radius_right_error);
   v("nominal.wheel_base_error", c.nominal.wheel_base_error);
+}
+
+template <typename Config, typename Visitor>
+void visitSensorFields(Config& c, Visitor&& v) {
   auto& l = c.lidar;
   v("lidar.rate_hz", l.rate_hz);
   v("lidar.beams_per_revolution", l.beams_per_revolution);
@@ -66,6 +59,10 @@ void visitFields(Config& c, Visitor&& v) {
   v("imu.accel_bias_x_mps2", c.imu.accel_bias_x_mps2);
   v("imu.accel_bias_y_mps2", c.imu.accel_bias_y_mps2);
   v("odometry.heading_from", c.odometry.heading_from);
+}
+
+template <typename Config, typename Visitor>
+void visitFaultFields(Config& c, Visitor&& v) {
   auto& f = c.faults;
   v("faults.enable", f.enable);
   v("faults.encoder_spikes.rate_hz", f.encoder_spike_rate_hz);
@@ -86,6 +83,24 @@ void visitFields(Config& c, Visitor&& v) {
   v("faults.held_robot.rate_hz", f.held_robot_rate_hz);
   v("faults.held_robot.min_duration_s", f.held_robot_min_duration_s);
   v("faults.held_robot.max_duration_s", f.held_robot_max_duration_s);
+}
+
+// One list of (key, field) pairs drives JSON output, JSON input and overrides alike.
+template <typename Config, typename Visitor>
+void visitFields(Config& c, Visitor&& v) {
+  v("world", c.world);
+  v("scenario", c.scenario);
+  v("duration_s", c.duration_s);
+  v("seed", c.seed);
+  v("mode", c.mode);
+  v("physics_rate_hz", c.physics_rate_hz);
+  v("solver_iterations", c.solver_iterations);
+  v("path_margin_m", c.path_margin_m);
+  v("start_jitter.position_m", c.start_jitter.position_m);
+  v("start_jitter.yaw_deg", c.start_jitter.yaw_deg);
+  visitRobotFields(c, v);
+  visitSensorFields(c, v);
+  visitFaultFields(c, v);
 }
 
 nlohmann::json::json_pointer pointer(const std::string& dotted) {
