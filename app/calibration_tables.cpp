@@ -159,10 +159,11 @@ void printRecordings(const eval::RecordingsCalibration& r) {
 
 namespace {
 
-// What a flag's ratio is a ratio of, as printed after it.
+// What a flag's ratio is a ratio of, as printed after it; nullptr for a flag without a ratio.
 const char* ratioMeaning(const std::string& param) {
   if (param == "b_vs_gyro") return " (b over the gyro's b): ";
   if (param == "held_out") return " (held-out error, calibrated over raw): ";
+  if (param == "b_not_measured" || param == "wheels_vs_scans") return nullptr;
   return " x nominal (more than 15 % off): likely cause: ";
 }
 
@@ -170,11 +171,15 @@ const char* ratioMeaning(const std::string& param) {
 
 void printFlags(const std::vector<algo::MethodReport>& methods, const std::string& label) {
   for (const algo::MethodReport& m : methods)
-    for (const algo::NominalFlag& f : m.flags)
-      std::cout << "FLAG " << label << algo::calibrationMethodName(m.run.method) << ": " << f.param
-                << " = " << std::fixed << std::setprecision(3) << f.ratio << ratioMeaning(f.param)
-                << f.likely_cause << "\n"
-                << std::defaultfloat;
+    for (const algo::NominalFlag& f : m.flags) {
+      std::cout << "FLAG " << label << algo::calibrationMethodName(m.run.method) << ": " << f.param;
+      if (const char* meaning = ratioMeaning(f.param))
+        std::cout << " = " << std::fixed << std::setprecision(3) << f.ratio << meaning
+                  << std::defaultfloat;
+      else
+        std::cout << ": ";
+      std::cout << f.likely_cause << "\n";
+    }
 }
 
 void printValidation(const std::vector<algo::MethodReport>& methods, const std::string& label) {

@@ -109,11 +109,16 @@ std::string agreementText(const SensorAgreement& a) {
 std::string wheelsGyroConflictText(const SensorAgreement& a) {
   const PairAgreement* p = a.wheelsGyroConflict();
   if (!p) return "";
-  std::string s = line(
-      "the wheels and the gyro disagree beyond what any wheel geometry explains "
-      "in %zu span%s:",
-      p->disagreements.size(), p->disagreements.size() == 1 ? "" : "s");
-  for (const Disagreement& d : p->disagreements)
+  return line(
+             "the wheels and the gyro disagree beyond what any wheel geometry explains "
+             "in %zu span%s:",
+             p->disagreements.size(), p->disagreements.size() == 1 ? "" : "s") +
+         spansText(a, *p);
+}
+
+std::string spansText(const SensorAgreement& a, const PairAgreement& p) {
+  std::string s;
+  for (const Disagreement& d : p.disagreements)
     s += line(" +%.1f..+%.1f s from the start (%s);", d.t0_s - startOf(a), d.t1_s - startOf(a),
               d.likely_cause.c_str());
   return s;

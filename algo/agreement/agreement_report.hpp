@@ -20,4 +20,7 @@ std::string agreementText(const SensorAgreement& agreement);
 /// One line per disagreeing span of the wheels against the gyro: why calibrate refuses.
 std::string wheelsGyroConflictText(const SensorAgreement& agreement);
 
+/// " +t0..+t1 s from the start (cause);" for each disagreeing span of `pair`.
+std::string spansText(const SensorAgreement& agreement, const PairAgreement& pair);
+
 }  // namespace slamprep::algo

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "slamprep/algo/agreement/agreement_report.hpp"
+
 namespace slamprep::algo {
 
 std::optional<double> gyroWheelBase(const CalibrationResult& result,
@@ -31,6 +33,18 @@ std::optional<NominalFlag> gyroFlag(const CalibrationResult& result,
                 "heading, a gyro scale error, or slip in turns)",
                 *b_gyro * 1e3);
   return NominalFlag{"b_vs_gyro", b / *b_gyro, cause};
+}
+
+std::optional<NominalFlag> wheelsScansFlag(const CalibrationResult& result,
+                                           const SensorAgreement& agreement) {
+  const PairAgreement* p = agreement.pair("wheels", "scans");
+  if (!result.ok || agreement.pair("wheels", "gyro") || !p || p->disagreements.empty())
+    return std::nullopt;
+  return NominalFlag{"wheels_vs_scans", 1.0,
+                     "the wheels and the scans disagree beyond what any wheel geometry explains, "
+                     "and no gyro tells which is wrong (a lifted or blocked robot, or failed scan "
+                     "matches); the intervals there entered the fit unless trimmed as outliers:" +
+                         spansText(agreement, *p)};
 }
 
 std::optional<NominalFlag> gyroHeadedWheelsFlag(const CalibrationResult& result,

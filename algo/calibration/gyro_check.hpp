@@ -29,6 +29,13 @@ std::optional<NominalFlag> gyroFlag(const CalibrationResult& result,
                                     const SensorAgreement& agreement,
                                     const GyroCheckParams& params = {});
 
+/// Without a gyro, the wheels against the scans: a flag with param "wheels_vs_scans" (ratio 1)
+/// where they disagree beyond any wheel geometry (a lifted or blocked robot, or failed scan
+/// matches: nothing tells which), naming the spans. With a gyro, calibrate refuses on the
+/// wheels against the gyro instead.
+std::optional<NominalFlag> wheelsScansFlag(const CalibrationResult& result,
+                                           const SensorAgreement& agreement);
+
 /// A flag with param "b_not_measured" (ratio 1) where the wheels follow the gyro
 /// (SensorAgreement::wheels_follow_gyro): the b of such a result is the gyro's rotation against
 /// the scans', whatever the wheels are.

@@ -106,6 +106,8 @@ algo::MethodReport methodReport(const algo::CalibrationRun& run, const Recording
       m.flags.push_back(*flag);
     if (const auto flag = algo::gyroHeadedWheelsFlag(run.result, *r.calibration.agreement))
       m.flags.push_back(*flag);
+    if (const auto flag = algo::wheelsScansFlag(run.result, *r.calibration.agreement))
+      m.flags.push_back(*flag);
   }
   if (r.held_out && run.result.ok) m.validation = validationOf(r, run, p.validate_fraction);
   if (m.validation)

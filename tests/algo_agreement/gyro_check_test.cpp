@@ -59,5 +59,28 @@ TEST(GyroCheck, FlagsAWheelBaseFromWheelsThatFollowTheGyro) {
   EXPECT_FALSE(gyroHeadedWheelsFlag(refused, derived));  // a refusal has nothing to flag
 }
 
+// No gyro: the wheels against the scans is what can show a lifted robot, and a result is flagged
+// with the spans (with a gyro, calibrate refuses on the wheels against it instead).
+TEST(GyroCheck, WithoutAGyroTheWheelsAgainstTheScansAreFlagged) {
+  SensorAgreement scans;
+  scans.sources.push_back({"wheels", 100.0, 160.0, 0.0, 0.0});
+  PairAgreement p;
+  p.a = "wheels";
+  p.b = "scans";
+  p.disagreements.push_back({130.0, 141.0, 0.7, 0.3, 0.2, "the robot was lifted or blocked"});
+  scans.pairs.push_back(p);
+  const auto flag = wheelsScansFlag(result(0.5, 0.001), scans);
+  ASSERT_TRUE(flag);
+  EXPECT_EQ(flag->param, "wheels_vs_scans");
+  EXPECT_NE(flag->likely_cause.find("+30.0..+41.0 s from the start (the robot was lifted"),
+            std::string::npos)
+      << flag->likely_cause;
+  scans.pairs[0].disagreements.clear();
+  EXPECT_FALSE(wheelsScansFlag(result(0.5, 0.001), scans));  // they agree
+  SensorAgreement with_gyro = gyroSays(0.1, 0.1, 0.5);
+  with_gyro.pairs.push_back(p);
+  EXPECT_FALSE(wheelsScansFlag(result(0.5, 0.001), with_gyro));
+}
+
 }  // namespace
 }  // namespace slamprep::algo
