@@ -216,8 +216,9 @@ void printNotes(const eval::DatasetCalibration& c, const std::string& who) {
                  "were cut (--sync none keeps them)\n";
   if (c.intervals_excluded > 0)
     std::cerr << who << c.intervals_excluded
-              << " intervals overlapping spans where the wheels and the gyro disagree left out "
-                 "(--exclude-disagreement)\n";
+              << " intervals overlapping spans where the wheels and the "
+              << (c.agreement && c.agreement->pair("wheels", "gyro") ? "gyro" : "scans")
+              << " disagree left out (--exclude-disagreement)\n";
   for (const algo::CalibrationRun& run : c.runs) {
     if (run.time_offset_s)
       std::cerr << who << "ceres time offset " << *run.time_offset_s * 1e3 << " ms +- "
@@ -448,7 +449,9 @@ void addCalibrateModel(CLI::App* cli, CalibrateFlags& flags) {
   cli->add_flag("--exclude-disagreement", flags.exclude_disagreement,
                 "where the wheels and the gyro disagree beyond any wheel geometry (a lifted or "
                 "blocked robot, slip), calibrate on the intervals outside those spans instead of "
-                "refusing (exit 3); the spans are printed either way (docs/calibration.md)");
+                "refusing (exit 3); without a gyro, leave out the spans where the wheels and the "
+                "scans disagree (flagged wheels_vs_scans otherwise); the spans are printed either "
+                "way (docs/calibration.md)");
 }
 
 }  // namespace

@@ -43,7 +43,8 @@ std::optional<NominalFlag> wheelsScansFlag(const CalibrationResult& result,
   return NominalFlag{"wheels_vs_scans", 1.0,
                      "the wheels and the scans disagree beyond what any wheel geometry explains, "
                      "and no gyro tells which is wrong (a lifted or blocked robot, or failed scan "
-                     "matches); the intervals there entered the fit unless trimmed as outliers:" +
+                     "matches); the intervals there entered the fit unless trimmed as outliers "
+                     "(--exclude-disagreement leaves them out):" +
                          spansText(agreement, *p)};
 }
 

@@ -98,6 +98,17 @@ TEST(SensorFaults, CalibrateRefusesWhereAHeldRobotsWheelsTurn) {
   ASSERT_TRUE(kept.runs.front().result.ok) << kept.runs.front().result.reason;
   EXPECT_NEAR(kept.runs.front().result.geometry.wheel_base_m / d.info.true_geometry->wheel_base_m,
               1.0, 0.003);
+
+  // Without a gyro the same spans show between the wheels and the scans: not refused (nothing
+  // tells a held robot from failed matches), but --exclude-disagreement leaves them out too.
+  Dataset no_gyro = d;
+  no_gyro.imu.clear();
+  const DatasetCalibration without = calibrateDataset(params, no_gyro);
+  ASSERT_TRUE(without.runs.front().result.ok) << without.runs.front().result.reason;
+  EXPECT_GT(without.intervals_excluded, 0u);
+  EXPECT_NEAR(
+      without.runs.front().result.geometry.wheel_base_m / d.info.true_geometry->wheel_base_m, 1.0,
+      0.003);
 }
 
 algo::SensorAgreement importedAgreement(const std::string& heading_from) {
