@@ -31,7 +31,6 @@ struct ImportFlags : CommonFlags {
   bool time_increment_given = false;
   std::string lidar_mount;  // "x,y,yaw_deg"
   std::string nominal;      // "r_L,r_R,b"
-  bool trim = true;         // --trim: the default, accepted for scripts that pass it
   bool no_trim = false;     // --no-trim: refuse scans the odometry does not cover
   eval::ImportParams params;
 };
@@ -221,10 +220,12 @@ void addImportSources(CLI::App* cli, const std::shared_ptr<ImportFlags>& flags) 
       ->check(oneOf("odometry source", {"odom", "laser"}));
   cli->add_option("--base-frame", flags->params.base_frame, "bags: the robot's base frame in tf")
       ->capture_default_str();
-  cli->add_flag("--trim", flags->trim,
-                "drop the scans the odometry does not cover, before its first sample or after its "
-                "last (the default: topics start and stop at different times; the note says how "
-                "many)");
+  // No variable: --trim is the default, accepted for scripts that pass it (a const description
+  // is CLI11's flag without one).
+  const std::string trim_help =
+      "drop the scans the odometry does not cover, before its first sample or after its last (the "
+      "default: topics start and stop at different times; the note says how many)";
+  cli->add_flag("--trim", trim_help);
   cli->add_flag("--no-trim", flags->no_trim,
                 "refuse a log with scans the odometry does not cover, naming the first such scan")
       ->excludes("--trim");

@@ -399,6 +399,12 @@ const PairAgreement* SensorAgreement::pair(const std::string& a, const std::stri
   return nullptr;
 }
 
+const PairAgreement* SensorAgreement::wheelsScansConflict() const {
+  if (pair("wheels", "gyro")) return nullptr;
+  const PairAgreement* p = pair("wheels", "scans");
+  return p && !p->disagreements.empty() ? p : nullptr;
+}
+
 const PairAgreement* SensorAgreement::wheelsGyroConflict() const {
   const PairAgreement* p = pair("wheels", "gyro");
   return p && !p->disagreements.empty() ? p : nullptr;

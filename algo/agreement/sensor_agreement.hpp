@@ -127,6 +127,9 @@ struct SensorAgreement {
   /// The wheels and the gyro disagree beyond every wheel geometry somewhere: what calibrate
   /// refuses on.
   const PairAgreement* wheelsGyroConflict() const;
+  /// Without a gyro, the wheels and the scan-matched motion disagree somewhere: what calibrate
+  /// flags (and leaves out with --exclude-disagreement), since nothing tells which is wrong.
+  const PairAgreement* wheelsScansConflict() const;
 };
 
 /// Compares every two sources present (nothing when fewer than two).

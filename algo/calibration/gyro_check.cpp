@@ -37,9 +37,8 @@ std::optional<NominalFlag> gyroFlag(const CalibrationResult& result,
 
 std::optional<NominalFlag> wheelsScansFlag(const CalibrationResult& result,
                                            const SensorAgreement& agreement) {
-  const PairAgreement* p = agreement.pair("wheels", "scans");
-  if (!result.ok || agreement.pair("wheels", "gyro") || !p || p->disagreements.empty())
-    return std::nullopt;
+  const PairAgreement* p = agreement.wheelsScansConflict();
+  if (!result.ok || !p) return std::nullopt;
   return NominalFlag{"wheels_vs_scans", 1.0,
                      "the wheels and the scans disagree beyond what any wheel geometry explains, "
                      "and no gyro tells which is wrong (a lifted or blocked robot, or failed scan "

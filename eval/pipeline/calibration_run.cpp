@@ -70,13 +70,6 @@ std::size_t dropDisagreeing(std::vector<algo::CalibrationInterval>& intervals,
   return before - intervals.size();
 }
 
-/// Without a gyro, the wheels against the scans: the spans --exclude-disagreement leaves out.
-const algo::PairAgreement* scansConflict(const std::optional<algo::SensorAgreement>& agreement) {
-  if (!agreement || agreement->pair("wheels", "gyro")) return nullptr;
-  const algo::PairAgreement* p = agreement->pair("wheels", "scans");
-  return p && !p->disagreements.empty() ? p : nullptr;
-}
-
 /// Every method refused for the same reason: the data cannot calibrate (exit 3).
 std::vector<algo::CalibrationRun> refusedRuns(const std::vector<algo::CalibrationMethod>& methods,
                                               const std::string& reason) {
@@ -294,9 +287,11 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params,
   input.intervals = out.intervals.intervals;
   const algo::PairAgreement* conflict =
       out.agreement ? out.agreement->wheelsGyroConflict() : nullptr;
-  if (params.exclude_disagreement)
-    if (const algo::PairAgreement* spans = conflict ? conflict : scansConflict(out.agreement))
-      out.intervals_excluded = dropDisagreeing(input.intervals, *spans);
+  // Without a gyro, the wheels against the scans are left out, though never refused on.
+  const algo::PairAgreement* spans =
+      conflict || !out.agreement ? conflict : out.agreement->wheelsScansConflict();
+  if (spans && params.exclude_disagreement)
+    out.intervals_excluded = dropDisagreeing(input.intervals, *spans);
   const std::vector<algo::CalibrationMethod> applicable = applicableMethods(params, input, out);
   if (conflict && params.refuse_on_disagreement && !params.exclude_disagreement) {
     out.runs = refusedRuns(applicable, algo::wheelsGyroConflictText(*out.agreement));
