@@ -304,7 +304,7 @@ nlohmann::ordered_json layoutJson(const LidarLayout& l) {
       {"stamp", fitted("first beam", "the dataset's convention (docs/dataset.md); the twin's too")},
       {"range_min_m", fitted(l.range_min_m, "median of the scans' range_min")},
       {"range_max_m", fitted(l.range_max_m, "median of the scans' range_max")},
-      {"usable_max_range_m", fitted(l.usable_max_m, "99.9th percentile of the valid readings")},
+      {"usable_max_range_m", fitted(l.usable_max_m, "the longest valid reading")},
       {"no_return_fraction", fitted(l.no_return_fraction, "invalid beams of all beams")}};
 }
 

@@ -20,7 +20,7 @@ struct LidarLayout {
   double angle_increment_rad = 0.0;             ///< negative: clockwise
   double time_increment_s = 0.0;                ///< median; 0: instantaneous scans
   double range_min_m = 0.0, range_max_m = 0.0;  ///< the scans' limits (median)
-  double usable_max_m = 0.0;                    ///< 99.9th percentile of the valid readings
+  double usable_max_m = 0.0;                    ///< the longest valid reading
   double no_return_fraction = 0.0;              ///< invalid beams of all beams
   // The simulator's layout that reproduces it.
   int beams_per_revolution = 0;  ///< round(2 pi / |angle_increment|)
