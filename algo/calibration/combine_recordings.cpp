@@ -62,26 +62,26 @@ CombinedEstimate combineEstimates(const std::vector<Eigen::VectorXd>& values,
     return out;
   }
   const Eigen::Index m = values.front().size();
-  Eigen::VectorXd information_sum = Eigen::VectorXd::Zero(m);
+  Eigen::MatrixXd information = Eigen::MatrixXd::Zero(m, m);
+  Eigen::VectorXd weighted = Eigen::VectorXd::Zero(m);
   for (std::size_t i = 0; i < values.size(); ++i) {
-    Eigen::MatrixXd inverse;  // only to refuse what is not a covariance
+    Eigen::MatrixXd inverse;
     if (values[i].size() != m || !invertPositiveDefinite(covariances[i], m, inverse)) {
       out.failed_input = static_cast<int>(i);
       out.reason = covariances[i].size() == 0 ? "has no covariance: cannot be weighted"
                                               : "covariance not positive definite";
       return out;
     }
-    information_sum += covariances[i].diagonal().cwiseInverse();
+    information += inverse;
+    weighted += inverse * values[i];
   }
-  out.values = Eigen::VectorXd::Zero(m);
-  out.covariance = Eigen::MatrixXd::Zero(m, m);
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const Eigen::VectorXd w =  // Eq. (1)
-        covariances[i].diagonal().cwiseInverse().cwiseQuotient(information_sum);
-    out.values += w.cwiseProduct(values[i]);
-    out.covariance += w.asDiagonal() * covariances[i] * w.asDiagonal();
+  Eigen::MatrixXd covariance;
+  if (!invertPositiveDefinite(information, m, covariance)) {
+    out.reason = "the summed information is singular";
+    return out;
   }
-  out.covariance = 0.5 * (out.covariance + out.covariance.transpose());
+  out.covariance = 0.5 * (covariance + covariance.transpose());
+  out.values = out.covariance * weighted;  // Eq. (1)
   addConsistency(values, covariances, params, out);
   out.ok = true;
   return out;

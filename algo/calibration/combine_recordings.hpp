@@ -18,16 +18,10 @@ struct CombineParams {
   double max_chi2_dof = 2.0;
 };
 
-/// The combination of n estimates x_i with covariances C_i (positive definite), each parameter
-/// j weighted by the recordings' information on j alone:
-///   w_ij = (1 / C_i,jj) / sum_k (1 / C_k,jj),  x_j = sum_i w_ij x_ij                  Eq. (1)
-///   C = sum_i W_i C_i W_i,  W_i = diag(w_i1 .. w_im)   (the recordings independent)
+/// The combination of n estimates x_i with covariances C_i (positive definite):
+///   x = (sum C_i^-1)^-1 sum C_i^-1 x_i,  C = (sum C_i^-1)^-1                      Eq. (1)
 ///   chi2_dof_j = sum_i (x_ij - x_j)^2 / C_i,jj / (n - 1)   (n >= 2)               Eq. (2)
 /// and, where chi2_dof_j > max_chi2_dof, row and column j of C scaled by sqrt(chi2_dof_j).
-/// Not the full-covariance mean (sum C_i^-1)^-1 sum C_i^-1 x_i: where strongly correlated
-/// parameters (r_L, r_R, b) disagree beyond their covariances, that mean leaves the range of the
-/// estimates (real Neato recordings: r_L 33.2, 32.9, 30.1 mm combined to 25.0 mm). Eq. (1) stays
-/// inside it, and under agreement E[chi2_dof_j] = 1 exactly.
 struct CombinedEstimate {
   bool ok = false;
   std::string reason;  ///< why not, when !ok
