@@ -46,6 +46,25 @@ void printCompactRuns(const std::vector<algo::MethodReport>& methods) {
   }
 }
 
+// Eq. (3) of combine_recordings.hpp: the rotation per wheel angle, r / b, over the recordings.
+void printRatioRows(const algo::CombinedRun& c) {
+  const Eigen::VectorXd v = algo::calibrationValues(c.run.result);
+  for (int wheel = 0; wheel < 2; ++wheel) {
+    const double chi2 = c.estimate.ratio_chi2_dof(wheel);
+    if (!std::isfinite(chi2)) continue;
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    g(wheel) = 1.0 / v(2);
+    g(2) = -v(wheel) / (v(2) * v(2));
+    const double sigma = std::sqrt(g.dot(c.run.result.covariance.topLeftCorner<3, 3>() * g));
+    std::ostringstream q, s;
+    q << std::fixed << std::setprecision(5) << v(wheel) / v(2);
+    s << std::fixed << std::setprecision(5) << sigma;
+    std::cout << "  " << std::setw(10) << (wheel == 0 ? "r_L/b" : "r_R/b") << std::setw(16)
+              << q.str() << std::setw(24) << s.str() << std::fixed << std::setprecision(2) << chi2
+              << std::defaultfloat << "\n";
+  }
+}
+
 void printCombinedMethod(const algo::CombinedRun& c, const eval::RecordingsCalibration& r) {
   const algo::CalibrationResult& res = c.run.result;
   std::cout << "\n" << algo::calibrationMethodName(c.run.method) << ": ";
@@ -71,6 +90,21 @@ void printCombinedMethod(const algo::CombinedRun& c, const eval::RecordingsCalib
     std::cout << "  " << std::setw(10) << algo::kCalibrationKeys[i] << std::setw(16)
               << human(v(i), i) << std::setw(24) << sigma.str() << x2.str() << "\n";
   }
+  printRatioRows(c);
+}
+
+// The warning for a method whose recordings disagree on r / b (Eq. 3), what drives pin down best.
+void warnRatioInconsistent(const algo::CombinedRun& c) {
+  const Eigen::Vector2d& chi2 = c.estimate.ratio_chi2_dof;
+  const int wheel = chi2(1) > chi2(0) ? 1 : 0;
+  if (!c.run.result.ok || !(chi2(wheel) > algo::CombineParams{}.max_chi2_dof)) return;
+  std::cout << "WARNING: " << algo::calibrationMethodName(c.run.method)
+            << ": the recordings disagree on how far the robot turns per wheel turn ("
+            << (wheel == 0 ? "r_L/b" : "r_R/b") << ", chi2/dof " << std::fixed
+            << std::setprecision(2) << chi2(wheel) << std::defaultfloat
+            << "), which a drive pins down better than r or b alone: another floor, load or "
+               "robot, slip in turns, or the scans' rotation; the combined r and b keep the "
+               "weighted ratio and may lie outside every recording's\n";
 }
 
 // The warning for a method whose recordings disagree beyond their sigmas, naming the worst
@@ -154,7 +188,10 @@ void printRecordings(const eval::RecordingsCalibration& r) {
                "sqrt(chi2/dof), marked xN):\n";
   for (const algo::CombinedRun& c : r.combined) printCombinedMethod(c, r);
   std::cout << "\n";
-  for (const algo::CombinedRun& c : r.combined) warnInconsistent(c, r);
+  for (const algo::CombinedRun& c : r.combined) {
+    warnInconsistent(c, r);
+    warnRatioInconsistent(c);
+  }
 }
 
 namespace {

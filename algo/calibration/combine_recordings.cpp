@@ -83,7 +83,37 @@ CombinedEstimate combineEstimates(const std::vector<Eigen::VectorXd>& values,
   out.covariance = 0.5 * (covariance + covariance.transpose());
   out.values = out.covariance * weighted;  // Eq. (1)
   addConsistency(values, covariances, params, out);
+  out.ratio_chi2_dof = ratioConsistency(values, covariances);
   out.ok = true;
+  return out;
+}
+
+Eigen::Vector2d ratioConsistency(const std::vector<Eigen::VectorXd>& values,
+                                 const std::vector<Eigen::MatrixXd>& covariances) {
+  Eigen::Vector2d out = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  if (values.size() < 2 || values.front().size() < 3) return out;
+  const double n = static_cast<double>(values.size());
+  for (int wheel = 0; wheel < 2; ++wheel) {
+    std::vector<double> q, var;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const double r = values[i](wheel), b = values[i](2);
+      Eigen::Vector3d g = Eigen::Vector3d::Zero();  // Eq. (3): d(r / b) / d(r_L, r_R, b)
+      g(wheel) = 1.0 / b;
+      g(2) = -r / (b * b);
+      q.push_back(r / b);
+      var.push_back(g.dot(covariances[i].topLeftCorner<3, 3>() * g));
+    }
+    if (!std::all_of(var.begin(), var.end(), [](double v) { return v > 0.0; })) continue;
+    double weights = 0.0, mean = 0.0;
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      weights += 1.0 / var[i];
+      mean += q[i] / var[i];
+    }
+    mean /= weights;
+    double chi2 = 0.0;
+    for (std::size_t i = 0; i < q.size(); ++i) chi2 += (q[i] - mean) * (q[i] - mean) / var[i];
+    out(wheel) = chi2 / (n - 1.0);
+  }
   return out;
 }
 

@@ -5,6 +5,7 @@
 // recordings (a floor, a load, a matcher's drift); the scatter of several can.
 
 #include <Eigen/Core>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -36,7 +37,19 @@ struct CombinedEstimate {
   int worst_input = -1;
   int worst_parameter = -1;
   int failed_input = -1;  ///< when !ok because of one input: its index
+  /// Eq. (3) for r_L / b and r_R / b; NaN when n < 2 or there is no wheel base.
+  Eigen::Vector2d ratio_chi2_dof = Eigen::Vector2d::Constant(std::nan(""));
 };
+
+/// What a drive pins down best is the rotation per wheel angle, q = r / b, not r or b alone:
+/// they are strongly correlated, so r and b can each agree within their wide sigmas while q
+/// does not (then Eq. (1)'s mean leaves the recordings' range along the poorly determined common
+/// scale). Per wheel, with q_i = r_i / b_i and its variance by the delta method,
+///   var q_i = g^T C_i g,  g = (1 / b, 0, -r_L / b^2) for the left wheel (0, 1 / b, -r_R / b^2
+///   for the right),  chi2_dof = sum_i (q_i - q)^2 / var q_i / (n - 1),
+///   q the inverse-variance weighted mean of the q_i                                  Eq. (3)
+Eigen::Vector2d ratioConsistency(const std::vector<Eigen::VectorXd>& values,
+                                 const std::vector<Eigen::MatrixXd>& covariances);
 
 /// Eq. (1) and (2). Refuses (ok = false) no estimates, a covariance that is not positive
 /// definite, or estimates of different sizes.

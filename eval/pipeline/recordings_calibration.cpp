@@ -134,6 +134,10 @@ algo::MethodConsistency consistencyOf(const algo::CombinedRun& c) {
     const double value = j < chi2.size() ? chi2(j) : std::numeric_limits<double>::quiet_NaN();
     out.params.push_back({algo::kCalibrationKeys[j], value, n});
   }
+  if (n >= 2) {  // Eq. (3) of combine_recordings.hpp: what the drives pin down best
+    out.params.push_back({"r_L/b", c.estimate.ratio_chi2_dof(0), n});
+    out.params.push_back({"r_R/b", c.estimate.ratio_chi2_dof(1), n});
+  }
   return out;
 }
 

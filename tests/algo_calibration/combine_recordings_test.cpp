@@ -5,10 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <random>
 
 #include "slamprep/algo/calibration/calibration_json.hpp"
 #include "slamprep/algo/calibration/nominal_flags.hpp"
@@ -117,6 +119,55 @@ TEST(CombineRecordings, TwoInconsistentRecordings) {
   EXPECT_GT(c.chi2_dof(0), 2.0);
   EXPECT_NEAR(std::sqrt(c.covariance(0, 0)), std::sqrt(chi2 / (w1 + w2)), 1e-12);
   EXPECT_EQ(c.worst_parameter, 0);
+}
+
+// Eq. (3) by hand: b known (sigma 1 nm), r_L 0.100 and 0.102 m +- 1 mm over b 0.5 m: q_L = 0.200
+// and 0.204, each +- 0.002, mean 0.202, chi2 = 1 + 1 with n - 1 = 1; r_R the same in both: 0.
+TEST(CombineRecordings, RatioConsistencyByHand) {
+  const Eigen::Vector2d chi2 =
+      ratioConsistency({vec({0.100, 0.100, 0.5}), vec({0.102, 0.100, 0.5})},
+                       {diag({0.001, 0.001, 1e-9}), diag({0.001, 0.001, 1e-9})});
+  EXPECT_NEAR(chi2(0), 2.0, 1e-6);
+  EXPECT_NEAR(chi2(1), 0.0, 1e-12);
+  EXPECT_TRUE(std::isnan(ratioConsistency({vec({0.1, 0.1, 0.5})}, {diag({1e-3, 1e-3, 1e-3})})(0)));
+}
+
+// Two recordings whose r and b are 99 % correlated (a drive pins r / b down, not r or b): each
+// of r_L, r_R and b agrees within 1.5 sigma, r / b is 5 % apart at sigmas under 1 %. Eq. (3)
+// says so; its variance checked against the ratio's spread over samples of each covariance.
+TEST(CombineRecordings, RatiosDisagreeWhereREachAndBEachAgree) {
+  auto correlated = [](double sr, double sb) {
+    Eigen::MatrixXd C(3, 3);
+    C << sr * sr, 0.98 * sr * sr, 0.99 * sr * sb, 0.98 * sr * sr, sr * sr, 0.99 * sr * sb,
+        0.99 * sr * sb, 0.99 * sr * sb, sb * sb;
+    return C;
+  };
+  const std::vector<Eigen::VectorXd> x = {vec({0.0354, 0.0354, 0.2372}),
+                                          vec({0.0357, 0.0358, 0.2530})};
+  const std::vector<Eigen::MatrixXd> C = {correlated(0.0010, 0.0068), correlated(0.0016, 0.0111)};
+  const Eigen::Vector2d chi2 = ratioConsistency(x, C);
+  EXPECT_GT(chi2(0), 10.0);
+  EXPECT_GT(chi2(1), 10.0);
+  const CombinedEstimate c = combineEstimates(x, C);
+  ASSERT_TRUE(c.ok) << c.reason;
+  EXPECT_EQ(c.ratio_chi2_dof, chi2);
+  for (int j = 0; j < 3; ++j)  // each difference within 1.5 sigma of the difference
+    EXPECT_LT(std::abs(x[0](j) - x[1](j)), 1.5 * std::sqrt(C[0](j, j) + C[1](j, j)));
+  // Brute force: the ratio's variance over samples of recording 1's covariance.
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n01;
+  const Eigen::MatrixXd L = Eigen::LLT<Eigen::MatrixXd>(C[0]).matrixL();
+  double sum = 0.0, sum2 = 0.0;
+  const int samples = 200000;
+  for (int k = 0; k < samples; ++k) {
+    Eigen::Vector3d z(n01(rng), n01(rng), n01(rng));
+    const Eigen::Vector3d s = x[0] + L * z;
+    sum += s(0) / s(2);
+    sum2 += s(0) / s(2) * s(0) / s(2);
+  }
+  const double var_sampled = sum2 / samples - (sum / samples) * (sum / samples);
+  Eigen::Vector3d g(1.0 / x[0](2), 0.0, -x[0](0) / (x[0](2) * x[0](2)));
+  EXPECT_NEAR(std::sqrt(g.dot(C[0] * g)), std::sqrt(var_sampled), 0.05 * std::sqrt(var_sampled));
 }
 
 TEST(CombineRecordings, RefusesWhatCannotBeWeighted) {
