@@ -112,7 +112,8 @@ def main():
     for (robot, nominal), datasets in by_robot.items():
         print_calibration(robot, datasets, calibrate(bin_, robot, nominal, datasets, out))
     print("\n### Per unit (one physical robot, assumed)\n")
-    print("| unit | method | recordings (ok) | r_L mm | r_R mm | b mm | chi2/dof r_L, r_R, b | "
+    print("| unit | method | recordings (ok) | r_L mm | r_R mm | b mm | chi2/dof r_L, r_R, b; "
+          "r_L/b, r_R/b | "
           "held-out raw m / deg | calibrated m / deg | calibrated wheels m | held-out wins: "
           "trans, rot (of scored) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
@@ -127,8 +128,9 @@ def main():
 
 def print_leave_one_out(bin_, by_unit, out):
     print("\n### Leave one recording out (" + " ".join(LOO_PROTOCOL) + ")\n")
-    print("| unit | method | beats raw: trans, rot (of scored) | raw / calibrated m per recording |")
-    print("|---|---|---|---|")
+    print("| unit | method | beats raw: trans, rot (of scored) | raw / calibrated m per recording "
+          "| whole recordings: chi2/dof r_L, r_R, b; r_L/b, r_R/b (n) |")
+    print("|---|---|---|---|---|")
     for (unit, nominal), datasets in by_unit.items():
         if len(datasets) < 2:
             continue
@@ -142,7 +144,16 @@ def print_leave_one_out(bin_, by_unit, out):
             b = loo["beats_raw"]
             cells = ", ".join(f"{r['raw']['trans_m']:.3f}/{r['calibrated']['trans_m']:.3f}"
                               if "raw" in r else "-" for r in loo["recordings"])
-            print(f"| {unit} | {label} | {b['trans']}, {b['rot']} (of {b['scored']}) | {cells} |")
+            c = j["consistency"].get(method[1], {})
+            print(f"| {unit} | {label} | {b['trans']}, {b['rot']} (of {b['scored']}) | {cells} | "
+                  f"{chi2_cells(c, ('r_L', 'r_R', 'b'))}; {chi2_cells(c, ('r_L/b', 'r_R/b'))} "
+                  f"({c.get('b', {}).get('n', '-')}) |")
+
+
+def chi2_cells(consistency, keys):
+    """chi2/dof of the keys, "-" where there is none (fewer than two recordings ok)."""
+    return ", ".join("-" if consistency.get(k, {}).get("chi2_dof") is None
+                     else f"{consistency[k]['chi2_dof']:.2f}" for k in keys)
 
 
 def print_recordings(rows):
@@ -214,8 +225,7 @@ def print_unit(unit, label, datasets, result):
               "| | | | | | | |")
         return
     c = j["consistency"].get(m["method"], {})
-    chi2 = ", ".join("-" if c.get(k, {}).get("chi2_dof") is None else f"{c[k]['chi2_dof']:.2f}"
-                     for k in ("r_L", "r_R", "b"))
+    chi2 = chi2_cells(c, ("r_L", "r_R", "b")) + "; " + chi2_cells(c, ("r_L/b", "r_R/b"))
     sig = m["sigma"]
     raw, cal, wheels = validation_cells(m)
     trans, rot, scored = held_out_wins(j)

@@ -70,6 +70,9 @@ void visitFaultFields(Config& c, Visitor&& v) {
   v("faults.encoder_dropouts.rate_hz", f.encoder_dropout_rate_hz);
   v("faults.encoder_dropouts.duration_s", f.encoder_dropout_duration_s);
   v("faults.stamp_jitter.sigma_s", f.stamp_jitter_sigma_s);
+  v("faults.stamp_jitter.encoders_sigma_s", f.stamp_jitter_encoders_sigma_s);
+  v("faults.stamp_jitter.imu_sigma_s", f.stamp_jitter_imu_sigma_s);
+  v("faults.stamp_jitter.scans_sigma_s", f.stamp_jitter_scans_sigma_s);
   v("faults.clock_offset.offset_s", f.clock_offset_s);
   v("faults.dropped_scans.probability", f.dropped_scan_probability);
   v("faults.dropped_beams.probability", f.dropped_beam_probability);
@@ -243,6 +246,11 @@ void validateFaults(const Checker& check, const FaultsConfig& f) {
   check.faultRate("faults.encoder_dropouts.rate_hz", f.encoder_dropout_rate_hz);
   check.positive("faults.encoder_dropouts.duration_s", f.encoder_dropout_duration_s);
   check.nonNegative("faults.stamp_jitter.sigma_s", f.stamp_jitter_sigma_s);
+  for (const auto& [key, sigma] :
+       {std::pair{"faults.stamp_jitter.encoders_sigma_s", f.stamp_jitter_encoders_sigma_s},
+        std::pair{"faults.stamp_jitter.imu_sigma_s", f.stamp_jitter_imu_sigma_s},
+        std::pair{"faults.stamp_jitter.scans_sigma_s", f.stamp_jitter_scans_sigma_s}})
+    if (!(sigma >= 0.0 || sigma == -1.0)) check.fail(key, "must be >= 0, or -1 for sigma_s", sigma);
   if (!(std::abs(f.clock_offset_s) <= 1.0))
     check.fail("faults.clock_offset.offset_s", "must be within [-1, 1] s", f.clock_offset_s);
   for (const auto& [key, p] :

@@ -76,6 +76,13 @@ struct FaultsConfig {
   double encoder_dropout_rate_hz = 0.01;    ///< dropouts per second
   double encoder_dropout_duration_s = 0.2;  ///< no samples for this long
   double stamp_jitter_sigma_s = 0.001;      ///< per stamp, cut at 0.45 sample periods
+  /// Per stream, for a twin of a recording whose streams jitter differently; < 0: sigma_s.
+  double stamp_jitter_encoders_sigma_s = -1.0;
+  double stamp_jitter_imu_sigma_s = -1.0;
+  double stamp_jitter_scans_sigma_s = -1.0;
+  double jitterSigma(double stream_sigma_s) const {
+    return stream_sigma_s < 0.0 ? stamp_jitter_sigma_s : stream_sigma_s;
+  }
   double clock_offset_s = 0.005;            ///< lidar stamps = true time + this
   double dropped_scan_probability = 0.01;   ///< per scan
   double dropped_beam_probability = 0.005;  ///< per beam

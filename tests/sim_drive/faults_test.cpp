@@ -167,6 +167,22 @@ TEST(Faults, StampJitterHasItsSigmaAndKeepsTheOrder) {
   EXPECT_LT(imu, 1.0e-3);
 }
 
+// A twin copies a recording whose streams jitter differently: one sigma per stream, the others
+// sigma_s. 40000 encoder samples (RMS estimate +-0.35 %; the 10 ms period cuts 2 ms at 2.25
+// sigma: 0.978 x 2 ms), 4000 scans (+-1.1 %, cut at 4.5 sigma).
+TEST(Faults, StampJitterPerStream) {
+  SimConfig c = longRun("stamp_jitter");
+  applyOverride(c, "faults.stamp_jitter.encoders_sigma_s=0.002");
+  applyOverride(c, "faults.stamp_jitter.scans_sigma_s=0.01");
+  const nlohmann::json record = run(c).dataset.info.faults["stamp_jitter"];
+  EXPECT_NEAR(record["encoders"]["rms_s"].get<double>(), 1.956e-3, 0.04e-3);
+  EXPECT_NEAR(record["scans"]["rms_s"].get<double>(), 10e-3, 0.5e-3);
+  // The IMU keeps sigma_s (1 ms; its 5 ms period cuts it at 2.25 sigma: 0.97 ms).
+  EXPECT_NEAR(record["imu"]["rms_s"].get<double>(), 0.97e-3, 0.03e-3);
+  SimConfig bad = c;
+  EXPECT_THROW(applyOverride(bad, "faults.stamp_jitter.scans_sigma_s=-0.5"), std::exception);
+}
+
 TEST(Faults, ClockOffsetShiftsEveryScanAndNothingElse) {
   const SimResult clean = run(longRun("none", 20.0)), r = run(longRun("clock_offset", 20.0));
   // The last scan now ends after the last encoder sample and is not kept.
