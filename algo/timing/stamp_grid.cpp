@@ -140,4 +140,11 @@ StampGrid fitStampGrid(std::span<const double> t, const StampGridParams& params)
   return out;
 }
 
+double streamPeriod(std::span<const double> stamps, const StampGridParams& params) {
+  const StampGrid grid = fitStampGrid(stamps, params);
+  if (grid.applied || grid.reason == "regular already") return grid.period_s;
+  if (stamps.size() < 2) return 0.0;
+  return medianSpacing({stamps.begin(), stamps.end()});
+}
+
 }  // namespace slamprep::algo

@@ -39,4 +39,9 @@ struct StampGrid {
 /// The output keeps the input's order and count and increases strictly.
 StampGrid fitStampGrid(std::span<const double> stamps, const StampGridParams& params = {});
 
+/// A stream's sampling period: the fitted grid's where the stamps have one (jittered, or with an
+/// alternating step: an RPLIDAR driver stamps its scans 0.123 and 0.135 s apart in turn, about a
+/// 0.1296 s period, whose median step is 0.1348 s), else the median step; 0 when undefined.
+double streamPeriod(std::span<const double> stamps, const StampGridParams& params = {});
+
 }  // namespace slamprep::algo

@@ -245,6 +245,14 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
     faults.push_back("clock_offset");
     s.push_back("faults.clock_offset.offset_s=" + num(std::clamp(f.scan_lag_s, -1.0, 1.0)));
   }
+  const OdometryFit& o = f.odometry;
+  if (o.encoders_jitter_s > 0.0 || o.imu_jitter_s > 0.0 || o.scans_jitter_s > 0.0) {
+    faults.push_back("stamp_jitter");
+    s.push_back("faults.stamp_jitter.sigma_s=0");
+    s.push_back("faults.stamp_jitter.encoders_sigma_s=" + num(o.encoders_jitter_s));
+    s.push_back("faults.stamp_jitter.imu_sigma_s=" + num(o.imu_jitter_s));
+    s.push_back("faults.stamp_jitter.scans_sigma_s=" + num(o.scans_jitter_s));
+  }
   if (f.odometry.gaps > 0 && f.odometry.duration_s > 0.0) {
     faults.push_back("encoder_dropouts");
     s.push_back("faults.encoder_dropouts.rate_hz=" +
@@ -283,7 +291,10 @@ nlohmann::ordered_json fitted(nlohmann::ordered_json value, const std::string& h
 /// The lidar's layout as the recording's scans state it.
 nlohmann::ordered_json layoutJson(const LidarLayout& l) {
   return {
-      {"rate_hz", fitted(l.rate_hz, "1 / median step between scan stamps")},
+      {"rate_hz",
+       fitted(
+           l.rate_hz,
+           "1 / the scan stamps' period: their grid's where they have one, else the median step")},
       {"beams_per_scan", fitted({{"mean", l.beams_per_scan_mean},
                                  {"min", l.beams_min},
                                  {"max", l.beams_max},
@@ -403,7 +414,16 @@ nlohmann::ordered_json odometryJson(const Fitted& f, const nlohmann::ordered_jso
       {"nominal", fitted(g(f.nominal), "dataset.json: what the odometry is told")},
       {"true", fitted(g(f.true_geometry), geometry_how.value("from", ""))},
       {"calibration", geometry_how},
-      {"rate_hz", fitted(o.encoder_rate_hz, "1 / median step of the encoder stamps")},
+      {"rate_hz", fitted(o.encoder_rate_hz,
+                         "1 / the encoder stamps' period: their grid's "
+                         "where they have one, else the median step")},
+      {"stamp_jitter_s",
+       fitted({{"encoders", o.encoders_jitter_s},
+               {"imu", o.imu_jitter_s},
+               {"scans", o.scans_jitter_s}},
+              "RMS of each stream's stamps about its grid where calibrate puts them back on it "
+              "(docs/deskew.md \"Jittered stamps\"), else 0: the twin's "
+              "faults.stamp_jitter")},
       {"ticks_per_revolution", fitted(o.ticks_per_revolution, "dataset.json")},
       {"gaps", fitted({{"count", o.gaps}, {"mean_s", o.gap_mean_s}, {"max_s", o.gap_max_s}},
                       "encoder steps over 2.5 median steps: stale runs the import dropped, lost "

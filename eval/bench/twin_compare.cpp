@@ -18,7 +18,8 @@ namespace {
 
 const std::map<std::string, const char*>& definitions() {
   static const std::map<std::string, const char*> d = {
-      {"scan_rate_hz", "1 / median step between scan stamps"},
+      {"scan_rate_hz",
+       "1 / the scan stamps' period: their grid's where they have one, else the median step"},
       {"beams_per_scan_mean", "beams per scan, mean over the scans"},
       {"no_return_fraction", "beams without a valid range, of all beams"},
       {"scan_to_map_residual_median_m",

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <tuple>
 
+#include "slamprep/algo/timing/stamp_grid.hpp"
 #include "slamprep/core/order_statistics.hpp"
 
 namespace slamprep::eval {
@@ -33,12 +34,11 @@ LidarLayout fitLidarLayout(const Dataset& d) {
   LidarLayout l;
   l.scans = d.scans.size();
   if (d.scans.empty()) return l;
-  std::vector<double> steps, increments, times, mins, maxs, readings;
+  std::vector<double> increments, times, mins, maxs, readings;
   std::map<std::size_t, std::size_t> counts;
   std::size_t beams = 0, invalid = 0;
   for (std::size_t k = 0; k < d.scans.size(); ++k) {
     const LaserScan& s = d.scans[k].scan;
-    if (k > 0) steps.push_back(s.stamp_s - d.scans[k - 1].scan.stamp_s);
     ++counts[s.size()];
     beams += s.size();
     increments.push_back(s.angle_increment_rad);
@@ -52,7 +52,9 @@ LidarLayout fitLidarLayout(const Dataset& d) {
         ++invalid;
     }
   }
-  const double step = median(steps);
+  std::vector<double> stamps;
+  for (const ScanRecord& r : d.scans) stamps.push_back(r.scan.stamp_s);
+  const double step = algo::streamPeriod(stamps);
   l.rate_hz = step > 0.0 ? 1.0 / step : 0.0;
   l.beams_per_scan_mean = double(beams) / double(d.scans.size());
   l.beams_min = counts.begin()->first;

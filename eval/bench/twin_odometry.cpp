@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "slamprep/algo/timing/dataset_stamps.hpp"
+#include "slamprep/algo/timing/stamp_grid.hpp"
 #include "slamprep/core/order_statistics.hpp"
 #include "slamprep/core/se2.hpp"
 
@@ -60,6 +62,21 @@ std::vector<double> wheelRates(const Dataset& d) {
   return rates;
 }
 
+/// What calibrate's stamp regularisation finds on each stream (on a copy): its jitter where it
+/// puts the stream back on its grid, which the twin then adds to its own stamps.
+void fitStampJitter(const Dataset& d, OdometryFit& f) {
+  Dataset copy = d;
+  for (const algo::StreamStamps& s : algo::regularizeStamps(copy)) {
+    if (!s.applied) continue;
+    if (s.stream == "encoders" || (s.stream == "odometry" && d.encoders.size() < 2))
+      f.encoders_jitter_s = s.residual_rms_s;
+    else if (s.stream == "imu")
+      f.imu_jitter_s = s.residual_rms_s;
+    else if (s.stream == "scans")
+      f.scans_jitter_s = s.residual_rms_s;
+  }
+}
+
 }  // namespace
 
 OdometryFit fitOdometry(const Dataset& d, const OdometryFitParams& p) {
@@ -77,7 +94,8 @@ OdometryFit fitOdometry(const Dataset& d, const OdometryFitParams& p) {
     std::vector<double> steps;
     for (std::size_t k = 1; k < stamps.size(); ++k) steps.push_back(stamps[k] - stamps[k - 1]);
     const double step = median(steps);
-    f.encoder_rate_hz = step > 0.0 ? 1.0 / step : 0.0;
+    const double period = algo::streamPeriod(stamps);
+    f.encoder_rate_hz = period > 0.0 ? 1.0 / period : 0.0;
     double missing = 0.0;
     for (double dt : steps) {
       if (dt <= p.gap_periods * step) continue;
@@ -90,6 +108,7 @@ OdometryFit fitOdometry(const Dataset& d, const OdometryFitParams& p) {
   f.wheel_rate_p99_radps = quantile(wheelRates(d), 0.99);
   f.has_imu = !d.imu.empty();
   if (f.has_imu) fitGyro(d, p, f);
+  fitStampJitter(d, f);
   return f;
 }
 

@@ -13,7 +13,7 @@ namespace slamprep::eval {
 
 struct OdometryFit {
   double duration_s = 0.0;
-  double encoder_rate_hz = 0.0;  ///< 1 / median stamp step
+  double encoder_rate_hz = 0.0;  ///< 1 / the stamps' period (algo::streamPeriod)
   int ticks_per_revolution = 0;  ///< dataset.json's (derived encoders: the derivation's)
   /// Steps longer than gap_periods median steps: stale runs the import dropped, lost samples.
   std::size_t gaps = 0;
@@ -24,6 +24,11 @@ struct OdometryFit {
   std::size_t still_samples = 0;  ///< gyro samples where the wheels did not turn
   double gyro_bias_radps = 0.0;   ///< their mean ...
   double gyro_noise_radps = 0.0;  ///< ... and standard deviation
+  /// Stamp jitter (s) where calibrate puts a stream back on its grid (algo::regularizeStamps):
+  /// the RMS of its stamps about the grid; 0 where the stream is regular or is left alone.
+  double encoders_jitter_s = 0.0;  ///< the encoders' (or the odometry poses' without ticks)
+  double imu_jitter_s = 0.0;
+  double scans_jitter_s = 0.0;
   /// The wheels' rate the recording reaches: 99th percentile of |rate| over the encoder steps
   /// (the odometry's poses with the nominal geometry where there are no ticks); 0: unknown.
   double wheel_rate_p99_radps = 0.0;

@@ -136,4 +136,34 @@ TEST(DatasetStamps, AStreamWithoutAGridKeepsEveryStreamAsLogged) {
 }
 
 }  // namespace
+// An RPLIDAR driver stamps its scans 0.1231 and 0.1350 s apart in turn, now and then 0.1350 twice
+// (a TurtleBot4's recording): the period is the mean step, 0.1296 s, not the median, 0.1350; a
+// missing scan does not change it; without a grid (steps uniform in 0.05-0.15 s) the median
+// step. (Where the shorter step is the median, the grid fit takes that step for the period, with
+// samples missing throughout, as the median would.)
+TEST(StreamPeriod, AlternatingStepsGiveTheirMeanNotTheMedian) {
+  std::vector<double> t = {0.0};
+  double sum = 0.0;
+  for (int k = 1; k < 400; ++k) {
+    const double step = (k % 2 || k % 16 == 0) ? 0.1350 : 0.1231;
+    t.push_back(t.back() + step);
+    sum += step;
+  }
+  const double mean = sum / 399.0;
+  EXPECT_NEAR(streamPeriod(t), mean, 1e-4);
+  EXPECT_GT(std::abs(streamPeriod(t) - 0.1350), 0.004);
+  std::vector<double> gap = t;
+  gap.erase(gap.begin() + 200);
+  EXPECT_NEAR(streamPeriod(gap), mean, 1e-4);
+  std::vector<double> random = {0.0};
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> step(0.05, 0.15);
+  for (int k = 1; k < 400; ++k) random.push_back(random.back() + step(rng));
+  std::vector<double> steps;
+  for (std::size_t k = 1; k < random.size(); ++k) steps.push_back(random[k] - random[k - 1]);
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  EXPECT_FALSE(fitStampGrid(random).applied);
+  EXPECT_NEAR(streamPeriod(random), steps[steps.size() / 2], 0.005);
+}
+
 }  // namespace slamprep::algo
