@@ -197,6 +197,41 @@ struct Fitted {
   sim::RobotConfig robot;
 };
 
+/// The faults that reproduce the recording's glitches, appended to `s` with faults.enable last.
+void faultSets(const Fitted& f, std::vector<std::string>& s) {
+  std::vector<std::string> faults;
+  if (f.against_map.twin_dropout_probability > 0.0) {
+    faults.push_back("dropped_beams");
+    s.push_back("faults.dropped_beams.probability=" + num(f.against_map.twin_dropout_probability));
+    s.push_back("faults.dropped_beams.by_angle=" +
+                factors(f.against_map.keep_factor_by_twin_angle));
+    s.push_back("faults.dropped_beams.by_range=" + factors(f.against_map.keep_factor_by_range));
+    s.push_back("faults.dropped_beams.range_bin_m=" + num(LidarMapParams{}.range_bin_m));
+  }
+  if (f.lag_measured && std::abs(f.scan_lag_s) >= 0.02) {
+    faults.push_back("clock_offset");
+    s.push_back("faults.clock_offset.offset_s=" + num(std::clamp(f.scan_lag_s, -1.0, 1.0)));
+  }
+  const OdometryFit& o = f.odometry;
+  if (o.encoders_jitter_s > 0.0 || o.imu_jitter_s > 0.0 || o.scans_jitter_s > 0.0) {
+    faults.push_back("stamp_jitter");
+    s.push_back("faults.stamp_jitter.sigma_s=0");
+    s.push_back("faults.stamp_jitter.encoders_sigma_s=" + num(o.encoders_jitter_s));
+    s.push_back("faults.stamp_jitter.imu_sigma_s=" + num(o.imu_jitter_s));
+    s.push_back("faults.stamp_jitter.scans_sigma_s=" + num(o.scans_jitter_s));
+  }
+  if (f.odometry.gaps > 0 && f.odometry.duration_s > 0.0) {
+    faults.push_back("encoder_dropouts");
+    s.push_back("faults.encoder_dropouts.rate_hz=" +
+                num(double(f.odometry.gaps) / f.odometry.duration_s));
+    s.push_back("faults.encoder_dropouts.duration_s=" + num(f.odometry.gap_mean_s));
+  }
+  std::string enable = "faults.enable=none";
+  for (std::size_t i = 0; i < faults.size(); ++i)
+    enable = (i == 0 ? "faults.enable=" : enable + ",") + faults[i];
+  s.push_back(enable);
+}
+
 /// The simulator settings that reproduce the fit, as `--set` assignments in order.
 std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
   const DiffDriveParams& g = f.true_geometry;
@@ -232,37 +267,7 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
     s.push_back("imu.gyro_bias_radps=" + num(f.odometry.gyro_bias_radps));
     s.push_back("imu.gyro_noise_radps=" + num(f.odometry.gyro_noise_radps));
   }
-  std::vector<std::string> faults;
-  if (f.against_map.twin_dropout_probability > 0.0) {
-    faults.push_back("dropped_beams");
-    s.push_back("faults.dropped_beams.probability=" + num(f.against_map.twin_dropout_probability));
-    s.push_back("faults.dropped_beams.by_angle=" +
-                factors(f.against_map.keep_factor_by_twin_angle));
-    s.push_back("faults.dropped_beams.by_range=" + factors(f.against_map.keep_factor_by_range));
-    s.push_back("faults.dropped_beams.range_bin_m=" + num(LidarMapParams{}.range_bin_m));
-  }
-  if (f.lag_measured && std::abs(f.scan_lag_s) >= 0.02) {
-    faults.push_back("clock_offset");
-    s.push_back("faults.clock_offset.offset_s=" + num(std::clamp(f.scan_lag_s, -1.0, 1.0)));
-  }
-  const OdometryFit& o = f.odometry;
-  if (o.encoders_jitter_s > 0.0 || o.imu_jitter_s > 0.0 || o.scans_jitter_s > 0.0) {
-    faults.push_back("stamp_jitter");
-    s.push_back("faults.stamp_jitter.sigma_s=0");
-    s.push_back("faults.stamp_jitter.encoders_sigma_s=" + num(o.encoders_jitter_s));
-    s.push_back("faults.stamp_jitter.imu_sigma_s=" + num(o.imu_jitter_s));
-    s.push_back("faults.stamp_jitter.scans_sigma_s=" + num(o.scans_jitter_s));
-  }
-  if (f.odometry.gaps > 0 && f.odometry.duration_s > 0.0) {
-    faults.push_back("encoder_dropouts");
-    s.push_back("faults.encoder_dropouts.rate_hz=" +
-                num(double(f.odometry.gaps) / f.odometry.duration_s));
-    s.push_back("faults.encoder_dropouts.duration_s=" + num(f.odometry.gap_mean_s));
-  }
-  std::string enable = "faults.enable=none";
-  for (std::size_t i = 0; i < faults.size(); ++i)
-    enable = (i == 0 ? "faults.enable=" : enable + ",") + faults[i];
-  s.push_back(enable);
+  faultSets(f, s);
   return s;
 }
 
