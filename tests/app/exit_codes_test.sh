@@ -102,6 +102,14 @@ grep -q '"validation"' "$dir/multi.json" || fail "--validate-fraction: no valida
 out_has "leave one recording out"
 grep -q '"leave_one_out"' "$dir/multi.json" || fail "--leave-one-out: nothing in --json"
 [ -s "$dir/multi.yaml" ] || fail "several DATASETs: --ros2-params not written"
+grep -q '"r_R/b"' "$dir/multi.json" || fail "several DATASETs: no r/b consistency in --json"
+# A wheel base 4 % longer on a second robot, the same nominal: its rotation per wheel turn
+# differs, and the output says so.
+wide=$dir/wide
+"$slamprep" simulate --scenario worlds/scenarios/figure_eight.yaml --mode kinematic --seed 2 \
+  --set robot.wheel_base_m=0.52 --quiet --out "$wide" >/dev/null || fail "simulate wide"
+expect 0 calibrate "$fig8" "$wide" --motion groundtruth --method joint --nominal 0.1,0.1,0.5
+out_has "disagree on how far the robot turns per wheel turn"
 expect 0 export "$fig8" --format tum --out "$dir/multi_tum" --calibration "$dir/multi.json"
 [ -s "$dir/multi_tum/odom_calibrated.tum" ] || fail "export read no combined calibration"
 expect 0 calibrate "$fig8" --motion groundtruth --method joint --json "$dir/one.json"

@@ -178,6 +178,9 @@ TEST(SensorFaults, ThreeRecordingsOfOneTurtleBot3AgreeOnItsWheels) {
         << algo::kCalibrationKeys[j];
     EXPECT_LE(combined.estimate.chi2_dof(j), 3.0) << algo::kCalibrationKeys[j];
   }
+  // One robot: the rotation per wheel angle agrees too (Eq. 3 of combine_recordings.hpp).
+  EXPECT_LE(combined.estimate.ratio_chi2_dof(0), 3.0);
+  EXPECT_LE(combined.estimate.ratio_chi2_dof(1), 3.0);
 }
 
 }  // namespace
