@@ -24,6 +24,7 @@
 #include "slamprep/eval/formats/scan_jsonl.hpp"
 #include "slamprep/eval/pipeline/dataset_deskew.hpp"
 #include "slamprep/eval/pipeline/deskew_json.hpp"
+#include "slamprep/eval/pipeline/match_trajectory.hpp"
 
 namespace slamprep::app {
 namespace {
@@ -39,6 +40,7 @@ struct DeskewFlags : CommonFlags {
   std::string out;              // nothing is written without it
   std::vector<double> window;   // --window T0 T1: scans whose stamp is inside count in the metrics
   std::string stamps = "auto";  // auto: jittered constant-rate streams back on their grids
+  std::string sync = "none";    // auto: the wheels and gyro moved onto the scans' clock
   bool stamp_is_last_beam = false;
   bool no_write = false;  // deprecated: nothing is written without --out anyway
   int quadratic_pieces = 4;
@@ -326,11 +328,16 @@ int runDeskew(const DeskewFlags& given) {
   if (d.scans.empty()) throw InputError(flags.dataset, "has no scans to de-skew");
   const std::string stamps =
       flags.stamps == "auto" ? algo::stampsSummary(algo::regularizeStamps(d)) : "";
+  const double clock_sync_s =
+      flags.sync == "auto" ? eval::syncOntoScans(d, "none", flags.stamp_is_last_beam) : 0.0;
   const Geometry geometry = chooseGeometry(flags, d);
   const PoseSeries odometry = odometryForGeometry(d, geometry);
   const MethodChoice methods = chooseMethods(flags, d, !odometry.empty());
   printHeader(flags, d, geometry);
   std::cout << stamps;
+  if (clock_sync_s != 0.0)
+    std::cout << "--sync auto: the scans lagged the wheels by " << clock_sync_s
+              << " s; the wheels (and the gyro) moved onto the scans' clock\n";
   DeskewTally tally;
   if (flags.out.empty()) {
     runMethods(flags, methods, d, odometry, geometry, nullptr, tally);
@@ -368,6 +375,13 @@ Command addDeskewCommand(CLI::App& app) {
                   "scans) that are measurably jittered back on their grid (docs/deskew.md, "
                   "\"Jittered stamps\"); raw: use them as logged")
       ->check(oneOf("stamps", {"auto", "raw"}))
+      ->capture_default_str();
+  cli->add_option("--sync", flags->sync,
+                  "auto: where the scans lag the wheels (sensor agreement of a first match of the "
+                  "scans as measured), move the wheels and the gyro onto the scans' clock before "
+                  "de-skewing, as calibrate and match --sync auto do (docs/deskew.md, \"Clock "
+                  "sync\"); --out then holds the moved stamps; none: as logged")
+      ->check(oneOf("sync", {"auto", "none"}))
       ->capture_default_str();
   cli->add_option("--reference", flags->reference, "time the corrected points describe")
       ->check(oneOf("reference", namesOf(algo::kReferenceTimeNames)))

@@ -68,14 +68,6 @@ nlohmann::ordered_json hypothesesJson(const eval::MatchTrajectory& run) {
 }
 
 /// The heading of the accepted matches (a fallback's pose is a guess, not a measurement).
-PoseSeries acceptedPoses(const eval::MatchTrajectory& run) {
-  PoseSeries accepted;
-  for (std::size_t k = 0; k < run.tracked.scans.size(); ++k)
-    if (!run.tracked.scans[k].fallback)
-      accepted.push_back(run.T_world_base[k].stamp_s, run.T_world_base[k].value);
-  return accepted;
-}
-
 /// One match of the dataset's scans (de-skewed first), with the sensor agreement against the
 /// accepted poses.
 struct MatchPass {
@@ -89,8 +81,8 @@ MatchPass matchPass(const Dataset& d, const MatchFlags& flags) {
   const std::vector<Points2> points =
       eval::matchScanPoints(d, flags.deskew, flags.stamp_is_last_beam, &pass.refused);
   pass.run = eval::matchTrajectory(d, points, {flags.params, flags.stamp_is_last_beam});
-  pass.agreement =
-      algo::compareSensors(algo::datasetSources(d, algo::scanPieces({acceptedPoses(pass.run)})));
+  pass.agreement = algo::compareSensors(
+      algo::datasetSources(d, algo::scanPieces({eval::acceptedPoses(pass.run)})));
   return pass;
 }
 
@@ -101,7 +93,7 @@ double syncAndMatchAgain(Dataset& d, const MatchFlags& flags, MatchPass& pass) {
   return algo::syncOntoScanClock(d, pass.agreement, calibrate.min_sync_lag_s,
                                  calibrate.min_refine_lag_s, [&](const Dataset& s) {
                                    pass = matchPass(s, flags);
-                                   return std::vector<PoseSeries>{acceptedPoses(pass.run)};
+                                   return std::vector<PoseSeries>{eval::acceptedPoses(pass.run)};
                                  });
 }
 

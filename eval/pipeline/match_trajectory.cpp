@@ -4,10 +4,12 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "slamprep/algo/agreement/dataset_sources.hpp"
 #include "slamprep/algo/calibration/dataset_motion.hpp"
 #include "slamprep/algo/deskew/deskew.hpp"
 #include "slamprep/core/error.hpp"
 #include "slamprep/core/heading.hpp"
+#include "slamprep/eval/pipeline/calibration_run.hpp"
 #include "slamprep/eval/pipeline/dataset_deskew.hpp"
 #include "slamprep/eval/pipeline/match_run.hpp"
 
@@ -90,6 +92,28 @@ std::string formatTrackedMatches(const MatchTrajectory& run) {
     text += line.dump() + "\n";
   }
   return text;
+}
+
+PoseSeries acceptedPoses(const MatchTrajectory& run) {
+  PoseSeries accepted;
+  for (std::size_t k = 0; k < run.tracked.scans.size(); ++k)
+    if (!run.tracked.scans[k].fallback)
+      accepted.push_back(run.T_world_base[k].stamp_s, run.T_world_base[k].value);
+  return accepted;
+}
+
+double syncOntoScans(Dataset& dataset, const std::string& deskew, bool stamp_is_last_beam) {
+  const MatchTrajectoryOptions options{{}, stamp_is_last_beam};
+  auto matched = [&](const Dataset& d) {
+    return acceptedPoses(
+        matchTrajectory(d, matchScanPoints(d, deskew, stamp_is_last_beam), options));
+  };
+  const algo::SensorAgreement first =
+      algo::compareSensors(algo::datasetSources(dataset, algo::scanPieces({matched(dataset)})));
+  const DatasetCalibrationParams thresholds;
+  return algo::syncOntoScanClock(
+      dataset, first, thresholds.min_sync_lag_s, thresholds.min_refine_lag_s,
+      [&](const Dataset& d) { return std::vector<PoseSeries>{matched(d)}; });
 }
 
 }  // namespace slamprep::eval

@@ -48,4 +48,12 @@ MatchTrajectory matchTrajectory(const Dataset& dataset, const std::vector<Points
 /// matches.jsonl (docs/matching.md): one object per scan after the first.
 std::string formatTrackedMatches(const MatchTrajectory& run);
 
+/// The poses of the scans whose match was accepted.
+PoseSeries acceptedPoses(const MatchTrajectory& run);
+
+/// `deskew --sync auto`: the scans matched (`deskew`, the default matcher) and, where they lag
+/// the wheels, the wheels and the gyro moved onto the scans' clock as calibrate and match do
+/// (algo::syncOntoScanClock, calibrate's thresholds). Returns the total shift (0: none).
+double syncOntoScans(Dataset& dataset, const std::string& deskew, bool stamp_is_last_beam);
+
 }  // namespace slamprep::eval
