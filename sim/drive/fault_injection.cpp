@@ -250,7 +250,8 @@ void injectEncoderFaults(const FaultsConfig& f, std::uint64_t seed, const Stream
     out["encoder_dropouts"] = dropoutWindows(f, seed, duration_s, windows);
   if (on.has(Fault::stamp_jitter)) {
     SplitMix64 rng = stream(seed, RngStream::fault_jitter_encoders);
-    const auto e = jitter(rng, encoders.size(), f.jitterSigma(f.stamp_jitter_encoders_sigma_s), rates.encoders_hz);
+    const auto e = jitter(rng, encoders.size(), f.jitterSigma(f.stamp_jitter_encoders_sigma_s),
+                          rates.encoders_hz);
     for (std::size_t k = 0; k < e.size(); ++k) encoders[k].stamp_s += e[k];
     jitter_record["encoders"] = jitterSummary(e);
   }
@@ -279,7 +280,8 @@ void injectScanFaults(const FaultsConfig& f, std::uint64_t seed, const StreamRat
   if (on.has(Fault::dropped_beams)) out["dropped_beams"] = dropBeams(f, seed, scans);
   if (on.has(Fault::stamp_jitter)) {
     SplitMix64 rng = stream(seed, RngStream::fault_jitter_scans);
-    const auto e = jitter(rng, scans.size(), f.jitterSigma(f.stamp_jitter_scans_sigma_s), rates.lidar_hz);
+    const auto e =
+        jitter(rng, scans.size(), f.jitterSigma(f.stamp_jitter_scans_sigma_s), rates.lidar_hz);
     for (std::size_t k = 0; k < e.size(); ++k) scans[k].scan.stamp_s += e[k];
     jitter_record["scans"] = jitterSummary(e);
     jitter_record["scan_stamp_errors_s"] = e;
