@@ -3,6 +3,7 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -93,8 +94,31 @@ void printCombinedMethod(const algo::CombinedRun& c, const eval::RecordingsCalib
   printRatioRows(c);
 }
 
+// The wheel parameters whose combined value lies outside the range of the recordings' values
+// by more than 0.1 % of it (a hair outside is the weighting's rounding, not a disagreement), as
+// ", outside the recordings' range: r_L 25.040 mm (30.059 mm to 33.241 mm)"; "" when none.
+std::string outsideRecordings(const algo::CombinedRun& c, const eval::RecordingsCalibration& r) {
+  const Eigen::VectorXd combined = algo::calibrationValues(c.run.result);
+  std::ostringstream out;
+  for (int j = 0; j < 3; ++j) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const int rec : c.recordings)
+      for (const algo::CalibrationRun& run : r.recordings[rec].calibration.runs)
+        if (run.method == c.run.method && run.result.ok) {
+          lo = std::min(lo, algo::calibrationValues(run.result)(j));
+          hi = std::max(hi, algo::calibrationValues(run.result)(j));
+        }
+    const double margin = 1e-3 * std::max(std::abs(lo), std::abs(hi));
+    if (!(combined(j) < lo - margin || combined(j) > hi + margin)) continue;
+    out << (out.tellp() == 0 ? ", outside the recordings' range: " : ", ")
+        << algo::kCalibrationKeys[j] << " " << human(combined(j), j) << " (" << human(lo, j)
+        << " to " << human(hi, j) << ")";
+  }
+  return out.str();
+}
+
 // The warning for a method whose recordings disagree on r / b (Eq. 3), what drives pin down best.
-void warnRatioInconsistent(const algo::CombinedRun& c) {
+void warnRatioInconsistent(const algo::CombinedRun& c, const eval::RecordingsCalibration& r) {
   const Eigen::Vector2d& chi2 = c.estimate.ratio_chi2_dof;
   const int wheel = chi2(1) > chi2(0) ? 1 : 0;
   if (!c.run.result.ok || !(chi2(wheel) > algo::CombineParams{}.max_chi2_dof)) return;
@@ -104,7 +128,8 @@ void warnRatioInconsistent(const algo::CombinedRun& c) {
             << std::setprecision(2) << chi2(wheel) << std::defaultfloat
             << "), which a drive pins down better than r or b alone: another floor, load or "
                "robot, slip in turns, or the scans' rotation; the combined r and b keep the "
-               "weighted ratio and may lie outside every recording's\n";
+               "weighted ratio"
+            << outsideRecordings(c, r) << "\n";
 }
 
 // The warning for a method whose recordings disagree beyond their sigmas, naming the worst
@@ -190,7 +215,7 @@ void printRecordings(const eval::RecordingsCalibration& r) {
   std::cout << "\n";
   for (const algo::CombinedRun& c : r.combined) {
     warnInconsistent(c, r);
-    warnRatioInconsistent(c);
+    warnRatioInconsistent(c, r);
   }
 }
 

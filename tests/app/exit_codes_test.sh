@@ -110,6 +110,8 @@ wide=$dir/wide
   --set robot.wheel_base_m=0.52 --quiet --out "$wide" >/dev/null || fail "simulate wide"
 expect 0 calibrate "$fig8" "$wide" --motion groundtruth --method joint --nominal 0.1,0.1,0.5
 out_has "disagree on how far the robot turns per wheel turn"
+# Its combined r and b stay within the two recordings' values: nothing said of a range.
+! grep -qF "outside the recordings' range" "$dir/out" || fail "an in-range combination called outside"
 expect 0 export "$fig8" --format tum --out "$dir/multi_tum" --calibration "$dir/multi.json"
 [ -s "$dir/multi_tum/odom_calibrated.tum" ] || fail "export read no combined calibration"
 expect 0 calibrate "$fig8" --motion groundtruth --method joint --json "$dir/one.json"
