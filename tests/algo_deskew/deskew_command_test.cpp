@@ -39,6 +39,18 @@ class DeskewCommand : public ::testing::Test {
     return slamprep::test::runSlamprep(args, dir());
   }
   static std::string data() { return (dir() / "data").string(); }
+  // One method on `dataset` with `flags` added: the mean error of its --json, stdout in `out`.
+  static double deskewMean(const std::string& dataset, const std::string& method,
+                           const std::vector<std::string>& flags, std::string* out) {
+    const fs::path json = dir() / "mean.json";
+    std::vector<std::string> args = {"deskew",  dataset,  "--method",   method,
+                                     "--force", "--json", json.string()};
+    args.insert(args.end(), flags.begin(), flags.end());
+    const CliRun r = cli(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    *out = r.out;
+    return nlohmann::json::parse(slurp(json))[0]["mean_m"].get<double>();
+  }
 };
 
 TEST_F(DeskewCommand, AllMethodsWriteScansAndJson) {
@@ -192,9 +204,6 @@ TEST_F(DeskewCommand, FallbackCountsRefusedScansAsMeasured) {
   EXPECT_NE(printed.find("all scans, the refused as measured: mean"), std::string::npos) << printed;
 }
 
-// 1 ms of stamp jitter on every stream: odom-icp's error on the 3 s arc (seeds 1, 2, 4, 5) was
-// 4.4-5.0 mm with the stamps as logged and 1.0-1.2 mm with them back on their grids (a ratio of
-// 0.22-0.25); the clean dataset's stamps are left alone and nothing is printed for them.
 // Scans stamped 0.1 s late (clock_offset) on a stop-and-go drive, whose changing turn rate shows
 // the delay: --sync auto measures it (0.105 s, seed 1) and odom-linear, reading the wheels on
 // the scans' clock, errs 1.09 mm against 1.45 mm as logged.
@@ -206,16 +215,9 @@ TEST_F(DeskewCommand, SyncAutoMovesTheWheelsOntoTheScansClock) {
            "--set", "faults.clock_offset.offset_s=0.1", "--out", late})
           .exit_code,
       0);
-  auto mean = [&](const std::string& sync, std::string* out) {
-    const fs::path json = dir() / "sync.json";
-    const CliRun r = cli({"deskew", late, "--method", "odom-linear", "--force", "--sync", sync,
-                          "--json", json.string()});
-    EXPECT_EQ(r.exit_code, 0) << r.err;
-    *out = r.out;
-    return nlohmann::json::parse(slurp(json))[0]["mean_m"].get<double>();
-  };
   std::string out_auto, out_none;
-  const double synced = mean("auto", &out_auto), logged = mean("none", &out_none);
+  const double synced = deskewMean(late, "odom-linear", {"--sync", "auto"}, &out_auto);
+  const double logged = deskewMean(late, "odom-linear", {"--sync", "none"}, &out_none);
   EXPECT_LT(synced, 0.85 * logged);
   const std::size_t at = out_auto.find("--sync auto: the scans lagged the wheels by ");
   ASSERT_NE(at, std::string::npos) << out_auto;
@@ -223,6 +225,9 @@ TEST_F(DeskewCommand, SyncAutoMovesTheWheelsOntoTheScansClock) {
   EXPECT_EQ(out_none.find("--sync auto"), std::string::npos);
 }
 
+// 1 ms of stamp jitter on every stream: odom-icp's error on the 3 s arc (seeds 1, 2, 4, 5) was
+// 4.4-5.0 mm with the stamps as logged and 1.0-1.2 mm with them back on their grids (a ratio of
+// 0.22-0.25); the clean dataset's stamps are left alone and nothing is printed for them.
 TEST_F(DeskewCommand, JitteredStampsGoBackOnTheirGrid) {
   const std::string jittered = (dir() / "jittered").string();
   ASSERT_EQ(cli({"simulate", "--scenario", "worlds/scenarios/arc.yaml", "--duration", "3", "--mode",
@@ -230,16 +235,9 @@ TEST_F(DeskewCommand, JitteredStampsGoBackOnTheirGrid) {
                  "--out", jittered})
                 .exit_code,
             0);
-  auto mean = [&](const std::string& stamps, std::string* out) {
-    const fs::path json = dir() / "jitter.json";
-    const CliRun r = cli({"deskew", jittered, "--method", "odom-icp", "--force", "--stamps", stamps,
-                          "--json", json.string()});
-    EXPECT_EQ(r.exit_code, 0) << r.err;
-    *out = r.out;
-    return nlohmann::json::parse(slurp(json))[0]["mean_m"].get<double>();
-  };
   std::string out_auto, out_raw;
-  const double regular = mean("auto", &out_auto), raw = mean("raw", &out_raw);
+  const double regular = deskewMean(jittered, "odom-icp", {"--stamps", "auto"}, &out_auto);
+  const double raw = deskewMean(jittered, "odom-icp", {"--stamps", "raw"}, &out_raw);
   EXPECT_LT(regular, 0.4 * raw);
   EXPECT_LT(regular, 1.5e-3);
   EXPECT_NE(out_auto.find("stamps: scans put on their"), std::string::npos) << out_auto;
