@@ -67,7 +67,6 @@ nlohmann::ordered_json hypothesesJson(const eval::MatchTrajectory& run) {
           {"won_by", won}};
 }
 
-/// The heading of the accepted matches (a fallback's pose is a guess, not a measurement).
 /// One match of the dataset's scans (de-skewed first), with the sensor agreement against the
 /// accepted poses.
 struct MatchPass {

@@ -48,7 +48,8 @@ MatchTrajectory matchTrajectory(const Dataset& dataset, const std::vector<Points
 /// matches.jsonl (docs/matching.md): one object per scan after the first.
 std::string formatTrackedMatches(const MatchTrajectory& run);
 
-/// The poses of the scans whose match was accepted.
+/// The poses of the scans whose match was accepted (a fallback's pose is a guess, not a
+/// measurement).
 PoseSeries acceptedPoses(const MatchTrajectory& run);
 
 /// `deskew --sync auto`: the scans matched (`deskew`, the default matcher) and, where they lag
