@@ -34,11 +34,13 @@ LidarLayout fitLidarLayout(const Dataset& d) {
   LidarLayout l;
   l.scans = d.scans.size();
   if (d.scans.empty()) return l;
-  std::vector<double> increments, times, mins, maxs, readings;
+  std::vector<double> stamps, increments, times, mins, maxs;
+  double longest = -1.0;  // the longest valid reading; -1: none
   std::map<std::size_t, std::size_t> counts;
   std::size_t beams = 0, invalid = 0;
-  for (std::size_t k = 0; k < d.scans.size(); ++k) {
-    const LaserScan& s = d.scans[k].scan;
+  for (const ScanRecord& record : d.scans) {
+    const LaserScan& s = record.scan;
+    stamps.push_back(s.stamp_s);
     ++counts[s.size()];
     beams += s.size();
     increments.push_back(s.angle_increment_rad);
@@ -47,13 +49,11 @@ LidarLayout fitLidarLayout(const Dataset& d) {
     maxs.push_back(s.range_max_m);
     for (std::size_t i = 0; i < s.size(); ++i) {
       if (s.valid(i))
-        readings.push_back(s.ranges_m[i]);
+        longest = std::max(longest, s.ranges_m[i]);
       else
         ++invalid;
     }
   }
-  std::vector<double> stamps;
-  for (const ScanRecord& r : d.scans) stamps.push_back(r.scan.stamp_s);
   const double step = algo::streamPeriod(stamps);
   l.rate_hz = step > 0.0 ? 1.0 / step : 0.0;
   l.beams_per_scan_mean = double(beams) / double(d.scans.size());
@@ -74,9 +74,7 @@ LidarLayout fitLidarLayout(const Dataset& d) {
   // The longest return, not a percentile: a percentile would cut off returns the recording has
   // by construction (0.1 % of them at the 99.9th, 1.25x ACES's no-returns on its twin); how
   // returns thin out with range is the dropout pattern's job (keep_factor_by_range).
-  l.usable_max_m = readings.empty() ? l.range_max_m
-                                    : std::min(l.range_max_m,
-                                               *std::max_element(readings.begin(), readings.end()));
+  l.usable_max_m = longest >= 0.0 ? std::min(l.range_max_m, longest) : l.range_max_m;
   l.no_return_fraction = beams > 0 ? double(invalid) / double(beams) : 0.0;
   simulatorLayout(l);
   return l;
