@@ -53,10 +53,7 @@ void printRatioRows(const algo::CombinedRun& c) {
   for (int wheel = 0; wheel < 2; ++wheel) {
     const double chi2 = c.estimate.ratio_chi2_dof(wheel);
     if (!std::isfinite(chi2)) continue;
-    Eigen::Vector3d g = Eigen::Vector3d::Zero();
-    g(wheel) = 1.0 / v(2);
-    g(2) = -v(wheel) / (v(2) * v(2));
-    const double sigma = std::sqrt(g.dot(c.run.result.covariance.topLeftCorner<3, 3>() * g));
+    const double sigma = std::sqrt(algo::wheelRatioVariance(v, c.run.result.covariance, wheel));
     std::ostringstream q, s;
     q << std::fixed << std::setprecision(5) << v(wheel) / v(2);
     s << std::fixed << std::setprecision(5) << sigma;

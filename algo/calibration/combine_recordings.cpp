@@ -88,6 +88,14 @@ CombinedEstimate combineEstimates(const std::vector<Eigen::VectorXd>& values,
   return out;
 }
 
+double wheelRatioVariance(const Eigen::VectorXd& x, const Eigen::MatrixXd& C, int wheel) {
+  const double r = x(wheel), b = x(2);
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();  // Eq. (3): d(r / b) / d(r_L, r_R, b)
+  g(wheel) = 1.0 / b;
+  g(2) = -r / (b * b);
+  return g.dot(C.topLeftCorner<3, 3>() * g);
+}
+
 Eigen::Vector2d ratioConsistency(const std::vector<Eigen::VectorXd>& values,
                                  const std::vector<Eigen::MatrixXd>& covariances) {
   Eigen::Vector2d out = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
@@ -96,12 +104,8 @@ Eigen::Vector2d ratioConsistency(const std::vector<Eigen::VectorXd>& values,
   for (int wheel = 0; wheel < 2; ++wheel) {
     std::vector<double> q, var;
     for (std::size_t i = 0; i < values.size(); ++i) {
-      const double r = values[i](wheel), b = values[i](2);
-      Eigen::Vector3d g = Eigen::Vector3d::Zero();  // Eq. (3): d(r / b) / d(r_L, r_R, b)
-      g(wheel) = 1.0 / b;
-      g(2) = -r / (b * b);
-      q.push_back(r / b);
-      var.push_back(g.dot(covariances[i].topLeftCorner<3, 3>() * g));
+      q.push_back(values[i](wheel) / values[i](2));
+      var.push_back(wheelRatioVariance(values[i], covariances[i], wheel));
     }
     if (!std::all_of(var.begin(), var.end(), [](double v) { return v > 0.0; })) continue;
     double weights = 0.0, mean = 0.0;

@@ -51,6 +51,9 @@ struct CombinedEstimate {
 Eigen::Vector2d ratioConsistency(const std::vector<Eigen::VectorXd>& values,
                                  const std::vector<Eigen::MatrixXd>& covariances);
 
+/// var q of Eq. (3) for one estimate (r_L, r_R, b, ...) with covariance C; wheel 0 left, 1 right.
+double wheelRatioVariance(const Eigen::VectorXd& x, const Eigen::MatrixXd& C, int wheel);
+
 /// Eq. (1) and (2). Refuses (ok = false) no estimates, a covariance that is not positive
 /// definite, or estimates of different sizes.
 CombinedEstimate combineEstimates(const std::vector<Eigen::VectorXd>& values,

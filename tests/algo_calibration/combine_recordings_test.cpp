@@ -166,8 +166,8 @@ TEST(CombineRecordings, RatiosDisagreeWhereREachAndBEachAgree) {
     sum2 += s(0) / s(2) * s(0) / s(2);
   }
   const double var_sampled = sum2 / samples - (sum / samples) * (sum / samples);
-  Eigen::Vector3d g(1.0 / x[0](2), 0.0, -x[0](0) / (x[0](2) * x[0](2)));
-  EXPECT_NEAR(std::sqrt(g.dot(C[0] * g)), std::sqrt(var_sampled), 0.05 * std::sqrt(var_sampled));
+  EXPECT_NEAR(std::sqrt(wheelRatioVariance(x[0], C[0], 0)), std::sqrt(var_sampled),
+              0.05 * std::sqrt(var_sampled));
 }
 
 TEST(CombineRecordings, RefusesWhatCannotBeWeighted) {
