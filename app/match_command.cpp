@@ -72,16 +72,19 @@ nlohmann::ordered_json hypothesesJson(const eval::MatchTrajectory& run) {
 struct MatchPass {
   eval::MatchTrajectory run;
   int refused = 0;
+  PoseSeries scan_only;  ///< eval::scanOnlyPoses: what the agreement compares with the wheels
   algo::SensorAgreement agreement;
 };
 
 MatchPass matchPass(const Dataset& d, const MatchFlags& flags) {
   MatchPass pass;
-  const std::vector<Points2> points =
-      eval::matchScanPoints(d, flags.deskew, flags.stamp_is_last_beam, &pass.refused);
-  pass.run = eval::matchTrajectory(d, points, {flags.params, flags.stamp_is_last_beam});
-  pass.agreement = algo::compareSensors(
-      algo::datasetSources(d, algo::scanPieces({eval::acceptedPoses(pass.run)})));
+  const eval::ScanPoints points = eval::matchScanPoints(d, flags.deskew, flags.stamp_is_last_beam);
+  pass.refused = points.refused;
+  const eval::MatchTrajectoryOptions options{flags.params, flags.stamp_is_last_beam};
+  pass.run = eval::matchTrajectory(d, points, options);
+  pass.scan_only = eval::scanOnlyPoses(d, points, options, pass.run);
+  pass.agreement =
+      algo::compareSensors(algo::datasetSources(d, algo::scanPieces({pass.scan_only})));
   return pass;
 }
 
@@ -92,7 +95,7 @@ double syncAndMatchAgain(Dataset& d, const MatchFlags& flags, MatchPass& pass) {
   return algo::syncOntoScanClock(d, pass.agreement, calibrate.min_sync_lag_s,
                                  calibrate.min_refine_lag_s, [&](const Dataset& s) {
                                    pass = matchPass(s, flags);
-                                   return std::vector<PoseSeries>{eval::acceptedPoses(pass.run)};
+                                   return std::vector<PoseSeries>{pass.scan_only};
                                  });
 }
 

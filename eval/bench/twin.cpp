@@ -271,18 +271,17 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
   return s;
 }
 
-/// The delay of the scans behind the wheels, from the accepted matches' turning.
-void measureLag(const Dataset& real, const MatchTrajectory& run, Fitted& f) {
-  PoseSeries accepted;
-  for (std::size_t k = 0; k < run.tracked.scans.size(); ++k)
-    if (k == 0 || !run.tracked.scans[k].fallback)
-      accepted.push_back(run.T_world_base[k].stamp_s, run.T_world_base[k].value);
+/// The delay of the scans behind the wheels: what the clock sync moves (eval::syncOntoScans, as
+/// `calibrate --sync auto` does: measured, moved, and what is left measured again), on a copy.
+void measureLag(const Dataset& real, const PoseSeries& scan_only, const std::string& deskew,
+                Fitted& f) {
   const algo::SensorAgreement a =
-      algo::compareSensors(algo::datasetSources(real, algo::scanPieces({accepted})));
-  if (const algo::PairAgreement* p = a.pair("wheels", "scans"); p && p->kept > 0) {
-    f.scan_lag_s = p->lag_s;
-    f.lag_measured = true;
-  }
+      algo::compareSensors(algo::datasetSources(real, algo::scanPieces({scan_only})));
+  const algo::PairAgreement* p = a.pair("wheels", "scans");
+  if (!p || p->kept == 0) return;
+  Dataset synced = real;
+  f.scan_lag_s = syncOntoScans(synced, a, deskew, false);
+  f.lag_measured = true;
 }
 
 }  // namespace
@@ -398,13 +397,11 @@ nlohmann::ordered_json slipJson(const WheelSlipFit& s) {
 
 /// The recording's random wheel slip: its wheels against the accepted matches, moved to the
 /// wheels' clock by the scans' measured lag (a lag would otherwise look like slip in turns).
-WheelSlipFit recordingSlip(const Dataset& real, const std::string& name, const MatchTrajectory& run,
-                           const Fitted& f) {
+WheelSlipFit recordingSlip(const Dataset& real, const std::string& name,
+                           const PoseSeries& scan_only, const Fitted& f) {
   const double lag_s = f.lag_measured ? f.scan_lag_s : 0.0;
   PoseSeries accepted;
-  for (std::size_t k = 0; k < run.tracked.scans.size(); ++k)
-    if (k == 0 || !run.tracked.scans[k].fallback)
-      accepted.push_back(run.T_world_base[k].stamp_s - lag_s, run.T_world_base[k].value);
+  for (const auto& s : scan_only.samples()) accepted.push_back(s.stamp_s - lag_s, s.value);
   return fitWheelSlip(odometryEncoders(real, name), f.true_geometry, accepted);
 }
 
@@ -434,8 +431,9 @@ nlohmann::ordered_json odometryJson(const Fitted& f, const nlohmann::ordered_jso
                       "encoder steps over 2.5 median steps: stale runs the import dropped, lost "
                       "samples; the twin drops samples at this rate (encoder_dropouts)")},
       {"scan_lag_s", fitted(f.lag_measured ? nlohmann::ordered_json(f.scan_lag_s) : nullptr,
-                            "sensor agreement: the scans' stamps behind the wheels' (the twin's "
-                            "clock_offset when at least 20 ms)")}};
+                            "the clock sync of calibrate --sync auto on the scans matched alone: "
+                            "the scans' stamps behind the wheels' (the twin's clock_offset when "
+                            "at least 20 ms)")}};
   j["slip"] = slipJson(f.slip);
   j["gyro"] = o.has_imu ? nlohmann::ordered_json{{"rate_hz", o.imu_rate_hz},
                                                  {"still_samples", o.still_samples},
@@ -515,13 +513,13 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   f.nominal = real.info.nominal_geometry;
   f.T_base_lidar = real.info.T_base_lidar;
   MatchTrajectoryOptions options;
-  const std::vector<Points2> points = matchScanPoints(real, p.deskew, false);
+  const ScanPoints points = matchScanPoints(real, p.deskew, false);
   const MatchTrajectory run = matchTrajectory(real, points, options);
   if (run.tracked.matched == 0)
     throw InputError(name, "no scan matched: no map to make a world of");
   std::vector<char> accepted;
   const WallMap map =
-      extractWalls(mapPoints(run, points, f.layout.usable_max_m, accepted), p.walls);
+      extractWalls(mapPoints(run, points.points, f.layout.usable_max_m, accepted), p.walls);
   nlohmann::ordered_json geometry_how;
   f.true_geometry = trueGeometry(real, name, p, geometry_how);
   f.robot = twinRobot(f.true_geometry);
@@ -539,8 +537,9 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
     throw InputError(name, "the matched map has no walls to make a world of");
   const sim::PlanarCaster caster(built.world);
   f.against_map = compareWithMap(real, run.T_world_base, accepted, caster, f.layout, p.lidar);
-  measureLag(real, run, f);
-  f.slip = recordingSlip(real, name, run, f);
+  const PoseSeries scan_only = scanOnlyPoses(real, points, options, run);
+  measureLag(real, scan_only, p.deskew, f);
+  f.slip = recordingSlip(real, name, scan_only, f);
   TwinFit out;
   out.residual_median_m = matchedResidual(real);
   out.recording_slip_sigma = f.slip.sigma;

@@ -72,7 +72,7 @@ TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
   const LidarLayout l = fitLidarLayout(d);
   TwinStatistics s;
   s.has_imu = !d.imu.empty();
-  const std::vector<Points2> points = matchScanPoints(d, "none", false);
+  const ScanPoints points = matchScanPoints(d, "none", false);
   const MatchTrajectory run = matchTrajectory(d, points, {});
   for (std::size_t k = 1; k < run.tracked.scans.size(); ++k)
     if (!run.tracked.scans[k].fallback)

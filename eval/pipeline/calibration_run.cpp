@@ -51,7 +51,7 @@ std::vector<PoseSeries> mapChains(const Dataset& dataset, const CalibrationMotio
       if (!chains.back().empty()) chains.emplace_back();
       continue;
     }
-    chains.back().push_back(run.stamps_s[k], run.tracked.scans[k].T_world_lidar);
+    chains.back().push_back(run.pose_time_s[k], run.tracked.scans[k].T_world_lidar);
   }
   std::erase_if(chains, [](const PoseSeries& c) { return c.size() < 2; });
   return chains;

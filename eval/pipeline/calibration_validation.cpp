@@ -63,12 +63,12 @@ HeldOutPart heldOutPart(const Dataset& held_out, const OdometryEncoders& odometr
   // the raw geometry it is to judge.
   options.params.odometry_sigma_m = 0.0;
   options.params.odometry_sigma_rad = 0.0;
-  const std::vector<Points2> points =
+  const ScanPoints points =
       matchScanPoints(held_out, instantaneous ? "none" : "vicp", params.stamp_is_last_beam);
   const MatchTrajectory run = matchTrajectory(held_out, points, options);
   for (std::size_t k = 0; k < run.tracked.scans.size(); ++k) {
     if (run.tracked.scans[k].fallback) continue;
-    part.stamps_s.push_back(run.stamps_s[k]);
+    part.stamps_s.push_back(run.pose_time_s[k]);
     part.T_world_lidar.push_back(run.tracked.scans[k].T_world_lidar);
   }
   return part;

@@ -1,5 +1,6 @@
 #include "slamprep/eval/pipeline/match_trajectory.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -29,14 +30,21 @@ std::vector<algo::StepPrior> stepPriors(const Dataset& dataset, const std::vecto
   return priors;
 }
 
+/// Whether the method moved the beams: a scan it left as measured (vicp's first scan after a
+/// refusal, const-velocity's before any motion) assumed no motion.
+bool movedBeams(const algo::DeskewResult& r) {
+  return r.ok && std::any_of(r.T_ref_lidar.begin(), r.T_ref_lidar.end(),
+                             [](const algo::Knot& k) { return k.T.log().norm() > 0.0; });
+}
+
 }  // namespace
 
-std::vector<Points2> matchScanPoints(const Dataset& d, const std::string& deskew,
-                                     bool stamp_is_last_beam, int* deskew_refused) {
-  std::vector<Points2> points;
+ScanPoints matchScanPoints(const Dataset& d, const std::string& deskew, bool stamp_is_last_beam) {
+  ScanPoints out;
   if (deskew == "none") {
-    for (const ScanRecord& record : d.scans) points.push_back(record.scan.points());
-    return points;
+    for (const ScanRecord& record : d.scans) out.points.push_back(record.scan.points());
+    out.deskewed.assign(d.scans.size(), 0);
+    return out;
   }
   const auto method = parseName(algo::kDeskewMethodNames, deskew, "de-skew method", "--deskew");
   DatasetDeskewOptions options = nominalDeskewOptions(d);
@@ -44,21 +52,27 @@ std::vector<Points2> matchScanPoints(const Dataset& d, const std::string& deskew
   options.stamp_is_last_beam = stamp_is_last_beam;
   const DatasetDeskew deskewed = deskewDataset(d, method, options);
   const std::vector<Points2> corrected = correctedPoints(deskewed);
-  for (std::size_t k = 0; k < d.scans.size(); ++k)
-    points.push_back(deskewed.scans[k].ok ? corrected[k] : d.scans[k].scan.points());
-  if (deskew_refused) *deskew_refused = deskewed.refused;
-  return points;
+  for (std::size_t k = 0; k < d.scans.size(); ++k) {
+    const bool ok = deskewed.scans[k].ok;
+    out.points.push_back(ok ? corrected[k] : d.scans[k].scan.points());
+    out.deskewed.push_back(movedBeams(deskewed.scans[k]) ? 1 : 0);
+  }
+  out.refused = deskewed.refused;
+  return out;
 }
 
-MatchTrajectory matchTrajectory(const Dataset& dataset, const std::vector<Points2>& points,
+MatchTrajectory matchTrajectory(const Dataset& dataset, const ScanPoints& points,
                                 const MatchTrajectoryOptions& options) {
   MatchTrajectory run;
-  for (const ScanRecord& record : dataset.scans) {
-    const double t = algo::firstBeamTime(record.scan, options.stamp_is_last_beam);
+  for (std::size_t k = 0; k < dataset.scans.size(); ++k) {
+    const LaserScan& scan = dataset.scans[k].scan;
+    const double t = algo::firstBeamTime(scan, options.stamp_is_last_beam);
     if (!run.stamps_s.empty() && !(t > run.stamps_s.back()))
       throw InputError("scans.jsonl: scan " + std::to_string(run.stamps_s.size()),
                        "first-beam times not increasing");
     run.stamps_s.push_back(t);
+    const double sweep_s = (scan.size() > 0 ? scan.size() - 1 : 0) * scan.time_increment_s;
+    run.pose_time_s.push_back(points.deskewed.at(k) ? t : t + 0.5 * sweep_s);
   }
   const std::vector<algo::StepPrior> priors = stepPriors(dataset, run.stamps_s, options);
   for (const algo::StepPrior& p : priors) {
@@ -69,7 +83,7 @@ MatchTrajectory matchTrajectory(const Dataset& dataset, const std::vector<Points
   const auto odom0 = run.stamps_s.empty() ? std::nullopt : dataset.odom_nominal.at(run.stamps_s[0]);
   const SE2 start = odom0.value_or(SE2()) * T_base_lidar;
   const auto begin = std::chrono::steady_clock::now();
-  run.tracked = algo::trackKeyframes(points, priors, options.params, start);
+  run.tracked = algo::trackKeyframes(points.points, priors, options.params, start);
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   const SE2 T_lidar_base = T_base_lidar.inverse();
   for (std::size_t k = 0; k < run.tracked.scans.size(); ++k)
@@ -98,22 +112,46 @@ PoseSeries acceptedPoses(const MatchTrajectory& run) {
   PoseSeries accepted;
   for (std::size_t k = 0; k < run.tracked.scans.size(); ++k)
     if (!run.tracked.scans[k].fallback)
-      accepted.push_back(run.T_world_base[k].stamp_s, run.T_world_base[k].value);
+      accepted.push_back(run.pose_time_s[k], run.T_world_base[k].value);
   return accepted;
 }
 
+PoseSeries scanOnlyPoses(const Dataset& dataset, const ScanPoints& points,
+                         MatchTrajectoryOptions options, const MatchTrajectory& run) {
+  if (options.params.odometry_sigma_m == 0.0 && options.params.odometry_sigma_rad == 0.0)
+    return acceptedPoses(run);
+  options.params.odometry_sigma_m = 0.0;
+  options.params.odometry_sigma_rad = 0.0;
+  return acceptedPoses(matchTrajectory(dataset, points, options));
+}
+
+namespace {
+
+/// The accepted poses of the scans matched alone: what the clock sync compares with the wheels.
+PoseSeries matchAlone(const Dataset& d, const std::string& deskew, bool stamp_is_last_beam) {
+  MatchTrajectoryOptions options{{}, stamp_is_last_beam};
+  options.params.odometry_sigma_m = 0.0;
+  options.params.odometry_sigma_rad = 0.0;
+  return acceptedPoses(matchTrajectory(d, matchScanPoints(d, deskew, stamp_is_last_beam), options));
+}
+
+}  // namespace
+
 double syncOntoScans(Dataset& dataset, const std::string& deskew, bool stamp_is_last_beam) {
-  const MatchTrajectoryOptions options{{}, stamp_is_last_beam};
-  auto matched = [&](const Dataset& d) {
-    return acceptedPoses(
-        matchTrajectory(d, matchScanPoints(d, deskew, stamp_is_last_beam), options));
-  };
-  const algo::SensorAgreement first =
-      algo::compareSensors(algo::datasetSources(dataset, algo::scanPieces({matched(dataset)})));
+  const PoseSeries matched = matchAlone(dataset, deskew, stamp_is_last_beam);
+  return syncOntoScans(
+      dataset, algo::compareSensors(algo::datasetSources(dataset, algo::scanPieces({matched}))),
+      deskew, stamp_is_last_beam);
+}
+
+double syncOntoScans(Dataset& dataset, const algo::SensorAgreement& first,
+                     const std::string& deskew, bool stamp_is_last_beam) {
   const DatasetCalibrationParams thresholds;
   return algo::syncOntoScanClock(
       dataset, first, thresholds.min_sync_lag_s, thresholds.min_refine_lag_s,
-      [&](const Dataset& d) { return std::vector<PoseSeries>{matched(d)}; });
+      [&](const Dataset& d) {
+        return std::vector<PoseSeries>{matchAlone(d, deskew, stamp_is_last_beam)};
+      });
 }
 
 }  // namespace slamprep::eval

@@ -23,38 +23,57 @@ struct MatchTrajectoryOptions {
 
 struct MatchTrajectory {
   algo::KeyframeOdometry tracked;
-  std::vector<double> stamps_s;      ///< first-beam time of every scan
+  std::vector<double> stamps_s;  ///< first-beam time of every scan
+  /// The time each scan's pose stands for: its first beam where the scan was de-skewed to it,
+  /// the middle of its sweep where it was matched as measured. A rigid fit of a sweep made while
+  /// turning sits between its first and last beams' poses; read at the first beam, a 5.7 Hz
+  /// lidar's turning looked 88 ms later than the wheels' when it was not.
+  std::vector<double> pose_time_s;
   PoseSeries T_world_base;           ///< the base at every scan's first beam (T_world_lidar l^-1)
   std::size_t odometry_guesses = 0;  ///< scans 1..n-1 with an odometry guess
   std::size_t gyro_guesses = 0;      ///< scans 1..n-1 with a gyro guess
   double seconds = 0.0;              ///< wall-clock time of the tracking
 };
 
-/// Every scan's points in its first-beam lidar frame: as measured, or (`vicp`) de-skewed by VICP
-/// where it applies; a scan it refuses (e.g. time_increment 0) is kept as measured and counted
-/// in `deskew_refused`. What `slamprep match` tracks.
-std::vector<Points2> matchScanPoints(const Dataset& dataset, const std::string& deskew,
-                                     bool stamp_is_last_beam, int* deskew_refused = nullptr);
+/// Every scan's points in its first-beam lidar frame: as measured, or de-skewed by `deskew`
+/// where the method applies; a scan it refuses (e.g. time_increment 0) is kept as measured and
+/// counted in `refused`. What `slamprep match` tracks.
+struct ScanPoints {
+  std::vector<Points2> points;
+  std::vector<char> deskewed;  ///< per scan: 1 de-skewed to its first beam, 0 as measured
+  int refused = 0;
+};
+ScanPoints matchScanPoints(const Dataset& dataset, const std::string& deskew,
+                           bool stamp_is_last_beam);
 
-/// Tracks the scans given as `points` (one per dataset scan, in its first-beam lidar frame; e.g.
-/// the scans as measured or de-skewed). The guesses of scan k: the nominal odometry between the
-/// two first beams (algo::odometryLidarMotion, as calibrate's matches use), the gyro's turn over
-/// them, the last step and standing still (algo::trackKeyframes). The world frame is the odometry's
-/// at the first scan (the origin without odometry). Throws InputError when first-beam times do not
-/// increase.
-MatchTrajectory matchTrajectory(const Dataset& dataset, const std::vector<Points2>& points,
+/// Tracks the scans given as `points` (one per dataset scan, in its first-beam lidar frame). The
+/// guesses of scan k: the nominal odometry between the two first beams (algo::odometryLidarMotion,
+/// as calibrate's matches use), the gyro's turn over them, the last step and standing still
+/// (algo::trackKeyframes). The world frame is the odometry's at the first scan (the origin without
+/// odometry). Throws InputError when first-beam times do not increase.
+MatchTrajectory matchTrajectory(const Dataset& dataset, const ScanPoints& points,
                                 const MatchTrajectoryOptions& options = {});
 
 /// matches.jsonl (docs/matching.md): one object per scan after the first.
 std::string formatTrackedMatches(const MatchTrajectory& run);
 
 /// The poses of the scans whose match was accepted (a fallback's pose is a guess, not a
-/// measurement).
+/// measurement), at the times they stand for (pose_time_s): what is compared with the wheels.
 PoseSeries acceptedPoses(const MatchTrajectory& run);
 
-/// `deskew --sync auto`: the scans matched (`deskew`, the default matcher) and, where they lag
-/// the wheels, the wheels and the gyro moved onto the scans' clock as calibrate and match do
-/// (algo::syncOntoScanClock, calibrate's thresholds). Returns the total shift (0: none).
+/// What the scans say of the motion alone, for comparing it with the wheels: the accepted poses
+/// of a match with the odometry fusion off (`run` itself where it was made so). Fused, the poses
+/// lean on the wheels they are compared with: a recording's 0.35 s delay read as 0.12 s.
+PoseSeries scanOnlyPoses(const Dataset& dataset, const ScanPoints& points,
+                         MatchTrajectoryOptions options, const MatchTrajectory& run);
+
+/// `deskew --sync auto`: the scans matched alone (`deskew`, the default matcher, scanOnlyPoses)
+/// and, where they lag the wheels, the wheels and the gyro moved onto the scans' clock as
+/// calibrate and match do (algo::syncOntoScanClock, calibrate's thresholds). Returns the total
+/// shift (0: none).
 double syncOntoScans(Dataset& dataset, const std::string& deskew, bool stamp_is_last_beam);
+/// The same from `first`, the sensor agreement of the scans matched alone.
+double syncOntoScans(Dataset& dataset, const algo::SensorAgreement& first,
+                     const std::string& deskew, bool stamp_is_last_beam);
 
 }  // namespace slamprep::eval

@@ -204,13 +204,14 @@ TEST_F(DeskewCommand, FallbackCountsRefusedScansAsMeasured) {
   EXPECT_NE(printed.find("all scans, the refused as measured: mean"), std::string::npos) << printed;
 }
 
-// Scans stamped 0.1 s late (clock_offset) on a stop-and-go drive, whose changing turn rate shows
-// the delay: --sync auto measures it (0.105 s, seed 1) and odom-linear, reading the wheels on
-// the scans' clock, errs 1.09 mm against 1.45 mm as logged.
+// Scans stamped 0.1 s late (clock_offset) on a drive whose turn rate keeps changing, which is
+// what shows a delay: --sync auto measures it (0.107-0.108 s, seeds 1-3; 0.050-0.057 s while the
+// poses of scans matched as measured were read at their first beam, not mid-sweep) and
+// odom-linear, reading the wheels on the scans' clock, errs 2.54 mm against 11.10 mm as logged.
 TEST_F(DeskewCommand, SyncAutoMovesTheWheelsOntoTheScansClock) {
   const std::string late = (dir() / "late").string();
   ASSERT_EQ(
-      cli({"simulate", "--scenario", "worlds/scenarios/stop_and_go.yaml", "--duration", "30",
+      cli({"simulate", "--scenario", "worlds/scenarios/random_smooth.yaml", "--duration", "30",
            "--mode", "kinematic", "--quiet", "--seed", "1", "--set", "faults.enable=clock_offset",
            "--set", "faults.clock_offset.offset_s=0.1", "--out", late})
           .exit_code,
@@ -218,7 +219,7 @@ TEST_F(DeskewCommand, SyncAutoMovesTheWheelsOntoTheScansClock) {
   std::string out_auto, out_none;
   const double synced = deskewMean(late, "odom-linear", {"--sync", "auto"}, &out_auto);
   const double logged = deskewMean(late, "odom-linear", {"--sync", "none"}, &out_none);
-  EXPECT_LT(synced, 0.85 * logged);
+  EXPECT_LT(synced, 0.5 * logged);
   const std::size_t at = out_auto.find("--sync auto: the scans lagged the wheels by ");
   ASSERT_NE(at, std::string::npos) << out_auto;
   EXPECT_NEAR(std::stod(out_auto.substr(at + 44)), 0.1, 0.015);
