@@ -85,6 +85,7 @@ double syncOntoScanClock(Dataset& dataset, const SensorAgreement& first, double 
   fine.window_s = 1.0;
   fine.step_s = 0.25;
   fine.max_lag_s = 0.1;
+  fine.lag_gain = 1.0;
   const ClockShift left = scanClockShift(
       compareSensors(datasetSources(dataset, scanPieces(matched)), fine), min_left_s);
   if (!left.any()) return shift.wheels_s;

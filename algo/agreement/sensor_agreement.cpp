@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "slamprep/core/order_statistics.hpp"
@@ -239,16 +240,15 @@ std::vector<Disagreement> disagreements(const Source& a, const Source& b,
   return spans;
 }
 
-/// RMS of the best 80 % of the residuals: how well a fit explains most windows. Not the MAD,
+/// RMS of the residuals, each capped at `cap`: how well a fit explains the windows. A window a
+/// wrong delay puts beyond the cap still counts, at the cap: dropped instead (the 80 % of the
+/// windows that fit best, until 2026-11-28), the few windows whose turn rate changes, the only
+/// ones that show a delay, left every delay scoring the same on a clean drive. Not the MAD,
 /// which a wrong delay on a periodic drive can keep small by fitting just over half of them.
-double trimmedRms(const Fit& f) {
-  std::vector<double> sq;
-  for (double r : f.residual) sq.push_back(r * r);
-  std::sort(sq.begin(), sq.end());
-  sq.resize(std::max<std::size_t>(1, sq.size() * 8 / 10));
+double cappedRms(const Fit& f, double cap) {
   double sum = 0.0;
-  for (double x : sq) sum += x;
-  return std::sqrt(sum / double(sq.size()));
+  for (double r : f.residual) sum += std::min(r * r, cap * cap);
+  return std::sqrt(sum / double(std::max<std::size_t>(1, f.residual.size())));
 }
 
 /// Where, within +-0.5 of grid point k, the parabola through the scores at k-1, k, k+1 is
@@ -260,18 +260,24 @@ double parabolaVertex(const std::vector<double>& s, std::size_t k) {
   return std::clamp(0.5 * (s[k - 1] - s[k + 1]) / curve, -0.5, 0.5);
 }
 
-/// The delay of b's clock behind a's over a grid of +-max_lag_s: the one whose fit explains
-/// most windows best (trimmed RMS), refined between grid points by a parabola, kept only where it
-/// beats no delay by lag_gain (a delay the data cannot show is none).
+/// The delay of b's clock behind a's over a grid of +-max_lag_s: the one whose fit explains the
+/// windows best (cappedRms, one cap for every delay: outlier_sigmas robust sigmas of the fit
+/// without delay; a cap of each fit's own sigma rewards a delay that fits half the windows
+/// exactly), refined between grid points by a parabola, kept only where it beats no delay by
+/// lag_gain (a delay the data cannot show is none).
 double bestLag(const Source& a, const Source& b, const AgreementParams& p) {
-  const auto score = [&](double lag) {
-    const std::vector<Row> rows = rowsOf(a, b, lag, p);
-    return rows.size() < 3 ? std::numeric_limits<double>::infinity()
-                           : trimmedRms(robustFit(rows, p));
-  };
   const auto steps = static_cast<int>(std::round(p.max_lag_s / p.lag_step_s));
+  std::vector<std::optional<Fit>> fits;
+  for (int k = -steps; k <= steps; ++k) {
+    const std::vector<Row> rows = rowsOf(a, b, k * p.lag_step_s, p);
+    fits.push_back(rows.size() < 3 ? std::nullopt : std::optional<Fit>(robustFit(rows, p)));
+  }
+  const std::optional<Fit>& none = fits[static_cast<std::size_t>(steps)];
+  if (!none) return 0.0;
+  const double cap = p.outlier_sigmas * none->sigma;
   std::vector<double> scores;
-  for (int k = -steps; k <= steps; ++k) scores.push_back(score(k * p.lag_step_s));
+  for (const auto& f : fits)
+    scores.push_back(f ? cappedRms(*f, cap) : std::numeric_limits<double>::infinity());
   const auto best =
       static_cast<std::size_t>(std::min_element(scores.begin(), scores.end()) - scores.begin());
   if (!(scores[best] < p.lag_gain * scores[static_cast<std::size_t>(steps)])) return 0.0;

@@ -72,7 +72,8 @@ struct AgreementParams {
   /// and a 0.1 s delay reads as 6 degrees per window in a 1 rad/s turn.
   double max_lag_s = 0.5;
   double lag_step_s = 0.01;
-  /// A delay is kept where its fit's trimmed RMS is below this fraction of no delay's.
+  /// A delay is kept where its fit's capped RMS (each window's residual capped at outlier_sigmas
+  /// robust sigmas of the fit without delay) is below this fraction of no delay's.
   double lag_gain = 0.8;
 };
 
