@@ -261,27 +261,34 @@ double parabolaVertex(const std::vector<double>& s, std::size_t k) {
 }
 
 /// The delay of b's clock behind a's over a grid of +-max_lag_s: the one whose fit explains the
-/// windows best (cappedRms, one cap for every delay: outlier_sigmas robust sigmas of the fit
-/// without delay; a cap of each fit's own sigma rewards a delay that fits half the windows
-/// exactly), refined between grid points by a parabola, kept only where it beats no delay by
-/// lag_gain (a delay the data cannot show is none).
+/// windows best (cappedRms, one cap for every delay: outlier_sigmas robust sigmas of the best
+/// fit, found from the fit without delay and again from the best until it repeats; each fit's
+/// own sigma rewarded a delay that fits half the windows exactly, the fit without delay's alone
+/// let a real robot's lifted windows outweigh the rest), refined between grid points by a
+/// parabola, kept only where it beats no delay by lag_gain (a delay the data cannot show is
+/// none).
 double bestLag(const Source& a, const Source& b, const AgreementParams& p) {
-  const auto steps = static_cast<int>(std::round(p.max_lag_s / p.lag_step_s));
+  const auto steps = static_cast<std::size_t>(std::round(p.max_lag_s / p.lag_step_s));
   std::vector<std::optional<Fit>> fits;
-  for (int k = -steps; k <= steps; ++k) {
-    const std::vector<Row> rows = rowsOf(a, b, k * p.lag_step_s, p);
+  for (std::size_t k = 0; k <= 2 * steps; ++k) {
+    const double lag = (double(k) - double(steps)) * p.lag_step_s;
+    const std::vector<Row> rows = rowsOf(a, b, lag, p);
     fits.push_back(rows.size() < 3 ? std::nullopt : std::optional<Fit>(robustFit(rows, p)));
   }
-  const std::optional<Fit>& none = fits[static_cast<std::size_t>(steps)];
-  if (!none) return 0.0;
-  const double cap = p.outlier_sigmas * none->sigma;
-  std::vector<double> scores;
-  for (const auto& f : fits)
-    scores.push_back(f ? cappedRms(*f, cap) : std::numeric_limits<double>::infinity());
-  const auto best =
-      static_cast<std::size_t>(std::min_element(scores.begin(), scores.end()) - scores.begin());
-  if (!(scores[best] < p.lag_gain * scores[static_cast<std::size_t>(steps)])) return 0.0;
-  return (double(best) - steps + parabolaVertex(scores, best)) * p.lag_step_s;
+  if (!fits[steps]) return 0.0;
+  std::vector<double> scores(fits.size());
+  std::size_t best = steps;
+  for (int pass = 0; pass < 5; ++pass) {
+    const double cap = p.outlier_sigmas * fits[best]->sigma;
+    for (std::size_t k = 0; k < fits.size(); ++k)
+      scores[k] = fits[k] ? cappedRms(*fits[k], cap) : std::numeric_limits<double>::infinity();
+    const auto next =
+        static_cast<std::size_t>(std::min_element(scores.begin(), scores.end()) - scores.begin());
+    if (next == best) break;
+    best = next;
+  }
+  if (!(scores[best] < p.lag_gain * scores[steps])) return 0.0;
+  return (double(best) - double(steps) + parabolaVertex(scores, best)) * p.lag_step_s;
 }
 
 PairAgreement comparePair(const Source& a, const Source& b, const AgreementParams& p) {

@@ -73,7 +73,7 @@ struct AgreementParams {
   double max_lag_s = 0.5;
   double lag_step_s = 0.01;
   /// A delay is kept where its fit's capped RMS (each window's residual capped at outlier_sigmas
-  /// robust sigmas of the fit without delay) is below this fraction of no delay's.
+  /// robust sigmas of the best fit) is below this fraction of no delay's.
   double lag_gain = 0.8;
 };
 
