@@ -116,26 +116,29 @@ PoseSeries acceptedPoses(const MatchTrajectory& run) {
   return accepted;
 }
 
-PoseSeries scanOnlyPoses(const Dataset& dataset, const ScanPoints& points,
-                         MatchTrajectoryOptions options, const MatchTrajectory& run) {
-  if (options.params.odometry_sigma_m == 0.0 && options.params.odometry_sigma_rad == 0.0)
-    return acceptedPoses(run);
+namespace {
+
+/// `options` with the odometry fusion off: the scans alone.
+MatchTrajectoryOptions scansAlone(MatchTrajectoryOptions options) {
   options.params.odometry_sigma_m = 0.0;
   options.params.odometry_sigma_rad = 0.0;
-  return acceptedPoses(matchTrajectory(dataset, points, options));
+  return options;
 }
-
-namespace {
 
 /// The accepted poses of the scans matched alone: what the clock sync compares with the wheels.
 PoseSeries matchAlone(const Dataset& d, const std::string& deskew, bool stamp_is_last_beam) {
-  MatchTrajectoryOptions options{{}, stamp_is_last_beam};
-  options.params.odometry_sigma_m = 0.0;
-  options.params.odometry_sigma_rad = 0.0;
-  return acceptedPoses(matchTrajectory(d, matchScanPoints(d, deskew, stamp_is_last_beam), options));
+  return acceptedPoses(matchTrajectory(d, matchScanPoints(d, deskew, stamp_is_last_beam),
+                                       scansAlone({{}, stamp_is_last_beam})));
 }
 
 }  // namespace
+
+PoseSeries scanOnlyPoses(const Dataset& dataset, const ScanPoints& points,
+                         const MatchTrajectoryOptions& options, const MatchTrajectory& run) {
+  if (options.params.odometry_sigma_m == 0.0 && options.params.odometry_sigma_rad == 0.0)
+    return acceptedPoses(run);
+  return acceptedPoses(matchTrajectory(dataset, points, scansAlone(options)));
+}
 
 double syncOntoScans(Dataset& dataset, const std::string& deskew, bool stamp_is_last_beam) {
   const PoseSeries matched = matchAlone(dataset, deskew, stamp_is_last_beam);

@@ -65,7 +65,7 @@ PoseSeries acceptedPoses(const MatchTrajectory& run);
 /// of a match with the odometry fusion off (`run` itself where it was made so). Fused, the poses
 /// lean on the wheels they are compared with: a recording's 0.35 s delay read as 0.12 s.
 PoseSeries scanOnlyPoses(const Dataset& dataset, const ScanPoints& points,
-                         MatchTrajectoryOptions options, const MatchTrajectory& run);
+                         const MatchTrajectoryOptions& options, const MatchTrajectory& run);
 
 /// `deskew --sync auto`: the scans matched alone (`deskew`, the default matcher, scanOnlyPoses)
 /// and, where they lag the wheels, the wheels and the gyro moved onto the scans' clock as
