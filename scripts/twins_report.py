@@ -244,8 +244,9 @@ def tables(recs, spread, seeds):
                        f"| {fmt(s['ratio'], 3)} | {spread_cell} | {ok} |")
         out.append("")
     out.append("### De-skew ranking\n")
-    out.append("Real: residual median of `match --deskew M` (lower is better); twin: ground-truth "
-               "error of `deskew --method M` on the twin over every scan, a scan M refused counted "
+    out.append("Real: residual median of `match --deskew M --sync auto` (lower is better); twin: "
+               "ground-truth error of `deskew --method M --sync auto` on the twin over every scan "
+               "(the wheels moved onto the scans' clock where they lag), a scan M refused counted "
                "as measured as `match` keeps it (`fallback_mean_m`), mean (sd) over the seeds; "
                "twin best with the methods within the best's sd over the seeds (tied). Before: "
                "the same over the scans M kept (`mean_m`), which differ by method.\n")
@@ -264,7 +265,8 @@ def tables(recs, spread, seeds):
                    f"{per_method(d['methods'], d['twin_truth_error_mean_m'], d['twin_truth_error_sd_m'])} | "
                    f"{per_method(d['methods'], d['twin_kept_scans_error_mean_m'], d['twin_kept_scans_error_sd_m'])} |")
     out.append("\n### Can the residual rank de-skew methods? (on the twins)\n")
-    out.append("On each twin, `match --deskew M` as on the recording: methods ranked by the same "
+    out.append("On each twin, `match --deskew M --sync auto` as on the recording: methods ranked "
+               "by the same "
                "residual median, mean (sd) over the seeds, against the twin's ground-truth "
                "ranking (all scans, above). A rho near 1 says the residual finds the better "
                "de-skew where the truth is known; the last rho compares the twin's residual "

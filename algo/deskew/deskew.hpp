@@ -188,6 +188,9 @@ struct DeskewResult {
   std::optional<Eigen::Vector3d> odometry_error_per_s;
   int rounds = 0;  ///< vicp, odom-icp: de-skew-and-match rounds run
   bool ok = false;
+  /// ok, but the beams were left as measured (method none, or no motion to de-skew with yet):
+  /// they describe the sweep, not the reference instant.
+  bool as_measured = false;
   DeskewRefusal refusal = DeskewRefusal::kNone;  ///< why it refused, as a countable name
   std::string reason;  ///< why it refused (ok = false), in words; else empty
   std::vector<std::string> warnings;

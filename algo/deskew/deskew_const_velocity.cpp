@@ -8,6 +8,7 @@ Trajectory constVelocityKnots(const MethodCall& call) {
   const auto& previous = call.in.previous;
   if (!previous || !previous->twist_lidar) {
     call.result.warnings.push_back("const-velocity: no previous motion yet; scan left as measured");
+    call.result.as_measured = true;
     return constantTwistKnots(Eigen::Vector3d::Zero(), call.t);
   }
   return constantTwistKnots(*previous->twist_lidar, call.t);

@@ -7,6 +7,7 @@
 namespace slamprep::algo {
 
 Trajectory noneKnots(const MethodCall& call) {
+  call.result.as_measured = true;
   return identityKnot(call.t.ref_s);
 }
 

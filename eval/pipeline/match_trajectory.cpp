@@ -1,6 +1,5 @@
 #include "slamprep/eval/pipeline/match_trajectory.hpp"
 
-#include <algorithm>
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -30,11 +29,11 @@ std::vector<algo::StepPrior> stepPriors(const Dataset& dataset, const std::vecto
   return priors;
 }
 
-/// Whether the method moved the beams: a scan it left as measured (vicp's first scan after a
-/// refusal, const-velocity's before any motion) assumed no motion.
-bool movedBeams(const algo::DeskewResult& r) {
-  return r.ok && std::any_of(r.T_ref_lidar.begin(), r.T_ref_lidar.end(),
-                             [](const algo::Knot& k) { return k.T.log().norm() > 0.0; });
+/// Whether the method de-skewed the scan: not where it refused or left it as measured (vicp's
+/// first scan after a refusal, const-velocity's before any motion). A scan de-skewed with no
+/// motion (odometry that stood still) was: its motion model puts it at the first beam.
+bool deskewedToFirstBeam(const algo::DeskewResult& r) {
+  return r.ok && !r.as_measured;
 }
 
 }  // namespace
@@ -55,7 +54,7 @@ ScanPoints matchScanPoints(const Dataset& d, const std::string& deskew, bool sta
   for (std::size_t k = 0; k < d.scans.size(); ++k) {
     const bool ok = deskewed.scans[k].ok;
     out.points.push_back(ok ? corrected[k] : d.scans[k].scan.points());
-    out.deskewed.push_back(movedBeams(deskewed.scans[k]) ? 1 : 0);
+    out.deskewed.push_back(deskewedToFirstBeam(deskewed.scans[k]) ? 1 : 0);
   }
   out.refused = deskewed.refused;
   return out;
