@@ -192,7 +192,7 @@ struct Fitted {
   DiffDriveParams true_geometry;
   DiffDriveParams nominal;
   SE2 T_base_lidar;
-  double scan_lag_s = 0.0;  ///< the scans' stamps behind the wheels' (sensor agreement)
+  double scan_lag_s = 0.0;  ///< the scans' stamps behind the wheels' (what the clock sync moves)
   bool lag_measured = false;
   /// (r_R / b, r_L / b) that turn the wheels as the scans turned (sensor agreement, Eq. 1).
   std::optional<Eigen::Vector2d> turn_ratios;
@@ -411,7 +411,7 @@ DiffDriveParams turningGeometry(const Fitted& f) {
   return g;
 }
 
-/// The recording's random wheel slip: its wheels against the accepted matches, moved to the
+/// The recording's random wheel slip: its wheels against the scans matched alone, moved to the
 /// wheels' clock by the scans' measured lag (a lag would otherwise look like slip in turns).
 WheelSlipFit recordingSlip(const Dataset& real, const std::string& name,
                            const PoseSeries& scan_only, const Fitted& f) {
