@@ -327,8 +327,10 @@ void addCalibrateSources(CLI::App* cli, CalibrateFlags& flags) {
       "combined best method; --tuples, --intervals, --odometry-out and --square are refused\n"
       "(exit 2).\n"
       "An estimate more than 15 % from the nominal r_L, r_R or b is flagged (FLAG line, JSON\n"
-      "\"flags\") with its likely cause. Exit 3 when every method run refused (several\n"
-      "DATASETs: every combined one), or with --strict when any did or any estimate is flagged.");
+      "\"flags\") with its likely cause; so is a calibrated lidar mount more than 5 cm or 5 deg\n"
+      "from the one the recording gave (tf, --lidar-mount at import). Exit 3 when every\n"
+      "method run refused (several DATASETs: every combined one), or with --strict when any\n"
+      "did or any estimate is flagged.");
   cli->add_option("DATASET", flags.datasets,
                   "dataset directory; several: recordings of one robot, combined");
   std::vector<std::string> methods = algo::calibrationMethodNames();

@@ -140,6 +140,14 @@ LoopClosureSummary closeLoops(const std::vector<Points2>& scan_points,
   return summary;
 }
 
+// The config's "lidar_mount_from" where the importer found a mount (not "nothing: ...").
+std::string measuredMountSource(const DatasetInfo& info) {
+  const auto it = info.config.find("lidar_mount_from");
+  if (it == info.config.end() || !it->is_string()) return "";
+  const std::string from = it->get<std::string>();
+  return from.starts_with("nothing") ? "" : from;
+}
+
 // What the dataset gives every method: the nominal geometry (on a log without ticks, that of
 // the encoders derived from its odometry), the mount, the truth.
 algo::CalibrationInput datasetInput(const DatasetCalibrationParams& params,
@@ -158,6 +166,7 @@ algo::CalibrationInput datasetInput(const DatasetCalibrationParams& params,
   input.nominal = params.nominal.value_or(dataset->info.nominal_geometry);
   out.nominal = *input.nominal;
   out.T_base_lidar = dataset->info.T_base_lidar;
+  out.lidar_mount_from = measuredMountSource(dataset->info);
   if (params.mount_from_dataset) input.known_T_base_lidar = dataset->info.T_base_lidar;
   if (dataset->info.true_geometry)
     out.truth = algo::CalibrationTruth{*dataset->info.true_geometry, dataset->info.T_base_lidar};

@@ -141,6 +141,9 @@ struct DatasetCalibration {
   OdometryEncoders odometry;
   DiffDriveParams nominal;  ///< the geometry the odometry uses (--nominal, else dataset.json's)
   SE2 T_base_lidar;         ///< the dataset's lidar mount (dataset.json)
+  /// Where that mount was measured (config "lidar_mount_from": a tf, --lidar-mount, a log's
+  /// PARAM lines); empty when the dataset gave none (identity) or is simulated.
+  std::string lidar_mount_from;
 };
 
 /// The encoders of `c` integrated with `geometry` from the nominal odometry's pose at their first

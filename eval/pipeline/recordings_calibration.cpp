@@ -7,6 +7,7 @@
 
 #include "slamprep/algo/calibration/calibration_json.hpp"
 #include "slamprep/algo/calibration/gyro_check.hpp"
+#include "slamprep/algo/calibration/mount_flag.hpp"
 #include "slamprep/algo/calibration/validation_flag.hpp"
 #include "slamprep/core/atomic_file.hpp"
 #include "slamprep/core/error.hpp"
@@ -109,6 +110,10 @@ algo::MethodReport methodReport(const algo::CalibrationRun& run, const Recording
     if (const auto flag = algo::wheelsScansFlag(run.result, *r.calibration.agreement))
       m.flags.push_back(*flag);
   }
+  if (!r.calibration.lidar_mount_from.empty())
+    if (const auto flag =
+            algo::mountFlag(run.result, r.calibration.T_base_lidar, r.calibration.lidar_mount_from))
+      m.flags.push_back(*flag);
   if (r.held_out && run.result.ok) m.validation = validationOf(r, run, p.validate_fraction);
   if (m.validation)
     if (const auto flag = algo::validationFlag(*m.validation)) m.flags.push_back(*flag);
@@ -141,6 +146,18 @@ algo::MethodConsistency consistencyOf(const algo::CombinedRun& c) {
   return out;
 }
 
+// The measured mount every recording shares (one robot, one tf), if they all have one.
+const DatasetCalibration* sharedMount(const std::vector<RecordingCalibration>& recs) {
+  const DatasetCalibration& first = recs.front().calibration;
+  for (const RecordingCalibration& r : recs) {
+    const SE2& m = r.calibration.T_base_lidar;
+    if (r.calibration.lidar_mount_from.empty() || m.x != first.T_base_lidar.x ||
+        m.y != first.T_base_lidar.y || m.yaw != first.T_base_lidar.yaw)
+      return nullptr;
+  }
+  return &first;
+}
+
 // The truth every recording shares, if they all have the same one.
 std::optional<algo::CalibrationTruth> sharedTruth(const std::vector<RecordingCalibration>& recs) {
   const std::optional<algo::CalibrationTruth>& first = recs.front().calibration.truth;
@@ -160,6 +177,10 @@ void combine(const RecordingsCalibrationParams& p, RecordingsCalibration& out) {
     algo::MethodReport m{c.run, {}, combinedValidation(out, c.run, p.validate_fraction)};
     if (!recs.front().dataset.empty())
       m.flags = algo::nominalFlags(c.run.result, recs.front().calibration.nominal, p.flags);
+    if (const DatasetCalibration* given = sharedMount(recs))
+      if (const auto flag =
+              algo::mountFlag(c.run.result, given->T_base_lidar, given->lidar_mount_from))
+        m.flags.push_back(*flag);
     if (m.validation)
       if (const auto flag = algo::validationFlag(*m.validation)) m.flags.push_back(*flag);
     out.report.combined.push_back(m);

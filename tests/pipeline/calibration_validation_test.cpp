@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <regex>
 
 #include "slamprep/core/error.hpp"
 #include "slamprep/eval/formats/dataset_io.hpp"
@@ -106,6 +107,40 @@ TEST(CalibrationValidation, CalibratedBeatsTheWrongNominalOnHeldOutScans) {
   const double t0 = d.scans.front().scan.stamp_s, t1 = d.scans.back().scan.stamp_s;
   EXPECT_LT(r.recordings[0].calibration.intervals.intervals.back().t_end_s, t0 + 0.7 * (t1 - t0));
   EXPECT_GT(r.recordings[0].held_out->stamps_s.size(), 50u);
+}
+
+// The figure eight imported as if its tf put the lidar 15 cm beside where it is: the joint
+// method finds the lidar where it is, and the mount given with the recording is flagged; with
+// the tf right, nothing is. A simulated dataset (no "lidar_mount_from") is never compared.
+TEST(CalibrationValidation, AMountFarFromTheRecordingsTfIsFlagged) {
+  sim::SimConfig config;
+  config.scenario = "worlds/scenarios/figure_eight.yaml";
+  config.mode = sim::SimMode::kinematic;
+  const test::ScratchDir scratch("calibration_mount_flag");
+  Dataset d = sim::simulate(config).dataset;
+  d.info.config["lidar_mount_from"] = "tf base_link -> laser";
+  writeDataset(scratch / "right", d);
+  d.info.T_base_lidar = d.info.T_base_lidar * SE2(0.0, 0.15, 0.0);
+  writeDataset(scratch / "wrong", d);
+
+  auto mountFlags = [](const std::string& dir) {
+    RecordingsCalibrationParams params;
+    params.datasets = {dir};
+    params.base.methods = {algo::CalibrationMethod::kJoint};
+    const algo::MethodReport joint = calibrateRecordings(params).report.recordings[0].methods[0];
+    EXPECT_TRUE(joint.run.result.ok) << joint.run.result.reason;
+    std::vector<std::string> causes;
+    for (const algo::NominalFlag& f : joint.flags)
+      if (f.param == "lidar_mount") causes.push_back(f.likely_cause);
+    return causes;
+  };
+  EXPECT_TRUE(mountFlags((scratch / "right").string()).empty());
+  const std::vector<std::string> wrong = mountFlags((scratch / "wrong").string());
+  ASSERT_EQ(wrong.size(), 1u);
+  // Measured 151 mm (the joint mount's own error is about 1 mm here).
+  EXPECT_TRUE(std::regex_search(wrong[0], std::regex(" 1(4[7-9]|5[0-3]) mm and "))) << wrong[0];
+  EXPECT_NE(wrong[0].find("tf base_link -> laser"), std::string::npos);
+  EXPECT_NE(wrong[0].find("suspect"), std::string::npos) << wrong[0];
 }
 
 // Two recordings of one robot (the figure eight with seeds 1 and 2): each scored whole with the
