@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <numbers>
 
 #include "slamprep/eval/bench/twin_lidar.hpp"
 #include "slamprep/eval/bench/twin_odometry.hpp"
@@ -31,6 +32,10 @@ const std::map<std::string, const char*>& definitions() {
       {"odometry_drift_per_m",
        "the raw odometry against the matched trajectory: mean translation error of 1 m pieces of "
        "path (RPE, metres), per metre"},
+      {"wheels_vs_scans_residual_deg",
+       "the sensor agreement of that calibration (docs/calibration.md): robust sigma, in "
+       "degrees, of what the wheels and the scan-matched motion disagree on per 5 s window "
+       "after the best wheel-geometry fit and delay (slip, lifted wheels, matcher noise)"},
       {"calibration_sigma_b",
        "1-sigma of b in metres from calibrate --method joint --motion map --keyframe-cm 20 "
        "(null: refused)"},
@@ -55,13 +60,23 @@ std::optional<double> driftPerMetre(const Dataset& d, const MatchTrajectory& run
   return r.translation_m.mean;  // pieces of 1 m: metres per metre
 }
 
-/// The joint calibration's b and its 1-sigma (both nullopt when refused).
-std::pair<std::optional<double>, std::optional<double>> calibratedB(const std::string& dir,
-                                                                    const Dataset& d) {
+/// What the twin's calibration measures: the joint b and its 1-sigma (nullopt when refused),
+/// and how far the wheels and the scans disagree per window.
+struct CalibrationFigures {
+  std::optional<double> b_m, sigma_b_m, wheels_vs_scans_deg;
+};
+
+CalibrationFigures calibrationFigures(const std::string& dir, const Dataset& d) {
   const DatasetCalibration cal = calibrateForTwin(dir, d);
-  if (cal.runs.empty() || !cal.runs.front().result.ok) return {};
+  CalibrationFigures out;
+  if (cal.agreement)
+    if (const algo::PairAgreement* p = cal.agreement->pair("wheels", "scans"))
+      out.wheels_vs_scans_deg = p->sigma_rad * 180.0 / std::numbers::pi;
+  if (cal.runs.empty() || !cal.runs.front().result.ok) return out;
   const algo::CalibrationResult& r = cal.runs.front().result;
-  return {r.geometry.wheel_base_m, r.sigma()(2)};
+  out.b_m = r.geometry.wheel_base_m;
+  out.sigma_b_m = r.sigma()(2);
+  return out;
 }
 
 }  // namespace
@@ -79,7 +94,7 @@ TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
       s.residuals_m.push_back(run.tracked.scans[k].match.rms_residual_m);
   const ErrorStats r = summarize(s.residuals_m);
   const double attempted = double(run.tracked.scans.size()) - 1.0;
-  const auto [b, sigma_b] = calibratedB(dir, d);
+  const CalibrationFigures cal = calibrationFigures(dir, d);
   auto opt = [](bool ok, double v) { return ok ? std::optional<double>(v) : std::nullopt; };
   s.values = {
       {"scan_rate_hz", l.rate_hz},
@@ -89,8 +104,9 @@ TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
       {"scan_to_map_residual_p95_m", opt(r.ok, r.p95)},
       {"match_converged_percent", opt(attempted > 0, 100.0 * run.tracked.matched / attempted)},
       {"odometry_drift_per_m", driftPerMetre(d, run)},
-      {"calibration_sigma_b", sigma_b},
-      {"calibration_b_m", b}};
+      {"wheels_vs_scans_residual_deg", cal.wheels_vs_scans_deg},
+      {"calibration_sigma_b", cal.sigma_b_m},
+      {"calibration_b_m", cal.b_m}};
   return s;
 }
 

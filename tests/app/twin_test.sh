@@ -30,7 +30,8 @@ expect 2 twin --compare "$dir/aces"
 
 expect 0 twin --compare "$dir/aces" "$dir/twin" --json "$dir/cmp.json" --plot "$dir/cmp.png" -q
 for key in scan_rate_hz beams_per_scan_mean no_return_fraction scan_to_map_residual_median_m \
-  scan_to_map_residual_p95_m match_converged_percent odometry_drift_per_m calibration_sigma_b calibration_b_m; do
+  scan_to_map_residual_p95_m match_converged_percent odometry_drift_per_m \
+  wheels_vs_scans_residual_deg calibration_sigma_b calibration_b_m; do
   grep -qF "\"$key\"" "$dir/cmp.json" || fail "comparison lacks $key"
 done
 [ -s "$dir/cmp.png" ] || fail "no plot"
@@ -42,5 +43,8 @@ assert abs(s["scan_rate_hz"]["ratio"] - 1) < 0.05, s["scan_rate_hz"]
 assert abs(s["beams_per_scan_mean"]["ratio"] - 1) < 0.01, s["beams_per_scan_mean"]
 assert s["match_converged_percent"]["twin"] > 80, s["match_converged_percent"]
 assert 0.5 < s["scan_to_map_residual_median_m"]["ratio"] < 2, s["scan_to_map_residual_median_m"]
+# Both have wheels and scans to compare (the log's odometry poses, the twin's encoders).
+assert s["wheels_vs_scans_residual_deg"]["real"] > 0, s["wheels_vs_scans_residual_deg"]
+assert s["wheels_vs_scans_residual_deg"]["twin"] > 0, s["wheels_vs_scans_residual_deg"]
 PY
 echo "twin: ok"
