@@ -55,6 +55,7 @@ struct CalibrateFlags : CommonFlags {
   bool exclude_disagreement = false;   // --exclude-disagreement
   std::string sync = "auto";           // --sync
   std::string lidar_mount = "centre";  // --lidar-mount: what direct and model take the mount as
+  std::string mount_prior = "2,2";     // --mount-prior: 1-sigmas in cm, deg, or none
   bool stamp_is_last_beam = false;
 };
 
@@ -64,6 +65,17 @@ std::optional<DiffDriveParams> nominalOf(const CalibrateFlags& flags) {
   if (!(v[0] > 0.0 && v[1] > 0.0 && v[2] > 0.0))
     throw InputError("--nominal", "r_L, r_R and b must be > 0");
   return DiffDriveParams{v[0], v[1], v[2]};
+}
+
+// --mount-prior CM,DEG (the prior's 1-sigmas) or none.
+void mountPriorOf(const CalibrateFlags& flags, eval::DatasetCalibrationParams& p) {
+  p.mount_prior = flags.mount_prior != "none";
+  if (!p.mount_prior) return;
+  const auto v = parseList(flags.mount_prior, "--mount-prior", {"sigma_cm", "sigma_deg"});
+  if (!(v[0] > 0.0 && v[1] > 0.0))
+    throw InputError("--mount-prior", "the 1-sigmas must be > 0 (none: no prior)");
+  p.mount_prior_sigma_xy_m = v[0] / 100.0;
+  p.mount_prior_sigma_yaw_rad = v[1] * std::numbers::pi / 180.0;
 }
 
 eval::RecordingsCalibrationParams paramsOf(const CalibrateFlags& flags) {
@@ -89,6 +101,7 @@ eval::RecordingsCalibrationParams paramsOf(const CalibrateFlags& flags) {
   p.exclude_disagreement = flags.exclude_disagreement;
   p.sync_clocks = flags.sync == "auto";
   p.mount_from_dataset = flags.lidar_mount == "dataset";
+  mountPriorOf(flags, p);
   p.params.umbmark.side_m = flags.side_m;
   p.params.ceres.estimate_time_offset = flags.time_offset;
   p.params.joint.estimate_sideslip = flags.sideslip;  // ceres starts from joint's k
@@ -450,6 +463,13 @@ void addCalibrateModel(CLI::App* cli, CalibrateFlags& flags) {
                   "mount, e.g. from tf, taken as known; for a lidar off the centre or turned, such "
                   "as one facing backwards). joint and ceres estimate it either way")
       ->check(oneOf("lidar-mount", {"centre", "dataset"}))
+      ->capture_default_str();
+  cli->add_option("--mount-prior", flags.mount_prior,
+                  "CM,DEG: the mount the recording came with (a tf or --lidar-mount at import; "
+                  "not a simulated dataset's) fused into joint and ceres as a prior with these "
+                  "1-sigmas, unless the fit contradicts it (chi2 over 14.2: left alone, and "
+                  "flagged lidar_mount); none: the intervals alone (docs/calibration.md, \"Mount "
+                  "prior\")")
       ->capture_default_str();
   cli->add_flag("--exclude-disagreement", flags.exclude_disagreement,
                 "where the wheels and the gyro disagree beyond any wheel geometry (a lifted or "

@@ -167,12 +167,14 @@ CalibrationRun calibrateWith(CalibrationMethod method, const CalibrationInput& i
     in_base.known_T_base_lidar.reset();
     return calibrateWith(method, in_base, params, joints);
   }
-  return refuseUndetermined(
+  CalibrationRun run =
       robustFit(input.intervals, params.trim,
                 [&](const std::vector<CalibrationInterval>& subset, const std::vector<int>& kept) {
                   return fitMethod(method, subset, kept, input, params, joints);
-                }),
-      params.max_relative_sigma);
+                });
+  // The prior after the screening, which judges intervals by what they alone say.
+  if (input.mount_prior) run.mount_prior = applyMountPrior(run.result, *input.mount_prior);
+  return refuseUndetermined(std::move(run), params.max_relative_sigma);
 }
 
 }  // namespace

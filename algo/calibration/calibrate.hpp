@@ -13,6 +13,7 @@
 #include "slamprep/algo/calibration/interval.hpp"
 #include "slamprep/algo/calibration/joint_censi.hpp"
 #include "slamprep/algo/calibration/model_based.hpp"
+#include "slamprep/algo/calibration/mount_prior.hpp"
 #include "slamprep/algo/calibration/robust_trim.hpp"
 #include "slamprep/algo/calibration/umbmark.hpp"
 
@@ -31,6 +32,9 @@ struct CalibrationInput {
   /// their intervals' lidar motion is first expressed in the base frame with it
   /// (inBaseFrame). nullopt: the lecture's assumption, the lidar at the robot centre.
   std::optional<SE2> known_T_base_lidar;
+  /// The mount the recording came with, fused into the fits that estimate one (joint, ceres)
+  /// before they are judged undetermined (mount_prior.hpp); nullopt: the intervals alone.
+  std::optional<MountPrior> mount_prior;
 };
 
 /// Every method's parameters. ceres starts from `joint` (its `start` is ignored); direct and
@@ -61,6 +65,8 @@ struct CalibrationRun {
   /// odometry geometry corrected: estimate / nominal is the factor to apply to whatever geometry
   /// the robot's odometry used (docs/calibration.md, "Logs without encoder ticks").
   std::optional<DiffDriveParams> relative_to_odometry;
+  /// joint or ceres with CalibrationInput::mount_prior: what the prior did (applied or not).
+  std::optional<MountPriorUse> mount_prior;
   /// joint or ceres with estimate_sideslip, when ok: the sideslip k (s) and its 1-sigma.
   std::optional<double> sideslip_s;
   double sideslip_sigma_s = 0.0;

@@ -33,6 +33,27 @@ json validationJson(const ValidationFigures& v) {
   return j;
 }
 
+// The six values of kCalibrationKeys as an object.
+json valuesJson(const Eigen::VectorXd& v) {
+  json j = json::object();
+  for (int i = 0; i < v.size(); ++i) j[kCalibrationKeys[i]] = v(i);
+  return j;
+}
+
+json mountPriorJson(const MountPriorUse& u) {
+  const SE2& m = u.prior.T_base_lidar;
+  return {{"from", u.prior.from},
+          {"lidar_x", m.x},
+          {"lidar_y", m.y},
+          {"lidar_yaw", m.yaw},
+          {"sigma_xy_m", u.prior.sigma_xy_m},
+          {"sigma_yaw_rad", u.prior.sigma_yaw_rad},
+          {"chi2", u.chi2},
+          {"applied", u.applied},
+          {"without_prior", valuesJson(u.without_prior)},
+          {"without_prior_sigma", valuesJson(u.without_prior_sigma)}};
+}
+
 json runJson(const CalibrationRun& run, const std::optional<Eigen::VectorXd>& truth) {
   const CalibrationResult& r = run.result;
   json j = {{"method", calibrationMethodName(run.method)}, {"ok", r.ok}, {"reason", r.reason}};
@@ -60,6 +81,7 @@ json runJson(const CalibrationRun& run, const std::optional<Eigen::VectorXd>& tr
     j["time_offset_s"] = {{"value", *run.time_offset_s}, {"sigma", run.time_offset_sigma_s}};
   if (run.sideslip_s)
     j["sideslip_s"] = {{"value", *run.sideslip_s}, {"sigma", run.sideslip_sigma_s}};
+  if (run.mount_prior) j["mount_prior"] = mountPriorJson(*run.mount_prior);
   if (const auto& nominal = run.relative_to_odometry) {
     j["relative_to_odometry"] = geometryJson(*nominal);
     if (r.ok)

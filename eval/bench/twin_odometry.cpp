@@ -121,6 +121,8 @@ DatasetCalibration calibrateForTwin(const std::string& dir, const Dataset& datas
   // The twin compares sigma(b) itself, also where it is too large for calibrate to accept the
   // estimate (undetermined): the statistic must not vanish where it is largest.
   c.params.max_relative_sigma = 0.0;
+  // The data alone on both sides: a twin's dataset has no measured mount to take as a prior.
+  c.mount_prior = false;
   return calibrateDataset(c, dataset);
 }
 

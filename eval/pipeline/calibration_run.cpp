@@ -168,6 +168,10 @@ algo::CalibrationInput datasetInput(const DatasetCalibrationParams& params,
   out.T_base_lidar = dataset->info.T_base_lidar;
   out.lidar_mount_from = measuredMountSource(dataset->info);
   if (params.mount_from_dataset) input.known_T_base_lidar = dataset->info.T_base_lidar;
+  if (params.mount_prior && !out.lidar_mount_from.empty())
+    input.mount_prior =
+        algo::MountPrior{out.T_base_lidar, out.lidar_mount_from, params.mount_prior_sigma_xy_m,
+                         params.mount_prior_sigma_yaw_rad};
   if (dataset->info.true_geometry)
     out.truth = algo::CalibrationTruth{*dataset->info.true_geometry, dataset->info.T_base_lidar};
   return input;

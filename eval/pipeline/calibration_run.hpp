@@ -107,6 +107,12 @@ struct DatasetCalibrationParams {
   /// Take the dataset's lidar mount as known in the methods that do not estimate one (direct,
   /// model; `--lidar-mount dataset`); false: they assume the lidar at the robot centre.
   bool mount_from_dataset = false;
+  /// Fuse the dataset's measured mount (DatasetCalibration::lidar_mount_from not empty) into
+  /// joint and ceres as a prior with these 1-sigmas (`--mount-prior`, algo/calibration/
+  /// mount_prior.hpp); false: the intervals alone.
+  bool mount_prior = true;
+  double mount_prior_sigma_xy_m = 0.02;
+  double mount_prior_sigma_yaw_rad = 0.035;
   /// Run only the methods whose input is there (`--method all`); the others are listed in
   /// DatasetCalibration::not_applicable instead of refusing.
   bool only_applicable = false;

@@ -54,7 +54,7 @@ std::vector<CalibrationInterval> withGlitches(const std::vector<CalibrationInter
 }
 
 CalibrationInput inputOf(std::vector<CalibrationInterval> intervals) {
-  return {std::move(intervals), DiffDriveParams{0.1, 0.1, 0.5}, {}, {}, std::nullopt};
+  return {std::move(intervals), DiffDriveParams{0.1, 0.1, 0.5}, {}, {}, std::nullopt, std::nullopt};
 }
 
 double worstRelativeError(const DiffDriveParams& a, const DiffDriveParams& truth) {

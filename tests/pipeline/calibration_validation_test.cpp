@@ -110,37 +110,54 @@ TEST(CalibrationValidation, CalibratedBeatsTheWrongNominalOnHeldOutScans) {
 }
 
 // The figure eight imported as if its tf put the lidar 15 cm beside where it is: the joint
-// method finds the lidar where it is, and the mount given with the recording is flagged; with
-// the tf right, nothing is. A simulated dataset (no "lidar_mount_from") is never compared.
-TEST(CalibrationValidation, AMountFarFromTheRecordingsTfIsFlagged) {
+// method finds the lidar where it is, the fit contradicts the mount given with the recording,
+// which is then neither fused as a prior nor kept quiet: it is flagged. With the tf right, the
+// prior is fused and nothing is flagged. A simulated dataset (no "lidar_mount_from") has no
+// prior and is never compared.
+TEST(CalibrationValidation, AMountFarFromTheRecordingsTfIsFlaggedNotFused) {
   sim::SimConfig config;
   config.scenario = "worlds/scenarios/figure_eight.yaml";
   config.mode = sim::SimMode::kinematic;
   const test::ScratchDir scratch("calibration_mount_flag");
   Dataset d = sim::simulate(config).dataset;
+  writeDataset(scratch / "simulated", d);
   d.info.config["lidar_mount_from"] = "tf base_link -> laser";
   writeDataset(scratch / "right", d);
   d.info.T_base_lidar = d.info.T_base_lidar * SE2(0.0, 0.15, 0.0);
   writeDataset(scratch / "wrong", d);
 
-  auto mountFlags = [](const std::string& dir) {
+  auto joint = [&](const char* name) {
     RecordingsCalibrationParams params;
-    params.datasets = {dir};
+    params.datasets = {(scratch / name).string()};
     params.base.methods = {algo::CalibrationMethod::kJoint};
-    const algo::MethodReport joint = calibrateRecordings(params).report.recordings[0].methods[0];
-    EXPECT_TRUE(joint.run.result.ok) << joint.run.result.reason;
+    const algo::MethodReport m = calibrateRecordings(params).report.recordings[0].methods[0];
+    EXPECT_TRUE(m.run.result.ok) << m.run.result.reason;
+    return m;
+  };
+  auto mountFlags = [](const algo::MethodReport& m) {
     std::vector<std::string> causes;
-    for (const algo::NominalFlag& f : joint.flags)
+    for (const algo::NominalFlag& f : m.flags)
       if (f.param == "lidar_mount") causes.push_back(f.likely_cause);
     return causes;
   };
-  EXPECT_TRUE(mountFlags((scratch / "right").string()).empty());
-  const std::vector<std::string> wrong = mountFlags((scratch / "wrong").string());
-  ASSERT_EQ(wrong.size(), 1u);
+  EXPECT_FALSE(joint("simulated").run.mount_prior);
+
+  const algo::MethodReport right = joint("right");
+  ASSERT_TRUE(right.run.mount_prior);
+  EXPECT_TRUE(right.run.mount_prior->applied);
+  EXPECT_LT(right.run.mount_prior->chi2, 14.16);
+  EXPECT_TRUE(mountFlags(right).empty());
+
+  const algo::MethodReport wrong = joint("wrong");
+  ASSERT_TRUE(wrong.run.mount_prior);
+  EXPECT_FALSE(wrong.run.mount_prior->applied);
+  EXPECT_GT(wrong.run.mount_prior->chi2, 14.16);
+  const std::vector<std::string> causes = mountFlags(wrong);
+  ASSERT_EQ(causes.size(), 1u);
   // Measured 151 mm (the joint mount's own error is about 1 mm here).
-  EXPECT_TRUE(std::regex_search(wrong[0], std::regex(" 1(4[7-9]|5[0-3]) mm and "))) << wrong[0];
-  EXPECT_NE(wrong[0].find("tf base_link -> laser"), std::string::npos);
-  EXPECT_NE(wrong[0].find("suspect"), std::string::npos) << wrong[0];
+  EXPECT_TRUE(std::regex_search(causes[0], std::regex(" 1(4[7-9]|5[0-3]) mm and "))) << causes[0];
+  EXPECT_NE(causes[0].find("tf base_link -> laser"), std::string::npos);
+  EXPECT_NE(causes[0].find("suspect"), std::string::npos) << causes[0];
 }
 
 // Two recordings of one robot (the figure eight with seeds 1 and 2): each scored whole with the
