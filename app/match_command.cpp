@@ -88,12 +88,18 @@ MatchPass matchPass(const Dataset& d, const MatchFlags& flags) {
   return pass;
 }
 
-/// --sync auto (algo::syncOntoScanClock, as calibrate does): returns the shift (0: none).
+/// --sync auto (algo::syncOntoScanClock, as calibrate does): returns the shift (0: none). The
+/// delay is first measured on the scans as measured where the de-skew reads the late clocks.
 double syncAndMatchAgain(Dataset& d, const MatchFlags& flags, MatchPass& pass) {
   if (flags.sync != "auto") return 0.0;
   const eval::DatasetCalibrationParams calibrate;  // its thresholds, not a copy of them
-  return algo::syncOntoScanClock(d, pass.agreement, calibrate.min_sync_lag_s,
-                                 calibrate.min_refine_lag_s, [&](const Dataset& s) {
+  const auto method = algo::parseDeskewMethod(flags.deskew);
+  const algo::SensorAgreement first =
+      method && eval::deskewReadsClocks(*method)
+          ? eval::agreementOfScansAlone(d, "none", flags.stamp_is_last_beam)
+          : pass.agreement;
+  return algo::syncOntoScanClock(d, first, calibrate.min_sync_lag_s, calibrate.min_refine_lag_s,
+                                 [&](const Dataset& s) {
                                    pass = matchPass(s, flags);
                                    return std::vector<PoseSeries>{pass.scan_only};
                                  });

@@ -180,11 +180,9 @@ algo::CalibrationInput datasetInput(const DatasetCalibrationParams& params,
 /// Whether the scan-to-map motion of `options` de-skews with the wheels' or the gyro's motion,
 /// read at their stamps: a de-skew the delay being measured corrupts. (The chained matches of
 /// kIcp stand at the scans' stamps, not at mid-sweep where a scan as measured stands.)
-bool deskewReadsClocks(const Dataset& d, const CalibrationMotionOptions& options) {
+bool mapMotionReadsClocks(const Dataset& d, const CalibrationMotionOptions& options) {
   if (options.source != MotionSource::kMap) return false;
-  const algo::DeskewMethod m = deskewMethodFor(d, options.deskew);
-  return m == algo::DeskewMethod::kOdomLinear || m == algo::DeskewMethod::kOdomQuadratic ||
-         m == algo::DeskewMethod::kOdomIcp || m == algo::DeskewMethod::kImu;
+  return eval::deskewReadsClocks(deskewMethodFor(d, options.deskew));
 }
 
 /// The motion on which the delay is measured: scans as measured, read at mid-sweep
@@ -230,7 +228,7 @@ void cutIntervals(const DatasetCalibrationParams& params, std::optional<Dataset>
     out.stamps = algo::regularizeStamps(*regular);
   }
   Dataset& used = algo::anyApplied(out.stamps) ? *regular : *dataset;
-  const bool measure_apart = params.sync_clocks && deskewReadsClocks(used, params.motion);
+  const bool measure_apart = params.sync_clocks && mapMotionReadsClocks(used, params.motion);
   CalibrationMotion motion =
       calibrationMotion(used, measure_apart ? noDeskew(params.motion) : params.motion);
   out.intervals = std::move(motion.intervals);

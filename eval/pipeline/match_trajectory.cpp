@@ -139,11 +139,20 @@ PoseSeries scanOnlyPoses(const Dataset& dataset, const ScanPoints& points,
   return acceptedPoses(matchTrajectory(dataset, points, scansAlone(options)));
 }
 
-double syncOntoScans(Dataset& dataset, const std::string& deskew, bool stamp_is_last_beam) {
+bool deskewReadsClocks(algo::DeskewMethod method) {
+  const auto missing = algo::deskewMissingInput(method, {.groundtruth = true});
+  return missing && *missing != algo::DeskewInput::kGroundTruth;
+}
+
+algo::SensorAgreement agreementOfScansAlone(const Dataset& dataset, const std::string& deskew,
+                                            bool stamp_is_last_beam) {
   const PoseSeries matched = matchAlone(dataset, deskew, stamp_is_last_beam);
-  return syncOntoScans(
-      dataset, algo::compareSensors(algo::datasetSources(dataset, algo::scanPieces({matched}))),
-      deskew, stamp_is_last_beam);
+  return algo::compareSensors(algo::datasetSources(dataset, algo::scanPieces({matched})));
+}
+
+double syncOntoScans(Dataset& dataset, const std::string& deskew, bool stamp_is_last_beam) {
+  return syncOntoScans(dataset, agreementOfScansAlone(dataset, deskew, stamp_is_last_beam), deskew,
+                       stamp_is_last_beam);
 }
 
 double syncOntoScans(Dataset& dataset, const algo::SensorAgreement& first,

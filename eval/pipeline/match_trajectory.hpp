@@ -67,6 +67,16 @@ PoseSeries acceptedPoses(const MatchTrajectory& run);
 PoseSeries scanOnlyPoses(const Dataset& dataset, const ScanPoints& points,
                          const MatchTrajectoryOptions& options, const MatchTrajectory& run);
 
+/// Whether `method` de-skews with the wheels' odometry or the gyro read at the beams' stamps:
+/// such a de-skew is corrupted by the very delay the clock sync measures, which is therefore
+/// measured on the scans as measured (docs/calibration.md "Clock sync").
+bool deskewReadsClocks(algo::DeskewMethod method);
+
+/// The sensor agreement of the scans matched alone (`deskew`, the default matcher) with the
+/// wheels and the gyro.
+algo::SensorAgreement agreementOfScansAlone(const Dataset& dataset, const std::string& deskew,
+                                            bool stamp_is_last_beam);
+
 /// `deskew --sync auto`: the scans matched alone (`deskew`, the default matcher, scanOnlyPoses)
 /// and, where they lag the wheels, the wheels and the gyro moved onto the scans' clock as
 /// calibrate and match do (algo::syncOntoScanClock, calibrate's thresholds). Returns the total
