@@ -154,6 +154,26 @@ void warnInconsistent(const algo::CombinedRun& c, const eval::RecordingsCalibrat
 
 }  // namespace
 
+namespace {
+
+// What the recording's mount did as a prior (algo/calibration/mount_prior.hpp), one line.
+void printMountPrior(const algo::MountPriorUse& u) {
+  const Eigen::VectorXd& v = u.without_prior;
+  std::cout << "  mount prior: " << u.prior.from << " (1-sigma " << std::fixed
+            << std::setprecision(0) << u.prior.sigma_xy_m * 1e3 << " mm, " << std::setprecision(1)
+            << u.prior.sigma_yaw_rad * 180.0 / std::numbers::pi << " deg), chi2 "
+            << std::setprecision(1) << u.chi2;
+  if (u.applied)
+    std::cout << ": fused; the fit alone had b " << human(v(2), 2) << ", lidar x " << human(v(3), 3)
+              << ", y " << human(v(4), 4) << "\n";
+  else
+    std::cout << " > " << u.prior.max_chi2
+              << ": not fused, the fit contradicts it (see the lidar_mount flag)\n";
+  std::cout << std::defaultfloat;
+}
+
+}  // namespace
+
 void printTable(const std::vector<algo::CalibrationRun>& rows,
                 const std::optional<algo::CalibrationTruth>& truth_of) {
   std::optional<Eigen::VectorXd> truth;
@@ -195,6 +215,7 @@ void printTable(const std::vector<algo::CalibrationRun>& rows,
       }
       std::cout << "\n";
     }
+    if (row.mount_prior) printMountPrior(*row.mount_prior);
   }
 }
 
@@ -222,7 +243,8 @@ namespace {
 const char* ratioMeaning(const std::string& param) {
   if (param == "b_vs_gyro") return " (b over the gyro's b): ";
   if (param == "held_out") return " (held-out error, calibrated over raw): ";
-  if (param == "b_not_measured" || param == "wheels_vs_scans") return nullptr;
+  if (param == "b_not_measured" || param == "wheels_vs_scans" || param == "lidar_mount")
+    return nullptr;
   return " x nominal (more than 15 % off): likely cause: ";
 }
 
