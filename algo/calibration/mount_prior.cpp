@@ -13,7 +13,8 @@ std::optional<MountPriorUse> applyMountPrior(CalibrationResult& result, const Mo
   const Eigen::VectorXd x = calibrationValues(result);
   const Eigen::MatrixXd& P = result.covariance;
   const SE2& z = prior.T_base_lidar;
-  Eigen::Vector3d nu(z.x - x(3), z.y - x(4), std::remainder(z.yaw - x(5), 2.0 * std::numbers::pi));
+  const Eigen::Vector3d nu(z.x - x(3), z.y - x(4),
+                           std::remainder(z.yaw - x(5), 2.0 * std::numbers::pi));
   const Eigen::Vector3d r_diag(prior.sigma_xy_m * prior.sigma_xy_m,
                                prior.sigma_xy_m * prior.sigma_xy_m,
                                prior.sigma_yaw_rad * prior.sigma_yaw_rad);
