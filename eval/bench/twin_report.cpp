@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <iterator>
+#include <map>
 
 #include "slamprep/eval/bench/twin_compare.hpp"
 #include "slamprep/eval/plot/plot.hpp"
@@ -67,6 +67,27 @@ std::string recordingName(const std::string& path) {
 
 }  // namespace
 
+namespace {
+
+// A statistic's name short enough for a bar's label (by name: the list grows).
+std::string shortLabel(const std::string& name) {
+  static const std::map<std::string, std::string> shorts = {
+      {"scan_rate_hz", "rate"},
+      {"beams_per_scan_mean", "beams"},
+      {"no_return_fraction", "no ret."},
+      {"scan_to_map_residual_median_m", "res. md"},
+      {"scan_to_map_residual_p95_m", "res. 95"},
+      {"match_converged_percent", "conv."},
+      {"odometry_drift_per_m", "drift"},
+      {"wheels_vs_scans_residual_deg", "wh/scans"},
+      {"calibration_sigma_b", "sd b"},
+      {"calibration_b_m", "b"}};
+  const auto it = shorts.find(name);
+  return it == shorts.end() ? name : it->second;
+}
+
+}  // namespace
+
 void plotComparison(const TwinComparison& c, const std::filesystem::path& png) {
   plot::Figure fig{.width_px = 1400,
                    .height_px = 700,
@@ -77,11 +98,9 @@ void plotComparison(const TwinComparison& c, const std::filesystem::path& png) {
                     .log_y = true,
                     .legend = plot::LegendPosition::None};
   plot::Series bars{.label = "twin / real", .style = plot::Style::Bars};
-  const char* const shorts[] = {"rate",  "beams", "no ret.", "res. md", "res. 95",
-                                "conv.", "drift", "sd b",    "b"};
   for (std::size_t i = 0; i < c.rows.size(); ++i) {
     // No bar can mean no ratio (a real value of 0, a side without the statistic): say so.
-    const std::string name = i < std::size(shorts) ? shorts[i] : c.rows[i].name;
+    const std::string name = shortLabel(c.rows[i].name);
     ratios.categories.push_back(c.rows[i].ratio ? name : "n/a");
     bars.x.push_back(double(i));
     bars.y.push_back(c.rows[i].ratio ? *c.rows[i].ratio : NAN);
