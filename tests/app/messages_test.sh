@@ -25,6 +25,10 @@ expect 2 match "$ds" --keyframe-distance 0
 err_has "--keyframe-distance: must be > 0 (got 0)"
 expect 2 calibrate "$ds" --trim-sigmas -1
 err_has "--trim-sigmas: must be >= 0 (got -1)"
+expect 2 calibrate "$ds" --mount-prior 0,2
+err_has "--mount-prior: the 1-sigmas must be > 0 (none: no prior)"
+expect 2 calibrate "$ds" --mount-prior 2
+err_has "--mount-prior: expected sigma_cm,sigma_deg"
 expect 2 deskew "$ds" --stamps grid
 err_has "unknown stamps 'grid' (valid: auto, raw)"
 
