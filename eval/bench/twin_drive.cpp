@@ -26,7 +26,10 @@ Eigen::Vector2d meanTwist(const SE2& T_world_base, const SE2& T_world_target, do
   const SE2 e = between(T_world_base, T_world_target);
   const double lateral = std::clamp(p.lateral_gain_per_m * e.y * (e.x >= 0.0 ? 1.0 : -1.0),
                                     -p.max_lateral_rad, p.max_lateral_rad);
-  return {e.x / dt, (e.yaw + lateral * std::min(1.0, std::abs(e.x) / 0.01)) / dt};
+  // The sideways error is steered out over lateral_horizon_s, not within one knot: the matched
+  // trajectory's centimetres of sideways jitter otherwise turned the robot at up to 5 rad/s.
+  const double share = std::min(1.0, dt / p.lateral_horizon_s);
+  return {e.x / dt, (e.yaw + share * lateral * std::min(1.0, std::abs(e.x) / 0.01)) / dt};
 }
 
 /// The knot within the wheel-rate and acceleration limits (both scaled, so the turn's ratio stays).

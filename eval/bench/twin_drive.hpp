@@ -16,7 +16,8 @@ struct TrackParams {
   double period_s = 0.1;            ///< knot spacing of the track segment
   double step_s = 0.01;             ///< kinematic integration step
   double lateral_gain_per_m = 2.0;  ///< heading correction per metre of sideways error ...
-  double max_lateral_rad = 0.5;     ///< ... at most this
+  double max_lateral_rad = 0.5;     ///< ... at most this, ...
+  double lateral_horizon_s = 1.0;   ///< ... steered out over this long
   double max_wheel_radps = 50.0;    ///< commands are clamped (a matching glitch is not a drive)
   double ramp_s = 0.1;  ///< ... and change by at most max_wheel_radps per ramp_s (acceleration)
 };
