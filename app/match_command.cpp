@@ -83,8 +83,7 @@ MatchPass matchPass(const Dataset& d, const MatchFlags& flags) {
   const eval::MatchTrajectoryOptions options{flags.params, flags.stamp_is_last_beam};
   pass.run = eval::matchTrajectory(d, points, options);
   pass.scan_only = eval::scanOnlyPoses(d, points, options, pass.run);
-  pass.agreement =
-      algo::compareSensors(algo::datasetSources(d, algo::scanPieces({pass.scan_only})));
+  pass.agreement = eval::scanAgreement(d, pass.scan_only);
   return pass;
 }
 
@@ -93,11 +92,8 @@ MatchPass matchPass(const Dataset& d, const MatchFlags& flags) {
 double syncAndMatchAgain(Dataset& d, const MatchFlags& flags, MatchPass& pass) {
   if (flags.sync != "auto") return 0.0;
   const eval::DatasetCalibrationParams calibrate;  // its thresholds, not a copy of them
-  const auto method = algo::parseDeskewMethod(flags.deskew);
   const algo::SensorAgreement first =
-      method && eval::deskewReadsClocks(*method)
-          ? eval::agreementOfScansAlone(d, "none", flags.stamp_is_last_beam)
-          : pass.agreement;
+      eval::syncStartAgreement(d, pass.agreement, flags.deskew, flags.stamp_is_last_beam);
   return algo::syncOntoScanClock(d, first, calibrate.min_sync_lag_s, calibrate.min_refine_lag_s,
                                  [&](const Dataset& s) {
                                    pass = matchPass(s, flags);

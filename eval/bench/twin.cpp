@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <numbers>
 
-#include "slamprep/algo/agreement/dataset_sources.hpp"
 #include "slamprep/algo/agreement/sensor_agreement.hpp"
 #include "slamprep/core/error.hpp"
 #include "slamprep/eval/bench/twin_odometry.hpp"
@@ -277,8 +276,7 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
 /// `calibrate --sync auto` does: measured, moved, and what is left measured again), on a copy.
 void measureLag(const Dataset& real, const PoseSeries& scan_only, const std::string& deskew,
                 Fitted& f) {
-  const algo::SensorAgreement a =
-      algo::compareSensors(algo::datasetSources(real, algo::scanPieces({scan_only})));
+  const algo::SensorAgreement a = scanAgreement(real, scan_only);
   const algo::PairAgreement* p = a.pair("wheels", "scans");
   if (!p || p->kept == 0) return;
   f.turn_ratios = p->wheel_ratios;

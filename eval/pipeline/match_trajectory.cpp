@@ -144,23 +144,30 @@ bool deskewReadsClocks(algo::DeskewMethod method) {
   return missing && *missing != algo::DeskewInput::kGroundTruth;
 }
 
-algo::SensorAgreement agreementOfScansAlone(const Dataset& dataset, const std::string& deskew,
-                                            bool stamp_is_last_beam) {
-  const PoseSeries matched = matchAlone(dataset, deskew, stamp_is_last_beam);
-  return algo::compareSensors(algo::datasetSources(dataset, algo::scanPieces({matched})));
+algo::SensorAgreement scanAgreement(const Dataset& dataset, const PoseSeries& scan_poses) {
+  return algo::compareSensors(algo::datasetSources(dataset, algo::scanPieces({scan_poses})));
+}
+
+algo::SensorAgreement syncStartAgreement(const Dataset& dataset,
+                                         const algo::SensorAgreement& matched,
+                                         const std::string& deskew, bool stamp_is_last_beam) {
+  const auto method = algo::parseDeskewMethod(deskew);
+  if (!method || !deskewReadsClocks(*method)) return matched;
+  return scanAgreement(dataset, matchAlone(dataset, "none", stamp_is_last_beam));
 }
 
 double syncOntoScans(Dataset& dataset, const std::string& deskew, bool stamp_is_last_beam) {
-  return syncOntoScans(dataset, agreementOfScansAlone(dataset, deskew, stamp_is_last_beam), deskew,
-                       stamp_is_last_beam);
+  return syncOntoScans(dataset,
+                       scanAgreement(dataset, matchAlone(dataset, deskew, stamp_is_last_beam)),
+                       deskew, stamp_is_last_beam);
 }
 
 double syncOntoScans(Dataset& dataset, const algo::SensorAgreement& first,
                      const std::string& deskew, bool stamp_is_last_beam) {
   const DatasetCalibrationParams thresholds;
   return algo::syncOntoScanClock(
-      dataset, first, thresholds.min_sync_lag_s, thresholds.min_refine_lag_s,
-      [&](const Dataset& d) {
+      dataset, syncStartAgreement(dataset, first, deskew, stamp_is_last_beam),
+      thresholds.min_sync_lag_s, thresholds.min_refine_lag_s, [&](const Dataset& d) {
         return std::vector<PoseSeries>{matchAlone(d, deskew, stamp_is_last_beam)};
       });
 }

@@ -72,17 +72,25 @@ PoseSeries scanOnlyPoses(const Dataset& dataset, const ScanPoints& points,
 /// measured on the scans as measured (docs/calibration.md "Clock sync").
 bool deskewReadsClocks(algo::DeskewMethod method);
 
-/// The sensor agreement of the scans matched alone (`deskew`, the default matcher) with the
-/// wheels and the gyro.
-algo::SensorAgreement agreementOfScansAlone(const Dataset& dataset, const std::string& deskew,
-                                            bool stamp_is_last_beam);
+/// The sensor agreement of `scan_poses` (one piece: scanOnlyPoses) with the dataset's wheels,
+/// gyro and odometry topic.
+algo::SensorAgreement scanAgreement(const Dataset& dataset, const PoseSeries& scan_poses);
+
+/// The agreement the clock sync measures its first delay on: `matched` (of the scans matched
+/// alone with `deskew`), or, where `deskew` reads the clocks being compared
+/// (deskewReadsClocks), that of the scans matched alone as measured. What match, deskew and
+/// twin start their sync from (calibrate makes its own motion as measured).
+algo::SensorAgreement syncStartAgreement(const Dataset& dataset,
+                                         const algo::SensorAgreement& matched,
+                                         const std::string& deskew, bool stamp_is_last_beam);
 
 /// `deskew --sync auto`: the scans matched alone (`deskew`, the default matcher, scanOnlyPoses)
 /// and, where they lag the wheels, the wheels and the gyro moved onto the scans' clock as
 /// calibrate and match do (algo::syncOntoScanClock, calibrate's thresholds). Returns the total
 /// shift (0: none).
 double syncOntoScans(Dataset& dataset, const std::string& deskew, bool stamp_is_last_beam);
-/// The same from `first`, the sensor agreement of the scans matched alone.
+/// The same from `first`, the sensor agreement of the scans matched alone with `deskew`
+/// (syncStartAgreement applies).
 double syncOntoScans(Dataset& dataset, const algo::SensorAgreement& first,
                      const std::string& deskew, bool stamp_is_last_beam);
 
