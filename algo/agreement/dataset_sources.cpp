@@ -59,8 +59,13 @@ std::vector<HeadingSeries> scanPieces(const std::vector<PoseSeries>& matched) {
   return pieces;
 }
 
+const PairAgreement* wheelsAgainstScans(const SensorAgreement& agreement) {
+  const PairAgreement* wheels = agreement.pair("wheels", "scans");
+  return wheels ? wheels : agreement.pair("odometry", "scans");
+}
+
 ClockShift scanClockShift(const SensorAgreement& agreement, double min_lag_s) {
-  const PairAgreement* ws = agreement.pair("wheels", "scans");
+  const PairAgreement* ws = wheelsAgainstScans(agreement);
   if (!ws || std::abs(ws->lag_s) <= min_lag_s) return {};
   const PairAgreement* gs = agreement.pair("gyro", "scans");
   return {ws->lag_s, gs && std::abs(gs->lag_s) > min_lag_s ? gs->lag_s : 0.0};

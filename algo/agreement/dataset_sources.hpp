@@ -25,9 +25,13 @@ RotationSources datasetSources(const Dataset& dataset, std::vector<HeadingSeries
 /// Scan headings from matched poses: one piece per pose series.
 std::vector<HeadingSeries> scanPieces(const std::vector<PoseSeries>& matched);
 
+/// The wheels against the scans, or where there are no encoders the odometry poses against them.
+const PairAgreement* wheelsAgainstScans(const SensorAgreement& agreement);
+
 /// How far the wheels' and the gyro's stamps are moved onto the scans' clock: the delays of the
 /// scans behind them that the agreement measured, each where over min_lag_s; nothing at all
-/// (both 0) where the wheels' is not.
+/// (both 0) where the wheels' is not. A dataset without encoders has its odometry poses for
+/// wheels (a CARMEN log's, a bag with /odom only).
 struct ClockShift {
   double wheels_s = 0.0, gyro_s = 0.0;
   bool any() const { return wheels_s != 0.0; }

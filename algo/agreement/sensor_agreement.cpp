@@ -260,13 +260,22 @@ double parabolaVertex(const std::vector<double>& s, std::size_t k) {
   return std::clamp(0.5 * (s[k - 1] - s[k + 1]) / curve, -0.5, 0.5);
 }
 
+/// Whether a delay whose capped RMS is `with` against `without` at none is kept: by its gain, or
+/// by the likelihood ratio of Gaussian residuals over independent windows (AgreementParams).
+bool lagShows(double without, double with, std::size_t windows, const AgreementParams& p) {
+  if (!(with < without)) return false;
+  if (with < p.lag_gain * without) return true;
+  const double independent = double(windows) * p.step_s / p.window_s;
+  return independent * std::log(without * without / (with * with)) > p.lag_significance;
+}
+
 /// The delay of b's clock behind a's over a grid of +-max_lag_s: the one whose fit explains the
 /// windows best (cappedRms, one cap for every delay: outlier_sigmas robust sigmas of the best
 /// fit, found from the fit without delay and again from the best until it repeats; each fit's
 /// own sigma rewarded a delay that fits half the windows exactly, the fit without delay's alone
 /// let a real robot's lifted windows outweigh the rest), refined between grid points by a
-/// parabola, kept only where it beats no delay by lag_gain (a delay the data cannot show is
-/// none).
+/// parabola, kept only where it beats no delay by lag_gain or by lag_significance (a delay the data
+/// cannot show is none).
 double bestLag(const Source& a, const Source& b, const AgreementParams& p) {
   const auto steps = static_cast<std::size_t>(std::round(p.max_lag_s / p.lag_step_s));
   std::vector<std::optional<Fit>> fits;
@@ -287,7 +296,7 @@ double bestLag(const Source& a, const Source& b, const AgreementParams& p) {
     if (next == best) break;
     best = next;
   }
-  if (!(scores[best] < p.lag_gain * scores[steps])) return 0.0;
+  if (!lagShows(scores[steps], scores[best], fits[steps]->residual.size(), p)) return 0.0;
   return (double(best) - double(steps) + parabolaVertex(scores, best)) * p.lag_step_s;
 }
 
