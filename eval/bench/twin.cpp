@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "slamprep/algo/agreement/dataset_sources.hpp"
 #include "slamprep/algo/agreement/sensor_agreement.hpp"
 #include "slamprep/core/error.hpp"
 #include "slamprep/eval/bench/twin_odometry.hpp"
@@ -277,7 +278,7 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
 void measureLag(const Dataset& real, const PoseSeries& scan_only, const std::string& deskew,
                 Fitted& f) {
   const algo::SensorAgreement a = scanAgreement(real, scan_only);
-  const algo::PairAgreement* p = a.pair("wheels", "scans");
+  const algo::PairAgreement* p = algo::wheelsAgainstScans(a);
   if (!p || p->kept == 0) return;
   f.turn_ratios = p->wheel_ratios;
   Dataset synced = real;
@@ -383,6 +384,7 @@ std::string pieceDurations(const std::vector<double>& durations_s) {
 nlohmann::ordered_json slipJson(const WheelSlipFit& s) {
   return {
       {"sigma", s.fitted ? nlohmann::ordered_json(s.sigma) : nullptr},
+      {"turn_sigma", s.fitted ? nlohmann::ordered_json(s.turn_sigma) : nullptr},
       {"tau_s", s.tau_s},
       {"pieces", s.pieces},
       {"reference_noise_rad", s.fitted ? nlohmann::ordered_json(s.reference_noise_rad) : nullptr},
@@ -391,10 +393,12 @@ nlohmann::ordered_json slipJson(const WheelSlipFit& s) {
        "sensor agreement (the turn the scans saw per wheel angle), against the scans matched "
        "alone (moved by scan_lag_s) over pieces of " +
            pieceDurations(WheelSlipParams{}.piece_s) +
-           ": the squared heading error of a piece regressed on what an Ornstein-Uhlenbeck slip "
-           "of correlation time tau_s predicts for its wheel speeds, plus a constant (the "
-           "matcher's own noise, reference_noise_rad); sigma: the recording's; the twin is given "
-           "what its physics does not slip already (twin_sigma, physics_sigma)"}};
+           ": the squared heading error of a piece regressed on what Ornstein-Uhlenbeck slips "
+           "of correlation time tau_s predict for its wheels' motion (sigma: each wheel counts "
+           "(1 + s) of what it rolled) and for its turning (turn_sigma: the wheels count (1 + u) "
+           "of the turn), plus a constant (the matcher's own noise, reference_noise_rad); sigma "
+           "and turn_sigma: the recording's; the twin is given what its physics does not slip "
+           "already (twin_sigma, physics_sigma; twin_turn_sigma, physics_turn_sigma)"}};
 }
 
 /// The true geometry with the wheels' turn per wheel angle, r_L / b and r_R / b, the sensor
@@ -515,7 +519,8 @@ const char* const kNotReproduced[] = {
     "the beam count varies only where the recording's does not: the twin has one count",
     "a no-return pattern in which angle and range interact: the twin's is the two's product",
     "twist spikes (import --json reports them; the dataset does not keep the twist)",
-    "slip in turns beyond the physics' own",
+    ("slip whose size is not Gaussian (a few large heading errors beside many small ones): the "
+     "twin's slips are Gaussian, fitted to their variance"),
     "moving people and objects: their returns are cut from the world where the robot drove"};
 
 }  // namespace
@@ -557,6 +562,7 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   TwinFit out;
   out.residual_median_m = matchedResidual(real);
   out.recording_slip_sigma = f.slip.sigma;
+  out.recording_turn_slip_sigma = f.slip.turn_sigma;
   out.replay = drive.replay;
   out.sets = twinSets(f, p.seed);
   for (const std::string& s : out.sets) sim::applyOverride(out.config, s);
@@ -661,20 +667,28 @@ double nextRangeNoise(std::vector<std::pair<double, double>> runs, double target
 
 namespace {
 
-/// The twin's random slip: the recording's less what the physics of the first run slipped
+/// The twin's random slips: the recording's less what the physics of the first run slipped
 /// already (variances add). True when the twin is given some.
 bool setSlip(TwinFit& fit, const sim::SimResult& first) {
   const Dataset& d = first.dataset;
   const WheelSlipFit physics =
       fitWheelSlip(odometryEncoders(d, "the twin"), *d.info.true_geometry, d.groundtruth);
-  const double real = fit.recording_slip_sigma;
-  const double sigma = std::sqrt(std::max(0.0, real * real - physics.sigma * physics.sigma));
+  const auto beyond = [](double real, double physics_sigma) {
+    return std::sqrt(std::max(0.0, real * real - physics_sigma * physics_sigma));
+  };
+  const double sigma = beyond(fit.recording_slip_sigma, physics.sigma);
+  const double turn_sigma = beyond(fit.recording_turn_slip_sigma, physics.turn_sigma);
   nlohmann::ordered_json& j = fit.json["odometry"]["slip"];
-  j["physics_sigma"] = physics.fitted ? nlohmann::ordered_json(physics.sigma) : nullptr;
+  const auto measured = [&](double v) {
+    return physics.fitted ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
+  };
+  j["physics_sigma"] = measured(physics.sigma);
   j["twin_sigma"] = sigma;
-  if (sigma <= 0.0) return false;
-  setKey(fit, "encoders.slip_sigma", num(sigma));
-  return true;
+  j["physics_turn_sigma"] = measured(physics.turn_sigma);
+  j["twin_turn_sigma"] = turn_sigma;
+  if (sigma > 0.0) setKey(fit, "encoders.slip_sigma", num(sigma));
+  if (turn_sigma > 0.0) setKey(fit, "encoders.turn_slip_sigma", num(turn_sigma));
+  return sigma > 0.0 || turn_sigma > 0.0;
 }
 
 }  // namespace

@@ -58,6 +58,7 @@ struct TwinFit {
   /// The random wheel slip the recording shows (its wheels with the true geometry against the
   /// matched trajectory): simulateTwin gives the twin what its physics does not already slip.
   double recording_slip_sigma = 0.0;
+  double recording_turn_slip_sigma = 0.0;  ///< and its slip in turns (the same)
 };
 
 /// Simulates the twin, in physics mode when its robot follows the replay within

@@ -1,7 +1,9 @@
 #include "slamprep/eval/bench/twin_slip.hpp"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -10,11 +12,15 @@
 namespace slamprep::eval {
 namespace {
 
-/// One piece of path: its heading error and the slip model's regressor Q of Eq. (1).
+/// One piece of path: its heading error and the regressors of Eq. (1): Q (wheel slip), Q_turn
+/// (slip in turns) and 1 (the reference's own noise).
 struct Piece {
   double error_rad = 0.0;
-  double q = 0.0;
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
 };
+
+/// (sigma^2, sigma_turn^2, c) of Eq. (1).
+using Variances = Eigen::Vector3d;
 
 /// Pieces of duration_s along the reference, one after another; a piece with a step longer
 /// than max_gap_s (matches missing) is left out.
@@ -34,84 +40,104 @@ std::vector<std::pair<double, double>> pieceStamps(const PoseSeries& reference, 
   return out;
 }
 
-/// Q of Eq. (1): (2 tau / b^2) sum over the encoder steps inside [t0, t1] of (ds_L^2 + ds_R^2)/dt.
-double slipRegressor(const OdometryEncoders& enc, const DiffDriveParams& g, double tau_s, double t0,
-                     double t1) {
+/// sum_i sum_j a_i a_j exp(-|t_i - t_j| / tau) over the encoder steps i, j of a piece, by the
+/// recursion h_i = exp(-(t_i - t_(i-1)) / tau) (h_(i-1) + a_(i-1)): the variance of sum_i a_i s_i
+/// per sigma^2 for an Ornstein-Uhlenbeck s held over each step, as sim::WheelSlip counts it.
+class CorrelatedSum {
+ public:
+  explicit CorrelatedSum(double tau_s) : tau_s_(tau_s) {}
+  void add(double a, double t_s) {
+    if (any_) h_ = std::exp(-(t_s - t_s_) / tau_s_) * (h_ + a_);
+    sum_ += a * a + 2.0 * a * h_;
+    a_ = a, t_s_ = t_s, any_ = true;
+  }
+  double sum() const { return sum_; }
+
+ private:
+  double tau_s_, sum_ = 0.0, h_ = 0.0, a_ = 0.0, t_s_ = 0.0;
+  bool any_ = false;
+};
+
+/// Q and Q_turn of Eq. (1) over the encoder steps inside [t0, t1].
+Eigen::Vector2d slipRegressors(const OdometryEncoders& enc, const DiffDriveParams& g, double tau_s,
+                               double t0, double t1) {
   const double rad_per_tick = radiansPerTick(enc.ticks_per_revolution);
-  double sum = 0.0;
+  CorrelatedSum left(tau_s), right(tau_s), turn(tau_s);
   const EncoderLog& e = enc.encoders;
   const auto first = std::lower_bound(
       e.begin(), e.end(), t0, [](const EncoderSample& s, double t) { return s.stamp_s < t; });
   for (std::size_t k = std::max<std::size_t>(1, first - e.begin() + 1);
        k < e.size() && e[k].stamp_s <= t1; ++k) {
-    const double dt = e[k].stamp_s - e[k - 1].stamp_s;
-    if (dt <= 0.0) continue;
     const double ds_l =
         g.radius_left_m * rad_per_tick * double(e[k].ticks_left - e[k - 1].ticks_left);
     const double ds_r =
         g.radius_right_m * rad_per_tick * double(e[k].ticks_right - e[k - 1].ticks_right);
-    sum += (ds_l * ds_l + ds_r * ds_r) / dt;
+    left.add(ds_l, e[k].stamp_s);
+    right.add(ds_r, e[k].stamp_s);
+    turn.add((ds_r - ds_l) / g.wheel_base_m, e[k].stamp_s);
   }
-  const double ratio = tau_s / (t1 - t0);
-  const double finite_piece = 1.0 - ratio * (1.0 - std::exp(-1.0 / ratio));
-  return 2.0 * tau_s * finite_piece * sum / (g.wheel_base_m * g.wheel_base_m);
+  return {(left.sum() + right.sum()) / (g.wheel_base_m * g.wheel_base_m), turn.sum()};
 }
 
 double headingChange(const PoseSeries& series, double t0, double t1) {
   return normalizeAngle(series.at(t1)->yaw - series.at(t0)->yaw);
 }
 
-using Line = std::pair<double, double>;  ///< (sigma^2, c) of Eq. (1)
-
-/// Weighted least squares of y = a x + c, y the squared error, x = Q; c held at 0 when it
-/// comes out negative.
-Line fitLine(const std::vector<Piece>& pieces, const std::vector<double>& weights) {
-  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (std::size_t k = 0; k < pieces.size(); ++k) {
-    const double w = weights[k], x = pieces[k].q, y = pieces[k].error_rad * pieces[k].error_rad;
-    n += w;
-    sx += w * x;
-    sy += w * y;
-    sxx += w * x * x;
-    sxy += w * x * y;
+/// Weighted least squares of the squared errors on the regressors with every variance >= 0:
+/// the best fit over the subsets of regressors (7) whose variances all come out non-negative.
+Variances fitVariances(const std::vector<Piece>& pieces, const std::vector<double>& weights) {
+  Variances best = Variances::Zero();
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (int subset = 1; subset < 8; ++subset) {
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      Eigen::Vector3d x = pieces[k].x;
+      for (int i = 0; i < 3; ++i)
+        if (!(subset >> i & 1)) x(i) = 0.0;
+      A += weights[k] * x * x.transpose();
+      rhs += weights[k] * x * (pieces[k].error_rad * pieces[k].error_rad);
+    }
+    for (int i = 0; i < 3; ++i)
+      if (!(subset >> i & 1)) A(i, i) = 1.0;  // that variance is held at 0
+    const Eigen::FullPivLU<Eigen::Matrix3d> lu(A);
+    if (!lu.isInvertible()) continue;
+    const Variances v = lu.solve(rhs);
+    if ((v.array() < 0.0).any()) continue;
+    double cost = 0.0;
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      const double r = pieces[k].error_rad * pieces[k].error_rad - v.dot(pieces[k].x);
+      cost += weights[k] * r * r;
+    }
+    if (cost < best_cost) best_cost = cost, best = v;
   }
-  const double det = n * sxx - sx * sx;
-  double a = det > 0.0 ? (n * sxy - sx * sy) / det : 0.0;
-  double c = det > 0.0 ? (sy - a * sx) / n : sy / n;
-  if (c < 0.0) {  // through the origin
-    c = 0.0;
-    a = sxx > 0.0 ? sxy / sxx : 0.0;
-  }
-  return {std::max(0.0, a), c};
+  return best;
 }
 
-/// The squared error of a Gaussian piece has variance 2 (sigma^2 Q + c)^2: weights 1 / that,
-/// from the line of the previous pass (Gaussian maximum likelihood, iteratively reweighted).
-/// The first pass assumes slip only (c = 0), so a long piece does not outweigh many short ones.
-Line fitReweighted(const std::vector<Piece>& pieces) {
+/// The squared error of a Gaussian piece has variance 2 (v . x)^2: weights 1 / that, from the
+/// fit of the previous pass (Gaussian maximum likelihood, iteratively reweighted). The first
+/// pass assumes slip only (c = 0), so a long piece does not outweigh many short ones.
+Variances fitReweighted(const std::vector<Piece>& pieces, const WheelSlipParams& params) {
   std::vector<double> weights(pieces.size());
-  Line line{1.0, 0.0};
+  Variances v(1.0, 1.0, 0.0);
+  const double floor = params.min_sigma_rad * params.min_sigma_rad;
   for (int pass = 0; pass < 4; ++pass) {
     for (std::size_t k = 0; k < pieces.size(); ++k) {
-      const double predicted = line.first * pieces[k].q + line.second;
-      weights[k] = predicted > 0.0 ? 1.0 / (predicted * predicted) : 0.0;
+      const double predicted = std::max(floor, v.dot(pieces[k].x));
+      weights[k] = 1.0 / (predicted * predicted);
     }
-    line = fitLine(pieces, weights);
-    if (line.first <= 0.0 && line.second <= 0.0) break;  // nothing to weigh by
+    v = fitVariances(pieces, weights);
   }
-  return line;
+  return v;
 }
 
-/// The pieces within outlier_sigmas of what the line (sigma^2, c) predicts for them.
-std::vector<Piece> withoutOutliers(const std::vector<Piece>& pieces, const Line& line,
+/// The pieces within outlier_sigmas of what the variances predict for them.
+std::vector<Piece> withoutOutliers(const std::vector<Piece>& pieces, const Variances& v,
                                    const WheelSlipParams& params) {
-  const auto [sigma2, c] = line;
   std::vector<Piece> kept;
-  for (const Piece& p : pieces) {
-    const double predicted = sigma2 * p.q + c;
-    if (p.error_rad * p.error_rad <= params.outlier_sigmas * params.outlier_sigmas * predicted)
+  for (const Piece& p : pieces)
+    if (p.error_rad * p.error_rad <= params.outlier_sigmas * params.outlier_sigmas * v.dot(p.x))
       kept.push_back(p);
-  }
   return kept;
 }
 
@@ -134,18 +160,19 @@ WheelSlipFit fitWheelSlip(const OdometryEncoders& encoders, const DiffDriveParam
     if (!odometry.covers(t0) || !odometry.covers(t1)) continue;
     const double error =
         normalizeAngle(headingChange(odometry, t0, t1) - headingChange(reference, t0, t1));
-    const double q = slipRegressor(encoders, g, params.tau_s, t0, t1);
-    if (std::abs(error) <= max_error && q > 0.0) pieces.push_back({error, q});
+    const Eigen::Vector2d q = slipRegressors(encoders, g, params.tau_s, t0, t1);
+    if (std::abs(error) <= max_error && q(0) > 0.0) pieces.push_back({error, {q(0), q(1), 1.0}});
   }
   fit.pieces = pieces.size();
   if (pieces.size() < params.min_pieces) return fit;
-  const std::vector<Piece> kept = withoutOutliers(pieces, fitReweighted(pieces), params);
+  const std::vector<Piece> kept = withoutOutliers(pieces, fitReweighted(pieces, params), params);
   fit.pieces = kept.size();
   fit.fitted = kept.size() >= params.min_pieces;
   if (!fit.fitted) return fit;
-  const auto [sigma2, c] = fitReweighted(kept);
-  fit.sigma = std::sqrt(sigma2);
-  fit.reference_noise_rad = std::sqrt(c);
+  const Variances v = fitReweighted(kept, params);
+  fit.sigma = std::sqrt(v(0));
+  fit.turn_sigma = std::sqrt(v(1));
+  fit.reference_noise_rad = std::sqrt(v(2));
   return fit;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
-// Random wheel slip as a twin fits it (docs/twin.md, "Wheel slip"): the heading the wheels
-// integrate with the true geometry, against a reference heading (the matched trajectory of a
-// recording, the ground truth of a simulation), over pieces of path.
+// Random wheel slip, and slip in turns, as a twin fits it (docs/twin.md, "Wheel slip"): the heading
+// the wheels integrate with the true geometry, against a reference heading (the matched trajectory
+// of a recording, the ground truth of a simulation), over pieces of path.
 
 #include <cstddef>
 #include <vector>
@@ -26,12 +26,17 @@ struct WheelSlipParams {
   double outlier_sigmas = 3.0;
   double max_gap_s = 1.0;      ///< a piece with a longer step of the reference is not used
   std::size_t min_pieces = 8;  ///< fewer: no fit (sigma 0)
+  /// No piece's predicted heading sigma is weighed as less than this (1 mrad, 0.06 deg: below
+  /// what any reference resolves); else pieces the fit predicts as exact (straight driving
+  /// without wheel slip, against a simulation's truth) outweigh every other.
+  double min_sigma_rad = 1e-3;
 };
 
 struct WheelSlipFit {
-  std::size_t pieces = 0;  ///< pieces used
-  bool fitted = false;     ///< at least min_pieces
-  double sigma = 0.0;      ///< stationary sigma of the slip s at tau_s (0: none seen)
+  std::size_t pieces = 0;   ///< pieces used
+  bool fitted = false;      ///< at least min_pieces
+  double sigma = 0.0;       ///< stationary sigma of the slip s at tau_s (0: none seen)
+  double turn_sigma = 0.0;  ///< stationary sigma of the turn slip u at tau_s (0: none seen)
   /// Heading noise per piece that does not grow with the wheels' motion: the reference's own.
   double reference_noise_rad = 0.0;
   double tau_s = 0.0;
@@ -39,12 +44,15 @@ struct WheelSlipFit {
 
 /// Least squares of the pieces' (all durations) squared heading error on what the slip model
 /// predicts for them:
-///   E[dtheta_k^2] = sigma^2 Q_k + c,                                                     (1)
-///   Q_k = (2 tau / b^2) (1 - (tau / T)(1 - exp(-T / tau))) sum_steps (ds_L^2 + ds_R^2) / dt,
-/// (1): dtheta = (r_R int w_R s_R dt - r_L int w_L s_L dt) / b, and for a stationary
-/// Ornstein-Uhlenbeck s and a constant speed v over a piece of duration T,
-/// Var(int v s dt) = 2 sigma^2 tau v^2 T (1 - (tau / T)(1 - exp(-T / tau)));
-/// c >= 0 is the reference's heading noise. sigma^2 < 0 fits as no slip.
+///   E[dtheta_k^2] = sigma^2 Q_k + sigma_turn^2 Q_turn,k + c,                              (1)
+///   Q_k = (S(ds_L) + S(ds_R)) / b^2,  Q_turn,k = S(dtheta),
+///   S(a) = sum_i sum_j a_i a_j exp(-|t_i - t_j| / tau)  over the piece's encoder steps,
+/// (1): the wheels count (1 + s_i) of what they rolled and (1 + u) of the turn they made
+/// (sim::WheelSlip: s_L, s_R, u Ornstein-Uhlenbeck processes of correlation time tau, held over
+/// each encoder step), so the heading error is (sum ds_R s_R - sum ds_L s_L) / b + sum dtheta u,
+/// whose variance S gives; c is the reference's heading noise. Every variance >= 0 (a negative
+/// one fits as none). Wheel slip grows with the distance driven, turn slip with the turning: a
+/// robot that slips in its turns and not on the straight is told apart.
 WheelSlipFit fitWheelSlip(const OdometryEncoders& encoders, const DiffDriveParams& true_geometry,
                           const PoseSeries& T_world_base_reference,
                           const WheelSlipParams& params = {});

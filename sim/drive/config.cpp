@@ -52,6 +52,7 @@ void visitSensorFields(Config& c, Visitor&& v) {
   v("encoders.rate_hz", c.encoders.rate_hz);
   v("encoders.slip_sigma", c.encoders.slip_sigma);
   v("encoders.slip_tau_s", c.encoders.slip_tau_s);
+  v("encoders.turn_slip_sigma", c.encoders.turn_slip_sigma);
   v("imu.rate_hz", c.imu.rate_hz);
   v("imu.gyro_noise_radps", c.imu.gyro_noise_radps);
   v("imu.gyro_bias_radps", c.imu.gyro_bias_radps);
@@ -461,6 +462,8 @@ void validateSensors(const Checker& check, const SimConfig& c) {
   if (!(c.encoders.slip_sigma >= 0.0 && c.encoders.slip_sigma <= 0.5))
     check.fail("encoders.slip_sigma", "must be in [0, 0.5]", c.encoders.slip_sigma);
   check.positive("encoders.slip_tau_s", c.encoders.slip_tau_s);
+  if (!(c.encoders.turn_slip_sigma >= 0.0 && c.encoders.turn_slip_sigma <= 0.5))
+    check.fail("encoders.turn_slip_sigma", "must be in [0, 0.5]", c.encoders.turn_slip_sigma);
   check.positive("imu.rate_hz", c.imu.rate_hz);
   // Wheel encoders and IMUs are logged at up to a few kHz.
   if (c.encoders.rate_hz > kMaxSensorRate_hz)

@@ -30,6 +30,11 @@ Eigen::Vector2d WheelSlip::count(const Eigen::Vector2d& turned_rad, double dt_s)
   const double q = sigma_ * std::sqrt(1.0 - a * a);
   for (int i = 0; i < 2; ++i) s_[i] = a * s_[i] + q * rng_.gaussian();  // left first, then right
   counted_rad_ += turned_rad.cwiseProduct(Eigen::Vector2d::Ones() + s_);
+  if (turn_sigma_ > 0.0) {  // drawn after s: a run without turn slip keeps its numbers
+    u_ = a * u_ + turn_sigma_ * std::sqrt(1.0 - a * a) * rng_.gaussian();
+    const double turning = 0.5 * (turned_rad.y() - turned_rad.x());
+    counted_rad_ += Eigen::Vector2d(-u_ * turning, u_ * turning);
+  }
   return counted_rad_;
 }
 

@@ -16,7 +16,11 @@ struct EncoderConfig {
   /// Random wheel slip: each wheel's encoder counts (1 + s) of what it rolled on the floor, s an
   /// Ornstein-Uhlenbeck process per wheel with this stationary sigma (0: off) ...
   double slip_sigma = 0.0;
-  double slip_tau_s = 0.5;  ///< ... and this correlation time
+  double slip_tau_s = 0.5;  ///< ... and this correlation time (of the turn slip too)
+  /// Slip in turns: the wheels count (1 + u) of the turn they made, u an Ornstein-Uhlenbeck
+  /// process with this stationary sigma (0: off): in a turn the tyres scrub and the castor
+  /// drags, so the turn per wheel angle varies, while straight driving keeps its distance.
+  double turn_slip_sigma = 0.0;
 };
 
 struct ImuConfig {
@@ -36,18 +40,22 @@ std::int64_t quantizeTicks(double wheel_angle_rad, int ticks_per_revolution);
 /// wheel's turning, s_i an Ornstein-Uhlenbeck process, exact over any step dt:
 ///   s_k = a s_{k-1} + sigma sqrt(1 - a^2) n_k,  a = exp(-dt / tau),  n_k ~ N(0, 1).
 /// Over a window of duration T >> tau the counted angle is off by N(0, 2 sigma^2 tau int w^2 dt).
+/// Slip in turns (turn_slip_sigma): u, a third such process, adds u d to the right wheel and
+/// takes it from the left, d = (dphi_R - dphi_L) / 2 the step's turning part, so the counted
+/// turn is (1 + u) of the turn made and the distance is unchanged.
 class WheelSlip {
  public:
-  WheelSlip(double sigma, double tau_s, std::uint64_t seed)
-      : sigma_(sigma), tau_s_(tau_s), rng_(seed) {}
-  bool on() const { return sigma_ > 0.0; }
+  WheelSlip(double sigma, double tau_s, std::uint64_t seed, double turn_sigma = 0.0)
+      : sigma_(sigma), turn_sigma_(turn_sigma), tau_s_(tau_s), rng_(seed) {}
+  bool on() const { return sigma_ > 0.0 || turn_sigma_ > 0.0; }
   /// The counted angles after the wheels turned by `turned_rad` over `dt_s`.
   Eigen::Vector2d count(const Eigen::Vector2d& turned_rad, double dt_s);
 
  private:
-  double sigma_, tau_s_;
+  double sigma_, turn_sigma_, tau_s_;
   SplitMix64 rng_;
   Eigen::Vector2d s_ = Eigen::Vector2d::Zero();  ///< (left, right); starts at 0: no slip at rest
+  double u_ = 0.0;                               ///< the turn's
   Eigen::Vector2d counted_rad_ = Eigen::Vector2d::Zero();
 };
 

@@ -256,13 +256,14 @@ class LidarStream {
 };
 
 /// The encoders: the wheel angles at every sample time, counted through the random slip when
-/// it is on (a sample step's turning times (1 + s)), then quantised to ticks.
+/// it is on (a sample step's turning times (1 + s), its turn times (1 + u)), then quantised to
+/// ticks.
 class EncoderStream {
  public:
   EncoderStream(const EncoderConfig& config, std::uint64_t seed, EncoderLog& out)
       : ticks_(config.ticks_per_revolution),
         clock_(config.rate_hz),
-        slip_(config.slip_sigma, config.slip_tau_s, seed),
+        slip_(config.slip_sigma, config.slip_tau_s, seed, config.turn_slip_sigma),
         out_(out) {}
 
   void advance(const Interval& step, double t_end_s) {

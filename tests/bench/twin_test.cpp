@@ -129,41 +129,70 @@ TEST(Twin, FallsBackToKinematicWhenThePhysicsLeavesTheReplay) {
   EXPECT_LT(worst, 1e-4);  // the tracker integrates in 10 ms steps, the simulator in 1 ms
 }
 
-/// Four figure eights (about 100 s), kinematic, with random wheel slip of `sigma`.
-Dataset slippingRecording(double sigma) {
+/// Three UMBmark squares (1.5 m sides, 90 deg turns on the spot; about 100 s), kinematic, with
+/// random wheel slip of `sigma` and slip in turns of `turn_sigma`: straight driving and turns
+/// apart, so that the fit can tell the two slips apart.
+Dataset slippingRecording(double sigma, double turn_sigma = 0.0, std::uint64_t seed = 1) {
   sim::SimConfig c;
   c.mode = sim::SimMode::kinematic;
+  c.seed = seed;
   c.lidar.beams_per_revolution = 360;
   c.encoders.slip_sigma = sigma;
-  // The commands use the nominal geometry: a wrong one would drift the loops into a wall.
+  c.encoders.turn_slip_sigma = turn_sigma;
+  // The commands use the nominal geometry: a wrong one would drift the squares into a wall.
   c.nominal = {0.0, 0.0, 0.0};
   const sim::World world = sim::loadWorld(kWorlds / "box_room.yaml");
   const sim::Scenario s = sim::parseScenario(
-      "segments:\n  - {type: figure_eight, radius_m: 0.8, speed_mps: 0.4, loops: 4}\n", "t.yaml");
+      "segments:\n  - {type: umbmark, direction: ccw, side_m: 1.5, speed_mps: 0.4, "
+      "turn_rate_radps: 0.8, laps: 3}\n",
+      "t.yaml");
   return sim::simulate(c, world, s).dataset;
 }
 
 // Forward and inverse: slip simulated with sigma, fitted back from the encoders against the
-// truth and against the matched trajectory (whose own heading noise the fit's constant takes).
-// Over seeds 1-10 the fit against the truth gave 0.029-0.046 (mean 0.035, sd 0.0055; on loops at
-// one speed the constant takes some of the slip), against the matches 0.027-0.048: 30 % covers
-// that spread.
+// truth and against the scans matched alone (whose own heading noise the fit's constant takes).
+// Over seeds 1-10 the fit against the truth gave 0.028-0.043 (mean 0.037), against the matches
+// 0.027-0.045; the turn slip it found beside it, none it was simulated with, 0-0.029 and 0-0.038.
 TEST(Twin, FitsTheWheelSlipItWasSimulatedWith) {
   const Dataset d = slippingRecording(0.04);
   const OdometryEncoders enc = odometryEncoders(d, "slipping");
   const WheelSlipFit truth = fitWheelSlip(enc, *d.info.true_geometry, d.groundtruth);
   ASSERT_TRUE(truth.fitted);
-  EXPECT_GE(truth.pieces, 110u);  // 100 s cut into 1.5, 3, 6 and 12 s pieces
+  EXPECT_GE(truth.pieces, 100u);  // 90 s cut into 1.5, 3, 6 and 12 s pieces
   EXPECT_NEAR(truth.sigma, 0.04, 0.3 * 0.04);
-  const MatchTrajectory run = matchTrajectory(d, matchScanPoints(d, "none", false), {});
-  const WheelSlipFit matched = fitWheelSlip(enc, *d.info.true_geometry, run.T_world_base);
+  EXPECT_LT(truth.turn_sigma, 0.03);
+  const ScanPoints points = matchScanPoints(d, "none", false);
+  const MatchTrajectory run = matchTrajectory(d, points, {});
+  const WheelSlipFit matched =
+      fitWheelSlip(enc, *d.info.true_geometry, scanOnlyPoses(d, points, {}, run));
   ASSERT_TRUE(matched.fitted);
   EXPECT_NEAR(matched.sigma, 0.04, 0.3 * 0.04);
+  EXPECT_LT(matched.turn_sigma, 0.04);
   // Without slip: the ticks' quantisation only.
   const Dataset clean = slippingRecording(0.0);
   const WheelSlipFit none =
       fitWheelSlip(odometryEncoders(clean, "clean"), *clean.info.true_geometry, clean.groundtruth);
   EXPECT_LT(none.sigma, 0.004);
+  EXPECT_LT(none.turn_sigma, 0.004);
+}
+
+// Slip in turns only, forward and inverse: over seeds 1-10 the turn slip fitted 0.045-0.081
+// against the truth and 0.041-0.081 against the matches for 0.06 (a turn's slip is one draw of
+// a process over 2 s), and no wheel slip (at most 0.0001).
+TEST(Twin, FitsTheTurnSlipItWasSimulatedWith) {
+  const Dataset d = slippingRecording(0.0, 0.06);
+  const OdometryEncoders enc = odometryEncoders(d, "slipping in turns");
+  const WheelSlipFit truth = fitWheelSlip(enc, *d.info.true_geometry, d.groundtruth);
+  ASSERT_TRUE(truth.fitted);
+  EXPECT_NEAR(truth.turn_sigma, 0.06, 0.4 * 0.06);
+  EXPECT_LT(truth.sigma, 0.004);
+  const ScanPoints points = matchScanPoints(d, "none", false);
+  const MatchTrajectory run = matchTrajectory(d, points, {});
+  const WheelSlipFit matched =
+      fitWheelSlip(enc, *d.info.true_geometry, scanOnlyPoses(d, points, {}, run));
+  ASSERT_TRUE(matched.fitted);
+  EXPECT_NEAR(matched.turn_sigma, 0.06, 0.4 * 0.06);
+  EXPECT_LT(matched.sigma, 0.004);
 }
 
 // Stamp jitter, forward and inverse: a recording simulated with 1.5 ms on its encoders (100 Hz)

@@ -157,6 +157,33 @@ TEST(Sensors, WheelSlipHasTheVarianceOfAnOrnsteinUhlenbeckProcess) {
   EXPECT_EQ(off.count({1.0, 2.0}, dt), Eigen::Vector2d(1.0, 2.0));
 }
 
+// Slip in turns: turning on the spot at w, the counted turn (dphi_R - dphi_L) / 2 is off by the
+// same variance as a slipping wheel's (the formula above, on the turn); driving straight, the
+// counted angles are exact.
+TEST(Sensors, TurnSlipChangesTheTurnAndNotTheDistance) {
+  const double sigma = 0.05, tau = 0.5, w = 10.0, dt = 0.01, T = 10.0;
+  const int runs = 2000, steps = static_cast<int>(T / dt);
+  double sum2 = 0.0;
+  for (int run = 0; run < runs; ++run) {
+    WheelSlip slip(0.0, tau, streamSeed(run, RngStream::encoder_slip), sigma);
+    Eigen::Vector2d counted = Eigen::Vector2d::Zero();
+    for (int k = 0; k < steps; ++k) counted = slip.count(Eigen::Vector2d(-w * dt, w * dt), dt);
+    const double turn_error = 0.5 * (counted.y() - counted.x()) - w * T;
+    EXPECT_NEAR(counted.x() + counted.y(), 0.0, 1e-9);  // the distance: none, as driven
+    sum2 += turn_error * turn_error;
+  }
+  const double expected =
+      2.0 * sigma * sigma * tau * w * w *
+      (T - 2.0 * tau * (1.0 - std::exp(-T / tau)) + 0.5 * tau * (1.0 - std::exp(-2.0 * T / tau)));
+  EXPECT_NEAR(sum2 / runs / expected, 1.0, 0.12);  // as above
+  WheelSlip straight(0.0, tau, 1, sigma);
+  EXPECT_TRUE(straight.on());
+  Eigen::Vector2d counted;
+  for (int k = 0; k < steps; ++k) counted = straight.count(Eigen::Vector2d(w * dt, w * dt), dt);
+  EXPECT_NEAR(counted.x(), w * T, 1e-9);
+  EXPECT_NEAR(counted.y(), w * T, 1e-9);
+}
+
 TEST(Sensors, StreamsAreIndependentAndReproducible) {
   EXPECT_NE(streamSeed(1, RngStream::imu), streamSeed(1, RngStream::lidar));
   EXPECT_NE(streamSeed(1, RngStream::imu), streamSeed(2, RngStream::imu));
