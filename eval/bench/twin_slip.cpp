@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "slamprep/core/odometry.hpp"
@@ -83,33 +84,44 @@ double headingChange(const PoseSeries& series, double t0, double t1) {
   return normalizeAngle(series.at(t1)->yaw - series.at(t0)->yaw);
 }
 
-/// Weighted least squares of the squared errors on the regressors with every variance >= 0:
-/// the best fit over the subsets of regressors (7) whose variances all come out non-negative.
+/// Weighted least squares of the squared errors on the regressors in `subset` (bit i set: the
+/// variance i is fitted; clear: held at 0).
+std::optional<Variances> fitSubset(const std::vector<Piece>& pieces,
+                                   const std::vector<double>& weights, int subset) {
+  const Eigen::Vector3d on((subset & 1) != 0, (subset & 2) != 0, (subset & 4) != 0);
+  // A variance held at 0 gets a 1 on the diagonal, so that A stays invertible.
+  Eigen::Matrix3d A = Eigen::Matrix3d((Eigen::Vector3d::Ones() - on).asDiagonal());
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const Eigen::Vector3d x = pieces[k].x.cwiseProduct(on);
+    A += weights[k] * x * x.transpose();
+    rhs += weights[k] * x * (pieces[k].error_rad * pieces[k].error_rad);
+  }
+  const Eigen::FullPivLU<Eigen::Matrix3d> lu(A);
+  if (!lu.isInvertible()) return std::nullopt;
+  return Variances(lu.solve(rhs));
+}
+
+double weightedCost(const std::vector<Piece>& pieces, const std::vector<double>& weights,
+                    const Variances& v) {
+  double cost = 0.0;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const double r = pieces[k].error_rad * pieces[k].error_rad - v.dot(pieces[k].x);
+    cost += weights[k] * r * r;
+  }
+  return cost;
+}
+
+/// The weighted least squares with every variance >= 0: the best of the fits on the subsets of
+/// the regressors (7) whose variances all come out non-negative.
 Variances fitVariances(const std::vector<Piece>& pieces, const std::vector<double>& weights) {
   Variances best = Variances::Zero();
   double best_cost = std::numeric_limits<double>::infinity();
   for (int subset = 1; subset < 8; ++subset) {
-    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-    for (std::size_t k = 0; k < pieces.size(); ++k) {
-      Eigen::Vector3d x = pieces[k].x;
-      for (int i = 0; i < 3; ++i)
-        if (!(subset >> i & 1)) x(i) = 0.0;
-      A += weights[k] * x * x.transpose();
-      rhs += weights[k] * x * (pieces[k].error_rad * pieces[k].error_rad);
-    }
-    for (int i = 0; i < 3; ++i)
-      if (!(subset >> i & 1)) A(i, i) = 1.0;  // that variance is held at 0
-    const Eigen::FullPivLU<Eigen::Matrix3d> lu(A);
-    if (!lu.isInvertible()) continue;
-    const Variances v = lu.solve(rhs);
-    if ((v.array() < 0.0).any()) continue;
-    double cost = 0.0;
-    for (std::size_t k = 0; k < pieces.size(); ++k) {
-      const double r = pieces[k].error_rad * pieces[k].error_rad - v.dot(pieces[k].x);
-      cost += weights[k] * r * r;
-    }
-    if (cost < best_cost) best_cost = cost, best = v;
+    const std::optional<Variances> v = fitSubset(pieces, weights, subset);
+    if (!v || (v->array() < 0.0).any()) continue;
+    const double cost = weightedCost(pieces, weights, *v);
+    if (cost < best_cost) best_cost = cost, best = *v;
   }
   return best;
 }
