@@ -149,22 +149,25 @@ Dataset slippingRecording(double sigma, double turn_sigma = 0.0, std::uint64_t s
   return sim::simulate(c, world, s).dataset;
 }
 
+/// The slip fitted against the ground truth and against the scans matched alone.
+std::pair<WheelSlipFit, WheelSlipFit> slipFits(const Dataset& d) {
+  const OdometryEncoders enc = odometryEncoders(d, "slipping");
+  const ScanPoints points = matchScanPoints(d, "none", false);
+  const MatchTrajectory run = matchTrajectory(d, points, {});
+  return {fitWheelSlip(enc, *d.info.true_geometry, d.groundtruth),
+          fitWheelSlip(enc, *d.info.true_geometry, scanOnlyPoses(d, points, {}, run))};
+}
+
 // Forward and inverse: slip simulated with sigma, fitted back from the encoders against the
 // truth and against the scans matched alone (whose own heading noise the fit's constant takes).
 // Over seeds 1-10 the fit against the truth gave 0.028-0.043 (mean 0.037), against the matches
 // 0.027-0.045; the turn slip it found beside it, none it was simulated with, 0-0.029 and 0-0.038.
 TEST(Twin, FitsTheWheelSlipItWasSimulatedWith) {
-  const Dataset d = slippingRecording(0.04);
-  const OdometryEncoders enc = odometryEncoders(d, "slipping");
-  const WheelSlipFit truth = fitWheelSlip(enc, *d.info.true_geometry, d.groundtruth);
+  const auto [truth, matched] = slipFits(slippingRecording(0.04));
   ASSERT_TRUE(truth.fitted);
   EXPECT_GE(truth.pieces, 100u);  // 90 s cut into 1.5, 3, 6 and 12 s pieces
   EXPECT_NEAR(truth.sigma, 0.04, 0.3 * 0.04);
   EXPECT_LT(truth.turn_sigma, 0.03);
-  const ScanPoints points = matchScanPoints(d, "none", false);
-  const MatchTrajectory run = matchTrajectory(d, points, {});
-  const WheelSlipFit matched =
-      fitWheelSlip(enc, *d.info.true_geometry, scanOnlyPoses(d, points, {}, run));
   ASSERT_TRUE(matched.fitted);
   EXPECT_NEAR(matched.sigma, 0.04, 0.3 * 0.04);
   EXPECT_LT(matched.turn_sigma, 0.04);
@@ -180,16 +183,10 @@ TEST(Twin, FitsTheWheelSlipItWasSimulatedWith) {
 // against the truth and 0.041-0.081 against the matches for 0.06 (a turn's slip is one draw of
 // a process over 2 s), and no wheel slip (at most 0.0001).
 TEST(Twin, FitsTheTurnSlipItWasSimulatedWith) {
-  const Dataset d = slippingRecording(0.0, 0.06);
-  const OdometryEncoders enc = odometryEncoders(d, "slipping in turns");
-  const WheelSlipFit truth = fitWheelSlip(enc, *d.info.true_geometry, d.groundtruth);
+  const auto [truth, matched] = slipFits(slippingRecording(0.0, 0.06));
   ASSERT_TRUE(truth.fitted);
   EXPECT_NEAR(truth.turn_sigma, 0.06, 0.4 * 0.06);
   EXPECT_LT(truth.sigma, 0.004);
-  const ScanPoints points = matchScanPoints(d, "none", false);
-  const MatchTrajectory run = matchTrajectory(d, points, {});
-  const WheelSlipFit matched =
-      fitWheelSlip(enc, *d.info.true_geometry, scanOnlyPoses(d, points, {}, run));
   ASSERT_TRUE(matched.fitted);
   EXPECT_NEAR(matched.turn_sigma, 0.06, 0.4 * 0.06);
   EXPECT_LT(matched.sigma, 0.004);
