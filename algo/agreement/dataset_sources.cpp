@@ -19,6 +19,13 @@ WheelTrack wheelTrack(const Dataset& d) {
   return w;
 }
 
+/// The streams the clock sync moves, as logged.
+struct ClockStreams {
+  EncoderLog encoders;
+  PoseSeries odometry;
+  ImuLog imu;
+};
+
 }  // namespace
 
 std::string encodersFrom(const DatasetInfo& info) {
@@ -84,6 +91,7 @@ double syncOntoScanClock(Dataset& dataset, const SensorAgreement& first, double 
                          double min_left_s, const MatchScans& match_again) {
   const ClockShift shift = scanClockShift(first, min_lag_s);
   if (!shift.any()) return 0.0;
+  const ClockStreams logged{dataset.encoders, dataset.odom_nominal, dataset.imu};
   shiftOntoScanClock(dataset, shift);
   const std::vector<PoseSeries> matched = match_again(dataset);
   AgreementParams fine;
@@ -94,9 +102,17 @@ double syncOntoScanClock(Dataset& dataset, const SensorAgreement& first, double 
   const ClockShift left = scanClockShift(
       compareSensors(datasetSources(dataset, scanPieces(matched)), fine), min_left_s);
   if (!left.any()) return shift.wheels_s;
+  const double total_s = shift.wheels_s + left.wheels_s;
+  if (std::abs(total_s) <= min_lag_s) {  // the second measure took the first back: no delay
+    dataset.encoders = logged.encoders;
+    dataset.odom_nominal = logged.odometry;
+    dataset.imu = logged.imu;
+    match_again(dataset);
+    return 0.0;
+  }
   shiftOntoScanClock(dataset, left);
   match_again(dataset);
-  return shift.wheels_s + left.wheels_s;
+  return total_s;
 }
 
 }  // namespace slamprep::algo

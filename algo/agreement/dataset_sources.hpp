@@ -49,8 +49,11 @@ using MatchScans = std::function<std::vector<PoseSeries>(const Dataset&)>;
 /// (their de-skew and guesses read the wheels and gyro at each beam's time); then what delay is
 /// left, measured on that match where a delay shows most (1 s windows every 0.25 s, within
 /// +-0.1 s), moved where over min_left_s and matched once more: the first measure was made on
-/// scans de-skewed with the motion of another moment (0.27 s read as 0.2 s). Returns the total
-/// moved (0: nothing, and nothing matched).
+/// scans de-skewed with the motion of another moment (0.27 s read as 0.2 s). Where what is left
+/// takes the first back (the two within min_lag_s of each other), the first was no delay: the
+/// streams are put back as logged and matched again (a long log's first measure of 44 ms came
+/// back as 6 ms in all, and the match after it had moved the calibration by 10 %). Returns the
+/// total moved (0: nothing; matched again only where something was moved on the way).
 double syncOntoScanClock(Dataset& dataset, const SensorAgreement& first, double min_lag_s,
                          double min_left_s, const MatchScans& match_again);
 
