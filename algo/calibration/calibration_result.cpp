@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <sstream>
 
@@ -83,6 +84,46 @@ double adjacentCorrelationFactor(const std::vector<CalibrationInterval>& interva
 
 namespace {
 
+/// Koenker's Breusch-Pagan statistic n R^2 of the squared residuals regressed on the squared
+/// predicted rotations: chi^2 with one degree of freedom where the variance does not depend on
+/// the turn.
+double breuschPagan(const Eigen::VectorXd& residual, const Eigen::VectorXd& predicted) {
+  const Eigen::ArrayXd e2 = residual.array().square();
+  const Eigen::ArrayXd x = predicted.array().square();
+  const double n = double(e2.size());
+  const Eigen::ArrayXd xc = x - x.mean(), yc = e2 - e2.mean();
+  const double sxx = xc.square().sum(), syy = yc.square().sum();
+  if (!(sxx > 0.0) || !(syy > 0.0)) return 0.0;
+  const double sxy = (xc * yc).sum();
+  return n * sxy * sxy / (sxx * syy);
+}
+
+}  // namespace
+
+TurnHeteroscedasticity turnHeteroscedasticity(const Eigen::MatrixXd& A,
+                                              const Eigen::VectorXd& residual,
+                                              const Eigen::VectorXd& predicted,
+                                              double min_statistic) {
+  TurnHeteroscedasticity out;
+  const auto n = A.rows();
+  if (n <= A.cols()) return out;
+  out.statistic = breuschPagan(residual, predicted);
+  if (!(out.statistic > min_statistic)) return out;
+  // Eq. (HC1): (A^T A)^-1 A^T diag(e^2) A (A^T A)^-1 n / (n - 2), against the homoscedastic
+  // sigma^2 (A^T A)^-1; only ever larger (with few intervals HC1 is low).
+  const Eigen::Matrix2d AtA_inv = (A.transpose() * A).inverse();
+  Eigen::Matrix2d meat = Eigen::Matrix2d::Zero();
+  for (Eigen::Index k = 0; k < n; ++k)
+    meat += residual(k) * residual(k) * A.row(k).transpose() * A.row(k);
+  const double dof = double(n - A.cols());
+  const Eigen::Matrix2d hc = (double(n) / dof) * AtA_inv * meat * AtA_inv;
+  const Eigen::Matrix2d ols = (residual.squaredNorm() / dof) * AtA_inv;
+  out.inflation = std::max({1.0, hc(0, 0) / ols(0, 0), hc(1, 1) / ols(1, 1)});
+  return out;
+}
+
+namespace {
+
 std::string wrongSignReason(const RotationFit& fit) {
   // A sign is only a finding 3 sigmas from zero; nearer, the wheels' turns do not follow the
   // scans' (a lifted or blocked robot on a short recording looked like a channel swap).
@@ -139,6 +180,8 @@ RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, doubl
     fit.covariance = fit.sigma_theta_rad * fit.sigma_theta_rad * AtA_inv *
                      loopScoreCovariance(intervals, heading_loops, A, normalized, f) * AtA_inv;
   }
+  fit.turn_heteroscedasticity = turnHeteroscedasticity(A, res, A * J);
+  fit.covariance *= fit.turn_heteroscedasticity.inflation;
   // r_L = -J21 b and r_R = J22 b must both be positive for b > 0.
   if (!(fit.J21 < 0.0 && fit.J22 > 0.0)) {
     fit.reason = wrongSignReason(fit);

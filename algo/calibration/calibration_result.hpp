@@ -60,14 +60,33 @@ Eigen::VectorXd calibrationValues(const CalibrationResult& result);
 /// and scale of the unknowns then do not matter). +inf when a column is zero or rank deficient.
 double equilibratedConditionNumber(const Eigen::MatrixXd& A);
 
+/// Whether the rotation residuals grow with the turn (slip in turns: the wheels count (1 + u)
+/// of the turn they made), and by how much the homoscedastic covariance of (J21, J22) is
+/// inflated for it.
+struct TurnHeteroscedasticity {
+  double statistic = 0.0;  ///< Breusch-Pagan n R^2 of e^2 on the predicted rotation squared
+  double inflation = 1.0;  ///< covariance factor: 1, or the HC1 sandwich's largest variance ratio
+};
+
+/// The test, and where it rejects (statistic over min_statistic: chi^2_1 at p = 0.001) the
+/// factor by which the heteroscedasticity-consistent (HC1) variance of the least-squares
+/// coefficients of A exceeds the homoscedastic one (at least 1). On ACES's twin, slipping in its
+/// turns, b erred by 8.0 of its sigmas squared over 8 seeds without it, 3.1 with it.
+TurnHeteroscedasticity turnHeteroscedasticity(const Eigen::MatrixXd& A,
+                                              const Eigen::VectorXd& residual,
+                                              const Eigen::VectorXd& predicted,
+                                              double min_statistic = 10.83);
+
 /// Stage 1 of the model-based and joint methods: theta_k = J21 sum dphi_L + J22 sum dphi_R.
 struct RotationFit {
   bool ok = false;
   std::string reason;
   double J21 = 0.0;  ///< -r_L / b
   double J22 = 0.0;  ///< r_R / b
-  /// of (J21, J22): sigma_theta^2 (A^T A)^-1 times adjacentCorrelationFactor of the residuals
+  /// of (J21, J22): sigma_theta^2 (A^T A)^-1 times adjacentCorrelationFactor of the residuals,
+  /// times turn_heteroscedasticity.inflation
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+  TurnHeteroscedasticity turn_heteroscedasticity;
   double sigma_theta_rad = 0.0;       ///< rotation noise estimated from the residuals
   double condition_number = 0.0;      ///< of the n x 2 design [sum dphi_L, sum dphi_R]
   std::vector<double> residuals_rad;  ///< measured minus predicted rotation, per interval
