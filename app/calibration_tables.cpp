@@ -187,6 +187,13 @@ void printTable(const std::vector<algo::CalibrationRun>& rows,
     }
     std::cout << r.intervals_used << " intervals/runs, condition number " << std::setprecision(3)
               << r.condition_number << ", " << r.intervals_trimmed << " trimmed\n";
+    if (const auto& h = r.rotation_heteroscedasticity; h.inflation > 1.0)
+      std::cout << "  rotation residuals grow with the turn (slip in turns; Breusch-Pagan "
+                << std::fixed << std::setprecision(1) << h.statistic
+                << " > 10.8): the rotation step's variances are multiplied by "
+                << std::setprecision(2) << h.inflation << " (its sigmas by "
+                << std::sqrt(h.inflation) << ")\n"
+                << std::defaultfloat;
     for (const algo::TrimmedInterval& t : r.trimmed_worst)
       std::cout << "  trimmed " << std::fixed << std::setprecision(3) << t.t0_s << ".." << t.t1_s
                 << " s: " << t.reason << " (" << std::setprecision(1) << t.residual_sigmas

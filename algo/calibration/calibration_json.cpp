@@ -77,6 +77,9 @@ json runJson(const CalibrationRun& run, const std::optional<Eigen::VectorXd>& tr
     worst.push_back(
         {{"t0", t.t0_s}, {"t1", t.t1_s}, {"reason", t.reason}, {"residual", t.residual_sigmas}});
   j["trimmed_worst"] = worst;
+  if (r.rotation_heteroscedasticity.inflation > 1.0)  // absent otherwise: a plain run's bytes
+    j["rotation_sigma_inflation"] = {{"factor", r.rotation_heteroscedasticity.inflation},
+                                     {"statistic", r.rotation_heteroscedasticity.statistic}};
   if (run.time_offset_s)
     j["time_offset_s"] = {{"value", *run.time_offset_s}, {"sigma", run.time_offset_sigma_s}};
   if (run.sideslip_s)
@@ -246,6 +249,13 @@ class EntryReader {
     return std::pair{item.finite("value"), item.finite("sigma")};
   }
 
+  TurnHeteroscedasticity rotationInflation() const {
+    if (!e_.contains("rotation_sigma_inflation")) return {};
+    const EntryReader item(e_["rotation_sigma_inflation"], where_ + ".rotation_sigma_inflation");
+    if (!e_["rotation_sigma_inflation"].is_object()) item.fail("", "not an object");
+    return {item.finite("statistic"), item.finite("factor")};
+  }
+
   CalibrationRun run() const {
     CalibrationRun run;
     run.method = method();
@@ -270,6 +280,7 @@ class EntryReader {
     if (const auto offset = extra("time_offset_s"))
       std::tie(run.time_offset_s, run.time_offset_sigma_s) = *offset;
     if (const auto k = extra("sideslip_s")) std::tie(run.sideslip_s, run.sideslip_sigma_s) = *k;
+    r.rotation_heteroscedasticity = rotationInflation();
     return run;
   }
 

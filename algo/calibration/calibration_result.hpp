@@ -23,6 +23,14 @@ struct TrimmedInterval {
 
 /// The common part of every method's result. When ok is false, `reason` says why and the numbers
 /// are not to be used (they are finite, never NaN).
+/// Whether the rotation residuals grow with the turn (slip in turns: the wheels count (1 + u)
+/// of the turn they made), and by how much the homoscedastic covariance of (J21, J22) is
+/// inflated for it.
+struct TurnHeteroscedasticity {
+  double statistic = 0.0;  ///< Breusch-Pagan n R^2 of e^2 on the predicted rotation squared
+  double inflation = 1.0;  ///< covariance factor: 1, or the HC1 sandwich's largest variance ratio
+};
+
 struct CalibrationResult {
   bool ok = false;
   std::string reason;  ///< why the method refused; empty when ok
@@ -42,6 +50,9 @@ struct CalibrationResult {
   int intervals_trimmed = 0;
   /// The screening's worst outliers (up to TrimParams::report_worst), worst first.
   std::vector<TrimmedInterval> trimmed_worst;
+  /// The rotation step's test for residuals that grow with the turn and the covariance
+  /// inflation it led to (model, joint; statistic 0 and inflation 1 for the others).
+  TurnHeteroscedasticity rotation_heteroscedasticity;
   int iterations = 0;  ///< solver iterations or trimming rounds
   double cost = 0.0;   ///< final sum of squared (weighted) residuals
 
@@ -59,14 +70,6 @@ Eigen::VectorXd calibrationValues(const CalibrationResult& result);
 /// Condition number sigma_max / sigma_min of A after scaling every column to unit norm (units
 /// and scale of the unknowns then do not matter). +inf when a column is zero or rank deficient.
 double equilibratedConditionNumber(const Eigen::MatrixXd& A);
-
-/// Whether the rotation residuals grow with the turn (slip in turns: the wheels count (1 + u)
-/// of the turn they made), and by how much the homoscedastic covariance of (J21, J22) is
-/// inflated for it.
-struct TurnHeteroscedasticity {
-  double statistic = 0.0;  ///< Breusch-Pagan n R^2 of e^2 on the predicted rotation squared
-  double inflation = 1.0;  ///< covariance factor: 1, or the HC1 sandwich's largest variance ratio
-};
 
 /// The test, and where it rejects (statistic over min_statistic: chi^2_1 at p = 0.001) the
 /// factor by which the heteroscedasticity-consistent (HC1) variance of the least-squares

@@ -212,6 +212,7 @@ bool takeRotationFit(const RotationFit& stage1, JointResult& result) {
   result.J21 = stage1.J21;
   result.J22 = stage1.J22;
   result.sigma_theta_rad = stage1.sigma_theta_rad;
+  result.rotation_heteroscedasticity = stage1.turn_heteroscedasticity;
   if (!stage1.ok) result.reason = stage1.reason;
   return stage1.ok;
 }

@@ -34,6 +34,7 @@ ModelBasedResult calibrateModelBased(const std::vector<CalibrationInterval>& int
   result.condition_number = rot.condition_number;
   result.J21 = rot.J21;
   result.J22 = rot.J22;
+  result.rotation_heteroscedasticity = rot.turn_heteroscedasticity;
   if (!rot.ok) {
     result.reason = rot.reason;
     return result;

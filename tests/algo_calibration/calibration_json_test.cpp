@@ -43,7 +43,8 @@ TEST(CalibrationJson, RoundTripsEveryRunAndPicksTheBest) {
   std::vector<CalibrationRun> runs = {okRun(CalibrationMethod::kModel, 1.0),
                                       okRun(CalibrationMethod::kJoint, 1.01),
                                       okRun(CalibrationMethod::kCeres, 1.02), refused};
-  runs[2].sideslip_s = -6.6e-4;  // calibrate --sideslip
+  runs[1].result.rotation_heteroscedasticity = {32.7, 2.4};  // residuals grow with the turn
+  runs[2].sideslip_s = -6.6e-4;                              // calibrate --sideslip
   runs[2].sideslip_sigma_s = 1.8e-5;
   const CalibrationTruth truth{{0.1, 0.2, 0.5}, SE2(0.1, 0.0, 0.0)};
   const std::string text = formatCalibrationJson(runs, truth);
@@ -58,6 +59,9 @@ TEST(CalibrationJson, RoundTripsEveryRunAndPicksTheBest) {
   EXPECT_EQ(j[2]["sideslip_s"]["sigma"].get<double>(), 1.8e-5);
   EXPECT_FALSE(j[1].contains("sideslip_s"));  // not estimated
   EXPECT_FALSE(j[2].contains("time_offset_s"));
+  EXPECT_EQ(j[1]["rotation_sigma_inflation"]["factor"].get<double>(), 2.4);
+  EXPECT_EQ(j[1]["rotation_sigma_inflation"]["statistic"].get<double>(), 32.7);
+  EXPECT_FALSE(j[0].contains("rotation_sigma_inflation"));  // not inflated: not written
 
   const CalibrationFile file = parseCalibrationJson(text, "cal.json");
   ASSERT_EQ(file.runs.size(), 4u);
