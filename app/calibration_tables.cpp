@@ -152,10 +152,6 @@ void warnInconsistent(const algo::CombinedRun& c, const eval::RecordingsCalibrat
             << std::defaultfloat;
 }
 
-}  // namespace
-
-namespace {
-
 // What the recording's mount did as a prior (algo/calibration/mount_prior.hpp), one line.
 void printMountPrior(const algo::MountPriorUse& u) {
   const Eigen::VectorXd& v = u.without_prior;
@@ -189,10 +185,10 @@ void printTable(const std::vector<algo::CalibrationRun>& rows,
               << r.condition_number << ", " << r.intervals_trimmed << " trimmed\n";
     if (const auto& h = r.rotation_heteroscedasticity; h.inflation > 1.0)
       std::cout << "  rotation residuals grow with the turn (slip in turns; Breusch-Pagan "
-                << std::fixed << std::setprecision(1) << h.statistic
-                << " > 10.8): the rotation step's variances are multiplied by "
-                << std::setprecision(2) << h.inflation << " (its sigmas by "
-                << std::sqrt(h.inflation) << ")\n"
+                << std::fixed << std::setprecision(1) << h.statistic << " > "
+                << algo::kTurnHeteroscedasticityMinStatistic
+                << "): the rotation step's variances are multiplied by " << std::setprecision(2)
+                << h.inflation << " (its sigmas by " << std::sqrt(h.inflation) << ")\n"
                 << std::defaultfloat;
     for (const algo::TrimmedInterval& t : r.trimmed_worst)
       std::cout << "  trimmed " << std::fixed << std::setprecision(3) << t.t0_s << ".." << t.t1_s

@@ -21,8 +21,9 @@ struct TrimmedInterval {
   double residual_sigmas = 0.0;  ///< its robust score z (robust_trim.hpp, Eq. 2)
 };
 
-/// The common part of every method's result. When ok is false, `reason` says why and the numbers
-/// are not to be used (they are finite, never NaN).
+/// chi^2 with one degree of freedom at p = 0.001: where the rotation step's test rejects.
+inline constexpr double kTurnHeteroscedasticityMinStatistic = 10.83;
+
 /// Whether the rotation residuals grow with the turn (slip in turns: the wheels count (1 + u)
 /// of the turn they made), and by how much the homoscedastic covariance of (J21, J22) is
 /// inflated for it.
@@ -31,6 +32,8 @@ struct TurnHeteroscedasticity {
   double inflation = 1.0;  ///< covariance factor: 1, or the HC1 sandwich's largest variance ratio
 };
 
+/// The common part of every method's result. When ok is false, `reason` says why and the numbers
+/// are not to be used (they are finite, never NaN).
 struct CalibrationResult {
   bool ok = false;
   std::string reason;  ///< why the method refused; empty when ok
@@ -75,10 +78,9 @@ double equilibratedConditionNumber(const Eigen::MatrixXd& A);
 /// factor by which the heteroscedasticity-consistent (HC1) variance of the least-squares
 /// coefficients of A exceeds the homoscedastic one (at least 1). On ACES's twin, slipping in its
 /// turns, b erred by 8.0 of its sigmas squared over 8 seeds without it, 3.1 with it.
-TurnHeteroscedasticity turnHeteroscedasticity(const Eigen::MatrixXd& A,
-                                              const Eigen::VectorXd& residual,
-                                              const Eigen::VectorXd& predicted,
-                                              double min_statistic = 10.83);
+TurnHeteroscedasticity turnHeteroscedasticity(
+    const Eigen::MatrixXd& A, const Eigen::VectorXd& residual, const Eigen::VectorXd& predicted,
+    double min_statistic = kTurnHeteroscedasticityMinStatistic);
 
 /// Stage 1 of the model-based and joint methods: theta_k = J21 sum dphi_L + J22 sum dphi_R.
 struct RotationFit {

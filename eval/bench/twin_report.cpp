@@ -65,10 +65,6 @@ std::string recordingName(const std::string& path) {
   return (p.has_filename() ? p.filename() : p.parent_path().filename()).string();
 }
 
-}  // namespace
-
-namespace {
-
 // A statistic's name short enough for a bar's label (by name: the list grows).
 std::string shortLabel(const std::string& name) {
   static const std::map<std::string, std::string> shorts = {
