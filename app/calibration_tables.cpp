@@ -168,6 +168,19 @@ void printMountPrior(const algo::MountPriorUse& u) {
   std::cout << std::defaultfloat;
 }
 
+// The sigmas the sandwich raised by at least 5 %: where the intervals' residuals differ in size
+// (slip in turns, long intervals) the model-based sigmas understated them.
+void printSandwichFactors(const algo::CalibrationResult& r) {
+  std::ostringstream raised;
+  for (std::size_t i = 0; i < r.sigma_sandwich_factors.size(); ++i)
+    if (r.sigma_sandwich_factors[i] >= 1.05)
+      raised << (raised.tellp() == 0 ? "" : ", ") << algo::kCalibrationKeys[i] << " x" << std::fixed
+             << std::setprecision(2) << r.sigma_sandwich_factors[i];
+  if (raised.tellp() > 0)
+    std::cout << "  sigmas raised to the sandwich's (residuals that differ between intervals): "
+              << raised.str() << "\n";
+}
+
 }  // namespace
 
 void printTable(const std::vector<algo::CalibrationRun>& rows,
@@ -183,13 +196,12 @@ void printTable(const std::vector<algo::CalibrationRun>& rows,
     }
     std::cout << r.intervals_used << " intervals/runs, condition number " << std::setprecision(3)
               << r.condition_number << ", " << r.intervals_trimmed << " trimmed\n";
-    if (const auto& h = r.rotation_heteroscedasticity; h.inflation > 1.0)
+    if (r.rotation_heteroscedasticity > algo::kTurnHeteroscedasticityMinStatistic)
       std::cout << "  rotation residuals grow with the turn (slip in turns; Breusch-Pagan "
-                << std::fixed << std::setprecision(1) << h.statistic << " > "
-                << algo::kTurnHeteroscedasticityMinStatistic
-                << "): the rotation step's variances are multiplied by " << std::setprecision(2)
-                << h.inflation << " (its sigmas by " << std::sqrt(h.inflation) << ")\n"
+                << std::fixed << std::setprecision(1) << r.rotation_heteroscedasticity << " > "
+                << algo::kTurnHeteroscedasticityMinStatistic << ")\n"
                 << std::defaultfloat;
+    printSandwichFactors(r);
     for (const algo::TrimmedInterval& t : r.trimmed_worst)
       std::cout << "  trimmed " << std::fixed << std::setprecision(3) << t.t0_s << ".." << t.t1_s
                 << " s: " << t.reason << " (" << std::setprecision(1) << t.residual_sigmas

@@ -54,6 +54,15 @@ json mountPriorJson(const MountPriorUse& u) {
           {"without_prior_sigma", valuesJson(u.without_prior_sigma)}};
 }
 
+// The sigmas the sandwich raised, by parameter (sandwichFloor); empty where it raised none.
+json sandwichJson(const CalibrationResult& r) {
+  json raised = json::object();
+  for (std::size_t i = 0; i < r.sigma_sandwich_factors.size(); ++i)
+    if (r.sigma_sandwich_factors[i] > 1.0)
+      raised[kCalibrationKeys[i]] = r.sigma_sandwich_factors[i];
+  return raised;
+}
+
 json runJson(const CalibrationRun& run, const std::optional<Eigen::VectorXd>& truth) {
   const CalibrationResult& r = run.result;
   json j = {{"method", calibrationMethodName(run.method)}, {"ok", r.ok}, {"reason", r.reason}};
@@ -77,9 +86,9 @@ json runJson(const CalibrationRun& run, const std::optional<Eigen::VectorXd>& tr
     worst.push_back(
         {{"t0", t.t0_s}, {"t1", t.t1_s}, {"reason", t.reason}, {"residual", t.residual_sigmas}});
   j["trimmed_worst"] = worst;
-  if (r.rotation_heteroscedasticity.inflation > 1.0)  // absent otherwise: a plain run's bytes
-    j["rotation_sigma_inflation"] = {{"factor", r.rotation_heteroscedasticity.inflation},
-                                     {"statistic", r.rotation_heteroscedasticity.statistic}};
+  if (r.rotation_heteroscedasticity > kTurnHeteroscedasticityMinStatistic)  // a finding only
+    j["rotation_heteroscedasticity"] = r.rotation_heteroscedasticity;
+  if (const json raised = sandwichJson(r); !raised.empty()) j["sigma_sandwich"] = raised;
   if (run.time_offset_s)
     j["time_offset_s"] = {{"value", *run.time_offset_s}, {"sigma", run.time_offset_sigma_s}};
   if (run.sideslip_s)
@@ -249,11 +258,15 @@ class EntryReader {
     return std::pair{item.finite("value"), item.finite("sigma")};
   }
 
-  TurnHeteroscedasticity rotationInflation() const {
-    if (!e_.contains("rotation_sigma_inflation")) return {};
-    const EntryReader item(e_["rotation_sigma_inflation"], where_ + ".rotation_sigma_inflation");
-    if (!e_["rotation_sigma_inflation"].is_object()) item.fail("", "not an object");
-    return {item.finite("statistic"), item.finite("factor")};
+  std::vector<double> sandwichFactors(int params) const {
+    if (!e_.contains("sigma_sandwich")) return {};
+    const EntryReader item(e_["sigma_sandwich"], where_ + ".sigma_sandwich");
+    if (!e_["sigma_sandwich"].is_object()) item.fail("", "not an object");
+    std::vector<double> f(params, 1.0);
+    for (int i = 0; i < params; ++i)
+      if (e_["sigma_sandwich"].contains(kCalibrationKeys[i]))
+        f[i] = item.positive(kCalibrationKeys[i]);
+    return f;
   }
 
   CalibrationRun run() const {
@@ -280,7 +293,9 @@ class EntryReader {
     if (const auto offset = extra("time_offset_s"))
       std::tie(run.time_offset_s, run.time_offset_sigma_s) = *offset;
     if (const auto k = extra("sideslip_s")) std::tie(run.sideslip_s, run.sideslip_sigma_s) = *k;
-    r.rotation_heteroscedasticity = rotationInflation();
+    if (e_.contains("rotation_heteroscedasticity"))
+      r.rotation_heteroscedasticity = finite("rotation_heteroscedasticity");
+    r.sigma_sandwich_factors = sandwichFactors(r.estimates_mount ? 6 : 3);
     return run;
   }
 

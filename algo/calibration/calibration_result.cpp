@@ -82,12 +82,7 @@ double adjacentCorrelationFactor(const std::vector<CalibrationInterval>& interva
   return 1.0 + 2.0 * std::clamp(rho, -0.45, 0.5);
 }
 
-namespace {
-
-/// Koenker's Breusch-Pagan statistic n R^2 of the squared residuals regressed on the squared
-/// predicted rotations: chi^2 with one degree of freedom where the variance does not depend on
-/// the turn.
-double breuschPagan(const Eigen::VectorXd& residual, const Eigen::VectorXd& predicted) {
+double turnHeteroscedasticity(const Eigen::VectorXd& residual, const Eigen::VectorXd& predicted) {
   const Eigen::ArrayXd e2 = residual.array().square();
   const Eigen::ArrayXd x = predicted.array().square();
   const double n = double(e2.size());
@@ -96,30 +91,6 @@ double breuschPagan(const Eigen::VectorXd& residual, const Eigen::VectorXd& pred
   if (!(sxx > 0.0) || !(syy > 0.0)) return 0.0;
   const double sxy = (xc * yc).sum();
   return n * sxy * sxy / (sxx * syy);
-}
-
-}  // namespace
-
-TurnHeteroscedasticity turnHeteroscedasticity(const Eigen::MatrixXd& A,
-                                              const Eigen::VectorXd& residual,
-                                              const Eigen::VectorXd& predicted,
-                                              double min_statistic) {
-  TurnHeteroscedasticity out;
-  const auto n = A.rows();
-  if (n <= A.cols()) return out;
-  out.statistic = breuschPagan(residual, predicted);
-  if (!(out.statistic > min_statistic)) return out;
-  // Eq. (HC1): (A^T A)^-1 A^T diag(e^2) A (A^T A)^-1 n / (n - 2), against the homoscedastic
-  // sigma^2 (A^T A)^-1; only ever larger (with few intervals HC1 is low).
-  const Eigen::Matrix2d AtA_inv = (A.transpose() * A).inverse();
-  Eigen::Matrix2d meat = Eigen::Matrix2d::Zero();
-  for (Eigen::Index k = 0; k < n; ++k)
-    meat += residual(k) * residual(k) * A.row(k).transpose() * A.row(k);
-  const double dof = double(n - A.cols());
-  const Eigen::Matrix2d hc = (double(n) / dof) * AtA_inv * meat * AtA_inv;
-  const Eigen::Matrix2d ols = (residual.squaredNorm() / dof) * AtA_inv;
-  out.inflation = std::max({1.0, hc(0, 0) / ols(0, 0), hc(1, 1) / ols(1, 1)});
-  return out;
 }
 
 namespace {
@@ -180,8 +151,7 @@ RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, doubl
     fit.covariance = fit.sigma_theta_rad * fit.sigma_theta_rad * AtA_inv *
                      loopScoreCovariance(intervals, heading_loops, A, normalized, f) * AtA_inv;
   }
-  fit.turn_heteroscedasticity = turnHeteroscedasticity(A, res, A * J);
-  fit.covariance *= fit.turn_heteroscedasticity.inflation;
+  fit.turn_heteroscedasticity = turnHeteroscedasticity(res, A * J);
   // r_L = -J21 b and r_R = J22 b must both be positive for b > 0.
   if (!(fit.J21 < 0.0 && fit.J22 > 0.0)) {
     fit.reason = wrongSignReason(fit);
@@ -220,6 +190,56 @@ Eigen::MatrixXd twoStageCovariance(const Eigen::Matrix2d& cov1, const Eigen::Mat
   C.topRightCorner(2, m) = (K * cov1).transpose();
   C.bottomRightCorner(m, m) = H_inv * N * H_inv + K * cov1 * K.transpose();
   return C;
+}
+
+Eigen::MatrixXd intervalOuterSum(const std::vector<CalibrationInterval>& intervals,
+                                 const std::vector<Eigen::VectorXd>& v, Eigen::Index estimated) {
+  const auto n = static_cast<Eigen::Index>(v.size());
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(v.front().size(), v.front().size());
+  for (Eigen::Index k = 0; k < n; ++k) {
+    S += v[k] * v[k].transpose();
+    if (k + 1 < n && std::abs(intervals[k].t_end_s - intervals[k + 1].t_start_s) <= 1e-9)
+      S += v[k] * v[k + 1].transpose() + v[k + 1] * v[k].transpose();
+  }
+  return S * (double(n) / double(std::max<Eigen::Index>(1, n - estimated)));
+}
+
+Eigen::MatrixXd twoStageSandwich(const std::vector<CalibrationInterval>& intervals,
+                                 const std::vector<double>& rotation_residuals,
+                                 const Eigen::MatrixXd& G, const Eigen::VectorXd& e,
+                                 const Eigen::MatrixXd& sumGtF) {
+  const auto n = static_cast<Eigen::Index>(intervals.size());
+  const Eigen::Index m = G.cols();
+  Eigen::MatrixXd A(n, 2);
+  for (Eigen::Index k = 0; k < n; ++k)
+    A.row(k) << intervals[k].sumLeft_rad(), intervals[k].sumRight_rad();
+  const Eigen::Matrix2d AtA_inv = (A.transpose() * A).inverse();
+  const Eigen::MatrixXd H_inv = (G.transpose() * G).inverse();
+  const Eigen::MatrixXd K = -H_inv * sumGtF;
+  std::vector<Eigen::VectorXd> d(n, Eigen::VectorXd(2 + m));
+  for (Eigen::Index k = 0; k < n; ++k) {  // Eq. (S1)
+    const Eigen::Vector2d dp1 = AtA_inv * A.row(k).transpose() * rotation_residuals[k];
+    d[k] << dp1, -H_inv * G.middleRows(2 * k, 2).transpose() * e.segment<2>(2 * k) + K * dp1;
+  }
+  return intervalOuterSum(intervals, d, 2 + m);
+}
+
+Eigen::MatrixXd sandwichFloor(const Eigen::MatrixXd& model, const Eigen::MatrixXd& sandwich,
+                              std::vector<double>& factors) {
+  const Eigen::Index m = model.rows();
+  factors.assign(m, 1.0);
+  const Eigen::LLT<Eigen::MatrixXd> llt(model);
+  if (llt.info() != Eigen::Success || !sandwich.allFinite()) return model;
+  // In the model's whitened coordinates W = L^-1 S L^-T, raise the eigenvalues below 1 to 1.
+  const Eigen::MatrixXd L = llt.matrixL();
+  const Eigen::MatrixXd L_inv =
+      L.triangularView<Eigen::Lower>().solve(Eigen::MatrixXd::Identity(m, m));
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(L_inv * sandwich * L_inv.transpose());
+  const Eigen::VectorXd raised = eig.eigenvalues().cwiseMax(1.0);
+  const Eigen::MatrixXd floored =
+      L * eig.eigenvectors() * raised.asDiagonal() * eig.eigenvectors().transpose() * L.transpose();
+  for (Eigen::Index i = 0; i < m; ++i) factors[i] = std::sqrt(floored(i, i) / model(i, i));
+  return 0.5 * (floored + floored.transpose());
 }
 
 Eigen::MatrixXd radiiCovariance(const Eigen::MatrixXd& cov_J, double J21, double J22, double b) {

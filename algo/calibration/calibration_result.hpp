@@ -24,14 +24,6 @@ struct TrimmedInterval {
 /// chi^2 with one degree of freedom at p = 0.001: where the rotation step's test rejects.
 inline constexpr double kTurnHeteroscedasticityMinStatistic = 10.83;
 
-/// Whether the rotation residuals grow with the turn (slip in turns: the wheels count (1 + u)
-/// of the turn they made), and by how much the homoscedastic covariance of (J21, J22) is
-/// inflated for it.
-struct TurnHeteroscedasticity {
-  double statistic = 0.0;  ///< Breusch-Pagan n R^2 of e^2 on the predicted rotation squared
-  double inflation = 1.0;  ///< covariance factor: 1, or the HC1 sandwich's largest variance ratio
-};
-
 /// The common part of every method's result. When ok is false, `reason` says why and the numbers
 /// are not to be used (they are finite, never NaN).
 struct CalibrationResult {
@@ -53,9 +45,12 @@ struct CalibrationResult {
   int intervals_trimmed = 0;
   /// The screening's worst outliers (up to TrimParams::report_worst), worst first.
   std::vector<TrimmedInterval> trimmed_worst;
-  /// The rotation step's test for residuals that grow with the turn and the covariance
-  /// inflation it led to (model, joint; statistic 0 and inflation 1 for the others).
-  TurnHeteroscedasticity rotation_heteroscedasticity;
+  /// The rotation step's test for residuals that grow with the turn (turnHeteroscedasticity;
+  /// model, joint, ceres through joint; 0 for the others).
+  double rotation_heteroscedasticity = 0.0;
+  /// Per parameter of `covariance`, its sigma over the model's where the sandwich raised it
+  /// (sandwichFloor; >= 1); empty where no sandwich was taken (heading loops, direct, umbmark).
+  std::vector<double> sigma_sandwich_factors;
   int iterations = 0;  ///< solver iterations or trimming rounds
   double cost = 0.0;   ///< final sum of squared (weighted) residuals
 
@@ -74,13 +69,12 @@ Eigen::VectorXd calibrationValues(const CalibrationResult& result);
 /// and scale of the unknowns then do not matter). +inf when a column is zero or rank deficient.
 double equilibratedConditionNumber(const Eigen::MatrixXd& A);
 
-/// The test, and where it rejects (statistic over min_statistic: chi^2_1 at p = 0.001) the
-/// factor by which the heteroscedasticity-consistent (HC1) variance of the least-squares
-/// coefficients of A exceeds the homoscedastic one (at least 1). On ACES's twin, slipping in its
-/// turns, b erred by 8.0 of its sigmas squared over 8 seeds without it, 3.1 with it.
-TurnHeteroscedasticity turnHeteroscedasticity(
-    const Eigen::MatrixXd& A, const Eigen::VectorXd& residual, const Eigen::VectorXd& predicted,
-    double min_statistic = kTurnHeteroscedasticityMinStatistic);
+/// Whether the rotation residuals grow with the turn (slip in turns: the wheels count (1 + u) of
+/// the turn they made): Koenker's Breusch-Pagan statistic n R^2 of the squared residuals
+/// regressed on the squared predicted rotations, chi^2 with one degree of freedom where the
+/// variance does not depend on the turn (over kTurnHeteroscedasticityMinStatistic: it does).
+/// A finding to report; the sigmas allow for it through the sandwich (sandwichFloor).
+double turnHeteroscedasticity(const Eigen::VectorXd& residual, const Eigen::VectorXd& predicted);
 
 /// Stage 1 of the model-based and joint methods: theta_k = J21 sum dphi_L + J22 sum dphi_R.
 struct RotationFit {
@@ -88,13 +82,12 @@ struct RotationFit {
   std::string reason;
   double J21 = 0.0;  ///< -r_L / b
   double J22 = 0.0;  ///< r_R / b
-  /// of (J21, J22): sigma_theta^2 (A^T A)^-1 times adjacentCorrelationFactor of the residuals,
-  /// times turn_heteroscedasticity.inflation
+  /// of (J21, J22): sigma_theta^2 (A^T A)^-1 times adjacentCorrelationFactor of the residuals
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
-  TurnHeteroscedasticity turn_heteroscedasticity;
-  double sigma_theta_rad = 0.0;       ///< rotation noise estimated from the residuals
-  double condition_number = 0.0;      ///< of the n x 2 design [sum dphi_L, sum dphi_R]
-  std::vector<double> residuals_rad;  ///< measured minus predicted rotation, per interval
+  double turn_heteroscedasticity = 0.0;  ///< turnHeteroscedasticity of the residuals
+  double sigma_theta_rad = 0.0;          ///< rotation noise estimated from the residuals
+  double condition_number = 0.0;         ///< of the n x 2 design [sum dphi_L, sum dphi_R]
+  std::vector<double> residuals_rad;     ///< measured minus predicted rotation, per interval
 };
 
 /// Long-run variance factor 1 + 2 rho of one residual per interval: rho is the correlation of
@@ -137,6 +130,33 @@ std::string describeDegenerateDriving(const std::vector<CalibrationInterval>& in
 ///   cov(p2, p1) = K cov1  (stage-1 and stage-2 noise are independent: rotation vs translation).
 Eigen::MatrixXd twoStageCovariance(const Eigen::Matrix2d& cov1, const Eigen::MatrixXd& H,
                                    const Eigen::MatrixXd& N, const Eigen::MatrixXd& sumGtF);
+
+/// Newey-West with one lag over intervals: sum_k v_k v_k^T, plus v_k v_{k+1}^T + v_{k+1} v_k^T
+/// where interval k ends as k + 1 starts (their errors share a scan), times n / (n - estimated),
+/// HC1's small-sample factor. v_k is interval k's contribution to an estimator's score or error.
+Eigen::MatrixXd intervalOuterSum(const std::vector<CalibrationInterval>& intervals,
+                                 const std::vector<Eigen::VectorXd>& v, Eigen::Index estimated);
+
+/// The sandwich covariance of the two-stage estimator of twoStageCovariance, with each
+/// interval's residuals standing for its noise (Eq. S1):
+///   dp1_k = (A^T A)^-1 a_k r_k,   a_k = (sum dphi_L, sum dphi_R), r_k its rotation residual,
+///   dp2_k = -H^-1 G_k^T e_k + K dp1_k,   (S1)
+/// summed by intervalOuterSum over d_k = (dp1_k, dp2_k). Unlike twoStageCovariance it holds
+/// whatever each interval's noise variance (slip in turns, longer intervals) and whether rotation
+/// and translation noise correlate; `e` stacks the e_k, `G` the G_k (2 rows each).
+Eigen::MatrixXd twoStageSandwich(const std::vector<CalibrationInterval>& intervals,
+                                 const std::vector<double>& rotation_residuals,
+                                 const Eigen::MatrixXd& G, const Eigen::VectorXd& e,
+                                 const Eigen::MatrixXd& sumGtF);
+
+/// The smallest covariance at least `model` and at least `sandwich` in every direction where
+/// the sandwich is larger (in the model's whitened coordinates, the sandwich's eigenvalues below
+/// 1 raised to 1): model-based sigmas assume one noise level for every interval and understate
+/// it where it is not (on twins of real recordings b erred by 2.3 sigmas squared without the
+/// floor; docs/design.md "Calibration: is the reported sigma honest?"). `factors` gets each
+/// parameter's sigma over the model's (>= 1).
+Eigen::MatrixXd sandwichFloor(const Eigen::MatrixXd& model, const Eigen::MatrixXd& sandwich,
+                              std::vector<double>& factors);
 
 /// Maps a covariance over (J21, J22, b, rest...) to (r_L, r_R, b, rest...) with r_L = -J21 b,
 /// r_R = J22 b (first-order, the Jacobian of that map).

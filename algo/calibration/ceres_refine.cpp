@@ -109,6 +109,22 @@ Eigen::MatrixXd longRunCovariance(const Eigen::MatrixXd& C, const Eigen::MatrixX
   return C * B * C;
 }
 
+// The sandwich C (sum_k psi_k psi_k^T) C of the Huber fit (intervalOuterSum), psi_k = w_k J_k^T
+// r_k interval k's gradient of the cost, w_k = min(1, a / |r_k|) the Huber weight: like
+// twoStageSandwich, it holds whatever each interval's noise variance.
+Eigen::MatrixXd huberSandwich(const Eigen::MatrixXd& C, const Eigen::MatrixXd& J,
+                              const std::vector<double>& residuals,
+                              const std::vector<CalibrationInterval>& intervals, double huber) {
+  const auto n = static_cast<Eigen::Index>(intervals.size());
+  std::vector<Eigen::VectorXd> psi(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Eigen::Vector3d r(residuals[3 * k], residuals[3 * k + 1], residuals[3 * k + 2]);
+    const double w = r.norm() > huber ? huber / r.norm() : 1.0;
+    psi[k] = w * J.middleRows<3>(3 * k).transpose() * r;
+  }
+  return C * intervalOuterSum(intervals, psi, J.cols()) * C;
+}
+
 /// True, with the reason in result, when Ceres cannot start: the closed form refused, or both
 /// extra scalars were asked for.
 bool refusedBeforeSolving(const JointResult& start, const CeresParams& params,
@@ -201,8 +217,13 @@ bool finalCovariance(ceres::Problem& problem, const ceres::Solver::Summary& summ
     result.reason = "covariance rank deficient: parameters not identifiable from these intervals";
     return false;
   }
-  const Eigen::MatrixXd cov =
+  Eigen::MatrixXd cov =
       longRunCovariance(C, J, residuals, intervals, sigma, refined, params.heading_loops);
+  if (params.heading_loops.empty()) {  // with loops, longRunCovariance is a sandwich already
+    cov = sandwichFloor(cov, huberSandwich(C, J, residuals, intervals, params.huber_sigmas),
+                        result.sigma_sandwich_factors);
+    result.sigma_sandwich_factors.resize(6);
+  }
   result.covariance = cov.topLeftCorner<6, 6>();
   const double extra_sigma = extra ? std::sqrt(std::max(0.0, cov(6, 6))) : 0.0;
   if (params.estimate_time_offset) result.time_offset_sigma_s = extra_sigma;

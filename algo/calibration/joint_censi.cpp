@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 namespace slamprep::algo {
 namespace {
@@ -33,15 +34,18 @@ Eigen::Matrix<double, 2, kLinear + 2> residualRows(const CalibrationInterval& in
 }
 
 // With the sideslip: k = m / b and its 1-sigma from the covariance over (J21, J22, b, l_x, l_y,
-// m, l_th); returns that covariance without m, i.e. marginalised over it.
-Eigen::MatrixXd sideslipOut(const Eigen::MatrixXd& cov, double m, double b, JointResult& result) {
+// m, l_th).
+double sideslipSigma(const Eigen::MatrixXd& cov, double m, double b) {
   constexpr int kB = 2, kM = 5;
   Eigen::RowVectorXd dk = Eigen::RowVectorXd::Zero(cov.cols());
   dk(kB) = -m / (b * b);
   dk(kM) = 1.0 / b;
-  result.sideslip_s = m / b;
-  result.sideslip_sigma_s = std::sqrt(std::max(0.0, (dk * cov * dk.transpose())(0, 0)));
-  std::vector<int> keep = {0, 1, 2, 3, 4, 6};
+  return std::sqrt(std::max(0.0, (dk * cov * dk.transpose())(0, 0)));
+}
+
+// That covariance without m, i.e. marginalised over it.
+Eigen::MatrixXd withoutSideslip(const Eigen::MatrixXd& cov) {
+  const std::vector<int> keep = {0, 1, 2, 3, 4, 6};
   Eigen::MatrixXd out(6, 6);
   for (int i = 0; i < 6; ++i)
     for (int j = 0; j < 6; ++j) out(i, j) = cov(keep[i], keep[j]);
@@ -166,17 +170,17 @@ TranslationNoise translationNoise(const std::vector<CalibrationInterval>& interv
 
 /// Step 4c: the covariance of (J21, J22, b, l_x, l_y, [m,] l_th): Fisher information of stage 2
 /// (sandwich for the unweighted fit) and its dependence on stage 1 (central differences of the
-/// residuals in J21, J22), combined by twoStageCovariance.
+/// residuals in J21, J22), combined by twoStageCovariance; `sumGtF` gets sum_k G_k^T F_k.
 template <int kLinear>
 Eigen::MatrixXd stage2Covariance(const std::vector<CalibrationInterval>& intervals,
                                  const RotationFit& stage1, const Eigen::MatrixXd& G,
                                  const Eigen::Matrix<double, kLinear + 2, 1>& x,
-                                 const Eigen::Matrix2d& cov_n) {
+                                 const Eigen::Matrix2d& cov_n, Eigen::MatrixXd& sumGtF) {
   const auto n = static_cast<Eigen::Index>(intervals.size());
   const double h = 1e-6 * std::max(std::abs(stage1.J21), std::abs(stage1.J22));
   Eigen::Matrix<double, kLinear + 1, kLinear + 1> N;
   N.setZero();
-  Eigen::MatrixXd sumGtF = Eigen::MatrixXd::Zero(kLinear + 1, 2);
+  sumGtF = Eigen::MatrixXd::Zero(kLinear + 1, 2);
   for (Eigen::Index k = 0; k < n; ++k) {
     const auto Gk = G.middleRows<2>(2 * k);
     N += Gk.transpose() * cov_n * Gk;
@@ -215,6 +219,40 @@ bool takeRotationFit(const RotationFit& stage1, JointResult& result) {
   result.rotation_heteroscedasticity = stage1.turn_heteroscedasticity;
   if (!stage1.ok) result.reason = stage1.reason;
   return stage1.ok;
+}
+
+/// The sandwich of the two stages (twoStageSandwich); none where loop closures corrected the
+/// headings, whose covariance (loop_covariance.hpp) is already a sandwich of its own.
+std::optional<Eigen::MatrixXd> sandwichOf(const std::vector<CalibrationInterval>& intervals,
+                                          const RotationFit& stage1, const Eigen::MatrixXd& G,
+                                          const Eigen::VectorXd& e, const Eigen::MatrixXd& sumGtF,
+                                          const JointParams& params) {
+  if (!params.heading_loops.empty()) return std::nullopt;
+  return twoStageSandwich(intervals, stage1.residuals_rad, G, e, sumGtF);
+}
+
+/// The result's covariance over (r_L, r_R, b, l_x, l_y, l_th) from that over (J21, J22, b, l_x,
+/// l_y, [m,] l_th), never below the sandwich's (sandwichFloor); with the sideslip, its sigma too.
+template <int kLinear>
+void setCovariance(const Eigen::MatrixXd& cov_J, const std::optional<Eigen::MatrixXd>& sandwich_J,
+                   const UnitCircleMinimum<kLinear>& s, JointResult& result) {
+  const double b = s.y.x();
+  auto userSpace = [&](const Eigen::MatrixXd& c) {
+    if constexpr (kLinear == 4)
+      return radiiCovariance(withoutSideslip(c), result.J21, result.J22, b);
+    return radiiCovariance(c, result.J21, result.J22, b);
+  };
+  result.covariance = userSpace(cov_J);
+  if constexpr (kLinear == 4) {
+    result.sideslip_s = s.y(3) / b;
+    result.sideslip_sigma_s = sideslipSigma(cov_J, s.y(3), b);
+    if (sandwich_J)
+      result.sideslip_sigma_s =
+          std::max(result.sideslip_sigma_s, sideslipSigma(*sandwich_J, s.y(3), b));
+  }
+  if (sandwich_J)
+    result.covariance =
+        sandwichFloor(result.covariance, userSpace(*sandwich_J), result.sigma_sandwich_factors);
 }
 
 // One fit on a fixed set of intervals; `scores` gets each interval's normalised squared residual.
@@ -257,10 +295,10 @@ JointResult fitOnce(const std::vector<CalibrationInterval>& intervals, const Joi
   const TranslationNoise noise = translationNoise<kLinear>(intervals, e, s.mountYaw());
   result.sigma_x_m = std::sqrt(noise.var.x());
   result.sigma_y_m = std::sqrt(noise.var.y());
-  Eigen::MatrixXd cov_J = stage2Covariance<kLinear>(intervals, stage1, G, x, noise.cov_n);
-  const double b = s.y.x();
-  if constexpr (kLinear == 4) cov_J = sideslipOut(cov_J, s.y(3), b, result);
-  result.covariance = radiiCovariance(cov_J, stage1.J21, stage1.J22, b);
+  Eigen::MatrixXd sumGtF;
+  const Eigen::MatrixXd cov_J =
+      stage2Covariance<kLinear>(intervals, stage1, G, x, noise.cov_n, sumGtF);
+  setCovariance<kLinear>(cov_J, sandwichOf(intervals, stage1, G, e, sumGtF, params), s, result);
   result.estimates_mount = true;
   result.cost = e.squaredNorm();
   result.intervals_used = static_cast<int>(n);

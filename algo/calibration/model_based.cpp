@@ -55,10 +55,15 @@ ModelBasedResult calibrateModelBased(const std::vector<CalibrationInterval>& int
   // Covariance: e_k = s_k - b c_k(J); G_k = -c_k, F_k = -b dc_k/dJ (central differences).
   Eigen::Vector2d sq = Eigen::Vector2d::Zero();  // squared residuals per axis of the lidar frame
   Eigen::MatrixXd sumGtF = Eigen::MatrixXd::Zero(1, 2);
+  Eigen::MatrixXd G(2 * n, 1);
+  Eigen::VectorXd e(2 * n);
   const double h = 1e-6 * std::max(std::abs(rot.J21), std::abs(rot.J22));
-  for (const CalibrationInterval& interval : intervals) {
+  for (int k = 0; k < n; ++k) {
+    const CalibrationInterval& interval = intervals[k];
     const Eigen::Vector2d c = unitOdometry(interval, rot.J21, rot.J22).c;
-    sq += (interval.T_lidarStart_lidarEnd.translation() - b * c).cwiseAbs2();
+    G.middleRows<2>(2 * k) = -c;
+    e.segment<2>(2 * k) = interval.T_lidarStart_lidarEnd.translation() - b * c;
+    sq += e.segment<2>(2 * k).cwiseAbs2();
     Eigen::Matrix2d dc;
     dc.col(0) = (unitOdometry(interval, rot.J21 + h, rot.J22).c -
                  unitOdometry(interval, rot.J21 - h, rot.J22).c) /
@@ -78,6 +83,9 @@ ModelBasedResult calibrateModelBased(const std::vector<CalibrationInterval>& int
   const Eigen::MatrixXd N = Eigen::MatrixXd::Constant(1, 1, sum_cVc);
   result.covariance =
       radiiCovariance(twoStageCovariance(rot.covariance, H, N, sumGtF), rot.J21, rot.J22, b);
+  const Eigen::MatrixXd sandwich = radiiCovariance(
+      twoStageSandwich(intervals, rot.residuals_rad, G, e, sumGtF), rot.J21, rot.J22, b);
+  result.covariance = sandwichFloor(result.covariance, sandwich, result.sigma_sandwich_factors);
   result.cost = sq.sum() + std::pow(rot.sigma_theta_rad, 2) * (n - 2);
   result.intervals_used = n;
   result.iterations = 1;

@@ -43,8 +43,10 @@ TEST(CalibrationJson, RoundTripsEveryRunAndPicksTheBest) {
   std::vector<CalibrationRun> runs = {okRun(CalibrationMethod::kModel, 1.0),
                                       okRun(CalibrationMethod::kJoint, 1.01),
                                       okRun(CalibrationMethod::kCeres, 1.02), refused};
-  runs[1].result.rotation_heteroscedasticity = {32.7, 2.4};  // residuals grow with the turn
-  runs[2].sideslip_s = -6.6e-4;                              // calibrate --sideslip
+  runs[1].result.rotation_heteroscedasticity = 32.7;  // residuals grow with the turn
+  runs[1].result.sigma_sandwich_factors = {1.0, 1.0, 1.4, 1.0, 1.2, 1.0};
+  runs[2].result.rotation_heteroscedasticity = 3.1;  // below the test's threshold: not written
+  runs[2].sideslip_s = -6.6e-4;                      // calibrate --sideslip
   runs[2].sideslip_sigma_s = 1.8e-5;
   const CalibrationTruth truth{{0.1, 0.2, 0.5}, SE2(0.1, 0.0, 0.0)};
   const std::string text = formatCalibrationJson(runs, truth);
@@ -59,9 +61,10 @@ TEST(CalibrationJson, RoundTripsEveryRunAndPicksTheBest) {
   EXPECT_EQ(j[2]["sideslip_s"]["sigma"].get<double>(), 1.8e-5);
   EXPECT_FALSE(j[1].contains("sideslip_s"));  // not estimated
   EXPECT_FALSE(j[2].contains("time_offset_s"));
-  EXPECT_EQ(j[1]["rotation_sigma_inflation"]["factor"].get<double>(), 2.4);
-  EXPECT_EQ(j[1]["rotation_sigma_inflation"]["statistic"].get<double>(), 32.7);
-  EXPECT_FALSE(j[0].contains("rotation_sigma_inflation"));  // not inflated: not written
+  EXPECT_EQ(j[1]["rotation_heteroscedasticity"].get<double>(), 32.7);
+  EXPECT_FALSE(j[2].contains("rotation_heteroscedasticity"));
+  EXPECT_EQ(j[1]["sigma_sandwich"], nlohmann::json::parse(R"({"b": 1.4, "lidar_y": 1.2})"));
+  EXPECT_FALSE(j[0].contains("sigma_sandwich"));  // none raised: not written
 
   const CalibrationFile file = parseCalibrationJson(text, "cal.json");
   ASSERT_EQ(file.runs.size(), 4u);
@@ -75,6 +78,8 @@ TEST(CalibrationJson, RoundTripsEveryRunAndPicksTheBest) {
   }
   EXPECT_EQ(file.runs[2].result.sigma()(5), std::sqrt(1e-6));  // sigma is written, not variance
   EXPECT_EQ(file.runs[1].result.intervals_used, 75);
+  EXPECT_EQ(file.runs[1].result.sigma_sandwich_factors, runs[1].result.sigma_sandwich_factors);
+  EXPECT_EQ(file.runs[1].result.rotation_heteroscedasticity, 32.7);
   EXPECT_EQ(file.runs[0].result.condition_number, 4.5);
   EXPECT_EQ(file.runs[2].sideslip_s, -6.6e-4);
   EXPECT_EQ(file.runs[2].sideslip_sigma_s, 1.8e-5);

@@ -36,6 +36,10 @@ struct SyntheticSpec {
   int intervals_per_manoeuvre = 1;
   /// Sideslip k (s): the base also moves sideways at v_y = k v w.
   double sideslip_s = 0.0;
+  /// Slip in turns: the rotation's noise sigma is sqrt(sigma_theta^2 + (turn_slip theta)^2),
+  /// theta the interval's true rotation (the wheels count (1 + u) of their turn, u of sigma
+  /// turn_slip), so it grows with the turn; the translation's does not.
+  double turn_slip = 0.0;
   unsigned seed = 1;
 };
 
@@ -117,7 +121,7 @@ inline std::vector<CalibrationInterval> makeIntervals(const SyntheticSpec& spec)
       w_start = w_end;
     }
     const double nx = spec.sigma_x_m * unit.x(), ny = spec.sigma_y_m * unit.y();
-    const double nth = spec.sigma_theta_rad * unit.z();
+    const double nth = std::hypot(spec.sigma_theta_rad, spec.turn_slip * o.yaw) * unit.z();
     interval.T_lidarStart_lidarEnd = SE2(sm.x + nx, sm.y + ny, sm.yaw + nth);
     out.push_back(std::move(interval));
   }
