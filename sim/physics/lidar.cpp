@@ -39,11 +39,15 @@ Lidar::Beam Lidar::measure(const Scene& scene, const SE2& T_world_lidar, std::si
 }
 
 Lidar::Beam Lidar::measure(const Scene& scene, const Eigen::Vector2d& origin_world_m,
-                           const Eigen::Vector2d& dir_world, [[maybe_unused]] std::size_t i) {
+                           const Eigen::Vector2d& dir_world, std::size_t i) {
   assert(i < beams_per_scan_);
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  // One draw per beam, hit or not, so beam i's noise depends only on the seed and i.
-  const double noise_m = config_.range_noise_m * gaussian();
+  // One draw per beam, hit or not, so beam i's noise depends only on the seed and i (correlated:
+  // and on the scan's beams before it, an AR(1) along the scan that restarts at beam 0).
+  double noise_m = config_.range_noise_m * gaussian();
+  if (const double rho = config_.range_noise_correlation; rho > 0.0 && i > 0)
+    noise_m = rho * last_noise_m_ + std::sqrt(1.0 - rho * rho) * noise_m;
+  last_noise_m_ = noise_m;
   const std::optional<double> hit =
       scene.castRay(origin_world_m, dir_world, config_.height_m, config_.range_max_m);
   if (!hit) return {kInf, kInf};

@@ -18,7 +18,10 @@ struct LidarConfig {
   double range_min_m = 0.05;              ///< shorter returns are reported as no return
   double range_max_m = 30.0;              ///< longer returns are reported as no return
   double range_noise_m = 0.01;            ///< Gaussian sigma
-  bool clockwise = false;                 ///< negative angle_increment
+  /// Correlation of consecutive beams' range noise within a scan (AR(1) along the beams, sigma
+  /// kept; 0: white).
+  double range_noise_correlation = 0.0;
+  bool clockwise = false;                                 ///< negative angle_increment
   SE2 T_base_lidar{0.1, 0.02, std::numbers::pi / 180.0};  ///< mount on the chassis
   double height_m = 0.25;                                 ///< above the floor
 };
@@ -57,6 +60,7 @@ class Lidar {
   std::mt19937_64 rng_;
   double spare_gaussian_ = 0.0;
   bool has_spare_ = false;
+  double last_noise_m_ = 0.0;  ///< the previous beam's, for range_noise_correlation
 };
 
 }  // namespace slamprep::sim

@@ -94,6 +94,38 @@ TEST(Lidar, NoiseIsGaussianSeededAndPerBeam) {
   EXPECT_NE(residuals(43), a);
 }
 
+// Correlated noise along the scan: AR(1) with rho = 0.9 keeps sigma (20 scans of 720 beams,
+// about 760 independent draws: the sample sigma's standard error 2.6 %, 10 % is a 4-sigma bound)
+// and gives consecutive beams rho (standard error sqrt((1 - rho^2) / n) = 0.004: 0.02). Each scan
+// starts afresh; rho = 0 is the white noise above, bit for bit.
+TEST(Lidar, CorrelatedNoiseKeepsSigmaAndCorrelatesNeighbours) {
+  const Scene scene(loadWorld(test::worldFile("box_room.yaml")));
+  LidarConfig config;  // sigma 0.01 m
+  config.range_noise_correlation = 0.9;
+  const SE2 T_world_lidar(0.3, 0.2, 0.1);
+  Lidar lidar(config, 7);
+  double sum_sq = 0.0, sum_lag = 0.0;
+  std::size_t n = 0, pairs = 0;
+  for (int scan = 0; scan < 20; ++scan) {
+    double previous = 0.0;
+    for (std::size_t i = 0; i < lidar.beamsPerScan(); ++i) {
+      const Lidar::Beam beam = lidar.measure(scene, T_world_lidar, i);
+      const double r = beam.range_m - beam.true_range_m;
+      sum_sq += r * r, ++n;
+      if (i > 0) sum_lag += r * previous, ++pairs;
+      previous = r;
+    }
+  }
+  EXPECT_NEAR(std::sqrt(sum_sq / n), 0.01, 0.1 * 0.01);
+  EXPECT_NEAR((sum_lag / pairs) / (sum_sq / n), 0.9, 0.02);
+  LidarConfig white = config;
+  white.range_noise_correlation = 0.0;
+  Lidar a(white, 42), b(LidarConfig{}, 42);
+  for (std::size_t i = 0; i < a.beamsPerScan(); ++i)
+    EXPECT_EQ(a.measure(scene, T_world_lidar, i).range_m,
+              b.measure(scene, T_world_lidar, i).range_m);
+}
+
 TEST(Lidar, RangeLimitsGiveNoReturn) {
   const Scene scene(loadWorld(test::worldFile("corridor.yaml")));
   LidarConfig config;
