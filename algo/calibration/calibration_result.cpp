@@ -3,7 +3,6 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <initializer_list>
 #include <limits>
 #include <sstream>
 
@@ -95,6 +94,14 @@ double turnHeteroscedasticity(const Eigen::VectorXd& residual, const Eigen::Vect
 
 namespace {
 
+/// The rotation step's design: row k is interval k's (sum dphi_L, sum dphi_R).
+Eigen::MatrixXd rotationDesign(const std::vector<CalibrationInterval>& intervals) {
+  Eigen::MatrixXd A(static_cast<Eigen::Index>(intervals.size()), 2);
+  for (Eigen::Index k = 0; k < A.rows(); ++k)
+    A.row(k) << intervals[k].sumLeft_rad(), intervals[k].sumRight_rad();
+  return A;
+}
+
 std::string wrongSignReason(const RotationFit& fit) {
   // A sign is only a finding 3 sigmas from zero; nearer, the wheels' turns do not follow the
   // scans' (a lifted or blocked robot on a short recording looked like a channel swap).
@@ -120,13 +127,9 @@ RotationFit fitRotation(const std::vector<CalibrationInterval>& intervals, doubl
                         const std::vector<LoopSpan>& heading_loops) {
   RotationFit fit;
   const auto n = static_cast<Eigen::Index>(intervals.size());
-  Eigen::MatrixXd A(n, 2);
+  const Eigen::MatrixXd A = rotationDesign(intervals);
   Eigen::VectorXd theta(n);
-  for (Eigen::Index k = 0; k < n; ++k) {
-    A(k, 0) = intervals[k].sumLeft_rad();
-    A(k, 1) = intervals[k].sumRight_rad();
-    theta(k) = intervals[k].T_lidarStart_lidarEnd.yaw;
-  }
+  for (Eigen::Index k = 0; k < n; ++k) theta(k) = intervals[k].T_lidarStart_lidarEnd.yaw;
   fit.condition_number = equilibratedConditionNumber(A);
   if (!(fit.condition_number <= max_condition)) {
     fit.reason = "rotation step ill-conditioned (condition number " +
@@ -210,9 +213,7 @@ Eigen::MatrixXd twoStageSandwich(const std::vector<CalibrationInterval>& interva
                                  const Eigen::MatrixXd& sumGtF) {
   const auto n = static_cast<Eigen::Index>(intervals.size());
   const Eigen::Index m = G.cols();
-  Eigen::MatrixXd A(n, 2);
-  for (Eigen::Index k = 0; k < n; ++k)
-    A.row(k) << intervals[k].sumLeft_rad(), intervals[k].sumRight_rad();
+  const Eigen::MatrixXd A = rotationDesign(intervals);
   const Eigen::Matrix2d AtA_inv = (A.transpose() * A).inverse();
   const Eigen::MatrixXd H_inv = (G.transpose() * G).inverse();
   const Eigen::MatrixXd K = -H_inv * sumGtF;
