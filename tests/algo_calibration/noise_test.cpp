@@ -32,37 +32,56 @@ Eigen::VectorXd estimateVector(const CalibrationResult& r) {
   return v;
 }
 
-// Runs `method` on kTrials seeded data sets and checks, per parameter:
-// - unbiased: |mean error| < 4 * std / sqrt(200), a 4-sigma bound on the sample mean;
-// - calibrated: observed std / rms(reported sigma) within [0.8, 1.2]; the sample std of 200
-//   draws has a relative standard error of 1/sqrt(2 * 199) = 5%, so 20% is a 4-sigma margin.
-void checkCalibrated(
-    const std::string& name, SyntheticSpec spec,
-    const std::function<CalibrationResult(const std::vector<CalibrationInterval>&)>& method,
-    double ratio_tolerance = 0.2) {
-  SCOPED_TRACE(name);
-  std::vector<Eigen::VectorXd> errors, sigmas;
+using Method = std::function<CalibrationResult(const std::vector<CalibrationInterval>&)>;
+
+/// Per parameter over kTrials runs: the mean error, the observed std, and the RMS of the
+/// reported sigma and of the model-based one (the reported over its sandwich factor).
+struct TrialSpread {
+  Eigen::VectorXd mean, std_observed, sigma_reported, sigma_model;
+};
+
+void runTrials(SyntheticSpec spec, const Method& method, TrialSpread& out) {
+  std::vector<Eigen::VectorXd> errors;
+  Eigen::VectorXd rep2, mod2;
   for (int t = 0; t < kTrials; ++t) {
     spec.seed = 1000 + t;
     const CalibrationResult r = method(makeIntervals(spec));
     ASSERT_TRUE(r.ok) << r.reason;
     errors.push_back(estimateVector(r) - truthVector(spec, r.estimates_mount));
-    sigmas.push_back(r.sigma());
+    Eigen::VectorXd model = r.sigma();
+    for (std::size_t i = 0; i < r.sigma_sandwich_factors.size(); ++i)
+      model(Eigen::Index(i)) /= r.sigma_sandwich_factors[i];
+    if (t == 0) rep2 = mod2 = Eigen::VectorXd::Zero(model.size());
+    rep2 += r.sigma().cwiseAbs2() / kTrials;
+    mod2 += model.cwiseAbs2() / kTrials;
   }
-  const Eigen::Index m = errors[0].size();
-  Eigen::VectorXd mean = Eigen::VectorXd::Zero(m), var = mean, sig2 = mean;
-  for (int t = 0; t < kTrials; ++t) {
-    mean += errors[t] / kTrials;
-    sig2 += sigmas[t].cwiseAbs2() / kTrials;
-  }
-  for (int t = 0; t < kTrials; ++t) var += (errors[t] - mean).cwiseAbs2() / (kTrials - 1);
-  const char* names[] = {"r_L", "r_R", "b", "lidar_x", "lidar_y", "lidar_yaw"};
-  for (Eigen::Index i = 0; i < m; ++i) {
-    const double std_obs = std::sqrt(var(i)), sigma_rep = std::sqrt(sig2(i));
+  out.mean = Eigen::VectorXd::Zero(rep2.size());
+  for (const Eigen::VectorXd& e : errors) out.mean += e / kTrials;
+  Eigen::VectorXd var = Eigen::VectorXd::Zero(rep2.size());
+  for (const Eigen::VectorXd& e : errors) var += (e - out.mean).cwiseAbs2() / (kTrials - 1);
+  out.std_observed = var.cwiseSqrt();
+  out.sigma_reported = rep2.cwiseSqrt();
+  out.sigma_model = mod2.cwiseSqrt();
+}
+
+const char* const kNames[] = {"r_L", "r_R", "b", "lidar_x", "lidar_y", "lidar_yaw"};
+
+// Runs `method` on kTrials seeded data sets and checks, per parameter:
+// - unbiased: |mean error| < 4 * std / sqrt(200), a 4-sigma bound on the sample mean;
+// - calibrated: observed std / rms(reported sigma) within [0.8, 1.2]; the sample std of 200
+//   draws has a relative standard error of 1/sqrt(2 * 199) = 5%, so 20% is a 4-sigma margin.
+void checkCalibrated(const std::string& name, SyntheticSpec spec, const Method& method,
+                     double ratio_tolerance = 0.2) {
+  SCOPED_TRACE(name);
+  TrialSpread s;
+  runTrials(spec, method, s);
+  if (::testing::Test::HasFatalFailure()) return;
+  for (Eigen::Index i = 0; i < s.mean.size(); ++i) {
+    const double std_obs = s.std_observed(i), sigma_rep = s.sigma_reported(i);
     std::printf("  %-8s %-10s bias %+.3e  observed std %.3e  reported sigma %.3e  ratio %.3f\n",
-                name.c_str(), names[i], mean(i), std_obs, sigma_rep, std_obs / sigma_rep);
-    EXPECT_LT(std::abs(mean(i)), 4.0 * std_obs / std::sqrt(kTrials)) << names[i];
-    EXPECT_NEAR(std_obs / sigma_rep, 1.0, ratio_tolerance) << names[i];
+                name.c_str(), kNames[i], s.mean(i), std_obs, sigma_rep, std_obs / sigma_rep);
+    EXPECT_LT(std::abs(s.mean(i)), 4.0 * std_obs / std::sqrt(kTrials)) << kNames[i];
+    EXPECT_NEAR(std_obs / sigma_rep, 1.0, ratio_tolerance) << kNames[i];
   }
 }
 
@@ -212,52 +231,23 @@ SyntheticSpec slipInTurns() {
   return spec;
 }
 
-// Per parameter, the observed std of `method`'s errors over kTrials runs on `spec` against the
-// RMS reported sigma (first) and the model-based one, without the floor (second).
-std::vector<std::pair<double, double>> sigmaRatios(
-    SyntheticSpec spec,
-    const std::function<CalibrationResult(const std::vector<CalibrationInterval>&)>& method) {
-  std::vector<Eigen::VectorXd> errors, reported, model;
-  for (int t = 0; t < kTrials; ++t) {
-    spec.seed = 1000 + t;
-    const CalibrationResult r = method(makeIntervals(spec));
-    errors.push_back(estimateVector(r) - truthVector(spec, r.estimates_mount));
-    reported.push_back(r.sigma());
-    model.push_back(r.sigma());
-    for (Eigen::Index i = 0; i < model.back().size(); ++i)
-      model.back()(i) /= r.sigma_sandwich_factors.at(i);
-  }
-  std::vector<std::pair<double, double>> out;
-  for (Eigen::Index i = 0; i < errors[0].size(); ++i) {
-    double mean = 0.0, var = 0.0, rep2 = 0.0, mod2 = 0.0;
-    for (int t = 0; t < kTrials; ++t) {
-      mean += errors[t](i) / kTrials;
-      rep2 += reported[t](i) * reported[t](i) / kTrials;
-      mod2 += model[t](i) * model[t](i) / kTrials;
-    }
-    for (int t = 0; t < kTrials; ++t) var += std::pow(errors[t](i) - mean, 2) / (kTrials - 1);
-    out.emplace_back(std::sqrt(var / rep2), std::sqrt(var / mod2));
-  }
-  return out;
-}
-
 // b understated by the model alone (observed over its sigma above 1.25), and no parameter
 // understated with the floor (at most 1.2, checkCalibrated's 4-sigma margin) nor overstated
 // by more than 1 / 0.55.
-void checkFloor(
-    const std::string& name,
-    const std::function<CalibrationResult(const std::vector<CalibrationInterval>&)>& method,
-    SyntheticSpec spec = slipInTurns()) {
+void checkFloor(const std::string& name, const Method& method, SyntheticSpec spec = slipInTurns()) {
   SCOPED_TRACE(name);
-  const auto ratios = sigmaRatios(spec, method);
-  const char* names[] = {"r_L", "r_R", "b", "lidar_x", "lidar_y", "lidar_yaw"};
-  for (std::size_t i = 0; i < ratios.size(); ++i) {
-    std::printf("  %-6s %-10s observed / reported %.3f, / model %.3f\n", name.c_str(), names[i],
-                ratios[i].first, ratios[i].second);
-    EXPECT_LT(ratios[i].first, 1.2) << names[i];
-    EXPECT_GT(ratios[i].first, 0.55) << names[i];
+  TrialSpread s;
+  runTrials(spec, method, s);
+  if (::testing::Test::HasFatalFailure()) return;
+  const Eigen::VectorXd reported = s.std_observed.cwiseQuotient(s.sigma_reported);
+  const Eigen::VectorXd model = s.std_observed.cwiseQuotient(s.sigma_model);
+  for (Eigen::Index i = 0; i < reported.size(); ++i) {
+    std::printf("  %-6s %-10s observed / reported %.3f, / model %.3f\n", name.c_str(), kNames[i],
+                reported(i), model(i));
+    EXPECT_LT(reported(i), 1.2) << kNames[i];
+    EXPECT_GT(reported(i), 0.55) << kNames[i];
   }
-  EXPECT_GT(ratios[2].second, 1.25) << "b: the model alone understates it";
+  EXPECT_GT(model(2), 1.25) << "b: the model alone understates it";
 }
 
 TEST(Noise, ModelBasedIsNotOverconfidentWhereTheNoiseGrowsWithTheTurn) {
