@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "slamprep/algo/agreement/sensor_agreement.hpp"
+#include "slamprep/algo/deskew/deskew.hpp"
 #include "slamprep/algo/matching/keyframe_odometry.hpp"
 #include "slamprep/core/dataset.hpp"
 #include "slamprep/core/time_series.hpp"
