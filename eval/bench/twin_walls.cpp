@@ -13,7 +13,8 @@ namespace {
 struct Cell {
   Eigen::Vector2i index;
   Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-  Eigen::Vector2d view = Eigen::Vector2d::Zero();  ///< mean unit vector return -> sensor
+  Eigen::Vector2d view = Eigen::Vector2d::Zero();     ///< mean unit vector return -> sensor
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();  ///< covariance of its returns
   int hits = 0;
 };
 
@@ -26,6 +27,7 @@ std::vector<Cell> occupiedCells(const std::vector<MapPoint>& points,
     Cell& c = grid[{ix, iy}];
     c.index = {ix, iy};
     c.centroid += m.p_world;
+    c.scatter += m.p_world * m.p_world.transpose();
     const Eigen::Vector2d to_sensor = m.sensor_world - m.p_world;
     if (to_sensor.norm() > 0.0) c.view += to_sensor.normalized();
     ++c.hits;
@@ -35,6 +37,7 @@ std::vector<Cell> occupiedCells(const std::vector<MapPoint>& points,
     if (c.hits < p.min_hits) continue;
     c.centroid /= c.hits;
     c.view /= c.hits;
+    c.scatter = c.scatter / c.hits - c.centroid * c.centroid.transpose();
     cells.push_back(c);
   }
   return cells;
@@ -62,12 +65,17 @@ WallSegment makeSegment(const std::vector<Cell>& cells, const std::vector<int>& 
     view += cells[i].view;
   }
   const auto [mean, dir] = fitLine(pts);
-  double lo = 1e300, hi = -1e300, sq = 0.0;
+  double lo = 1e300, hi = -1e300, sq = 0.0, returns_sq = 0.0, returns = 0.0;
   const Eigen::Vector2d normal(-dir.y(), dir.x());
-  for (const auto& q : pts) {
-    lo = std::min(lo, (q - mean).dot(dir));
-    hi = std::max(hi, (q - mean).dot(dir));
-    sq += std::pow((q - mean).dot(normal), 2);
+  for (int i : members) {
+    const Cell& c = cells[i];
+    const double along = (c.centroid - mean).dot(dir), off = (c.centroid - mean).dot(normal);
+    lo = std::min(lo, along);
+    hi = std::max(hi, along);
+    sq += off * off;
+    // Its returns' squared distance from the line: the centroid's plus their spread about it.
+    returns_sq += c.hits * (off * off + normal.dot(c.scatter * normal));
+    returns += c.hits;
   }
   WallSegment s;
   s.from_m = mean + (lo - 0.5 * cell_m) * dir;  // the cells' extent, not their centres'
@@ -75,7 +83,25 @@ WallSegment makeSegment(const std::vector<Cell>& cells, const std::vector<int>& 
   s.normal = view.dot(normal) >= 0.0 ? normal : Eigen::Vector2d(-normal);
   s.cells = static_cast<int>(members.size());
   s.rms_m = std::sqrt(sq / double(pts.size()));
+  s.spread_m = std::sqrt(returns_sq / returns);
   return s;
+}
+
+/// Retires the active cells in the wall's noise (WallExtractionParams::fringe_sigmas): along
+/// its extent and within max(line_tolerance_m, fringe_sigmas x spread_m) of its line.
+template <typename Retire>
+void retireFringe(const std::vector<Cell>& cells, const std::vector<char>& active,
+                  const WallSegment& s, const WallExtractionParams& p, Retire retire) {
+  const double band = std::max(p.line_tolerance_m, p.fringe_sigmas * s.spread_m);
+  const Eigen::Vector2d dir = (s.to_m - s.from_m).normalized();
+  const Eigen::Vector2d normal(-dir.y(), dir.x());
+  const double length = (s.to_m - s.from_m).norm();
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    if (!active[i]) continue;
+    const Eigen::Vector2d d = cells[i].centroid - s.from_m;
+    if (d.dot(dir) >= 0.0 && d.dot(dir) <= length && std::abs(d.dot(normal)) <= band)
+      retire(int(i));
+  }
 }
 
 /// Hough accumulator over the cells still unexplained: votes per (angle, distance) bin.
@@ -235,6 +261,7 @@ WallMap extractWalls(const std::vector<MapPoint>& points, const WallExtractionPa
       if (run.size() >= std::size_t(min_cells) && length(s) >= p.min_length_m) {
         map.cells_on_walls += s.cells;
         map.walls.push_back(s);
+        retireFringe(cells, active, s, p, retire);
       } else {
         leftover.insert(leftover.end(), run.begin(), run.end());
       }

@@ -24,6 +24,10 @@ struct WallExtractionParams {
   double angle_step_deg = 1.0;     ///< Hough resolution in angle (rho: line_tolerance_m)
   double thickness_m = 0.04;       ///< thickness of the walls written
   double post_max_extent_m = 0.2;  ///< clutter smaller than this is a post (cylinder)
+  /// A wall's noise: the cells along it within this many of its returns' spread (and beyond
+  /// line_tolerance_m) go with it, not into walls of their own. A noisy lidar's returns fill
+  /// cells a few centimetres off the wall, which would make parallel ghost walls in front of it.
+  double fringe_sigmas = 4.0;
 };
 
 /// A wall face: the segment where the returns lie, and which side the lidar saw it from.
@@ -32,6 +36,7 @@ struct WallSegment {
   Eigen::Vector2d normal;  ///< unit, pointing to the side it was seen from
   int cells = 0;           ///< occupied cells on it
   double rms_m = 0.0;      ///< distance of its cells' centroids from the line
+  double spread_m = 0.0;   ///< RMS distance of its returns from the line
 };
 
 struct Post {
