@@ -151,11 +151,12 @@ Command addTwinCommand(CLI::App& app) {
       "The drive is simulated with physics, the commands corrected in closed loop toward their\n"
       "kinematic replay, or kinematically when even so the physics' robot leaves it by more\n"
       "than 0.3 m (twin.json drive.mode says which); the range noise is tuned to the\n"
-      "recording's scan-to-map residual.\n"
+      "recording's scan-to-map residual, its correlation along the scan to the recording's.\n"
       "slamprep twin --compare REAL TWIN [--json FILE] [--plot FILE.png]: the statistics of\n"
       "docs/twin.md measured on both, side by side with their ratio (TWIN: a twin folder or a\n"
       "dataset): scan_rate_hz, beams_per_scan_mean, no_return_fraction,\n"
-      "scan_to_map_residual_median_m, scan_to_map_residual_p95_m, match_converged_percent,\n"
+      "scan_to_map_residual_median_m, scan_to_map_residual_p95_m,\n"
+      "scan_residual_neighbour_correlation, match_converged_percent,\n"
       "odometry_drift_per_m, wheels_vs_scans_residual_deg, calibration_sigma_b,\n"
       "calibration_b_m.");
   cli->add_option("DATASET", flags->dataset, "the recording (an imported dataset; read only)");

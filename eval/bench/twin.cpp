@@ -333,6 +333,9 @@ nlohmann::ordered_json againstMapJson(const LidarAgainstMap& m) {
                                "accepted scans in the twin's world; includes the "
                                "walls' fit and the matched poses' error")},
       {"residual_median_m", fitted(m.residual_median_m, "signed median of the same residuals")},
+      {"residual_neighbour_correlation",
+       fitted(m.residual_neighbour_correlation,
+              "robust correlation of neighbouring beams' residuals (docs/twin.md, Lidar)")},
       {"residuals", m.residuals},
       {"dropout_probability", fitted(m.dropout_probability,
                                      "no return where the world predicts one within the usable "
@@ -505,16 +508,6 @@ nlohmann::ordered_json driveJson(const TrackedDrive& d, const TrackParams& p,
           {"clamped_knots", d.clamped}};
 }
 
-/// Median of the accepted scans' point-to-line RMS residual, scans as measured.
-double matchedResidual(const Dataset& d) {
-  const MatchTrajectory run = matchTrajectory(d, matchScanPoints(d, "none", false), {});
-  std::vector<double> rms;
-  for (std::size_t k = 1; k < run.tracked.scans.size(); ++k)
-    if (!run.tracked.scans[k].fallback) rms.push_back(run.tracked.scans[k].match.rms_residual_m);
-  const ErrorStats s = summarize(std::move(rms));
-  return s.ok ? s.median : 0.0;
-}
-
 const char* const kNotReproduced[] = {
     "the beam count varies only where the recording's does not: the twin has one count",
     "a no-return pattern in which angle and range interact: the twin's is the two's product",
@@ -560,7 +553,12 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   measureLag(real, scan_only, p.deskew, f);
   f.slip = recordingSlip(real, name, scan_only, f);
   TwinFit out;
-  out.residual_median_m = matchedResidual(real);
+  const MatchedScans as_measured =
+      measureMatchedScans(real, caster, WorldFrame::kMatched, f.layout, p.lidar);
+  out.residual_median_m = as_measured.residual_median_m;
+  out.residual_neighbour_correlation = as_measured.neighbour_correlation;
+  out.layout = f.layout;
+  out.lidar = p.lidar;
   out.recording_slip_sigma = f.slip.sigma;
   out.recording_turn_slip_sigma = f.slip.turn_sigma;
   out.replay = drive.replay;
@@ -644,13 +642,11 @@ sim::SimResult firstRun(TwinFit& fit, const sim::Scenario& scenario) {
 
 namespace {
 
-/// The next noise to try: 0 after the first run, then the residual interpolated linearly between
-/// the runs that bracket the target (the residual grows with the noise and saturates, as the
-/// matcher trims what is far off), or extrapolated past the largest (at most 3x).
-double nextRangeNoise(std::vector<std::pair<double, double>> runs, double target) {
-  if (runs.size() == 1) return 0.0;
+/// Linear in the runs (setting, measured) that bracket `target`, else extrapolated past the
+/// largest setting (at most to `cap`); the smallest setting where it measures past the target.
+double secantStep(std::vector<std::pair<double, double>> runs, double target, double cap) {
   std::sort(runs.begin(), runs.end());
-  if (target <= runs.front().second) return runs.front().first;  // at 0 already above: 0
+  if (target <= runs.front().second) return runs.front().first;
   for (std::size_t i = 1; i < runs.size(); ++i) {
     const auto [s0, r0] = runs[i - 1];
     const auto [s1, r1] = runs[i];
@@ -660,7 +656,27 @@ double nextRangeNoise(std::vector<std::pair<double, double>> runs, double target
   const auto [s0, r0] = runs[runs.size() - 2];
   const auto [s1, r1] = runs.back();
   const double slope = (r1 - r0) / (s1 - s0);
-  return slope > 0.0 ? std::min(3.0 * s1, s1 + (target - r1) / slope) : s1;
+  return slope > 0.0 ? std::min(cap, s1 + (target - r1) / slope) : s1;
+}
+
+/// The next noise to try: 0 after the first run, then the residual interpolated linearly between
+/// the runs that bracket the target (the residual grows with the noise and saturates, as the
+/// matcher trims what is far off), or extrapolated past the largest (at most 3x).
+double nextRangeNoise(const std::vector<std::pair<double, double>>& runs, double target) {
+  if (runs.size() == 1) return 0.0;
+  return secantStep(runs, target, 3.0 * std::max_element(runs.begin(), runs.end())->first);
+}
+
+/// Beyond, the noise is an offset that drifts across the scan more than noise (33 beams' length).
+constexpr double kMaxNoiseCorrelation = 0.97;
+
+/// The next correlation to try: none while the uncorrelated run measures the target already, else
+/// the target itself first (an AR(1)'s neighbour correlation), then interpolated or
+/// extrapolated like the noise. `runs`: (correlation, measured) of the runs with noise.
+double nextNoiseCorrelation(const std::vector<std::pair<double, double>>& runs, double target) {
+  if (runs.size() == 1)
+    return runs[0].second >= target ? runs[0].first : std::min(kMaxNoiseCorrelation, target);
+  return std::clamp(secantStep(runs, target, kMaxNoiseCorrelation), 0.0, kMaxNoiseCorrelation);
 }
 
 }  // namespace
@@ -693,9 +709,44 @@ bool setSlip(TwinFit& fit, const sim::SimResult& first) {
 
 }  // namespace
 
+namespace {
+
+void setNoiseCorrelation(TwinFit& fit, double rho) {
+  if (rho == fit.config.lidar.range_noise_correlation) return;
+  setKey(fit, "lidar.range_noise_correlation", num(rho));
+  fit.json["lidar"]["range_noise_correlation"]["value"] = rho;
+}
+
+void describeTuning(TwinFit& fit, const std::vector<std::pair<double, double>>& noise_runs,
+                    const std::vector<std::pair<double, double>>& correlation_runs) {
+  nlohmann::ordered_json& noise = fit.json["lidar"]["range_noise_m"];
+  noise["tuning_runs"] = noise_runs;
+  noise["how"] =
+      "tuned so the twin's scan-to-map residual (match --deskew none, median) is the "
+      "recording's: a run at the range residual against the world "
+      "(fitted_against_the_world_m), one at zero noise, then the noise interpolated between the "
+      "runs that bracket the recording's residual (4 runs at most, the last is the twin); "
+      "tuning_runs: [noise, the twin's residual] of the runs before the last";
+  nlohmann::ordered_json& rho = fit.json["lidar"]["range_noise_correlation"];
+  rho["value"] = fit.config.lidar.range_noise_correlation;
+  rho["recording_neighbour_correlation"] = fit.residual_neighbour_correlation;
+  rho["tuning_runs"] = correlation_runs;
+  rho["how"] =
+      "the AR(1) correlation of the range noise along the scan, tuned so that neighbouring "
+      "beams' residuals against the world (the scans matched de-skewed, robust correlation) "
+      "correlate as the recording's: none while the uncorrelated first run's do "
+      "already, then the recording's correlation, then interpolated between the runs that "
+      "bracket it or extrapolated (at most 0.97), alongside the noise; tuning_runs: "
+      "[correlation, the twin's neighbour correlation] of the runs with noise before the last";
+}
+
+}  // namespace
+
 sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
+  const sim::PlanarCaster world(fit.world);
   const double target = fit.residual_median_m;
-  std::vector<std::pair<double, double>> runs;  // (range noise, the twin's residual)
+  std::vector<std::pair<double, double>> noise_runs;        // (noise, the twin's residual)
+  std::vector<std::pair<double, double>> correlation_runs;  // (correlation, the twin's)
   sim::SimResult r;
   nlohmann::ordered_json& j = fit.json["lidar"]["range_noise_m"];
   j["fitted_against_the_world_m"] = fit.config.lidar.range_noise_m;
@@ -706,19 +757,25 @@ sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
     r = k == 0 ? firstRun(fit, scenario) : sim::simulate(fit.config, fit.world, scenario);
     without_slip = k == 0 && setSlip(fit, r);
     if (k == kRuns - 1 || target <= 0.0) break;
-    runs.push_back({fit.config.lidar.range_noise_m, matchedResidual(r.dataset)});
-    const double next = std::max(0.0, nextRangeNoise(runs, target));
-    if (k > 0 && std::abs(next - runs.back().first) < 1e-4) break;  // this run is the twin
+    const MatchedScans m =
+        measureMatchedScans(r.dataset, world, WorldFrame::kGroundTruth, fit.layout, fit.lidar);
+    const sim::LidarConfig& lidar = fit.config.lidar;
+    noise_runs.push_back({lidar.range_noise_m, m.residual_median_m});
+    if (lidar.range_noise_m > 0.0)
+      correlation_runs.push_back({lidar.range_noise_correlation, m.neighbour_correlation});
+    const double next = std::max(0.0, nextRangeNoise(noise_runs, target));
+    const double next_rho =
+        correlation_runs.empty()
+            ? lidar.range_noise_correlation
+            : nextNoiseCorrelation(correlation_runs, fit.residual_neighbour_correlation);
+    if (k > 0 && std::abs(next - lidar.range_noise_m) < 1e-4 &&
+        std::abs(next_rho - lidar.range_noise_correlation) < 1e-3)
+      break;  // this run is the twin
     setRangeNoise(fit, next);
+    setNoiseCorrelation(fit, next_rho);
   }
   if (without_slip) r = sim::simulate(fit.config, fit.world, scenario);
-  j["tuning_runs"] = runs;
-  j["how"] =
-      "tuned so the twin's scan-to-map residual (match --deskew none, median) is the "
-      "recording's: a run at the range residual against the world "
-      "(fitted_against_the_world_m), one at zero noise, then the noise interpolated between the "
-      "runs that bracket the recording's residual (4 runs at most, the last is the twin); "
-      "tuning_runs: [noise, the twin's residual] of the runs before the last";
+  describeTuning(fit, noise_runs, correlation_runs);
   return r;
 }
 

@@ -49,6 +49,11 @@ struct TwinFit {
   /// The recording's scan-to-map residual (match --deskew none, median over the accepted
   /// scans): what simulateTwin tunes the range noise to.
   double residual_median_m = 0.0;
+  /// Its neighbouring beams' residual correlation against the world (MatchedScans): what
+  /// simulateTwin tunes the range noise's correlation along the scan to.
+  double residual_neighbour_correlation = 0.0;
+  LidarLayout layout;    ///< the recording's lidar
+  LidarMapParams lidar;  ///< how its scans were compared with the world
   /// The kinematic robot's path at the knots (scenario time): what the physics must follow.
   PoseSeries replay;
   /// The physics' robot farther than this from `replay` although driven in closed loop (a wall

@@ -4,10 +4,14 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <tuple>
+#include <utility>
 
 #include "slamprep/algo/timing/stamp_grid.hpp"
 #include "slamprep/core/order_statistics.hpp"
+#include "slamprep/eval/metrics/error_stats.hpp"
+#include "slamprep/eval/pipeline/match_trajectory.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -131,6 +135,26 @@ std::pair<std::vector<double>, std::vector<double>> keepFactors(PatternCounts c,
   return {A, R};
 }
 
+/// Robust correlation of the pairs (Gnanadesikan and Kettenring 1972): with s+ and s- the robust
+/// scales (MAD) of x + y and x - y, (s+^2 - s-^2) / (s+^2 + s-^2). Pearson's would be decided by
+/// the few runs of beams the world's walls miss by centimetres (a corner cut short).
+double neighbourCorrelation(const std::vector<std::pair<double, double>>& pairs) {
+  if (pairs.size() < 3) return 0.0;
+  std::vector<double> sum, difference;
+  for (const auto& [x, y] : pairs) {
+    sum.push_back(x + y);
+    difference.push_back(x - y);
+  }
+  const auto scale = [](std::vector<double>& v) {
+    const double m = median(v);
+    for (double& x : v) x = std::abs(x - m);
+    return median(v);
+  };
+  const double s_plus = scale(sum), s_minus = scale(difference);
+  const double total = s_plus * s_plus + s_minus * s_minus;
+  return total > 0.0 ? (s_plus * s_plus - s_minus * s_minus) / total : 0.0;
+}
+
 }  // namespace
 
 LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
@@ -149,11 +173,14 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
   std::vector<std::size_t> drop_range(range_bins);
   m.predicted_by_range.assign(range_bins, 0);
   std::vector<double> residuals;
+  std::vector<std::pair<double, double>> neighbours;  // residuals of beams i - 1 and i
   std::size_t predicted = 0, dropped = 0, unpredicted = 0, spurious = 0;
   for (std::size_t k = 0; k < d.scans.size() && k < use.size(); ++k) {
     if (!use[k]) continue;
     const LaserScan& s = d.scans[k].scan;
+    std::optional<double> last;  // beam i - 1's residual
     for (std::size_t i = 0; i < s.size(); ++i) {
+      const std::optional<double> previous = std::exchange(last, std::nullopt);
       const auto T = T_world_base.at(s.beamTime(i));
       if (!T) continue;
       ++m.beams;
@@ -182,13 +209,17 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
       }
       ++pattern.returns[tb][rb];
       const double r = s.ranges_m[i] - *hit;
-      if (std::abs(r) <= p.max_residual_m) residuals.push_back(r);
+      if (std::abs(r) > p.max_residual_m) continue;
+      residuals.push_back(r);
+      if (previous) neighbours.push_back({*previous, r});
+      last = r;
     }
   }
   m.residuals = residuals.size();
   m.residual_median_m = median(residuals);
   for (double& r : residuals) r = std::abs(r - m.residual_median_m);
   m.range_noise_m = 1.4826 * median(residuals);  // robust sigma: people and clutter are outliers
+  m.residual_neighbour_correlation = neighbourCorrelation(neighbours);
   m.dropout_probability = predicted > 0 ? double(dropped) / double(predicted) : 0.0;
   m.spurious_fraction = unpredicted > 0 ? double(spurious) / double(unpredicted) : 0.0;
   if (m.beams > 0) {
@@ -205,6 +236,46 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
         m.predicted_by_range[b] ? double(drop_range[b]) / double(m.predicted_by_range[b]) : 0.0);
   std::tie(m.keep_factor_by_twin_angle, m.keep_factor_by_range) =
       keepFactors(pattern, m.dropout_probability, m.twin_dropout_probability);
+  return m;
+}
+
+namespace {
+
+/// The matched poses at the times they stand for (a sweep matched as measured: its middle), in
+/// the world's frame (WorldFrame), so that each beam is cast from where the base was.
+PoseSeries matchedPoses(const Dataset& d, const MatchTrajectory& run, WorldFrame frame) {
+  SE2 T_world_match;
+  if (frame == WorldFrame::kGroundTruth && !run.T_world_base.empty())
+    if (const auto T = d.groundtruth.at(run.pose_time_s.front()))
+      T_world_match = *T * run.T_world_base.samples().front().value.inverse();
+  PoseSeries out;
+  for (std::size_t k = 0; k < run.T_world_base.size(); ++k)
+    out.push_back(run.pose_time_s[k], T_world_match * run.T_world_base.samples()[k].value);
+  return out;
+}
+
+}  // namespace
+
+double matchedNeighbourCorrelation(const Dataset& d, const sim::PlanarCaster& world,
+                                   WorldFrame frame, const LidarLayout& layout,
+                                   const LidarMapParams& params) {
+  const MatchTrajectory run = matchTrajectory(d, matchScanPoints(d, "vicp", false), {});
+  std::vector<char> accepted(d.scans.size(), 0);
+  for (std::size_t k = 1; k < run.tracked.scans.size() && k < accepted.size(); ++k)
+    accepted[k] = !run.tracked.scans[k].fallback;
+  return compareWithMap(d, matchedPoses(d, run, frame), accepted, world, layout, params)
+      .residual_neighbour_correlation;
+}
+
+MatchedScans measureMatchedScans(const Dataset& d, const sim::PlanarCaster& world, WorldFrame frame,
+                                 const LidarLayout& layout, const LidarMapParams& params) {
+  const MatchTrajectory run = matchTrajectory(d, matchScanPoints(d, "none", false), {});
+  std::vector<double> rms;
+  for (std::size_t k = 1; k < run.tracked.scans.size(); ++k)
+    if (!run.tracked.scans[k].fallback) rms.push_back(run.tracked.scans[k].match.rms_residual_m);
+  MatchedScans m;
+  if (const ErrorStats s = summarize(std::move(rms)); s.ok) m.residual_median_m = s.median;
+  m.neighbour_correlation = matchedNeighbourCorrelation(d, world, frame, layout, params);
   return m;
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "slamprep/core/dataset.hpp"
+#include "slamprep/eval/pipeline/match_trajectory.hpp"
 #include "slamprep/sim/physics/planar_caster.hpp"
 
 namespace slamprep::eval {
@@ -40,10 +41,13 @@ struct LidarMapParams {
 };
 
 struct LidarAgainstMap {
-  std::size_t beams = 0;             ///< beams of the scans compared
-  std::size_t residuals = 0;         ///< measured and predicted within max_residual_m
-  double range_noise_m = 0.0;        ///< 1.4826 MAD of measured - predicted range
-  double residual_median_m = 0.0;    ///< signed median (a bias of the world's walls)
+  std::size_t beams = 0;           ///< beams of the scans compared
+  std::size_t residuals = 0;       ///< measured and predicted within max_residual_m
+  double range_noise_m = 0.0;      ///< 1.4826 MAD of measured - predicted range
+  double residual_median_m = 0.0;  ///< signed median (a bias of the world's walls)
+  /// Robust correlation of neighbouring beams' residuals (both within max_residual_m): range
+  /// errors that move together along a wall tilt it, and a matcher takes a tilt for a turn.
+  double residual_neighbour_correlation = 0.0;
   double dropout_probability = 0.0;  ///< no return where the map predicts one within usable range
   double spurious_fraction = 0.0;    ///< a return where the map predicts none
   double escape_fraction = 0.0;      ///< beams for which the map predicts no wall (of all)
@@ -70,5 +74,32 @@ struct LidarAgainstMap {
 LidarAgainstMap compareWithMap(const Dataset& dataset, const PoseSeries& T_world_base,
                                const std::vector<char>& use, const sim::PlanarCaster& world,
                                const LidarLayout& layout, const LidarMapParams& params = {});
+
+/// What the twin tunes its range noise and its correlation to, measured alike on the recording
+/// and the twin.
+struct MatchedScans {
+  /// Median of the accepted scans' point-to-line RMS residual, the scans matched as measured
+  /// (slamprep match --deskew none).
+  double residual_median_m = 0.0;
+  /// matchedNeighbourCorrelation: structure the walls do not have (clutter, curved surfaces)
+  /// and range errors that move together, which a matcher reads as the pose.
+  double neighbour_correlation = 0.0;
+};
+
+/// Where a dataset lies in a twin's world: the recording it was made from in its own matched
+/// frame (the map's), a simulation in that world in its ground truth's.
+enum class WorldFrame { kMatched, kGroundTruth };
+
+/// LidarAgainstMap::residual_neighbour_correlation of the scans matched de-skewed (match
+/// --deskew vicp: a sweep matched as measured leaves its motion in the residuals), the accepted
+/// ones, against `world`; kGroundTruth moves the matched trajectory onto the ground truth at the
+/// first scan (a simulation is matched from its odometry's origin).
+double matchedNeighbourCorrelation(const Dataset& dataset, const sim::PlanarCaster& world,
+                                   WorldFrame frame, const LidarLayout& layout,
+                                   const LidarMapParams& params = {});
+
+MatchedScans measureMatchedScans(const Dataset& dataset, const sim::PlanarCaster& world,
+                                 WorldFrame frame, const LidarLayout& layout,
+                                 const LidarMapParams& params = {});
 
 }  // namespace slamprep::eval
