@@ -21,23 +21,6 @@ namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
-/// The accepted scans' points in the world (the first scan is the map's origin), nearer than
-/// the lidar's usable range; `accepted[k]` says which scans they came from.
-std::vector<MapPoint> mapPoints(const MatchTrajectory& run, const std::vector<Points2>& points,
-                                double usable_max_m, std::vector<char>& accepted) {
-  std::vector<MapPoint> map;
-  accepted.assign(points.size(), 0);
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    const algo::TrackedScan& t = run.tracked.scans[k];
-    if (k > 0 && t.fallback) continue;
-    accepted[k] = 1;
-    for (const Eigen::Vector2d& p : points[k])
-      if (p.norm() <= usable_max_m)
-        map.push_back({t.T_world_lidar * p, t.T_world_lidar.translation()});
-  }
-  return map;
-}
-
 /// The twin's true geometry: given, calibrated from the recording, or the nominal one.
 DiffDriveParams trueGeometry(const Dataset& real, const std::string& name, const TwinParams& p,
                              nlohmann::ordered_json& how) {
@@ -138,8 +121,7 @@ WorldBuild buildWorld(const WallMap& map, const WallExtractionParams& wp, const 
   b.world.T_world_start = drive.replay[0].value;
   const std::vector<Eigen::Vector2d> path = pathSamples(drive.replay, 0.02);
   auto add = [&](const WallSegment& s) {
-    const Eigen::Vector2d shift = -0.5 * wp.thickness_m * s.normal;
-    const sim::Wall w{s.from_m + shift, s.to_m + shift, wp.thickness_m, 2.0, true};
+    const sim::Wall w = faceAsWall(s, wp);
     const auto pieces = clearPieces(w, path, reach_m);
     const Eigen::Vector2d d = (w.to_m - w.from_m).normalized();
     if (pieces.size() != 1 || pieces[0].second - pieces[0].first < (w.to_m - w.from_m).norm())
@@ -531,7 +513,7 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
     throw InputError(name, "no scan matched: no map to make a world of");
   std::vector<char> accepted;
   const WallMap map =
-      extractWalls(mapPoints(run, points.points, f.layout.usable_max_m, accepted), p.walls);
+      extractWalls(matchedMapPoints(run, points.points, f.layout.usable_max_m, accepted), p.walls);
   nlohmann::ordered_json geometry_how;
   f.true_geometry = trueGeometry(real, name, p, geometry_how);
   f.robot = twinRobot(f.true_geometry);
@@ -553,11 +535,11 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   measureLag(real, scan_only, p.deskew, f);
   f.slip = recordingSlip(real, name, scan_only, f);
   TwinFit out;
-  const MatchedScans as_measured =
-      measureMatchedScans(real, caster, WorldFrame::kMatched, f.layout, p.lidar);
+  const MatchedScans as_measured = measureMatchedScans(real, f.layout, p.walls, p.lidar);
   out.residual_median_m = as_measured.residual_median_m;
   out.residual_neighbour_correlation = as_measured.neighbour_correlation;
   out.layout = f.layout;
+  out.walls = p.walls;
   out.lidar = p.lidar;
   out.recording_slip_sigma = f.slip.sigma;
   out.recording_turn_slip_sigma = f.slip.turn_sigma;
@@ -743,7 +725,6 @@ void describeTuning(TwinFit& fit, const std::vector<std::pair<double, double>>& 
 }  // namespace
 
 sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
-  const sim::PlanarCaster world(fit.world);
   const double target = fit.residual_median_m;
   std::vector<std::pair<double, double>> noise_runs;        // (noise, the twin's residual)
   std::vector<std::pair<double, double>> correlation_runs;  // (correlation, the twin's)
@@ -757,8 +738,7 @@ sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
     r = k == 0 ? firstRun(fit, scenario) : sim::simulate(fit.config, fit.world, scenario);
     without_slip = k == 0 && setSlip(fit, r);
     if (k == kRuns - 1 || target <= 0.0) break;
-    const MatchedScans m =
-        measureMatchedScans(r.dataset, world, WorldFrame::kGroundTruth, fit.layout, fit.lidar);
+    const MatchedScans m = measureMatchedScans(r.dataset, fit.layout, fit.walls, fit.lidar);
     const sim::LidarConfig& lidar = fit.config.lidar;
     noise_runs.push_back({lidar.range_noise_m, m.residual_median_m});
     if (lidar.range_noise_m > 0.0)

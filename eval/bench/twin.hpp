@@ -52,8 +52,9 @@ struct TwinFit {
   /// Its neighbouring beams' residual correlation against the world (MatchedScans): what
   /// simulateTwin tunes the range noise's correlation along the scan to.
   double residual_neighbour_correlation = 0.0;
-  LidarLayout layout;    ///< the recording's lidar
-  LidarMapParams lidar;  ///< how its scans were compared with the world
+  LidarLayout layout;          ///< the recording's lidar
+  WallExtractionParams walls;  ///< how its map was made into walls
+  LidarMapParams lidar;        ///< how its scans were compared with them
   /// The kinematic robot's path at the knots (scenario time): what the physics must follow.
   PoseSeries replay;
   /// The physics' robot farther than this from `replay` although driven in closed loop (a wall

@@ -13,8 +13,6 @@
 #include "slamprep/eval/pipeline/calibration_run.hpp"
 #include "slamprep/eval/pipeline/match_trajectory.hpp"
 #include "slamprep/eval/plot/plot.hpp"
-#include "slamprep/sim/physics/planar_caster.hpp"
-#include "slamprep/sim/physics/world.hpp"
 
 namespace slamprep::eval {
 namespace {
@@ -31,7 +29,8 @@ const std::map<std::string, const char*>& definitions() {
       {"scan_to_map_residual_p95_m", "the same, 95th percentile"},
       {"scan_residual_neighbour_correlation",
        "slamprep match --deskew vicp: robust correlation of neighbouring beams' range residuals "
-       "against the twin's world (what the twin's lidar.range_noise_correlation is tuned to)"},
+       "against the walls of the dataset's own matched map (what the twin's "
+       "lidar.range_noise_correlation is tuned to)"},
       {"match_converged_percent",
        "slamprep match --deskew none: accepted of all scans but the first"},
       {"odometry_drift_per_m",
@@ -86,8 +85,7 @@ CalibrationFigures calibrationFigures(const std::string& dir, const Dataset& d) 
 
 }  // namespace
 
-TwinStatistics measureTwinStatistics(const std::string& dir, const sim::PlanarCaster* world,
-                                     WorldFrame frame, bool use_imu) {
+TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
   Dataset d = readDataset(dir);
   if (!use_imu) d.imu.clear();
   const LidarLayout l = fitLidarLayout(d);
@@ -100,8 +98,6 @@ TwinStatistics measureTwinStatistics(const std::string& dir, const sim::PlanarCa
       s.residuals_m.push_back(run.tracked.scans[k].match.rms_residual_m);
   const ErrorStats r = summarize(s.residuals_m);
   const double attempted = double(run.tracked.scans.size()) - 1.0;
-  std::optional<double> neighbour_correlation;
-  if (world) neighbour_correlation = matchedNeighbourCorrelation(d, *world, frame, l);
   const CalibrationFigures cal = calibrationFigures(dir, d);
   auto opt = [](bool ok, double v) { return ok ? std::optional<double>(v) : std::nullopt; };
   s.values = {
@@ -110,7 +106,7 @@ TwinStatistics measureTwinStatistics(const std::string& dir, const sim::PlanarCa
       {"no_return_fraction", l.no_return_fraction},
       {"scan_to_map_residual_median_m", opt(r.ok, r.median)},
       {"scan_to_map_residual_p95_m", opt(r.ok, r.p95)},
-      {"scan_residual_neighbour_correlation", neighbour_correlation},
+      {"scan_residual_neighbour_correlation", ownMapNeighbourCorrelation(d, l)},
       {"match_converged_percent", opt(attempted > 0, 100.0 * run.tracked.matched / attempted)},
       {"odometry_drift_per_m", driftPerMetre(d, run)},
       {"wheels_vs_scans_residual_deg", cal.wheels_vs_scans_deg},
@@ -121,12 +117,8 @@ TwinStatistics measureTwinStatistics(const std::string& dir, const sim::PlanarCa
 
 TwinComparison compareTwin(const std::string& real, const std::string& twin) {
   TwinComparison c{real, twin, {}, {}, {}};
-  const std::filesystem::path world_file = std::filesystem::path(twin).parent_path() / "world.yaml";
-  std::optional<sim::PlanarCaster> world;
-  if (std::filesystem::exists(world_file)) world.emplace(sim::loadWorld(world_file));
-  const sim::PlanarCaster* w = world ? &*world : nullptr;
-  const TwinStatistics a = measureTwinStatistics(real, w, WorldFrame::kMatched);
-  const TwinStatistics b = measureTwinStatistics(twin, w, WorldFrame::kGroundTruth, a.has_imu);
+  const TwinStatistics a = measureTwinStatistics(real);
+  const TwinStatistics b = measureTwinStatistics(twin, a.has_imu);
   for (std::size_t i = 0; i < a.values.size(); ++i) {
     TwinComparisonRow row{a.values[i].first, a.values[i].second, b.values[i].second, {}};
     if (row.real && row.twin && *row.real != 0.0) row.ratio = *row.twin / *row.real;

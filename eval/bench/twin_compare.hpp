@@ -8,8 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "slamprep/eval/bench/twin_lidar.hpp"
-
 namespace slamprep::eval {
 
 /// One dataset's statistics (nullopt: could not be measured, e.g. calibration refused).
@@ -20,12 +18,8 @@ struct TwinStatistics {
 };
 
 /// Measures every statistic of docs/twin.md on a dataset folder; without `use_imu` its gyro is
-/// left out (a twin always has one: measured as the recording without one is). The residuals'
-/// neighbour correlation is measured against `world` (the twin's, the dataset in it as `frame`
-/// says), none without one.
-TwinStatistics measureTwinStatistics(const std::string& dataset,
-                                     const sim::PlanarCaster* world = nullptr,
-                                     WorldFrame frame = WorldFrame::kMatched, bool use_imu = true);
+/// left out (a twin always has one: measured as the recording without one is).
+TwinStatistics measureTwinStatistics(const std::string& dataset, bool use_imu = true);
 
 struct TwinComparisonRow {
   std::string name;
@@ -38,8 +32,6 @@ struct TwinComparison {
   std::vector<double> real_residuals_m, twin_residuals_m;
 };
 
-/// `twin`: the twin's dataset folder; its world is read from the folder beside it (the twin's
-/// world.yaml, where `slamprep twin` wrote one).
 TwinComparison compareTwin(const std::string& real, const std::string& twin);
 nlohmann::ordered_json comparisonJson(const TwinComparison& c);
 std::string comparisonText(const TwinComparison& c);

@@ -239,43 +239,56 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
   return m;
 }
 
+std::vector<MapPoint> matchedMapPoints(const MatchTrajectory& run,
+                                       const std::vector<Points2>& points, double usable_max_m,
+                                       std::vector<char>& accepted) {
+  std::vector<MapPoint> map;
+  accepted.assign(points.size(), 0);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const algo::TrackedScan& t = run.tracked.scans[k];
+    if (k > 0 && t.fallback) continue;
+    accepted[k] = 1;
+    for (const Eigen::Vector2d& p : points[k])
+      if (p.norm() <= usable_max_m)
+        map.push_back({t.T_world_lidar * p, t.T_world_lidar.translation()});
+  }
+  return map;
+}
+
 namespace {
 
-/// The matched poses at the times they stand for (a sweep matched as measured: its middle), in
-/// the world's frame (WorldFrame), so that each beam is cast from where the base was.
-PoseSeries matchedPoses(const Dataset& d, const MatchTrajectory& run, WorldFrame frame) {
-  SE2 T_world_match;
-  if (frame == WorldFrame::kGroundTruth && !run.T_world_base.empty())
-    if (const auto T = d.groundtruth.at(run.pose_time_s.front()))
-      T_world_match = *T * run.T_world_base.samples().front().value.inverse();
+/// The matched poses at the times they stand for (a sweep matched as measured: its middle), so
+/// that each beam is cast from where the base was.
+PoseSeries matchedPoses(const MatchTrajectory& run) {
   PoseSeries out;
   for (std::size_t k = 0; k < run.T_world_base.size(); ++k)
-    out.push_back(run.pose_time_s[k], T_world_match * run.T_world_base.samples()[k].value);
+    out.push_back(run.pose_time_s[k], run.T_world_base.samples()[k].value);
   return out;
 }
 
 }  // namespace
 
-double matchedNeighbourCorrelation(const Dataset& d, const sim::PlanarCaster& world,
-                                   WorldFrame frame, const LidarLayout& layout,
-                                   const LidarMapParams& params) {
-  const MatchTrajectory run = matchTrajectory(d, matchScanPoints(d, "vicp", false), {});
-  std::vector<char> accepted(d.scans.size(), 0);
-  for (std::size_t k = 1; k < run.tracked.scans.size() && k < accepted.size(); ++k)
-    accepted[k] = !run.tracked.scans[k].fallback;
-  return compareWithMap(d, matchedPoses(d, run, frame), accepted, world, layout, params)
+double ownMapNeighbourCorrelation(const Dataset& d, const LidarLayout& layout,
+                                  const WallExtractionParams& walls, const LidarMapParams& params) {
+  const ScanPoints points = matchScanPoints(d, "vicp", false);
+  const MatchTrajectory run = matchTrajectory(d, points, {});
+  std::vector<char> accepted;
+  const WallMap map =
+      extractWalls(matchedMapPoints(run, points.points, layout.usable_max_m, accepted), walls);
+  const sim::PlanarCaster world(wallsAsWorld(map, walls));
+  return compareWithMap(d, matchedPoses(run), accepted, world, layout, params)
       .residual_neighbour_correlation;
 }
 
-MatchedScans measureMatchedScans(const Dataset& d, const sim::PlanarCaster& world, WorldFrame frame,
-                                 const LidarLayout& layout, const LidarMapParams& params) {
+MatchedScans measureMatchedScans(const Dataset& d, const LidarLayout& layout,
+                                 const WallExtractionParams& walls, const LidarMapParams& params) {
   const MatchTrajectory run = matchTrajectory(d, matchScanPoints(d, "none", false), {});
   std::vector<double> rms;
   for (std::size_t k = 1; k < run.tracked.scans.size(); ++k)
     if (!run.tracked.scans[k].fallback) rms.push_back(run.tracked.scans[k].match.rms_residual_m);
   MatchedScans m;
   if (const ErrorStats s = summarize(std::move(rms)); s.ok) m.residual_median_m = s.median;
-  m.neighbour_correlation = matchedNeighbourCorrelation(d, world, frame, layout, params);
+  m.neighbour_correlation = ownMapNeighbourCorrelation(d, layout, walls, params);
   return m;
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "slamprep/core/dataset.hpp"
+#include "slamprep/eval/bench/twin_walls.hpp"
 #include "slamprep/eval/pipeline/match_trajectory.hpp"
 #include "slamprep/sim/physics/planar_caster.hpp"
 
@@ -75,31 +76,34 @@ LidarAgainstMap compareWithMap(const Dataset& dataset, const PoseSeries& T_world
                                const std::vector<char>& use, const sim::PlanarCaster& world,
                                const LidarLayout& layout, const LidarMapParams& params = {});
 
+/// The accepted scans' points in the matched trajectory's frame (the first scan is the map's
+/// origin), nearer than `usable_max_m`; `accepted[k]` says which scans they came from.
+std::vector<MapPoint> matchedMapPoints(const MatchTrajectory& run,
+                                       const std::vector<Points2>& points, double usable_max_m,
+                                       std::vector<char>& accepted);
+
+/// LidarAgainstMap::residual_neighbour_correlation of a dataset against its own map: its scans
+/// matched de-skewed (match --deskew vicp: a sweep matched as measured leaves its motion in the
+/// residuals), the accepted scans' map made into walls (extractWalls), and every beam of those
+/// scans cast in them from the matched poses. The same on a recording and on its twin: each
+/// against the walls of its own matched map, so the twin's matched drift does not count.
+double ownMapNeighbourCorrelation(const Dataset& dataset, const LidarLayout& layout,
+                                  const WallExtractionParams& walls = {},
+                                  const LidarMapParams& params = {});
+
 /// What the twin tunes its range noise and its correlation to, measured alike on the recording
 /// and the twin.
 struct MatchedScans {
   /// Median of the accepted scans' point-to-line RMS residual, the scans matched as measured
   /// (slamprep match --deskew none).
   double residual_median_m = 0.0;
-  /// matchedNeighbourCorrelation: structure the walls do not have (clutter, curved surfaces)
+  /// ownMapNeighbourCorrelation: structure the walls do not have (clutter, curved surfaces)
   /// and range errors that move together, which a matcher reads as the pose.
   double neighbour_correlation = 0.0;
 };
 
-/// Where a dataset lies in a twin's world: the recording it was made from in its own matched
-/// frame (the map's), a simulation in that world in its ground truth's.
-enum class WorldFrame { kMatched, kGroundTruth };
-
-/// LidarAgainstMap::residual_neighbour_correlation of the scans matched de-skewed (match
-/// --deskew vicp: a sweep matched as measured leaves its motion in the residuals), the accepted
-/// ones, against `world`; kGroundTruth moves the matched trajectory onto the ground truth at the
-/// first scan (a simulation is matched from its odometry's origin).
-double matchedNeighbourCorrelation(const Dataset& dataset, const sim::PlanarCaster& world,
-                                   WorldFrame frame, const LidarLayout& layout,
-                                   const LidarMapParams& params = {});
-
-MatchedScans measureMatchedScans(const Dataset& dataset, const sim::PlanarCaster& world,
-                                 WorldFrame frame, const LidarLayout& layout,
+MatchedScans measureMatchedScans(const Dataset& dataset, const LidarLayout& layout,
+                                 const WallExtractionParams& walls = {},
                                  const LidarMapParams& params = {});
 
 }  // namespace slamprep::eval

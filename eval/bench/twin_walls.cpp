@@ -276,4 +276,19 @@ WallMap extractWalls(const std::vector<MapPoint>& points, const WallExtractionPa
   return map;
 }
 
+sim::Wall faceAsWall(const WallSegment& face, const WallExtractionParams& p) {
+  const Eigen::Vector2d shift = -0.5 * p.thickness_m * face.normal;
+  return {face.from_m + shift, face.to_m + shift, p.thickness_m, 2.0, true};
+}
+
+sim::World wallsAsWorld(const WallMap& map, const WallExtractionParams& p) {
+  sim::World world;
+  world.name = "map";
+  for (const WallSegment& s : map.walls) world.walls.push_back(faceAsWall(s, p));
+  for (const WallSegment& s : map.clutter) world.walls.push_back(faceAsWall(s, p));
+  for (const Post& post : map.posts)
+    world.cylinders.push_back({post.center_m, post.radius_m, 1.0, true});
+  return world;
+}
+
 }  // namespace slamprep::eval

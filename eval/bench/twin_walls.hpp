@@ -7,6 +7,8 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "slamprep/sim/physics/world.hpp"
+
 namespace slamprep::eval {
 
 /// One matched return in the world frame and where the lidar stood when it took it.
@@ -54,5 +56,13 @@ struct WallMap {
 
 /// Extracts the walls of the map the points make (deterministic: same points, same walls).
 WallMap extractWalls(const std::vector<MapPoint>& points, const WallExtractionParams& params = {});
+
+/// A face as the simulator's wall: thickness_m thick, its centre line half of it behind the face
+/// (away from the side it was seen from).
+sim::Wall faceAsWall(const WallSegment& face, const WallExtractionParams& params);
+
+/// The map's walls, clutter and posts as a world, nothing cut away: what its own scans are
+/// compared with.
+sim::World wallsAsWorld(const WallMap& map, const WallExtractionParams& params);
 
 }  // namespace slamprep::eval
