@@ -73,7 +73,7 @@ std::string shortLabel(const std::string& name) {
       {"no_return_fraction", "no ret."},
       {"scan_to_map_residual_median_m", "res. md"},
       {"scan_to_map_residual_p95_m", "res. 95"},
-      {"scan_residual_neighbour_correlation", "res. corr"},
+      {"scan_residual_neighbour_correlation", "corr."},
       {"match_converged_percent", "conv."},
       {"odometry_drift_per_m", "drift"},
       {"wheels_vs_scans_residual_deg", "wh/scans"},
