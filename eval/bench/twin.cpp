@@ -755,6 +755,8 @@ sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
     setNoiseCorrelation(fit, next_rho);
   }
   if (without_slip) r = sim::simulate(fit.config, fit.world, scenario);
+  // No noise has no correlation: said so (the run is the same, as 0 times any draw is 0).
+  if (fit.config.lidar.range_noise_m == 0.0) setNoiseCorrelation(fit, 0.0);
   describeTuning(fit, noise_runs, correlation_runs);
   return r;
 }
