@@ -216,6 +216,13 @@ void faultSets(const Fitted& f, std::vector<std::string>& s) {
   s.push_back(enable);
 }
 
+/// The recording's revolution, time_increment x beams per revolution, where it is shorter than
+/// the scans' period (the head turns faster than scans are published); else 0, the period.
+double twinSweep(const LidarLayout& l) {
+  const double sweep_s = l.time_increment_s * l.beams_per_revolution;
+  return sweep_s > 0.0 && l.rate_hz > 0.0 && sweep_s < 0.99 / l.rate_hz ? sweep_s : 0.0;
+}
+
 /// The simulator settings that reproduce the fit, as `--set` assignments in order.
 std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
   const DiffDriveParams& g = f.true_geometry;
@@ -237,7 +244,7 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
       "nominal.wheel_base_error=" + num(f.nominal.wheel_base_m / g.wheel_base_m - 1.0),
       "lidar.rate_hz=" + num(l.rate_hz),
       "lidar.beams_per_revolution=" + std::to_string(l.beams_per_revolution),
-      "lidar.fov_rad=" + num(l.fov_rad),
+      "lidar.sweep_s=" + num(twinSweep(l)), "lidar.fov_rad=" + num(l.fov_rad),
       std::string("lidar.clockwise=") + (l.angle_increment_rad < 0.0 ? "true" : "false"),
       "lidar.range_min_m=" + num(l.range_min_m), "lidar.range_max_m=" + num(l.usable_max_m),
       "lidar.range_noise_m=" + num(f.against_map.range_noise_m),
@@ -297,9 +304,13 @@ nlohmann::ordered_json layoutJson(const LidarLayout& l) {
       {"mount_yaw_shift_deg", fitted(l.mount_yaw_shift_rad * kDegPerRad,
                                      "added to the mount's yaw so the twin's beam i points "
                                      "where the recorded beam i did")},
-      {"time_increment_s", fitted(l.time_increment_s,
-                                  "median of the scans' time_increment; the "
-                                  "twin's is 1 / (rate x beams_per_revolution)")},
+      {"time_increment_s",
+       fitted(l.time_increment_s,
+              "median of the scans' time_increment; the twin's is sweep_s / beams_per_revolution")},
+      {"sweep_s", fitted(twinSweep(l),
+                         "time_increment x beams_per_revolution where shorter than the scans' "
+                         "period (the head turns faster than scans are published), else 0: "
+                         "the twin's lidar.sweep_s")},
       {"stamp", fitted("first beam", "the dataset's convention (docs/dataset.md); the twin's too")},
       {"range_min_m", fitted(l.range_min_m, "median of the scans' range_min")},
       {"range_max_m", fitted(l.range_max_m, "median of the scans' range_max")},

@@ -38,6 +38,7 @@ template <typename Config, typename Visitor>
 void visitSensorFields(Config& c, Visitor&& v) {
   auto& l = c.lidar;
   v("lidar.rate_hz", l.rate_hz);
+  v("lidar.sweep_s", l.sweep_s);
   v("lidar.beams_per_revolution", l.beams_per_revolution);
   v("lidar.fov_rad", l.fov_rad);
   v("lidar.range_min_m", l.range_min_m);
@@ -433,6 +434,10 @@ void validateLidar(const Checker& check, const LidarConfig& l) {
   if (l.rate_hz > kMaxLidarRate_hz)
     check.fail("lidar.rate_hz", "must be at most " + std::to_string(int(kMaxLidarRate_hz)),
                l.rate_hz);
+  // A revolution longer than the scans' period would overlap the next scan's.
+  if (!(l.sweep_s >= 0.0 && l.sweep_s <= 1.0 / l.rate_hz * (1.0 + 1e-9)))
+    check.fail("lidar.sweep_s", "must be in [0, 1 / lidar.rate_hz] (0: 1 / lidar.rate_hz)",
+               l.sweep_s);
   // Real 2D lidars have up to a few thousand beams; 1e6 would be 1e7 ray casts per second.
   if (l.beams_per_revolution < 1 || l.beams_per_revolution > 100000) {
     check.fail("lidar.beams_per_revolution", "must be between 1 and 100000",

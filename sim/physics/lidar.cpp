@@ -24,7 +24,8 @@ LaserScan Lidar::header(double stamp_s) const {
   scan.stamp_s = stamp_s;
   scan.angle_min_rad = angle_min_rad_;
   scan.angle_increment_rad = angle_increment_rad_;
-  scan.time_increment_s = 1.0 / (config_.rate_hz * config_.beams_per_revolution);
+  const double sweep_s = config_.sweep_s > 0.0 ? config_.sweep_s : 1.0 / config_.rate_hz;
+  scan.time_increment_s = sweep_s / config_.beams_per_revolution;
   scan.scan_time_s = 1.0 / config_.rate_hz;
   scan.range_min_m = config_.range_min_m;
   scan.range_max_m = config_.range_max_m;

@@ -12,7 +12,12 @@
 namespace slamprep::sim {
 
 struct LidarConfig {
-  double rate_hz = 10.0;                  ///< revolutions per second
+  double rate_hz = 10.0;  ///< scans per second
+  /// How long the head takes for one revolution: 0 is 1 / rate_hz. Shorter where the head turns
+  /// faster than scans are published (a Neato's 5 Hz head published at 4.4 Hz, an RPLIDAR's
+  /// 0.122 s revolutions 0.130 s apart): each scan's beams span this, then the head's next
+  /// revolutions until the next scan are not published.
+  double sweep_s = 0.0;
   int beams_per_revolution = 720;         ///< angular resolution: 2 pi / this
   double fov_rad = 2 * std::numbers::pi;  ///< scan covers this much of the revolution
   double range_min_m = 0.05;              ///< shorter returns are reported as no return
@@ -33,8 +38,8 @@ class Lidar {
   const LidarConfig& config() const { return config_; }
   std::size_t beamsPerScan() const { return beams_per_scan_; }  // round(bpr * fov / 2pi)
   /// Scan header with stamp = first beam, ROS convention (angle_min, angle_increment,
-  /// time_increment = 1/(rate*beams_per_revolution), scan_time = 1/rate, range limits), ranges_m
-  /// sized beamsPerScan() and filled with +inf.
+  /// time_increment = sweep / beams_per_revolution, sweep = sweep_s or 1 / rate, scan_time =
+  /// 1 / rate, range limits), ranges_m sized beamsPerScan() and filled with +inf.
   LaserScan header(double stamp_s) const;
   struct Beam {
     double range_m;       ///< measured: true + noise; +inf for no return

@@ -68,6 +68,9 @@ TEST(SimConfig, BadOverridesNameTheKey) {
   EXPECT_NE(overrideError("lidar.beams_per_revolution=0").find("lidar.beams_per_revolution"),
             std::string::npos);
   EXPECT_NE(overrideError("lidar.fov_rad=0.001").find("lidar.fov_rad"), std::string::npos);
+  // A revolution longer than the scans' period (10 Hz by default) would overlap the next scan.
+  EXPECT_NE(overrideError("lidar.sweep_s=0.2").find("lidar.sweep_s"), std::string::npos);
+  EXPECT_NE(overrideError("lidar.sweep_s=-0.01").find("lidar.sweep_s"), std::string::npos);
   EXPECT_NE(overrideError("nominal.wheel_base_error=-1").find("nominal.wheel_base_error"),
             std::string::npos);
   // A failed override leaves the configuration untouched.

@@ -92,6 +92,36 @@ TEST(Simulator, KinematicSpinDistortionIsWhatTheRatePredicts) {
   EXPECT_GT(check.largest_distortion_m, 0.2);
 }
 
+// A head that turns faster than its scans are published (lidar.sweep_s): each scan's beams span
+// the sweep from its stamp, scans stay 1 / rate apart, and the truth's distortion is still what
+// the twist predicts at each beam's time (shorter: the sweep is shorter).
+TEST(Simulator, AShortSweepTakesTheBeamsFasterThanTheScansArePublished) {
+  SimConfig c = config(SimMode::kinematic, 360);
+  c.duration_s = 3.0;
+  c.lidar.rate_hz = 4.0;
+  c.lidar.sweep_s = 0.2;
+  const Scenario s = scenario("  - {type: spin, angle_deg: 720, rate_radps: 1.0}\n");
+  const SimResult r = simulate(c, squareRoom(3.0), s);
+  ASSERT_GE(r.dataset.scans.size(), 11u);
+  for (std::size_t k = 1; k < r.dataset.scans.size(); ++k) {
+    const LaserScan& scan = r.dataset.scans[k].scan;
+    EXPECT_NEAR(scan.stamp_s - r.dataset.scans[k - 1].scan.stamp_s, 0.25, 1e-12);
+    EXPECT_NEAR(scan.time_increment_s, 0.2 / 360, 1e-15);
+    EXPECT_NEAR(scan.endTime() - scan.stamp_s, 0.2 - 0.2 / 360, 1e-12);
+    EXPECT_DOUBLE_EQ(scan.scan_time_s, 0.25);
+  }
+  const Controller controller(s.profile, c.nominalGeometry());
+  const Eigen::Vector2d rates = controller.wheelRates(2.0);
+  const Eigen::Vector2d twist = c.robot.geometry.twist(rates.x(), rates.y());
+  const SpinCheck check =
+      checkSpin(r.dataset, c.lidar.T_base_lidar, {twist.x(), 0.0, twist.y()}, 0.6, 3.0);
+  EXPECT_GT(check.beams, 500u);
+  EXPECT_LT(check.worst_prediction_error_m, 1e-9);
+  // At most w * 0.2 s * the farthest corner, 3 sqrt(2) m: 0.88 m (a 0.25 s sweep: 1.10 m).
+  EXPECT_LT(check.largest_distortion_m, 1.0377 * 0.2 * 3.0 * std::sqrt(2.0) * 1.01);
+  EXPECT_GT(check.largest_distortion_m, 0.6);
+}
+
 TEST(Simulator, PhysicsSpinDistortionIsWhatTheRatePredicts) {
   SimConfig c = config(SimMode::physics, 360);
   c.duration_s = 2.5;
