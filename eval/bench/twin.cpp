@@ -726,8 +726,8 @@ void describeTuning(TwinFit& fit, const std::vector<std::pair<double, double>>& 
   rho["tuning_runs"] = correlation_runs;
   rho["how"] =
       "the AR(1) correlation of the range noise along the scan, tuned so that neighbouring "
-      "beams' residuals against the world (the scans matched de-skewed, robust correlation) "
-      "correlate as the recording's: none while the uncorrelated first run's do "
+      "beams' residuals against each dataset's own map (the scans matched de-skewed, robust "
+      "correlation) correlate as the recording's: none while the uncorrelated first run's do "
       "already, then the recording's correlation, then interpolated between the runs that "
       "bracket it or extrapolated (at most 0.97), alongside the noise; tuning_runs: "
       "[correlation, the twin's neighbour correlation] of the runs with noise before the last";

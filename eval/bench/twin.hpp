@@ -49,7 +49,7 @@ struct TwinFit {
   /// The recording's scan-to-map residual (match --deskew none, median over the accepted
   /// scans): what simulateTwin tunes the range noise to.
   double residual_median_m = 0.0;
-  /// Its neighbouring beams' residual correlation against the world (MatchedScans): what
+  /// Its neighbouring beams' residual correlation against its own map (MatchedScans): what
   /// simulateTwin tunes the range noise's correlation along the scan to.
   double residual_neighbour_correlation = 0.0;
   LidarLayout layout;          ///< the recording's lidar
