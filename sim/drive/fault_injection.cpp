@@ -215,6 +215,49 @@ json driftImu(const FaultsConfig& f, std::uint64_t seed, ImuLog& imu) {
           {"bias_radps", series}};
 }
 
+/// The clean log's ticks at t, linear between the samples around it (the ends held).
+std::pair<double, double> ticksAt(const EncoderLog& clean, double t) {
+  const auto upper =
+      std::upper_bound(clean.begin(), clean.end(), t,
+                       [](double s, const EncoderSample& e) { return s < e.stamp_s; });
+  if (upper == clean.begin())
+    return {double(clean.front().ticks_left), double(clean.front().ticks_right)};
+  if (upper == clean.end())
+    return {double(clean.back().ticks_left), double(clean.back().ticks_right)};
+  const EncoderSample& a = *(upper - 1);
+  const EncoderSample& b = *upper;
+  const double f = (t - a.stamp_s) / (b.stamp_s - a.stamp_s);
+  return {double(a.ticks_left) + f * double(b.ticks_left - a.ticks_left),
+          double(a.ticks_right) + f * double(b.ticks_right - a.ticks_right)};
+}
+
+/// Every encoder sample read e_k off its stamp, which stays: its ticks are the clean log's at
+/// stamp + e_k. A driver that stamps on arrival, or a log that pairs each scan with the last
+/// odometry it had, looks like this: regular stamps, readings of varying age.
+json readOffStamps(const FaultsConfig& f, std::uint64_t seed, EncoderLog& encoders) {
+  SplitMix64 rng = stream(seed, RngStream::fault_read_jitter);
+  std::vector<double> e(encoders.size());  // not cut: a reading may be older than the one before
+  for (double& x : e) x = f.read_jitter_encoders_sigma_s * rng.gaussian();
+  const EncoderLog clean = encoders;
+  for (std::size_t k = 0; k < encoders.size(); ++k) {
+    const auto [left, right] = ticksAt(clean, clean[k].stamp_s + e[k]);
+    encoders[k].ticks_left = std::llround(left);
+    encoders[k].ticks_right = std::llround(right);
+  }
+  return jitterSummary(e);
+}
+
+/// What scan after scan was taken off its stamp (the run drew them: ScanReadJitter).
+json scanReadRecord(const FaultsConfig& f, std::uint64_t seed, double lidar_hz, std::size_t scans) {
+  ScanReadJitter draws(f, seed, lidar_hz);
+  std::vector<double> e(scans);
+  for (std::size_t k = 0; k < scans; ++k)
+    e[k] = k == 0 ? std::max(0.0, draws.next()) : draws.next();
+  json record = jitterSummary(e);
+  record["errors_s"] = e;
+  return record;
+}
+
 using TimeWindows = std::vector<std::pair<double, double>>;
 
 /// Removes the encoder samples whose clean time falls into a dropout window and counts them
@@ -237,10 +280,16 @@ void removeEncoderDropouts(const TimeWindows& windows, double encoders_hz, Encod
   encoders = std::move(kept);
 }
 
-/// Encoders: stale holds, spikes and jitter by clean index, then the dropouts removed.
+/// Encoders: read jitter, stale holds, spikes and stamp jitter by clean index, then the dropouts
+/// removed.
 void injectEncoderFaults(const FaultsConfig& f, std::uint64_t seed, const StreamRates& rates,
                          double duration_s, EncoderLog& encoders, json& out, json& jitter_record) {
   const FaultSet& on = f.enable;
+  if (on.has(Fault::read_jitter)) {
+    out["read_jitter"] = {{"encoders_sigma_s", f.read_jitter_encoders_sigma_s},
+                          {"scans_sigma_s", f.read_jitter_scans_sigma_s}};
+    out["read_jitter"]["encoders"] = readOffStamps(f, seed, encoders);
+  }
   if (on.has(Fault::stale_odometry))
     out["stale_odometry"] = holdEncoders(f, seed, duration_s, encoders);
   if (on.has(Fault::encoder_spikes))
@@ -277,6 +326,8 @@ void injectImuFaults(const FaultsConfig& f, std::uint64_t seed, const StreamRate
 void injectScanFaults(const FaultsConfig& f, std::uint64_t seed, const StreamRates& rates,
                       std::vector<ScanRecord>& scans, json& out, json& jitter_record) {
   const FaultSet& on = f.enable;
+  if (on.has(Fault::read_jitter) && f.read_jitter_scans_sigma_s > 0.0)  // drawn in the run
+    out["read_jitter"]["scans"] = scanReadRecord(f, seed, rates.lidar_hz, scans.size());
   if (on.has(Fault::dropped_beams)) out["dropped_beams"] = dropBeams(f, seed, scans);
   if (on.has(Fault::stamp_jitter)) {
     SplitMix64 rng = stream(seed, RngStream::fault_jitter_scans);

@@ -1,5 +1,6 @@
 #include "slamprep/sim/drive/faults.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
@@ -62,6 +63,15 @@ std::optional<std::vector<double>> parseFactors(std::string_view text, std::stri
     text = comma == std::string_view::npos ? std::string_view{} : text.substr(comma + 1);
   }
   return factors;
+}
+
+ScanReadJitter::ScanReadJitter(const FaultsConfig& f, std::uint64_t seed, double lidar_hz)
+    : sigma_s_(f.enable.has(Fault::read_jitter) ? f.read_jitter_scans_sigma_s : 0.0),
+      limit_s_(0.45 / lidar_hz),
+      rng_(streamSeed(seed, RngStream::fault_read_jitter_scans)) {}
+
+double ScanReadJitter::next() {
+  return sigma_s_ > 0.0 ? std::clamp(sigma_s_ * rng_.gaussian(), -limit_s_, limit_s_) : 0.0;
 }
 
 }  // namespace slamprep::sim

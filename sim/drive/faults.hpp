@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "slamprep/core/enum_names.hpp"
+#include "slamprep/sim/drive/rng.hpp"
 
 namespace slamprep::sim {
 
@@ -28,6 +29,7 @@ enum class Fault : std::uint8_t {
   glass,             ///< the world's `returns: false` objects give no lidar return
   stale_odometry,    ///< the encoders repeat their last value for a while, then jump to the truth
   held_robot,        ///< the body is held still while the wheels turn as commanded
+  read_jitter,       ///< encoders read and scans taken off their stamps, which stay on their grid
 };
 
 /// Every fault with its name, in the order the names are written.
@@ -43,6 +45,7 @@ inline constexpr auto kFaultNames = std::to_array<EnumName<Fault>>({
     {Fault::glass, "glass"},
     {Fault::stale_odometry, "stale_odometry"},
     {Fault::held_robot, "held_robot"},
+    {Fault::read_jitter, "read_jitter"},
 });
 
 std::string_view faultName(Fault fault);
@@ -100,6 +103,22 @@ struct FaultsConfig {
   double held_robot_rate_hz = 0.01;        ///< holds of the body per second
   double held_robot_min_duration_s = 1.0;  ///< each lasts uniform [min, max]
   double held_robot_max_duration_s = 3.0;
+  /// When the encoders are read against their stamps: N(0, sigma^2).
+  double read_jitter_encoders_sigma_s = 0.02;
+  /// When a scan's first beam is taken against its stamp: N(0, sigma^2), cut at 0.45 periods.
+  double read_jitter_scans_sigma_s = 0.0;
+};
+
+/// When scan after scan is taken against its stamp (Fault::read_jitter): one draw per scan of
+/// the clean log, in order, from the fault's own stream; 0 while the fault is off.
+class ScanReadJitter {
+ public:
+  ScanReadJitter(const FaultsConfig& f, std::uint64_t seed, double lidar_hz);
+  double next();
+
+ private:
+  double sigma_s_, limit_s_;
+  SplitMix64 rng_;
 };
 
 }  // namespace slamprep::sim

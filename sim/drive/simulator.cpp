@@ -186,8 +186,12 @@ class KinematicMotion : public Motion {
 /// interpolated to that time; the ground-truth undistorted point uses the measured range.
 class LidarStream {
  public:
-  LidarStream(const LidarConfig& config, std::uint64_t seed, std::vector<ScanRecord>& out)
-      : lidar_(config, seed), T_base_lidar_(SE2CosSin::from(config.T_base_lidar)), out_(out) {
+  LidarStream(const LidarConfig& config, std::uint64_t seed, ScanReadJitter read_jitter,
+              std::vector<ScanRecord>& out)
+      : lidar_(config, seed),
+        T_base_lidar_(SE2CosSin::from(config.T_base_lidar)),
+        read_jitter_(read_jitter),
+        out_(out) {
     const LaserScan header = lidar_.header(0.0);
     for (std::size_t i = 0; i < header.size(); ++i) {
       const double angle = header.beamAngle(i);  // as LaserScan::point computes it
@@ -214,9 +218,12 @@ class LidarStream {
  private:
   double nextTime() const { return current_.scan.beamTime(beam_); }
 
+  /// Scan k is stamped k / rate and taken read_jitter_ later (0 unless that fault is on).
   void startScan() {
     current_ = ScanRecord{};
-    current_.scan = lidar_.header(static_cast<double>(scan_index_) / lidar_.config().rate_hz);
+    stamp_s_ = static_cast<double>(scan_index_) / lidar_.config().rate_hz;
+    current_.scan =
+        lidar_.header(std::max(0.0, stamp_s_ + read_jitter_.next()));  // none before t = 0
     current_.p_ref_true.assign(current_.scan.size(), std::nullopt);
     beam_ = 0;
   }
@@ -239,6 +246,7 @@ class LidarStream {
       current_.p_ref_true[beam_] = T_lidar0_world_ * (T_world_lidar * p_lidar);
     }
     if (++beam_ == current_.scan.size()) {
+      current_.scan.stamp_s = stamp_s_;
       out_.push_back(std::move(current_));
       ++scan_index_;
       startScan();
@@ -247,9 +255,11 @@ class LidarStream {
 
   Lidar lidar_;
   SE2CosSin T_base_lidar_;
+  ScanReadJitter read_jitter_;
   std::vector<Eigen::Vector2d> beam_dir_;  ///< (cos, sin) of every beam angle
   std::vector<ScanRecord>& out_;
   std::int64_t scan_index_ = 0;
+  double stamp_s_ = 0.0;  ///< the current scan's stamp, on the grid
   ScanRecord current_;
   std::size_t beam_ = 0;
   SE2CosSin T_lidar0_world_;
@@ -315,7 +325,8 @@ class SensorStreams {
  public:
   SensorStreams(const SimConfig& config, const Scene& scene, Dataset& data)
       : scene_(scene),
-        lidar_(config.lidar, streamSeed(config.seed, RngStream::lidar), data.scans),
+        lidar_(config.lidar, streamSeed(config.seed, RngStream::lidar),
+               ScanReadJitter(config.faults, config.seed, config.lidar.rate_hz), data.scans),
         encoders_(config.encoders, streamSeed(config.seed, RngStream::encoder_slip), data.encoders),
         imu_(config.imu, streamSeed(config.seed, RngStream::imu), data.imu) {}
 

@@ -183,6 +183,71 @@ TEST(Faults, StampJitterPerStream) {
   EXPECT_THROW(applyOverride(bad, "faults.stamp_jitter.scans_sigma_s=-0.5"), std::exception);
 }
 
+// Read jitter on an arc of constant wheel rates: every stamp stays on its grid, and what each
+// sample is off the clean log, in ticks over the wheel's ticks per second, is when it was read.
+// 3500 samples after the ramp-up.
+TEST(Faults, ReadJitterKeepsTheStampsAndReadsTheWheelsOffThem) {
+  SimConfig c = longRun("read_jitter", 40.0);
+  applyOverride(c, "faults.read_jitter.encoders_sigma_s=0.005");
+  const Scenario arc = scenario("  - {type: arc, v_mps: 0.3, w_radps: 0.8, duration_s: 45}\n");
+  const Dataset d = simulate(c, squareRoom(3.0), arc).dataset;
+  SimConfig off = c;
+  applyOverride(off, "faults.enable=none");
+  const Dataset clean = simulate(off, squareRoom(3.0), arc).dataset;
+  ASSERT_EQ(d.encoders.size(), clean.encoders.size());
+  const auto& cl = clean.encoders;
+  double sum2 = 0.0;
+  std::size_t n = 0;
+  for (std::size_t k = 1; k + 1 < d.encoders.size(); ++k) {
+    ASSERT_EQ(d.encoders[k].stamp_s, cl[k].stamp_s);
+    if (cl[k].stamp_s < 5.0) continue;  // the ramp-up: the rate is not yet constant
+    const double ticks_per_s = double(cl[k + 1].ticks_left - cl[k - 1].ticks_left) /
+                               (cl[k + 1].stamp_s - cl[k - 1].stamp_s);
+    const double e = double(d.encoders[k].ticks_left - cl[k].ticks_left) / ticks_per_s;
+    sum2 += e * e;
+    ++n;
+  }
+  ASSERT_GT(n, 3000u);
+  const nlohmann::json& record = d.info.faults["read_jitter"];
+  const double drawn_rms = record["encoders"]["rms_s"].get<double>();
+  EXPECT_NEAR(drawn_rms, 5e-3, 0.2e-3);  // 4000 draws: +-0.056 ms
+  // The ticks' rounding adds under 0.2 ms at about 2000 ticks/s.
+  EXPECT_NEAR(std::sqrt(sum2 / double(n)), drawn_rms, 0.2e-3);
+  EXPECT_EQ(record["encoders_sigma_s"], 0.005);
+  EXPECT_EQ(record["encoders"]["count"], d.encoders.size());
+  EXPECT_FALSE(record.contains("scans"));  // scans_sigma_s is 0 by default
+  EXPECT_THROW(applyOverride(off, "faults.read_jitter.encoders_sigma_s=-1"), std::exception);
+}
+
+// The scans' side: stamped on their grid, taken when the record says. A scan's true pose is
+// the truth's at its stamp plus its error, to under 1 mm (the truth's samples interpolated),
+// where at its stamp it would be 6 mm off (0.3 m/s x 20 ms); the errors have their sigma: 400
+// scans, RMS estimate +-3.5 %.
+TEST(Faults, ReadJitterTakesTheScansOffTheirStamps) {
+  SimConfig c = longRun("read_jitter", 40.0);
+  applyOverride(c, "faults.read_jitter.encoders_sigma_s=0");
+  applyOverride(c, "faults.read_jitter.scans_sigma_s=0.02");
+  const Scenario arc = scenario("  - {type: arc, v_mps: 0.3, w_radps: 0.8, duration_s: 45}\n");
+  const Dataset d = simulate(c, squareRoom(3.0), arc).dataset;
+  const nlohmann::json& record = d.info.faults["read_jitter"]["scans"];
+  const auto errors = record["errors_s"].get<std::vector<double>>();
+  ASSERT_GE(errors.size(), d.scans.size());
+  EXPECT_NEAR(record["rms_s"].get<double>(), 0.02, 0.0025);
+  double worst_stamp = 0.0, worst_pose = 0.0, sum2_at_stamp = 0.0;
+  for (std::size_t k = 0; k < d.scans.size(); ++k) {
+    const double grid = double(k) / c.lidar.rate_hz;
+    worst_stamp = std::max(worst_stamp, std::abs(d.scans[k].scan.stamp_s - grid));
+    const auto T = d.groundtruth.at(grid + errors[k]);
+    ASSERT_TRUE(T && d.scans[k].T_world_base_true);
+    const Eigen::Vector2d p_true = d.scans[k].T_world_base_true->translation();
+    worst_pose = std::max(worst_pose, (T->translation() - p_true).norm());
+    sum2_at_stamp += (d.groundtruth.at(grid)->translation() - p_true).squaredNorm();
+  }
+  EXPECT_LT(worst_stamp, 1e-9);
+  EXPECT_LT(worst_pose, 1e-3);
+  EXPECT_GT(std::sqrt(sum2_at_stamp / double(d.scans.size())), 5e-3);
+}
+
 TEST(Faults, ClockOffsetShiftsEveryScanAndNothingElse) {
   const SimResult clean = run(longRun("none", 20.0)), r = run(longRun("clock_offset", 20.0));
   // The last scan now ends after the last encoder sample and is not kept.
