@@ -13,15 +13,19 @@
 namespace slamprep::eval {
 namespace {
 
+constexpr int kVariances = 4;
+using Vector = Eigen::Matrix<double, kVariances, 1>;
+using Matrix = Eigen::Matrix<double, kVariances, kVariances>;
+
 /// One piece of path: its heading error and the regressors of Eq. (1): Q (wheel slip), Q_turn
-/// (slip in turns) and 1 (the reference's own noise).
+/// (slip in turns), W (the wheels read off their stamps) and 1 (the reference's own noise).
 struct Piece {
   double error_rad = 0.0;
-  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  Vector x = Vector::Zero();
 };
 
-/// (sigma^2, sigma_turn^2, c) of Eq. (1).
-using Variances = Eigen::Vector3d;
+/// (sigma^2, sigma_turn^2, sigma_t^2, c) of Eq. (1).
+using Variances = Vector;
 
 /// Pieces of duration_s along the reference, one after another; a piece with a step longer
 /// than max_gap_s (matches missing) is left out.
@@ -84,20 +88,28 @@ double headingChange(const PoseSeries& series, double t0, double t1) {
   return normalizeAngle(series.at(t1)->yaw - series.at(t0)->yaw);
 }
 
+/// The turn rate at t, over span_s around it (within the series).
+double turnRate(const PoseSeries& series, double t, double span_s) {
+  const double a = std::max(series.frontStamp(), t - 0.5 * span_s);
+  const double b = std::min(series.backStamp(), t + 0.5 * span_s);
+  return b > a ? headingChange(series, a, b) / (b - a) : 0.0;
+}
+
 /// Weighted least squares of the squared errors on the regressors in `subset` (bit i set: the
 /// variance i is fitted; clear: held at 0).
 std::optional<Variances> fitSubset(const std::vector<Piece>& pieces,
                                    const std::vector<double>& weights, int subset) {
-  const Eigen::Vector3d on((subset & 1) != 0, (subset & 2) != 0, (subset & 4) != 0);
+  Vector on;
+  for (int i = 0; i < kVariances; ++i) on(i) = (subset >> i) & 1;
   // A variance held at 0 gets a 1 on the diagonal, so that A stays invertible.
-  Eigen::Matrix3d A = Eigen::Matrix3d((Eigen::Vector3d::Ones() - on).asDiagonal());
-  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  Matrix A = Matrix((Vector::Ones() - on).asDiagonal());
+  Vector rhs = Vector::Zero();
   for (std::size_t k = 0; k < pieces.size(); ++k) {
-    const Eigen::Vector3d x = pieces[k].x.cwiseProduct(on);
+    const Vector x = pieces[k].x.cwiseProduct(on);
     A += weights[k] * x * x.transpose();
     rhs += weights[k] * x * (pieces[k].error_rad * pieces[k].error_rad);
   }
-  const Eigen::FullPivLU<Eigen::Matrix3d> lu(A);
+  const Eigen::FullPivLU<Matrix> lu(A);
   if (!lu.isInvertible()) return std::nullopt;
   return Variances(lu.solve(rhs));
 }
@@ -117,7 +129,7 @@ double weightedCost(const std::vector<Piece>& pieces, const std::vector<double>&
 Variances fitVariances(const std::vector<Piece>& pieces, const std::vector<double>& weights) {
   Variances best = Variances::Zero();
   double best_cost = std::numeric_limits<double>::infinity();
-  for (int subset = 1; subset < 8; ++subset) {
+  for (int subset = 1; subset < (1 << kVariances); ++subset) {
     const std::optional<Variances> v = fitSubset(pieces, weights, subset);
     if (!v || (v->array() < 0.0).any()) continue;
     const double cost = weightedCost(pieces, weights, *v);
@@ -131,7 +143,7 @@ Variances fitVariances(const std::vector<Piece>& pieces, const std::vector<doubl
 /// pass assumes slip only (c = 0), so a long piece does not outweigh many short ones.
 Variances fitReweighted(const std::vector<Piece>& pieces, const WheelSlipParams& params) {
   std::vector<double> weights(pieces.size());
-  Variances v(1.0, 1.0, 0.0);
+  Variances v(1.0, 1.0, 0.0, 0.0);
   const double floor = params.min_sigma_rad * params.min_sigma_rad;
   for (int pass = 0; pass < 4; ++pass) {
     for (std::size_t k = 0; k < pieces.size(); ++k) {
@@ -173,7 +185,11 @@ WheelSlipFit fitWheelSlip(const OdometryEncoders& encoders, const DiffDriveParam
     const double error =
         normalizeAngle(headingChange(odometry, t0, t1) - headingChange(reference, t0, t1));
     const Eigen::Vector2d q = slipRegressors(encoders, g, params.tau_s, t0, t1);
-    if (std::abs(error) <= max_error && q(0) > 0.0) pieces.push_back({error, {q(0), q(1), 1.0}});
+    if (std::abs(error) <= max_error && q(0) > 0.0) {
+      const double w0 = turnRate(odometry, t0, params.rate_span_s);
+      const double w1 = turnRate(odometry, t1, params.rate_span_s);
+      pieces.push_back({error, Vector(q(0), q(1), w0 * w0 + w1 * w1, 1.0)});
+    }
   }
   fit.pieces = pieces.size();
   if (pieces.size() < params.min_pieces) return fit;
@@ -184,7 +200,8 @@ WheelSlipFit fitWheelSlip(const OdometryEncoders& encoders, const DiffDriveParam
   const Variances v = fitReweighted(kept, params);
   fit.sigma = std::sqrt(v(0));
   fit.turn_sigma = std::sqrt(v(1));
-  fit.reference_noise_rad = std::sqrt(v(2));
+  fit.timing_jitter_s = std::sqrt(v(2));
+  fit.reference_noise_rad = std::sqrt(v(3));
   return fit;
 }
 

@@ -16,7 +16,7 @@ struct WheelSlipParams {
   /// Durations of the pieces, each cut one after another along the recording: time, not path,
   /// so that turns on the spot count. Several, because the slip's variance grows with the
   /// duration and the reference's own noise does not: that is what tells them apart.
-  std::vector<double> piece_s = {1.5, 3.0, 6.0, 12.0};
+  std::vector<double> piece_s = {0.75, 1.5, 3.0, 6.0, 12.0};
   /// The correlation time the simulator is given: pieces longer than it see mostly sigma^2 tau,
   /// so sigma is fitted at this tau.
   double tau_s = 0.5;
@@ -30,13 +30,15 @@ struct WheelSlipParams {
   /// what any reference resolves); else pieces the fit predicts as exact (straight driving
   /// without wheel slip, against a simulation's truth) outweigh every other.
   double min_sigma_rad = 1e-3;
+  double rate_span_s = 0.2;  ///< the turn rate at a piece's ends, over this span of the wheels
 };
 
 struct WheelSlipFit {
-  std::size_t pieces = 0;   ///< pieces used
-  bool fitted = false;      ///< at least min_pieces
-  double sigma = 0.0;       ///< stationary sigma of the slip s at tau_s (0: none seen)
-  double turn_sigma = 0.0;  ///< stationary sigma of the turn slip u at tau_s (0: none seen)
+  std::size_t pieces = 0;        ///< pieces used
+  bool fitted = false;           ///< at least min_pieces
+  double sigma = 0.0;            ///< stationary sigma of the slip s at tau_s (0: none seen)
+  double turn_sigma = 0.0;       ///< stationary sigma of the turn slip u at tau_s (0: none seen)
+  double timing_jitter_s = 0.0;  ///< sigma of when the wheels are read against their stamps
   /// Heading noise per piece that does not grow with the wheels' motion: the reference's own.
   double reference_noise_rad = 0.0;
   double tau_s = 0.0;
@@ -44,15 +46,18 @@ struct WheelSlipFit {
 
 /// Least squares of the pieces' (all durations) squared heading error on what the slip model
 /// predicts for them:
-///   E[dtheta_k^2] = sigma^2 Q_k + sigma_turn^2 Q_turn,k + c,                              (1)
-///   Q_k = (S(ds_L) + S(ds_R)) / b^2,  Q_turn,k = S(dtheta),
+///   E[dtheta_k^2] = sigma^2 Q_k + sigma_turn^2 Q_turn,k + sigma_t^2 W_k + c,              (1)
+///   Q_k = (S(ds_L) + S(ds_R)) / b^2,  Q_turn,k = S(dtheta),  W_k = omega_0^2 + omega_1^2,
 ///   S(a) = sum_i sum_j a_i a_j exp(-|t_i - t_j| / tau)  over the piece's encoder steps,
 /// (1): the wheels count (1 + s_i) of what they rolled and (1 + u) of the turn they made
 /// (sim::WheelSlip: s_L, s_R, u Ornstein-Uhlenbeck processes of correlation time tau, held over
 /// each encoder step), so the heading error is (sum ds_R s_R - sum ds_L s_L) / b + sum dtheta u,
-/// whose variance S gives; c is the reference's heading noise. Every variance >= 0 (a negative
-/// one fits as none). Wheel slip grows with the distance driven, turn slip with the turning: a
-/// robot that slips in its turns and not on the straight is told apart.
+/// whose variance S gives; a wheel reading e off its stamp (independent, sigma_t) errs by
+/// omega e at each end of the piece (omega: the wheels' turn rate there); c is the reference's
+/// heading noise. Every variance >= 0 (a negative one fits as none). Wheel slip grows with the
+/// distance driven, turn slip with the turning, timing with the turn rate where a piece starts
+/// and ends whatever it turned between: a robot that slips in its turns and not on the straight
+/// is told apart, and one whose wheels and scans are paired at varying times from both.
 WheelSlipFit fitWheelSlip(const OdometryEncoders& encoders, const DiffDriveParams& true_geometry,
                           const PoseSeries& T_world_base_reference,
                           const WheelSlipParams& params = {});

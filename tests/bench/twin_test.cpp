@@ -188,15 +188,21 @@ TEST(Twin, FallsBackToKinematicWhenThePhysicsLeavesTheReplay) {
 }
 
 /// Three UMBmark squares (1.5 m sides, 90 deg turns on the spot; about 100 s), kinematic, with
-/// random wheel slip of `sigma` and slip in turns of `turn_sigma`: straight driving and turns
-/// apart, so that the fit can tell the two slips apart.
-Dataset slippingRecording(double sigma, double turn_sigma = 0.0, std::uint64_t seed = 1) {
+/// random wheel slip of `sigma`, slip in turns of `turn_sigma` and the encoders read
+/// `read_jitter_s` off their stamps: straight driving and turns apart, so that the fit can tell
+/// the two slips apart.
+Dataset slippingRecording(double sigma, double turn_sigma = 0.0, std::uint64_t seed = 1,
+                          double read_jitter_s = 0.0) {
   sim::SimConfig c;
   c.mode = sim::SimMode::kinematic;
   c.seed = seed;
   c.lidar.beams_per_revolution = 360;
   c.encoders.slip_sigma = sigma;
   c.encoders.turn_slip_sigma = turn_sigma;
+  if (read_jitter_s > 0.0) {
+    sim::applyOverride(c, "faults.enable=read_jitter");
+    c.faults.read_jitter_encoders_sigma_s = read_jitter_s;
+  }
   // The commands use the nominal geometry: a wrong one would drift the squares into a wall.
   c.nominal = {0.0, 0.0, 0.0};
   const sim::World world = sim::loadWorld(kWorlds / "box_room.yaml");
@@ -218,8 +224,9 @@ std::pair<WheelSlipFit, WheelSlipFit> slipFits(const Dataset& d) {
 
 // Forward and inverse: slip simulated with sigma, fitted back from the encoders against the
 // truth and against the scans matched alone (whose own heading noise the fit's constant takes).
-// Over seeds 1-10 the fit against the truth gave 0.028-0.043 (mean 0.037), against the matches
-// 0.027-0.045; the turn slip it found beside it, none it was simulated with, 0-0.029 and 0-0.038.
+// Over seeds 1-10 the fit against the truth gave 0.028-0.043 (mean 0.038), against the matches
+// 0.031-0.047; the turn slip it found beside it, none it was simulated with, 0-0.028 and
+// 0-0.027, the read jitter 0 and 0.005-0.014 s.
 TEST(Twin, FitsTheWheelSlipItWasSimulatedWith) {
   const auto [truth, matched] = slipFits(slippingRecording(0.04));
   ASSERT_TRUE(truth.fitted);
@@ -229,6 +236,7 @@ TEST(Twin, FitsTheWheelSlipItWasSimulatedWith) {
   ASSERT_TRUE(matched.fitted);
   EXPECT_NEAR(matched.sigma, 0.04, 0.3 * 0.04);
   EXPECT_LT(matched.turn_sigma, 0.04);
+  EXPECT_LT(matched.timing_jitter_s, 0.02);
   // Without slip: the ticks' quantisation only.
   const Dataset clean = slippingRecording(0.0);
   const WheelSlipFit none =
@@ -237,9 +245,10 @@ TEST(Twin, FitsTheWheelSlipItWasSimulatedWith) {
   EXPECT_LT(none.turn_sigma, 0.004);
 }
 
-// Slip in turns only, forward and inverse: over seeds 1-10 the turn slip fitted 0.045-0.081
-// against the truth and 0.041-0.081 against the matches for 0.06 (a turn's slip is one draw of
-// a process over 2 s), and no wheel slip (at most 0.0001).
+// Slip in turns only, forward and inverse: over seeds 1-10 the turn slip fitted 0.043-0.077
+// against the truth and 0.037-0.078 against the matches for 0.06 (a turn's slip is one draw of
+// a process over 2 s), no wheel slip (at most 0.0001), and a read jitter of at most 0.009 and
+// 0.016 s (a turn's slip changes the heading most where it turns fastest, as jitter does).
 TEST(Twin, FitsTheTurnSlipItWasSimulatedWith) {
   const auto [truth, matched] = slipFits(slippingRecording(0.0, 0.06));
   ASSERT_TRUE(truth.fitted);
@@ -247,6 +256,24 @@ TEST(Twin, FitsTheTurnSlipItWasSimulatedWith) {
   EXPECT_LT(truth.sigma, 0.004);
   ASSERT_TRUE(matched.fitted);
   EXPECT_NEAR(matched.turn_sigma, 0.06, 0.4 * 0.06);
+  EXPECT_LT(matched.sigma, 0.004);
+  EXPECT_LT(matched.timing_jitter_s, 0.025);
+}
+
+// The wheels read off their stamps (sim faults.read_jitter), forward and inverse: the jitter
+// errs by the turn rate times it at each end of a piece whatever the piece turned, and the
+// fit tells it from slip in turns. Over seeds 1-10, for 0.04 s: 0.036-0.054 against the truth
+// (mean 0.042), 0.029-0.047 against the matches (0.039); turn slip beside it, none simulated,
+// 0-0.049 and 0-0.021.
+TEST(Twin, FitsTheReadJitterItWasSimulatedWith) {
+  const auto [truth, matched] = slipFits(slippingRecording(0.0, 0.0, 1, 0.04));
+  ASSERT_TRUE(truth.fitted);
+  EXPECT_NEAR(truth.timing_jitter_s, 0.04, 0.3 * 0.04);
+  EXPECT_LT(truth.turn_sigma, 0.03);
+  EXPECT_LT(truth.sigma, 0.004);
+  ASSERT_TRUE(matched.fitted);
+  EXPECT_NEAR(matched.timing_jitter_s, 0.04, 0.3 * 0.04);
+  EXPECT_LT(matched.turn_sigma, 0.03);
   EXPECT_LT(matched.sigma, 0.004);
 }
 
