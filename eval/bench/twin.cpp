@@ -383,6 +383,7 @@ nlohmann::ordered_json slipJson(const WheelSlipFit& s) {
       {"turn_sigma", s.fitted ? nlohmann::ordered_json(s.turn_sigma) : nullptr},
       {"tau_s", s.tau_s},
       {"pieces", s.pieces},
+      {"timing_jitter_s", s.fitted ? nlohmann::ordered_json(s.timing_jitter_s) : nullptr},
       {"reference_noise_rad", s.fitted ? nlohmann::ordered_json(s.reference_noise_rad) : nullptr},
       {"how",
        "the recording's encoders with the true geometry, its r_L / b and r_R / b those of the "
@@ -392,31 +393,40 @@ nlohmann::ordered_json slipJson(const WheelSlipFit& s) {
            ": the squared heading error of a piece regressed on what Ornstein-Uhlenbeck slips "
            "of correlation time tau_s predict for its wheels' motion (sigma: each wheel counts "
            "(1 + s) of what it rolled) and for its turning (turn_sigma: the wheels count (1 + u) "
-           "of the turn), plus a constant (the matcher's own noise, reference_noise_rad); sigma "
-           "and turn_sigma: the recording's; the twin is given what its physics does not slip "
-           "already (twin_sigma, physics_sigma; twin_turn_sigma, physics_turn_sigma)"}};
+           "of the turn), for the turn rates at its ends (timing_jitter_s: the wheels read that "
+           "far off the scans' time, independently per reading), plus a constant (the matcher's "
+           "own noise, reference_noise_rad); sigma, turn_sigma and timing_jitter_s: the "
+           "recording's; the twin is given what its run without them, measured the same way "
+           "against its own scans, does not show already (twin_sigma, physics_sigma; "
+           "twin_turn_sigma, physics_turn_sigma; twin_read_jitter_s, physics_timing_jitter_s: "
+           "faults.read_jitter)"}};
 }
 
 /// The true geometry with the wheels' turn per wheel angle, r_L / b and r_R / b, the sensor
 /// agreement's (Eq. 1): what no wheel geometry explains is the slip. A short recording's
 /// calibration is loose (sigma of b 20-36 mm on the Neatos), and its wrong turn grows with the
 /// wheels' motion as slip does: fsm_bag's slip fitted 0.048 with it, 0.012 with these.
-DiffDriveParams turningGeometry(const Fitted& f) {
-  DiffDriveParams g = f.true_geometry;
-  if (!f.turn_ratios) return g;
-  g.radius_right_m = (*f.turn_ratios)(0) * g.wheel_base_m;
-  g.radius_left_m = (*f.turn_ratios)(1) * g.wheel_base_m;
+DiffDriveParams turningGeometry(DiffDriveParams g, const std::optional<Eigen::Vector2d>& ratios) {
+  if (!ratios) return g;
+  g.radius_right_m = (*ratios)(0) * g.wheel_base_m;
+  g.radius_left_m = (*ratios)(1) * g.wheel_base_m;
   return g;
 }
 
-/// The recording's random wheel slip: its wheels against the scans matched alone, moved to the
-/// wheels' clock by the scans' measured lag (a lag would otherwise look like slip in turns).
-WheelSlipFit recordingSlip(const Dataset& real, const std::string& name,
-                           const PoseSeries& scan_only, const Fitted& f) {
-  const double lag_s = f.lag_measured ? f.scan_lag_s : 0.0;
+/// A dataset's random wheel slip: its wheels against its scans matched alone, moved to the
+/// wheels' clock by the scans' lag (a lag would otherwise look like slip in turns).
+WheelSlipFit slipAgainstScans(const Dataset& d, const std::string& name,
+                              const PoseSeries& scan_only, const DiffDriveParams& geometry,
+                              double lag_s) {
   PoseSeries accepted;
   for (const auto& s : scan_only.samples()) accepted.push_back(s.stamp_s - lag_s, s.value);
-  return fitWheelSlip(odometryEncoders(real, name), turningGeometry(f), accepted);
+  return fitWheelSlip(odometryEncoders(d, name), geometry, accepted);
+}
+
+WheelSlipFit recordingSlip(const Dataset& real, const std::string& name,
+                           const PoseSeries& scan_only, const Fitted& f) {
+  return slipAgainstScans(real, name, scan_only, turningGeometry(f.true_geometry, f.turn_ratios),
+                          f.lag_measured ? f.scan_lag_s : 0.0);
 }
 
 nlohmann::ordered_json odometryJson(const Fitted& f, const nlohmann::ordered_json& geometry_how) {
@@ -554,6 +564,8 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   out.lidar = p.lidar;
   out.recording_slip_sigma = f.slip.sigma;
   out.recording_turn_slip_sigma = f.slip.turn_sigma;
+  out.recording_timing_jitter_s = f.slip.timing_jitter_s;
+  out.deskew = p.deskew;
   out.replay = drive.replay;
   out.sets = twinSets(f, p.seed);
   for (const std::string& s : out.sets) sim::applyOverride(out.config, s);
@@ -676,17 +688,36 @@ double nextNoiseCorrelation(const std::vector<std::pair<double, double>>& runs, 
 
 namespace {
 
-/// The twin's random slips: the recording's less what the physics of the first run slipped
-/// already (variances add). True when the twin is given some.
-bool setSlip(TwinFit& fit, const sim::SimResult& first) {
-  const Dataset& d = first.dataset;
-  const WheelSlipFit physics =
-      fitWheelSlip(odometryEncoders(d, "the twin"), *d.info.true_geometry, d.groundtruth);
+/// A run without slip measured as the recording was (recordingSlip): against its scans matched
+/// alone, its wheels turned by the agreement's ratios, moved by the clock offset it was given.
+/// What its physics slips, and what its matcher and its lidar's sweep add as in the recording
+/// (against the ground truth they were left out of one side). The run at the tuned range noise:
+/// the first one's, fitted against the world, can be far off (fsm_bag 0.129 m for 0), and its
+/// matches showed fsm_bag's twin a slip of 0.116 and a jitter of 0.26 s.
+WheelSlipFit slipWithoutSlip(const TwinFit& fit, const Dataset& d) {
+  const ScanPoints points = matchScanPoints(d, fit.deskew, false);
+  const MatchTrajectoryOptions options;
+  const PoseSeries scan_only =
+      scanOnlyPoses(d, points, options, matchTrajectory(d, points, options));
+  const algo::SensorAgreement agreement = scanAgreement(d, scan_only);
+  const algo::PairAgreement* p = algo::wheelsAgainstScans(agreement);
+  const sim::FaultsConfig& faults = fit.config.faults;
+  const double lag_s = faults.enable.has(sim::Fault::clock_offset) ? faults.clock_offset_s : 0.0;
+  return slipAgainstScans(
+      d, "the twin", scan_only,
+      turningGeometry(*d.info.true_geometry, p ? p->wheel_ratios : std::nullopt), lag_s);
+}
+
+/// The twin's random slips: the recording's less what a run without them shows already,
+/// measured the same way (variances add). True when the twin is given some.
+bool setSlip(TwinFit& fit, const sim::SimResult& without) {
+  const WheelSlipFit physics = slipWithoutSlip(fit, without.dataset);
   const auto beyond = [](double real, double physics_sigma) {
     return std::sqrt(std::max(0.0, real * real - physics_sigma * physics_sigma));
   };
   const double sigma = beyond(fit.recording_slip_sigma, physics.sigma);
   const double turn_sigma = beyond(fit.recording_turn_slip_sigma, physics.turn_sigma);
+  const double jitter_s = beyond(fit.recording_timing_jitter_s, physics.timing_jitter_s);
   nlohmann::ordered_json& j = fit.json["odometry"]["slip"];
   const auto measured = [&](double v) {
     return physics.fitted ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
@@ -695,9 +726,17 @@ bool setSlip(TwinFit& fit, const sim::SimResult& first) {
   j["twin_sigma"] = sigma;
   j["physics_turn_sigma"] = measured(physics.turn_sigma);
   j["twin_turn_sigma"] = turn_sigma;
+  j["physics_timing_jitter_s"] = measured(physics.timing_jitter_s);
+  j["twin_read_jitter_s"] = jitter_s;
   if (sigma > 0.0) setKey(fit, "encoders.slip_sigma", num(sigma));
   if (turn_sigma > 0.0) setKey(fit, "encoders.turn_slip_sigma", num(turn_sigma));
-  return sigma > 0.0 || turn_sigma > 0.0;
+  if (jitter_s > 0.0) {
+    setKey(fit, "faults.read_jitter.encoders_sigma_s", num(jitter_s));
+    sim::FaultSet faults = fit.config.faults.enable;
+    faults.add(sim::Fault::read_jitter);
+    setKey(fit, "faults.enable", sim::toString(faults));
+  }
+  return sigma > 0.0 || turn_sigma > 0.0 || jitter_s > 0.0;
 }
 
 }  // namespace
@@ -743,12 +782,10 @@ sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
   nlohmann::ordered_json& j = fit.json["lidar"]["range_noise_m"];
   j["fitted_against_the_world_m"] = fit.config.lidar.range_noise_m;
   j["recording_residual_m"] = target;
-  constexpr int kRuns = 4;
-  bool without_slip = false;  // the last run came before the slip was set
-  for (int k = 0; k < kRuns; ++k) {
+  constexpr int kTuningRuns = 4;
+  for (int k = 0; k < kTuningRuns; ++k) {
     r = k == 0 ? firstRun(fit, scenario) : sim::simulate(fit.config, fit.world, scenario);
-    without_slip = k == 0 && setSlip(fit, r);
-    if (k == kRuns - 1 || target <= 0.0) break;
+    if (k == kTuningRuns - 1 || target <= 0.0) break;
     const MatchedScans m = measureMatchedScans(r.dataset, fit.layout, fit.walls, fit.lidar);
     const sim::LidarConfig& lidar = fit.config.lidar;
     noise_runs.push_back({lidar.range_noise_m, m.residual_median_m});
@@ -761,11 +798,12 @@ sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
             : nextNoiseCorrelation(correlation_runs, fit.residual_neighbour_correlation);
     if (k > 0 && std::abs(next - lidar.range_noise_m) < 1e-4 &&
         std::abs(next_rho - lidar.range_noise_correlation) < 1e-3)
-      break;  // this run is the twin
+      break;  // this run is the twin, but for its slip
     setRangeNoise(fit, next);
     setNoiseCorrelation(fit, next_rho);
   }
-  if (without_slip) r = sim::simulate(fit.config, fit.world, scenario);
+  // The slip is measured on the tuned run, whose matches are as noisy as the twin's will be.
+  if (setSlip(fit, r)) r = sim::simulate(fit.config, fit.world, scenario);
   // No noise has no correlation: said so (the run is the same, as 0 times any draw is 0).
   if (fit.config.lidar.range_noise_m == 0.0) setNoiseCorrelation(fit, 0.0);
   describeTuning(fit, noise_runs, correlation_runs);

@@ -61,10 +61,13 @@ struct TwinFit {
   /// touched, a turn the capped wheels cannot follow): the twin is simulated in kinematic mode
   /// instead.
   double max_physics_deviation_m = 0.3;
-  /// The random wheel slip the recording shows (its wheels with the true geometry against the
-  /// matched trajectory): simulateTwin gives the twin what its physics does not already slip.
+  std::string deskew;  ///< how the scans were matched for the map and the slip (TwinParams)
+  /// The random wheel slip the recording shows (its wheels with the true geometry against its
+  /// scans matched alone): simulateTwin gives the twin what its first run, measured the same
+  /// way, does not show already.
   double recording_slip_sigma = 0.0;
   double recording_turn_slip_sigma = 0.0;  ///< and its slip in turns (the same)
+  double recording_timing_jitter_s = 0.0;  ///< and when its wheels are read (the same)
 };
 
 /// Simulates the twin, in physics mode when its robot follows the replay within
