@@ -384,6 +384,8 @@ nlohmann::ordered_json slipJson(const WheelSlipFit& s) {
       {"tau_s", s.tau_s},
       {"pieces", s.pieces},
       {"timing_jitter_s", s.fitted ? nlohmann::ordered_json(s.timing_jitter_s) : nullptr},
+      {"timing_likelihood_ratio",
+       s.fitted ? nlohmann::ordered_json(s.timing_likelihood_ratio) : nullptr},
       {"reference_noise_rad", s.fitted ? nlohmann::ordered_json(s.reference_noise_rad) : nullptr},
       {"how",
        "the recording's encoders with the true geometry, its r_L / b and r_R / b those of the "
@@ -394,7 +396,9 @@ nlohmann::ordered_json slipJson(const WheelSlipFit& s) {
            "of correlation time tau_s predict for its wheels' motion (sigma: each wheel counts "
            "(1 + s) of what it rolled) and for its turning (turn_sigma: the wheels count (1 + u) "
            "of the turn), for the turn rates at its ends (timing_jitter_s: the wheels read that "
-           "far off the scans' time, independently per reading), plus a constant (the matcher's "
+           "far off the scans' time, independently per reading; 0 unless it raises the pieces' "
+           "likelihood, each stretch counted once, by a ratio timing_likelihood_ratio beyond "
+           "10.83, chi2(1) at p = 0.001), plus a constant (the matcher's "
            "own noise, reference_noise_rad); sigma, turn_sigma and timing_jitter_s: the "
            "recording's; the twin is given what its run without them, measured the same way "
            "against its own scans, does not show already (twin_sigma, physics_sigma; "

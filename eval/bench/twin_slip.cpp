@@ -124,12 +124,18 @@ double weightedCost(const std::vector<Piece>& pieces, const std::vector<double>&
   return cost;
 }
 
+/// Which variances a fit may use (bit i: variance i).
+constexpr int kAllVariances = (1 << kVariances) - 1;
+constexpr int kTiming = 1 << 2;
+
 /// The weighted least squares with every variance >= 0: the best of the fits on the subsets of
-/// the regressors (7) whose variances all come out non-negative.
-Variances fitVariances(const std::vector<Piece>& pieces, const std::vector<double>& weights) {
+/// the `allowed` regressors whose variances all come out non-negative.
+Variances fitVariances(const std::vector<Piece>& pieces, const std::vector<double>& weights,
+                       int allowed) {
   Variances best = Variances::Zero();
   double best_cost = std::numeric_limits<double>::infinity();
   for (int subset = 1; subset < (1 << kVariances); ++subset) {
+    if ((subset & ~allowed) != 0) continue;
     const std::optional<Variances> v = fitSubset(pieces, weights, subset);
     if (!v || (v->array() < 0.0).any()) continue;
     const double cost = weightedCost(pieces, weights, *v);
@@ -141,7 +147,8 @@ Variances fitVariances(const std::vector<Piece>& pieces, const std::vector<doubl
 /// The squared error of a Gaussian piece has variance 2 (v . x)^2: weights 1 / that, from the
 /// fit of the previous pass (Gaussian maximum likelihood, iteratively reweighted). The first
 /// pass assumes slip only (c = 0), so a long piece does not outweigh many short ones.
-Variances fitReweighted(const std::vector<Piece>& pieces, const WheelSlipParams& params) {
+Variances fitReweighted(const std::vector<Piece>& pieces, const WheelSlipParams& params,
+                        int allowed) {
   std::vector<double> weights(pieces.size());
   Variances v(1.0, 1.0, 0.0, 0.0);
   const double floor = params.min_sigma_rad * params.min_sigma_rad;
@@ -150,9 +157,22 @@ Variances fitReweighted(const std::vector<Piece>& pieces, const WheelSlipParams&
       const double predicted = std::max(floor, v.dot(pieces[k].x));
       weights[k] = 1.0 / (predicted * predicted);
     }
-    v = fitVariances(pieces, weights);
+    v = fitVariances(pieces, weights, allowed);
   }
   return v;
+}
+
+/// Gaussian log-likelihood of the pieces' errors under the variances, over `durations`: the
+/// pieces of every duration cover the same stretch, which is counted once.
+double logLikelihood(const std::vector<Piece>& pieces, const Variances& v, std::size_t durations,
+                     const WheelSlipParams& params) {
+  const double floor = params.min_sigma_rad * params.min_sigma_rad;
+  double sum = 0.0;
+  for (const Piece& p : pieces) {
+    const double variance = std::max(floor, v.dot(p.x));
+    sum -= 0.5 * (std::log(variance) + p.error_rad * p.error_rad / variance);
+  }
+  return sum / double(std::max<std::size_t>(1, durations));
 }
 
 /// The pieces within outlier_sigmas of what the variances predict for them.
@@ -193,11 +213,19 @@ WheelSlipFit fitWheelSlip(const OdometryEncoders& encoders, const DiffDriveParam
   }
   fit.pieces = pieces.size();
   if (pieces.size() < params.min_pieces) return fit;
-  const std::vector<Piece> kept = withoutOutliers(pieces, fitReweighted(pieces, params), params);
+  const std::vector<Piece> kept =
+      withoutOutliers(pieces, fitReweighted(pieces, params, kAllVariances), params);
   fit.pieces = kept.size();
   fit.fitted = kept.size() >= params.min_pieces;
   if (!fit.fitted) return fit;
-  const Variances v = fitReweighted(kept, params);
+  Variances v = fitReweighted(kept, params, kAllVariances);
+  // The timing and the turn slip both show in turns: on a short recording they are told apart
+  // by chance. The timing is kept where the pieces show it beyond chance (Wilks).
+  const Variances without = fitReweighted(kept, params, kAllVariances & ~kTiming);
+  const std::size_t durations = params.piece_s.size();
+  fit.timing_likelihood_ratio = 2.0 * (logLikelihood(kept, v, durations, params) -
+                                       logLikelihood(kept, without, durations, params));
+  if (!(fit.timing_likelihood_ratio > params.timing_likelihood_ratio)) v = without;
   fit.sigma = std::sqrt(v(0));
   fit.turn_sigma = std::sqrt(v(1));
   fit.timing_jitter_s = std::sqrt(v(2));

@@ -31,6 +31,9 @@ struct WheelSlipParams {
   /// without wheel slip, against a simulation's truth) outweigh every other.
   double min_sigma_rad = 1e-3;
   double rate_span_s = 0.2;  ///< the turn rate at a piece's ends, over this span of the wheels
+  /// The timing is fitted only where it raises the pieces' likelihood (each stretch counted
+  /// once) by this likelihood ratio: chi2 with 1 degree of freedom at p = 0.001.
+  double timing_likelihood_ratio = 10.83;
 };
 
 struct WheelSlipFit {
@@ -39,6 +42,9 @@ struct WheelSlipFit {
   double sigma = 0.0;            ///< stationary sigma of the slip s at tau_s (0: none seen)
   double turn_sigma = 0.0;       ///< stationary sigma of the turn slip u at tau_s (0: none seen)
   double timing_jitter_s = 0.0;  ///< sigma of when the wheels are read against their stamps
+  /// 2 (log L with the timing - log L without it), each stretch of pieces counted once: the
+  /// timing is kept (timing_jitter_s > 0) only beyond WheelSlipParams::timing_likelihood_ratio.
+  double timing_likelihood_ratio = 0.0;
   /// Heading noise per piece that does not grow with the wheels' motion: the reference's own.
   double reference_noise_rad = 0.0;
   double tau_s = 0.0;
