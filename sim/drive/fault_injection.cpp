@@ -235,7 +235,7 @@ std::pair<double, double> ticksAt(const EncoderLog& clean, double t) {
 /// stamp + e_k. A driver that stamps on arrival, or a log that pairs each scan with the last
 /// odometry it had, looks like this: regular stamps, readings of varying age.
 json readOffStamps(const FaultsConfig& f, std::uint64_t seed, EncoderLog& encoders) {
-  SplitMix64 rng = stream(seed, RngStream::fault_read_jitter);
+  SplitMix64 rng = stream(seed, RngStream::fault_read_jitter_encoders);
   std::vector<double> e(encoders.size());  // not cut: a reading may be older than the one before
   for (double& x : e) x = f.read_jitter_encoders_sigma_s * rng.gaussian();
   const EncoderLog clean = encoders;

@@ -16,18 +16,18 @@ enum class RngStream : std::uint64_t {
   start_pose = 0x73747274ULL,    // "strt": the start_jitter draw
   encoder_slip = 0x736c6970ULL,  // "slip": random wheel slip (EncoderConfig::slip_sigma)
   // One stream per fault (sim/drive/faults.hpp), so turning one on leaves the others' draws.
-  fault_encoder_spikes = 0x66737069ULL,     // "fspi"
-  fault_encoder_dropouts = 0x6664726fULL,   // "fdro"
-  fault_jitter_encoders = 0x666a656eULL,    // "fjen"
-  fault_jitter_imu = 0x666a696dULL,         // "fjim"
-  fault_jitter_scans = 0x666a7363ULL,       // "fjsc"
-  fault_dropped_scans = 0x66647363ULL,      // "fdsc"
-  fault_dropped_beams = 0x66646265ULL,      // "fdbe"
-  fault_imu_bias_drift = 0x66696d62ULL,     // "fimb"
-  fault_stale_odometry = 0x6673746fULL,     // "fsto"
-  fault_held_robot = 0x6668656cULL,         // "fhel"
-  fault_read_jitter = 0x6672656aULL,        // "frej"
-  fault_read_jitter_scans = 0x66727363ULL,  // "frsc"
+  fault_encoder_spikes = 0x66737069ULL,        // "fspi"
+  fault_encoder_dropouts = 0x6664726fULL,      // "fdro"
+  fault_jitter_encoders = 0x666a656eULL,       // "fjen"
+  fault_jitter_imu = 0x666a696dULL,            // "fjim"
+  fault_jitter_scans = 0x666a7363ULL,          // "fjsc"
+  fault_dropped_scans = 0x66647363ULL,         // "fdsc"
+  fault_dropped_beams = 0x66646265ULL,         // "fdbe"
+  fault_imu_bias_drift = 0x66696d62ULL,        // "fimb"
+  fault_stale_odometry = 0x6673746fULL,        // "fsto"
+  fault_held_robot = 0x6668656cULL,            // "fhel"
+  fault_read_jitter_encoders = 0x6672656aULL,  // "frej"
+  fault_read_jitter_scans = 0x66727363ULL,     // "frsc"
 };
 
 /// SplitMix64 (Steele, Lea, Flood 2014): a tiny generator whose output is fully specified, so
