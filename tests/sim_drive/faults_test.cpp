@@ -76,6 +76,8 @@ TEST(Faults, OffLeavesTheConfigurationAndTheBytesAsBefore) {
   applyOverride(strong, "faults.dropped_beams.probability=0.5");
   applyOverride(strong, "faults.stale_odometry.rate_hz=5");
   applyOverride(strong, "faults.held_robot.rate_hz=5");
+  applyOverride(strong, "faults.read_jitter.encoders_sigma_s=0.05");
+  applyOverride(strong, "faults.read_jitter.scans_sigma_s=0.02");
   const test::ScratchDir root("faults_off");
   eval::writeDataset(root / "a", run(plain).dataset);
   eval::writeDataset(root / "b", run(strong).dataset);
