@@ -114,53 +114,9 @@ std::optional<Variances> fitSubset(const std::vector<Piece>& pieces,
   return Variances(lu.solve(rhs));
 }
 
-double weightedCost(const std::vector<Piece>& pieces, const std::vector<double>& weights,
-                    const Variances& v) {
-  double cost = 0.0;
-  for (std::size_t k = 0; k < pieces.size(); ++k) {
-    const double r = pieces[k].error_rad * pieces[k].error_rad - v.dot(pieces[k].x);
-    cost += weights[k] * r * r;
-  }
-  return cost;
-}
-
 /// Which variances a fit may use (bit i: variance i).
 constexpr int kAllVariances = (1 << kVariances) - 1;
 constexpr int kTiming = 1 << 2;
-
-/// The weighted least squares with every variance >= 0: the best of the fits on the subsets of
-/// the `allowed` regressors whose variances all come out non-negative.
-Variances fitVariances(const std::vector<Piece>& pieces, const std::vector<double>& weights,
-                       int allowed) {
-  Variances best = Variances::Zero();
-  double best_cost = std::numeric_limits<double>::infinity();
-  for (int subset = 1; subset < (1 << kVariances); ++subset) {
-    if ((subset & ~allowed) != 0) continue;
-    const std::optional<Variances> v = fitSubset(pieces, weights, subset);
-    if (!v || (v->array() < 0.0).any()) continue;
-    const double cost = weightedCost(pieces, weights, *v);
-    if (cost < best_cost) best_cost = cost, best = *v;
-  }
-  return best;
-}
-
-/// The squared error of a Gaussian piece has variance 2 (v . x)^2: weights 1 / that, from the
-/// fit of the previous pass (Gaussian maximum likelihood, iteratively reweighted). The first
-/// pass assumes slip only (c = 0), so a long piece does not outweigh many short ones.
-Variances fitReweighted(const std::vector<Piece>& pieces, const WheelSlipParams& params,
-                        int allowed) {
-  std::vector<double> weights(pieces.size());
-  Variances v(1.0, 1.0, 0.0, 0.0);
-  const double floor = params.min_sigma_rad * params.min_sigma_rad;
-  for (int pass = 0; pass < 4; ++pass) {
-    for (std::size_t k = 0; k < pieces.size(); ++k) {
-      const double predicted = std::max(floor, v.dot(pieces[k].x));
-      weights[k] = 1.0 / (predicted * predicted);
-    }
-    v = fitVariances(pieces, weights, allowed);
-  }
-  return v;
-}
 
 /// Gaussian log-likelihood of the pieces' errors under the variances, over `durations`: the
 /// pieces of every duration cover the same stretch, which is counted once.
@@ -173,6 +129,45 @@ double logLikelihood(const std::vector<Piece>& pieces, const Variances& v, std::
     sum -= 0.5 * (std::log(variance) + p.error_rad * p.error_rad / variance);
   }
   return sum / double(std::max<std::size_t>(1, durations));
+}
+
+/// The variances in `subset` (the others 0) by Gaussian maximum likelihood: the least squares of
+/// dtheta^2 reweighted by 1 / (predicted variance)^2, the inverse of a Gaussian dtheta^2's
+/// variance 2 (v . x)^2 (Fisher scoring), until it settles. The first pass assumes slip only
+/// (c = 0), so a long piece does not outweigh many short ones. nullopt where a variance comes
+/// out negative: its maximum lies on a smaller subset.
+std::optional<Variances> fitSubsetByLikelihood(const std::vector<Piece>& pieces,
+                                               const WheelSlipParams& params, int subset) {
+  constexpr int kPasses = 12;
+  const double floor = params.min_sigma_rad * params.min_sigma_rad;
+  std::vector<double> weights(pieces.size());
+  Variances v(1.0, 1.0, 0.0, 0.0);
+  for (int pass = 0; pass < kPasses; ++pass) {
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      const double predicted = std::max(floor, v.dot(pieces[k].x));
+      weights[k] = 1.0 / (predicted * predicted);
+    }
+    const std::optional<Variances> next = fitSubset(pieces, weights, subset);
+    if (!next || (next->array() < 0.0).any()) return std::nullopt;
+    v = *next;
+  }
+  return v;
+}
+
+/// The maximum likelihood with every variance >= 0: the most likely of the fits on the subsets
+/// of the `allowed` variances.
+Variances fitReweighted(const std::vector<Piece>& pieces, const WheelSlipParams& params,
+                        int allowed) {
+  Variances best = Variances::Zero();
+  double best_likelihood = -std::numeric_limits<double>::infinity();
+  for (int subset = 1; subset < (1 << kVariances); ++subset) {
+    if ((subset & ~allowed) != 0) continue;
+    const std::optional<Variances> v = fitSubsetByLikelihood(pieces, params, subset);
+    if (!v) continue;
+    const double likelihood = logLikelihood(pieces, *v, 1, params);
+    if (likelihood > best_likelihood) best_likelihood = likelihood, best = *v;
+  }
+  return best;
 }
 
 /// The pieces within outlier_sigmas of what the variances predict for them.
