@@ -719,10 +719,20 @@ bool setSlip(TwinFit& fit, const sim::SimResult& without) {
   const auto beyond = [](double real, double physics_sigma) {
     return std::sqrt(std::max(0.0, real * real - physics_sigma * physics_sigma));
   };
-  const double sigma = beyond(fit.recording_slip_sigma, physics.sigma);
-  const double turn_sigma = beyond(fit.recording_turn_slip_sigma, physics.turn_sigma);
-  const double jitter_s = beyond(fit.recording_timing_jitter_s, physics.timing_jitter_s);
   nlohmann::ordered_json& j = fit.json["odometry"]["slip"];
+  // Beyond the simulator's range the heading errors are not slip (failed matches, a held
+  // robot): the twin slips as much as the simulator can, and says so.
+  const auto given = [&j](const char* key, double value) {
+    if (value > sim::kMaxSlipSigma)
+      j["capped"].push_back(std::string(key) + ": " + num(value) + " is beyond the simulator's " +
+                            num(sim::kMaxSlipSigma) + ", the twin is given " +
+                            num(sim::kMaxSlipSigma));
+    return std::min(value, sim::kMaxSlipSigma);
+  };
+  const double sigma = given("twin_sigma", beyond(fit.recording_slip_sigma, physics.sigma));
+  const double turn_sigma =
+      given("twin_turn_sigma", beyond(fit.recording_turn_slip_sigma, physics.turn_sigma));
+  const double jitter_s = beyond(fit.recording_timing_jitter_s, physics.timing_jitter_s);
   const auto measured = [&](double v) {
     return physics.fitted ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
   };

@@ -471,10 +471,10 @@ void validateSensors(const Checker& check, const SimConfig& c) {
   }
   check.positive("encoders.rate_hz", c.encoders.rate_hz);
   // A slip of half the wheel's turning is no longer odometry.
-  if (!(c.encoders.slip_sigma >= 0.0 && c.encoders.slip_sigma <= 0.5))
+  if (!(c.encoders.slip_sigma >= 0.0 && c.encoders.slip_sigma <= kMaxSlipSigma))
     check.fail("encoders.slip_sigma", "must be in [0, 0.5]", c.encoders.slip_sigma);
   check.positive("encoders.slip_tau_s", c.encoders.slip_tau_s);
-  if (!(c.encoders.turn_slip_sigma >= 0.0 && c.encoders.turn_slip_sigma <= 0.5))
+  if (!(c.encoders.turn_slip_sigma >= 0.0 && c.encoders.turn_slip_sigma <= kMaxSlipSigma))
     check.fail("encoders.turn_slip_sigma", "must be in [0, 0.5]", c.encoders.turn_slip_sigma);
   check.positive("imu.rate_hz", c.imu.rate_hz);
   // Wheel encoders and IMUs are logged at up to a few kHz.

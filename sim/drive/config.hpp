@@ -100,6 +100,7 @@ void applyOverride(SimConfig& config, const std::string& assignment);
 inline constexpr double kMaxLidarRate_hz = 100.0;
 inline constexpr double kMaxSensorRate_hz = 10000.0;  ///< encoders and IMU
 inline constexpr double kMaxFaultRate_hz = 100.0;     ///< events of one fault per second
+inline constexpr double kMaxSlipSigma = 0.5;  ///< encoders.slip_sigma, encoders.turn_slip_sigma
 /// Samples of one run: physics steps, encoder and IMU samples each (a day at 1 kHz is 8.6e7),
 /// and lidar beams (a day at 10 Hz x 720 beams is 6.2e8); more cannot be held in memory.
 inline constexpr double kMaxSamples = 1e8;
