@@ -156,7 +156,7 @@ std::optional<Variances> fitSubsetByLikelihood(const std::vector<Piece>& pieces,
 
 /// The maximum likelihood with every variance >= 0: the most likely of the fits on the subsets
 /// of the `allowed` variances.
-Variances fitReweighted(const std::vector<Piece>& pieces, const WheelSlipParams& params,
+Variances fitMostLikely(const std::vector<Piece>& pieces, const WheelSlipParams& params,
                         int allowed) {
   Variances best = Variances::Zero();
   double best_likelihood = -std::numeric_limits<double>::infinity();
@@ -209,14 +209,14 @@ WheelSlipFit fitWheelSlip(const OdometryEncoders& encoders, const DiffDriveParam
   fit.pieces = pieces.size();
   if (pieces.size() < params.min_pieces) return fit;
   const std::vector<Piece> kept =
-      withoutOutliers(pieces, fitReweighted(pieces, params, kAllVariances), params);
+      withoutOutliers(pieces, fitMostLikely(pieces, params, kAllVariances), params);
   fit.pieces = kept.size();
   fit.fitted = kept.size() >= params.min_pieces;
   if (!fit.fitted) return fit;
-  Variances v = fitReweighted(kept, params, kAllVariances);
+  Variances v = fitMostLikely(kept, params, kAllVariances);
   // The timing and the turn slip both show in turns: on a short recording they are told apart
   // by chance. The timing is kept where the pieces show it beyond chance (Wilks).
-  const Variances without = fitReweighted(kept, params, kAllVariances & ~kTiming);
+  const Variances without = fitMostLikely(kept, params, kAllVariances & ~kTiming);
   const std::size_t durations = params.piece_s.size();
   fit.timing_likelihood_ratio = 2.0 * (logLikelihood(kept, v, durations, params) -
                                        logLikelihood(kept, without, durations, params));
