@@ -771,7 +771,8 @@ void describeTuning(TwinFit& fit, const std::vector<std::pair<double, double>>& 
       "tuned so the twin's scan-to-map residual (match --deskew none, median) is the "
       "recording's: a run at the range residual against the world "
       "(fitted_against_the_world_m), one at zero noise, then the noise interpolated between the "
-      "runs that bracket the recording's residual (4 runs at most, the last is the twin); "
+      "runs that bracket the recording's residual (4 runs at most, without slip; the last is "
+      "the twin, or, where it is given slip (odometry.slip), one more run with it); "
       "tuning_runs: [noise, the twin's residual] of the runs before the last";
   nlohmann::ordered_json& rho = fit.json["lidar"]["range_noise_correlation"];
   rho["value"] = fit.config.lidar.range_noise_correlation;

@@ -63,8 +63,8 @@ struct TwinFit {
   double max_physics_deviation_m = 0.3;
   std::string deskew;  ///< how the scans were matched for the map and the slip (TwinParams)
   /// The random wheel slip the recording shows (its wheels with the true geometry against its
-  /// scans matched alone): simulateTwin gives the twin what its first run, measured the same
-  /// way, does not show already.
+  /// scans matched alone): simulateTwin gives the twin what its run without slip at the tuned
+  /// range noise, measured the same way, does not show already.
   double recording_slip_sigma = 0.0;
   double recording_turn_slip_sigma = 0.0;  ///< and its slip in turns (the same)
   double recording_timing_jitter_s = 0.0;  ///< and when its wheels are read (the same)
@@ -72,9 +72,10 @@ struct TwinFit {
 
 /// Simulates the twin, in physics mode when its robot follows the replay within
 /// max_physics_deviation_m, else in kinematic mode (twin.json drive.mode says which and why).
-/// The range noise is tuned first: the point-to-line residual grows about
-/// in proportion to it, so one run at the fitted noise and one secant step make the twin's
-/// residual the recording's (twin.json "range_noise_m" says what each run measured).
+/// The range noise is tuned first, without slip: the point-to-line residual grows about in
+/// proportion to it, so one run at the fitted noise and one secant step make the twin's
+/// residual the recording's (twin.json "range_noise_m" says what each run measured). The last
+/// of those runs measures the slip the twin lacks; given some, the twin is one more run.
 sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario);
 
 /// Fits the twin of `real` (named `name` in the output). Throws InputError when the dataset

@@ -251,8 +251,7 @@ json readOffStamps(const FaultsConfig& f, std::uint64_t seed, EncoderLog& encode
 json scanReadRecord(const FaultsConfig& f, std::uint64_t seed, double lidar_hz, std::size_t scans) {
   ScanReadJitter draws(f, seed, lidar_hz);
   std::vector<double> e(scans);
-  for (std::size_t k = 0; k < scans; ++k)
-    e[k] = k == 0 ? std::max(0.0, draws.next()) : draws.next();
+  for (double& x : e) x = draws.next();
   json record = jitterSummary(e);
   record["errors_s"] = e;
   return record;

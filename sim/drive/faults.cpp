@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <utility>
 
 namespace slamprep::sim {
 
@@ -71,7 +72,10 @@ ScanReadJitter::ScanReadJitter(const FaultsConfig& f, std::uint64_t seed, double
       rng_(streamSeed(seed, RngStream::fault_read_jitter_scans)) {}
 
 double ScanReadJitter::next() {
-  return sigma_s_ > 0.0 ? std::clamp(sigma_s_ * rng_.gaussian(), -limit_s_, limit_s_) : 0.0;
+  if (sigma_s_ <= 0.0) return 0.0;
+  const double e = std::clamp(sigma_s_ * rng_.gaussian(), -limit_s_, limit_s_);
+  const bool first = std::exchange(first_, false);
+  return first ? std::max(0.0, e) : e;
 }
 
 }  // namespace slamprep::sim

@@ -110,7 +110,8 @@ struct FaultsConfig {
 };
 
 /// When scan after scan is taken against its stamp (Fault::read_jitter): one draw per scan of
-/// the clean log, in order, from the fault's own stream; 0 while the fault is off.
+/// the clean log, in order, from the fault's own stream; 0 while the fault is off. The first
+/// scan is not taken before t = 0, where the run starts.
 class ScanReadJitter {
  public:
   ScanReadJitter(const FaultsConfig& f, std::uint64_t seed, double lidar_hz);
@@ -119,6 +120,7 @@ class ScanReadJitter {
  private:
   double sigma_s_, limit_s_;
   SplitMix64 rng_;
+  bool first_ = true;
 };
 
 }  // namespace slamprep::sim

@@ -222,8 +222,7 @@ class LidarStream {
   void startScan() {
     current_ = ScanRecord{};
     stamp_s_ = static_cast<double>(scan_index_) / lidar_.config().rate_hz;
-    current_.scan =
-        lidar_.header(std::max(0.0, stamp_s_ + read_jitter_.next()));  // none before t = 0
+    current_.scan = lidar_.header(stamp_s_ + read_jitter_.next());
     current_.p_ref_true.assign(current_.scan.size(), std::nullopt);
     beam_ = 0;
   }
