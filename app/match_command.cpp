@@ -43,7 +43,8 @@ struct MatchFlags : CommonFlags {
   double keyframe_angle_deg = params.keyframe_angle_rad * kDegPerRad;
   double odometry_sigma_deg = params.odometry_sigma_rad * kDegPerRad;
   bool stamp_is_last_beam = false;
-  std::string sync = "none";  // --sync
+  std::string sync = "none";                // --sync
+  std::string odometry_noise = "measured";  // --odometry-noise
 };
 
 /// The point-to-line RMS residual of the accepted matches (docs/matching.md): how well the
@@ -80,7 +81,8 @@ MatchPass matchPass(const Dataset& d, const MatchFlags& flags) {
   MatchPass pass;
   const eval::ScanPoints points = eval::matchScanPoints(d, flags.deskew, flags.stamp_is_last_beam);
   pass.refused = points.refused;
-  const eval::MatchTrajectoryOptions options{flags.params, flags.stamp_is_last_beam};
+  eval::MatchTrajectoryOptions options{flags.params, flags.stamp_is_last_beam};
+  options.measure_odometry_noise = flags.odometry_noise == "measured";
   pass.run = eval::matchTrajectory(d, points, options);
   pass.scan_only = eval::scanOnlyPoses(d, points, options, pass.run);
   pass.agreement = eval::scanAgreement(d, pass.scan_only);
@@ -99,6 +101,34 @@ double syncAndMatchAgain(Dataset& d, const MatchFlags& flags, MatchPass& pass) {
                                    pass = matchPass(s, flags);
                                    return std::vector<PoseSeries>{pass.scan_only};
                                  });
+}
+
+/// The odometry noise the matches were fused with and how it was found (docs/matching.md).
+nlohmann::ordered_json odometryNoiseJson(const eval::MatchTrajectory& run) {
+  const bool fused = run.odometry_sigma_m > 0.0 && run.odometry_sigma_rad > 0.0;
+  const auto& measured = run.odometry_noise;
+  nlohmann::ordered_json out = {
+      {"source", !fused     ? "off"
+                 : measured ? "measured"
+                            : "given"},
+      {"sigma_m", run.odometry_sigma_m},
+      {"sigma_deg", run.odometry_sigma_rad * kDegPerRad},
+      {"steps", measured ? nlohmann::ordered_json(measured->steps) : nullptr},
+      {"min_support", measured ? nlohmann::ordered_json(measured->min_support) : nullptr}};
+  return out;
+}
+
+void printOdometryNoise(const eval::MatchTrajectory& run) {
+  if (!(run.odometry_sigma_m > 0.0 && run.odometry_sigma_rad > 0.0)) return;
+  std::printf("fused with an odometry noise per scan step of %.4f m, %.3f deg",
+              run.odometry_sigma_m, run.odometry_sigma_rad * kDegPerRad);
+  if (const auto& m = run.odometry_noise)
+    std::printf(
+        ": measured against the scans matched alone, on the %zu steps to scans the map explains "
+        "best (support >= %.2f)\n",
+        m->steps, m->min_support);
+  else
+    std::printf(" (as given)\n");
 }
 
 nlohmann::ordered_json residualJson(const eval::ErrorStats& s) {
@@ -126,6 +156,7 @@ nlohmann::ordered_json summaryJson(const MatchFlags& f, const eval::MatchTraject
       {"odometry_guesses", run.odometry_guesses},
       {"hypotheses", hypothesesJson(run)},
       {"residual_rms_m", residualJson(acceptedResiduals(t))},
+      {"odometry_noise", odometryNoiseJson(run)},
       {"sensor_agreement", std::move(agreement)},
       {"seconds", seconds},
       {"params",
@@ -142,6 +173,7 @@ nlohmann::ordered_json summaryJson(const MatchFlags& f, const eval::MatchTraject
         {"max_range_m", f.params.max_range_m},
         {"odometry_sigma_m", f.params.odometry_sigma_m},
         {"odometry_sigma_deg", f.odometry_sigma_deg},
+        {"odometry_noise", f.odometry_noise},
         {"max_correction_m", f.params.max_correction_m},
         {"max_correction_deg", f.params.max_correction_rad * kDegPerRad},
         {"hypothesis_separation_m", f.params.hypothesis_separation_m},
@@ -191,6 +223,7 @@ void printMatch(const MatchFlags& flags, const MatchPass& pass,
       t.matched, t.scans.size() - 1, summary["converged_percent"].get<double>(), t.fallbacks,
       t.rejected, t.unsupported, t.keyframes);
   printGuesses(pass.run);
+  printOdometryNoise(pass.run);
   const eval::ErrorStats residual = acceptedResiduals(t);
   if (residual.ok)
     std::printf("point-to-line residual of the accepted matches: median %.4f m, p95 %.4f m\n",
@@ -318,12 +351,19 @@ void addMatchGuesses(CLI::App* cli, const std::shared_ptr<MatchFlags>& flags) {
                   "points farther than this (m) from the sensor are not matched")
       ->check(positive())
       ->capture_default_str();
+  cli->add_option("--odometry-noise", flags->odometry_noise,
+                  "measured: fuse each match with the odometry's noise per scan step measured "
+                  "on the recording (its steps against the scans matched alone, where the map "
+                  "explains them best); given: --odometry-sigma and --odometry-sigma-angle")
+      ->check(oneOf("odometry noise", {"measured", "given"}))
+      ->capture_default_str();
   cli->add_option("--odometry-sigma", flags->params.odometry_sigma_m,
-                  "odometry noise per scan step (m) the match is fused with; 0: the match alone")
+                  "odometry noise per scan step (m) the match is fused with where not measured "
+                  "(--odometry-noise given, or too few steps); 0: the match alone")
       ->check(nonNegative())
       ->capture_default_str();
   cli->add_option("--odometry-sigma-angle", flags->odometry_sigma_deg,
-                  "... and its heading noise per scan step (deg)")
+                  "... and its heading noise per scan step (deg); 0: the match alone")
       ->check(nonNegative())
       ->capture_default_str();
   cli->add_option("--min-support", flags->params.min_support_fraction,

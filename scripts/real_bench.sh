@@ -4,8 +4,9 @@
 #
 #   bash scripts/real_bench.sh LOGS_DIR [OUT_DIR] [SLAMPREP]
 #
-# LOGS_DIR holds intel/intel.clf, aces/aces.clf, fr079/fr079.clf and their .relations files
-# (missing logs are skipped). OUT_DIR (default /tmp/slamprep-real) receives per log: the
+# LOGS_DIR holds intel/intel.clf, aces/aces.clf, fr079/fr079.clf, fr-clinic/fr-clinic.clf (the
+# Freiburg hospital's fr-clinic_robotlaser.clf) and their .relations files (missing logs are
+# skipped). OUT_DIR (default /tmp/slamprep-real) receives per log: the
 # dataset, match.tum, match.json (summary of `match`), score.json (of `score relations`).
 # Extra `match` flags can be given in MATCH_FLAGS (the defaults are the documented ones).
 set -euo pipefail
@@ -20,9 +21,10 @@ declare -A import_flags=(
   [intel]="--odometry laser --reorder-tolerance 1"
   [aces]="--odometry laser"
   [fr079]="--odometry laser"
+  [fr-clinic]="--odometry laser"
 )
 
-for name in intel aces fr079; do
+for name in intel aces fr079 fr-clinic; do
   clf=$logs/$name/$name.clf
   rel=$logs/$name/$name.relations
   if [[ ! -f $clf || ! -f $rel ]]; then
@@ -46,7 +48,7 @@ import json, os, sys
 out = sys.argv[1]
 print("| log | relations (< 5 s) | all: trans [m] | < 5 s: trans [m] | all: rot [deg] | converged | match time |")
 print("|---|---|---|---|---|---|---|")
-for name in ("intel", "aces", "fr079"):
+for name in ("intel", "aces", "fr079", "fr-clinic"):
     d = os.path.join(out, name)
     if not os.path.exists(os.path.join(d, "score.json")):
         continue

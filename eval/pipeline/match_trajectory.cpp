@@ -29,6 +29,27 @@ std::vector<algo::StepPrior> stepPriors(const Dataset& dataset, const std::vecto
   return priors;
 }
 
+bool fused(const algo::KeyframeOdometryParams& p) {
+  return p.odometry_sigma_m > 0.0 && p.odometry_sigma_rad > 0.0;
+}
+
+algo::KeyframeOdometryParams withoutFusion(algo::KeyframeOdometryParams p) {
+  p.odometry_sigma_m = 0.0;
+  p.odometry_sigma_rad = 0.0;
+  return p;
+}
+
+/// The base poses of the accepted scans of `tracked` at the times they stand for.
+PoseSeries acceptedPoses(const algo::KeyframeOdometry& tracked,
+                         const std::vector<double>& pose_time_s, const SE2& T_base_lidar) {
+  const SE2 T_lidar_base = T_base_lidar.inverse();
+  PoseSeries accepted;
+  for (std::size_t k = 0; k < tracked.scans.size(); ++k)
+    if (!tracked.scans[k].fallback)
+      accepted.push_back(pose_time_s[k], tracked.scans[k].T_world_lidar * T_lidar_base);
+  return accepted;
+}
+
 /// Whether the method de-skewed the scan: not where it refused or left it as measured (vicp's
 /// first scan after a refusal, const-velocity's before any motion). A scan de-skewed with no
 /// motion (odometry that stood still) was: its motion model puts it at the first beam.
@@ -82,7 +103,22 @@ MatchTrajectory matchTrajectory(const Dataset& dataset, const ScanPoints& points
   const auto odom0 = run.stamps_s.empty() ? std::nullopt : dataset.odom_nominal.at(run.stamps_s[0]);
   const SE2 start = odom0.value_or(SE2()) * T_base_lidar;
   const auto begin = std::chrono::steady_clock::now();
-  run.tracked = algo::trackKeyframes(points.points, priors, options.params, start);
+  algo::KeyframeOdometryParams params = options.params;
+  if (fused(params) && options.measure_odometry_noise) {
+    // The scans alone first: the odometry's noise is measured against them (Eqs. 1-3 of
+    // algo/matching/odometry_noise.hpp), and the sensor agreement compares them with the wheels.
+    const algo::KeyframeOdometry alone =
+        algo::trackKeyframes(points.points, priors, withoutFusion(params), start);
+    run.scans_alone = acceptedPoses(alone, run.pose_time_s, T_base_lidar);
+    run.odometry_noise = algo::measureOdometryNoise(alone, priors);
+    if (run.odometry_noise) {
+      params.odometry_sigma_m = run.odometry_noise->sigma_m;
+      params.odometry_sigma_rad = run.odometry_noise->sigma_rad;
+    }
+  }
+  run.odometry_sigma_m = params.odometry_sigma_m;
+  run.odometry_sigma_rad = params.odometry_sigma_rad;
+  run.tracked = algo::trackKeyframes(points.points, priors, params, start);
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   const SE2 T_lidar_base = T_base_lidar.inverse();
   for (std::size_t k = 0; k < run.tracked.scans.size(); ++k)
@@ -119,8 +155,7 @@ namespace {
 
 /// `options` with the odometry fusion off: the scans alone.
 MatchTrajectoryOptions scansAlone(MatchTrajectoryOptions options) {
-  options.params.odometry_sigma_m = 0.0;
-  options.params.odometry_sigma_rad = 0.0;
+  options.params = withoutFusion(options.params);
   return options;
 }
 
@@ -134,8 +169,8 @@ PoseSeries matchAlone(const Dataset& d, const std::string& deskew, bool stamp_is
 
 PoseSeries scanOnlyPoses(const Dataset& dataset, const ScanPoints& points,
                          const MatchTrajectoryOptions& options, const MatchTrajectory& run) {
-  if (options.params.odometry_sigma_m == 0.0 && options.params.odometry_sigma_rad == 0.0)
-    return acceptedPoses(run);
+  if (run.scans_alone) return *run.scans_alone;
+  if (!fused(options.params)) return acceptedPoses(run);
   return acceptedPoses(matchTrajectory(dataset, points, scansAlone(options)));
 }
 

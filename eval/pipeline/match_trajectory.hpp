@@ -3,12 +3,14 @@
 // by the dataset's odometry, its trajectory of the base, its per-scan lines and its summary
 // (docs/matching.md).
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "slamprep/algo/agreement/sensor_agreement.hpp"
 #include "slamprep/algo/deskew/deskew.hpp"
 #include "slamprep/algo/matching/keyframe_odometry.hpp"
+#include "slamprep/algo/matching/odometry_noise.hpp"
 #include "slamprep/core/dataset.hpp"
 #include "slamprep/core/time_series.hpp"
 
@@ -21,6 +23,10 @@ struct MatchTrajectoryOptions {
   bool use_gyro = true;
   /// ... and its samples lie no farther apart than this around the step.
   double max_gyro_gap_s = 0.25;
+  /// Fuse with the odometry's noise measured on the recording (algo::measureOdometryNoise, a
+  /// first pass with the fusion off) in place of params.odometry_sigma_*, which stay where too
+  /// few steps measure it. No effect where the fusion is off (an odometry sigma of 0).
+  bool measure_odometry_noise = true;
 };
 
 struct MatchTrajectory {
@@ -35,6 +41,13 @@ struct MatchTrajectory {
   std::size_t odometry_guesses = 0;  ///< scans 1..n-1 with an odometry guess
   std::size_t gyro_guesses = 0;      ///< scans 1..n-1 with a gyro guess
   double seconds = 0.0;              ///< wall-clock time of the tracking
+  /// The odometry noise per scan step the matches were fused with (0, 0: not fused) ...
+  double odometry_sigma_m = 0.0;
+  double odometry_sigma_rad = 0.0;
+  /// ... and how it was measured (nullopt: as given).
+  std::optional<algo::OdometryNoise> odometry_noise;
+  /// The accepted poses of the first pass, the scans alone (acceptedPoses), where it was made.
+  std::optional<PoseSeries> scans_alone;
 };
 
 /// Every scan's points in its first-beam lidar frame: as measured, or de-skewed by `deskew`
@@ -64,7 +77,8 @@ std::string formatTrackedMatches(const MatchTrajectory& run);
 PoseSeries acceptedPoses(const MatchTrajectory& run);
 
 /// What the scans say of the motion alone, for comparing it with the wheels: the accepted poses
-/// of a match with the odometry fusion off (`run` itself where it was made so). Fused, the poses
+/// of a match with the odometry fusion off (`run` itself where it was made so, its first pass
+/// where it measured the odometry's noise). Fused, the poses
 /// lean on the wheels they are compared with: a recording's 0.35 s delay read as 0.12 s.
 PoseSeries scanOnlyPoses(const Dataset& dataset, const ScanPoints& points,
                          const MatchTrajectoryOptions& options, const MatchTrajectory& run);

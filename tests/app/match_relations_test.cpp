@@ -84,7 +84,41 @@ TEST_F(MatchRelations, ImportMatchScoreOnEachExcerptStaysWithinItsBounds) {
     EXPECT_LE(s["all"]["translation_m"]["mean"].get<double>(), e.all_mean_m);
     EXPECT_LE(s["all"]["translation_m"]["max"].get<double>(), e.all_max_m);
     EXPECT_LE(s["short"]["translation_m"]["mean"].get<double>(), e.short_mean_m);
+    // Fused with the odometry noise measured on the excerpt (docs/matching.md "Odometry noise").
+    const auto& noise = m["odometry_noise"];
+    EXPECT_EQ(noise["source"], "measured");
+    EXPECT_GE(noise["steps"].get<std::size_t>(), 30u);
+    // The better half, and the steps tied at the median support.
+    EXPECT_LE(noise["steps"].get<std::size_t>(), e.scans - 1);
+    EXPECT_GT(noise["sigma_deg"].get<double>(), 0.0);
+    EXPECT_LT(noise["sigma_deg"].get<double>(), 5.0);
   }
+}
+
+// --odometry-noise given fuses with the flags' noise and says so; a sigma of 0 turns the fusion
+// off whichever is asked for.
+TEST(MatchOdometryNoise, GivenUsesTheFlagsAndZeroTurnsTheFusionOff) {
+  const fs::path d = dir() / "fr079_noise";
+  ASSERT_EQ(cli({"import", "--format", "carmen", data("carmen_fr079/fr079_first60s.clf"), "--out",
+                 d.string(), "--odometry", "laser"})
+                .exit_code,
+            0);
+  const std::string given = (dir() / "given.json").string();
+  const std::string off = (dir() / "off.json").string();
+  CliRun r = cli({"match", d.string(), "--deskew", "none", "--odometry-noise", "given",
+                  "--odometry-sigma", "0.02", "--odometry-sigma-angle", "0.5", "--json", given});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("0.500 deg (as given)"), std::string::npos) << r.out;
+  const auto g = nlohmann::json::parse(slurp(given))["odometry_noise"];
+  EXPECT_EQ(g["source"], "given");
+  EXPECT_DOUBLE_EQ(g["sigma_m"].get<double>(), 0.02);
+  EXPECT_NEAR(g["sigma_deg"].get<double>(), 0.5, 1e-12);
+  EXPECT_TRUE(g["steps"].is_null());
+  ASSERT_EQ(cli({"match", d.string(), "--deskew", "none", "--odometry-sigma", "0", "--json", off})
+                .exit_code,
+            0);
+  EXPECT_EQ(nlohmann::json::parse(slurp(off))["odometry_noise"]["source"], "off");
+  EXPECT_NE(cli({"match", d.string(), "--odometry-noise", "guessed"}).exit_code, 0);
 }
 
 // match --sync auto on a simulated drive whose lidar stamps run 0.2 s late: the delay is found
