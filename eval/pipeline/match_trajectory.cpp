@@ -50,6 +50,28 @@ PoseSeries acceptedPoses(const algo::KeyframeOdometry& tracked,
   return accepted;
 }
 
+/// options.params, with the odometry noise measured where asked (and fused at all): the scans
+/// alone first, the odometry's noise measured against them (Eqs. 1-3 of
+/// algo/matching/odometry_noise.hpp); that pass's accepted poses, which the sensor agreement
+/// compares with the wheels, and the measurement go into `run`.
+algo::KeyframeOdometryParams fusionParams(const ScanPoints& points,
+                                          const std::vector<algo::StepPrior>& priors,
+                                          const SE2& start, const SE2& T_base_lidar,
+                                          const MatchTrajectoryOptions& options,
+                                          MatchTrajectory& run) {
+  algo::KeyframeOdometryParams params = options.params;
+  if (!fused(params) || !options.measure_odometry_noise) return params;
+  const algo::KeyframeOdometry alone =
+      algo::trackKeyframes(points.points, priors, withoutFusion(params), start);
+  run.scans_alone = acceptedPoses(alone, run.pose_time_s, T_base_lidar);
+  run.odometry_noise = algo::measureOdometryNoise(alone, priors);
+  if (run.odometry_noise) {
+    params.odometry_sigma_m = run.odometry_noise->sigma_m;
+    params.odometry_sigma_rad = run.odometry_noise->sigma_rad;
+  }
+  return params;
+}
+
 /// Whether the method de-skewed the scan: not where it refused or left it as measured (vicp's
 /// first scan after a refusal, const-velocity's before any motion). A scan de-skewed with no
 /// motion (odometry that stood still) was: its motion model puts it at the first beam.
@@ -103,19 +125,8 @@ MatchTrajectory matchTrajectory(const Dataset& dataset, const ScanPoints& points
   const auto odom0 = run.stamps_s.empty() ? std::nullopt : dataset.odom_nominal.at(run.stamps_s[0]);
   const SE2 start = odom0.value_or(SE2()) * T_base_lidar;
   const auto begin = std::chrono::steady_clock::now();
-  algo::KeyframeOdometryParams params = options.params;
-  if (fused(params) && options.measure_odometry_noise) {
-    // The scans alone first: the odometry's noise is measured against them (Eqs. 1-3 of
-    // algo/matching/odometry_noise.hpp), and the sensor agreement compares them with the wheels.
-    const algo::KeyframeOdometry alone =
-        algo::trackKeyframes(points.points, priors, withoutFusion(params), start);
-    run.scans_alone = acceptedPoses(alone, run.pose_time_s, T_base_lidar);
-    run.odometry_noise = algo::measureOdometryNoise(alone, priors);
-    if (run.odometry_noise) {
-      params.odometry_sigma_m = run.odometry_noise->sigma_m;
-      params.odometry_sigma_rad = run.odometry_noise->sigma_rad;
-    }
-  }
+  const algo::KeyframeOdometryParams params =
+      fusionParams(points, priors, start, T_base_lidar, options, run);
   run.odometry_sigma_m = params.odometry_sigma_m;
   run.odometry_sigma_rad = params.odometry_sigma_rad;
   run.tracked = algo::trackKeyframes(points.points, priors, params, start);
