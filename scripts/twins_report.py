@@ -10,6 +10,7 @@ Standard library only.
 import json
 import math
 import os
+import random
 import re
 import statistics
 import sys
@@ -54,6 +55,82 @@ def spearman(a, b):
     cov = sum((x - ma) * (y - mb) for x, y in zip(ra, rb))
     var = math.sqrt(sum((x - ma) ** 2 for x in ra) * sum((y - mb) ** 2 for y in rb))
     return cov / var if var > 0 else None
+
+
+# Which orderings the data resolve. Real: a moving-block bootstrap of the difference of two
+# methods' per-scan residual medians over the scans both matched (consecutive scans' residuals
+# are correlated, so blocks of BLOCK_SCANS scans are drawn, RESAMPLES times, with a fixed seed);
+# resolved where the 95 % interval excludes 0. Twin: the per-seed differences of the truth
+# errors, resolved where their mean exceeds T_975 standard errors (Student's t, n - 1 dof).
+BLOCK_SCANS = 20
+RESAMPLES = 1000
+T_975 = {1: 12.71, 2: 4.30, 3: 3.18, 4: 2.78, 5: 2.57, 6: 2.45, 7: 2.36, 8: 2.31, 9: 2.26}
+
+
+def scan_residuals(path):
+    """{stamp: rms_m} of the accepted matches of `match --out` (None when not written)."""
+    if not os.path.exists(path):
+        return None
+    out = {}
+    for line in open(path):
+        j = json.loads(line)
+        if not j.get("fallback") and j.get("converged"):
+            out[j["stamp_cur"]] = j["rms_m"]
+    return out
+
+
+def real_order(a, b, rng):
+    """-1 / +1 where method a's residual median is resolved below / above b's, else 0."""
+    stamps = sorted(set(a) & set(b))
+    if len(stamps) < 2 * BLOCK_SCANS:
+        return 0
+    xa, xb = [a[t] for t in stamps], [b[t] for t in stamps]
+    n, blocks = len(stamps), -(-len(stamps) // BLOCK_SCANS)
+    diffs = []
+    for _ in range(RESAMPLES):
+        starts = [rng.randrange(n - BLOCK_SCANS + 1) for _ in range(blocks)]
+        idx = [i for s0 in starts for i in range(s0, s0 + BLOCK_SCANS)]
+        diffs.append(statistics.median(xa[i] for i in idx) - statistics.median(xb[i] for i in idx))
+    diffs.sort()
+    lo, hi = diffs[int(0.025 * RESAMPLES)], diffs[int(0.975 * RESAMPLES) - 1]
+    return -1 if hi < 0 else 1 if lo > 0 else 0
+
+
+def twin_order(ea, eb):
+    """-1 / +1 where a's truth error is resolved below / above b's over the seeds, else 0."""
+    d = [x - y for x, y in zip(ea, eb)]
+    if len(d) < 2:
+        return 0
+    mean, se = statistics.mean(d), statistics.stdev(d) / math.sqrt(len(d))
+    if abs(mean) <= T_975.get(len(d) - 1, 2.0) * se:
+        return 0
+    return -1 if mean < 0 else 1
+
+
+def resolved_pairs(work, name, methods, twin_per_seed):
+    """The method pairs the recording orders, and what the twin says of each."""
+    real = {m: scan_residuals(os.path.join(work, f"{name}.match.{m}.jsonl")) for m in methods}
+    if any(v is None for v in real.values()):
+        return None
+    rng = random.Random(0)
+    out = {"pairs": 0, "real_resolved": 0, "agree": 0, "contradict": 0, "twin_unresolved": 0,
+           "contradicted": []}
+    for i, a in enumerate(methods):
+        for b in methods[i + 1:]:
+            out["pairs"] += 1
+            r = real_order(real[a], real[b], rng)
+            if r == 0:
+                continue
+            out["real_resolved"] += 1
+            t = twin_order(twin_per_seed[a], twin_per_seed[b])
+            if t == r:
+                out["agree"] += 1
+            elif t == 0:
+                out["twin_unresolved"] += 1
+            else:
+                out["contradict"] += 1
+                out["contradicted"].append(f"{a} {'<' if r < 0 else '>'} {b}")
+    return out
 
 
 def recording(work, results, name, robot, seeds):
@@ -101,7 +178,8 @@ def best_and_tied(methods, mean, spread):
 
 def twin_figures(work, name, seeds):
     """Per method over the seeds: the truth error over the scans kept (mean_m), over every
-    scan with the refused ones as measured (fallback_mean_m), and match's residual median."""
+    scan with the refused ones as measured (fallback_mean_m), and match's residual median;
+    and the per-seed fallback_mean_m lists themselves."""
     kept, fallback, residual = {}, {}, {}
     for seed in seeds:
         for row in load(os.path.join(work, f"{name}.seed{seed}.deskew.json")) or []:
@@ -114,7 +192,8 @@ def twin_figures(work, name, seeds):
             r = residual_median(os.path.join(work, f"{name}.twin.{seed}.match.{m}.json"))
             if r is not None:
                 residual.setdefault(m, []).append(r)
-    return over_seeds(kept, seeds), over_seeds(fallback, seeds), over_seeds(residual, seeds)
+    return (over_seeds(kept, seeds), over_seeds(fallback, seeds), over_seeds(residual, seeds),
+            {m: v for m, v in fallback.items() if len(v) == len(seeds)})
 
 
 def deskew(work, name, seeds):
@@ -123,7 +202,7 @@ def deskew(work, name, seeds):
         r = residual_median(os.path.join(work, f"{name}.match.{m}.json"))
         if r is not None:
             real[m] = r
-    (kept, kept_sd), (twin, twin_sd), (resid, resid_sd) = twin_figures(work, name, seeds)
+    (kept, kept_sd), (twin, twin_sd), (resid, resid_sd), per_seed = twin_figures(work, name, seeds)
     # The oracle de-skews with the truth at the scans' stamps: what the twin's clock offset (the
     # recording's scan delay) alone costs. Not ranked (the recording has no truth).
     oracle = twin.pop("oracle", None)
@@ -156,7 +235,8 @@ def deskew(work, name, seeds):
             "spearman_twin_residual_vs_truth": spearman([resid[m] for m in on_twin],
                                                         [twin[m] for m in on_twin]),
             "spearman_twin_residual_vs_real_residual": spearman([resid[m] for m in same],
-                                                                [real[m] for m in same])}
+                                                                [real[m] for m in same]),
+            "resolved_pairs": resolved_pairs(work, name, both, per_seed)}
 
 
 def judge(recs):
@@ -264,6 +344,22 @@ def tables(recs, spread, seeds):
                    f"{fmt(d['spearman_kept_scans'], 2)} | {real} | "
                    f"{per_method(d['methods'], d['twin_truth_error_mean_m'], d['twin_truth_error_sd_m'])} | "
                    f"{per_method(d['methods'], d['twin_kept_scans_error_mean_m'], d['twin_kept_scans_error_sd_m'])} |")
+    out.append("\nThe orderings the recording resolves: of the method pairs, those whose residual "
+               "medians differ beyond a moving-block bootstrap's 95 % interval (blocks of "
+               f"{BLOCK_SCANS} scans, {RESAMPLES} resamples, the scans both methods matched), and "
+               "whether the twin orders them the same way (its per-seed truth errors differing "
+               "beyond Student's t at 95 %), the other way, or cannot tell.\n")
+    out.append("| recording | pairs | resolved by the recording | twin agrees | twin contradicts "
+               "| twin cannot tell | contradicted |")
+    out.append("|---|---|---|---|---|---|---|")
+    for r in recs:
+        p = r["deskew"].get("resolved_pairs")
+        if not p:
+            out.append(f"| {r['name']} | - | no per-scan residuals | | | | |")
+            continue
+        out.append(f"| {r['name']} | {p['pairs']} | {p['real_resolved']} | {p['agree']} | "
+                   f"{p['contradict']} | {p['twin_unresolved']} | "
+                   f"{'; '.join(p['contradicted']) or '-'} |")
     out.append("\n### Can the residual rank de-skew methods? (on the twins)\n")
     out.append("On each twin, `match --deskew M --sync auto` as on the recording: methods ranked "
                "by the same "
