@@ -10,7 +10,8 @@
 # RESULTS_DIR gets the small outputs: per recording and seed the comparison JSON, per recording
 # the comparison plot of seed 1 and the de-skew errors, summary.json and README.md (written by
 # scripts/twins_report.py). SEEDS (default "1 2 3 4 5 6 7 8") sets the seeds. Per recording: import, match
-# with every de-skew method (the real ranking by residual), then per seed: twin, twin --compare,
+# with every de-skew method (the real ranking by residual; per scan, for the orderings it
+# resolves), then per seed: twin, twin --compare,
 # deskew on the twin (the twin's ranking by ground-truth error), match on the twin with every
 # method (the twin's ranking by the real side's residual). Every match and deskew runs with
 # --sync auto, as a user would on a robot whose scans lag its wheels (the Neatos' by 0.3 s): a
@@ -57,12 +58,12 @@ for entry in "${recordings[@]}"; do
       "$src" >"$work/aces600.clf"
     src="$work/aces600.clf"
   fi
-  if [ "${REUSE:-0}" != 1 ] || [ ! -f "$work/$name.match.odom-icp.json" ]; then
+  if [ "${REUSE:-0}" != 1 ] || [ ! -f "$work/$name.match.odom-icp.jsonl" ]; then
     # shellcheck disable=SC2086
     "$slamprep" import --format "$format" "$src" --out "$real" --force $flags >/dev/null 2>&1
     for m in $deskew_methods; do
       "$slamprep" match "$real" --deskew "$m" --sync auto \
-        --json "$work/$name.match.$m.json" --force -q \
+        --json "$work/$name.match.$m.json" --out "$work/$name.match.$m.jsonl" --force -q \
         >/dev/null 2>&1 || true  # exit 3 (nothing matched) leaves the method out
     done
     touch "$work/$name.matched"

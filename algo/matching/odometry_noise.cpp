@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "slamprep/core/order_statistics.hpp"
+
 namespace slamprep::algo {
 namespace {
 
@@ -11,12 +13,6 @@ struct StepDisagreement {
   SE2 d;
   double support = 0.0;
 };
-
-double median(std::vector<double> v) {
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
 
 std::vector<StepDisagreement> disagreements(const KeyframeOdometry& scans_alone,
                                             const std::vector<StepPrior>& priors) {
