@@ -36,6 +36,10 @@ const std::map<std::string, const char*>& definitions() {
       {"odometry_drift_per_m",
        "the raw odometry against the matched trajectory: mean translation error of 1 m pieces of "
        "path (RPE, metres), per metre"},
+      {"odometry_step_noise_deg",
+       "slamprep match --deskew none: the odometry's heading noise per scan step it measured and "
+       "fused with (docs/matching.md \"Odometry noise\"), in degrees; where the 5 s windows "
+       "of wheels_vs_scans agree and this does not, the odometry errs on another time scale"},
       {"wheels_vs_scans_residual_deg",
        "the sensor agreement of that calibration (docs/calibration.md): robust sigma, in "
        "degrees, of what the wheels and the scan-matched motion disagree on per 5 s window "
@@ -62,6 +66,11 @@ std::optional<double> driftPerMetre(const Dataset& d, const MatchTrajectory& run
   const RpeResult r = relativePoseError(odom, run.T_world_base, p);
   if (!r.ok) return std::nullopt;
   return r.translation_m.mean;  // pieces of 1 m: metres per metre
+}
+
+std::optional<double> stepNoiseDeg(const MatchTrajectory& run) {
+  if (!run.odometry_noise) return std::nullopt;
+  return run.odometry_noise->sigma_rad * 180.0 / std::numbers::pi;
 }
 
 /// What the twin's calibration measures: the joint b and its 1-sigma (nullopt when refused),
@@ -109,6 +118,7 @@ TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
       {"scan_residual_neighbour_correlation", ownMapNeighbourCorrelation(d, l)},
       {"match_converged_percent", opt(attempted > 0, 100.0 * run.tracked.matched / attempted)},
       {"odometry_drift_per_m", driftPerMetre(d, run)},
+      {"odometry_step_noise_deg", stepNoiseDeg(run)},
       {"wheels_vs_scans_residual_deg", cal.wheels_vs_scans_deg},
       {"calibration_sigma_b", cal.sigma_b_m},
       {"calibration_b_m", cal.b_m}};

@@ -76,6 +76,7 @@ std::string shortLabel(const std::string& name) {
       {"scan_residual_neighbour_correlation", "corr."},
       {"match_converged_percent", "conv."},
       {"odometry_drift_per_m", "drift"},
+      {"odometry_step_noise_deg", "step"},
       {"wheels_vs_scans_residual_deg", "wh/scans"},
       {"calibration_sigma_b", "sd b"},
       {"calibration_b_m", "b"}};

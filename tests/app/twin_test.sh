@@ -31,7 +31,7 @@ expect 2 twin --compare "$dir/aces"
 expect 0 twin --compare "$dir/aces" "$dir/twin" --json "$dir/cmp.json" --plot "$dir/cmp.png" -q
 for key in scan_rate_hz beams_per_scan_mean no_return_fraction scan_to_map_residual_median_m \
   scan_to_map_residual_p95_m match_converged_percent odometry_drift_per_m \
-  wheels_vs_scans_residual_deg calibration_sigma_b calibration_b_m; do
+  odometry_step_noise_deg wheels_vs_scans_residual_deg calibration_sigma_b calibration_b_m; do
   grep -qF "\"$key\"" "$dir/cmp.json" || fail "comparison lacks $key"
 done
 [ -s "$dir/cmp.png" ] || fail "no plot"
@@ -46,5 +46,8 @@ assert 0.5 < s["scan_to_map_residual_median_m"]["ratio"] < 2, s["scan_to_map_res
 # Both have wheels and scans to compare (the log's odometry poses, the twin's encoders).
 assert s["wheels_vs_scans_residual_deg"]["real"] > 0, s["wheels_vs_scans_residual_deg"]
 assert s["wheels_vs_scans_residual_deg"]["twin"] > 0, s["wheels_vs_scans_residual_deg"]
+# Both measure the odometry's noise per scan step (a heading noise, in degrees).
+assert 0 < s["odometry_step_noise_deg"]["real"] < 10, s["odometry_step_noise_deg"]
+assert 0 < s["odometry_step_noise_deg"]["twin"] < 10, s["odometry_step_noise_deg"]
 PY
 echo "twin: ok"
