@@ -531,7 +531,7 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   f.layout = fitLidarLayout(real);
   f.nominal = real.info.nominal_geometry;
   f.T_base_lidar = real.info.T_base_lidar;
-  MatchTrajectoryOptions options;
+  const MatchTrajectoryOptions options = twinMatchOptions();
   const ScanPoints points = matchScanPoints(real, p.deskew, false);
   const MatchTrajectory run = matchTrajectory(real, points, options);
   if (run.tracked.matched == 0)
@@ -700,7 +700,7 @@ namespace {
 /// matches showed fsm_bag's twin a slip of 0.116 and a jitter of 0.26 s.
 WheelSlipFit slipWithoutSlip(const TwinFit& fit, const Dataset& d) {
   const ScanPoints points = matchScanPoints(d, fit.deskew, false);
-  const MatchTrajectoryOptions options;
+  const MatchTrajectoryOptions options = twinMatchOptions();
   const PoseSeries scan_only =
       scanOnlyPoses(d, points, options, matchTrajectory(d, points, options));
   const algo::SensorAgreement agreement = scanAgreement(d, scan_only);

@@ -68,9 +68,9 @@ std::optional<double> driftPerMetre(const Dataset& d, const MatchTrajectory& run
   return r.translation_m.mean;  // pieces of 1 m: metres per metre
 }
 
-std::optional<double> stepNoiseDeg(const MatchTrajectory& run) {
-  if (!run.odometry_noise) return std::nullopt;
-  return run.odometry_noise->sigma_rad * 180.0 / std::numbers::pi;
+std::optional<double> stepNoiseDeg(const std::optional<algo::OdometryNoise>& noise) {
+  if (!noise) return std::nullopt;
+  return noise->sigma_rad * 180.0 / std::numbers::pi;
 }
 
 /// What the twin's calibration measures: the joint b and its 1-sigma (nullopt when refused),
@@ -101,7 +101,9 @@ TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
   TwinStatistics s;
   s.has_imu = !d.imu.empty();
   const ScanPoints points = matchScanPoints(d, "none", false);
-  const MatchTrajectory run = matchTrajectory(d, points, {});
+  const MatchTrajectory run = matchTrajectory(d, points, twinMatchOptions());
+  // What `match` (its default, --odometry-noise measured) finds the odometry's noise per step.
+  const auto step_noise = matchTrajectory(d, points, {}).odometry_noise;
   for (std::size_t k = 1; k < run.tracked.scans.size(); ++k)
     if (!run.tracked.scans[k].fallback)
       s.residuals_m.push_back(run.tracked.scans[k].match.rms_residual_m);
@@ -118,7 +120,7 @@ TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
       {"scan_residual_neighbour_correlation", ownMapNeighbourCorrelation(d, l)},
       {"match_converged_percent", opt(attempted > 0, 100.0 * run.tracked.matched / attempted)},
       {"odometry_drift_per_m", driftPerMetre(d, run)},
-      {"odometry_step_noise_deg", stepNoiseDeg(run)},
+      {"odometry_step_noise_deg", stepNoiseDeg(step_noise)},
       {"wheels_vs_scans_residual_deg", cal.wheels_vs_scans_deg},
       {"calibration_sigma_b", cal.sigma_b_m},
       {"calibration_b_m", cal.b_m}};

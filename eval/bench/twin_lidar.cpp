@@ -271,7 +271,7 @@ PoseSeries matchedPoses(const MatchTrajectory& run) {
 double ownMapNeighbourCorrelation(const Dataset& d, const LidarLayout& layout,
                                   const WallExtractionParams& walls, const LidarMapParams& params) {
   const ScanPoints points = matchScanPoints(d, "vicp", false);
-  const MatchTrajectory run = matchTrajectory(d, points, {});
+  const MatchTrajectory run = matchTrajectory(d, points, twinMatchOptions());
   std::vector<char> accepted;
   const WallMap map =
       extractWalls(matchedMapPoints(run, points.points, layout.usable_max_m, accepted), walls);
@@ -282,7 +282,8 @@ double ownMapNeighbourCorrelation(const Dataset& d, const LidarLayout& layout,
 
 MatchedScans measureMatchedScans(const Dataset& d, const LidarLayout& layout,
                                  const WallExtractionParams& walls, const LidarMapParams& params) {
-  const MatchTrajectory run = matchTrajectory(d, matchScanPoints(d, "none", false), {});
+  const MatchTrajectory run =
+      matchTrajectory(d, matchScanPoints(d, "none", false), twinMatchOptions());
   std::vector<double> rms;
   for (std::size_t k = 1; k < run.tracked.scans.size(); ++k)
     if (!run.tracked.scans[k].fallback) rms.push_back(run.tracked.scans[k].match.rms_residual_m);

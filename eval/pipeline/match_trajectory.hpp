@@ -29,6 +29,16 @@ struct MatchTrajectoryOptions {
   bool measure_odometry_noise = true;
 };
 
+/// The matcher the twin module fits and compares with (eval/bench/twin*.cpp): the odometry
+/// fused at the given noise, not the noise measured per recording. Held fixed so a twin's fit and
+/// its statistics stay comparable from run to run; measured, it leaned on the TurtleBot4's /odom,
+/// 0.17 s late, and the walls of that map fitted its scans worse (docs/twin.md).
+inline MatchTrajectoryOptions twinMatchOptions() {
+  MatchTrajectoryOptions options;
+  options.measure_odometry_noise = false;
+  return options;
+}
+
 struct MatchTrajectory {
   algo::KeyframeOdometry tracked;
   std::vector<double> stamps_s;  ///< first-beam time of every scan
