@@ -18,11 +18,10 @@ SplitMix64 stream(std::uint64_t seed, RngStream id) {
   return SplitMix64(streamSeed(seed, id));
 }
 
-/// One stamp error per sample: N(0, sigma^2) cut to +-0.45 periods so the order is kept.
+/// One stamp error per sample (periodJitter).
 std::vector<double> jitter(SplitMix64& rng, std::size_t n, double sigma_s, double rate_hz) {
-  const double limit_s = 0.45 / rate_hz;
   std::vector<double> out(n);
-  for (double& e : out) e = std::clamp(sigma_s * rng.gaussian(), -limit_s, limit_s);
+  for (double& e : out) e = periodJitter(rng, sigma_s, rate_hz);
   return out;
 }
 

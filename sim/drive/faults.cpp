@@ -66,14 +66,19 @@ std::optional<std::vector<double>> parseFactors(std::string_view text, std::stri
   return factors;
 }
 
+double periodJitter(SplitMix64& rng, double sigma_s, double rate_hz) {
+  const double limit_s = 0.45 / rate_hz;
+  return std::clamp(sigma_s * rng.gaussian(), -limit_s, limit_s);
+}
+
 ScanReadJitter::ScanReadJitter(const FaultsConfig& f, std::uint64_t seed, double lidar_hz)
     : sigma_s_(f.enable.has(Fault::read_jitter) ? f.read_jitter_scans_sigma_s : 0.0),
-      limit_s_(0.45 / lidar_hz),
+      lidar_hz_(lidar_hz),
       rng_(streamSeed(seed, RngStream::fault_read_jitter_scans)) {}
 
 double ScanReadJitter::next() {
   if (sigma_s_ <= 0.0) return 0.0;
-  const double e = std::clamp(sigma_s_ * rng_.gaussian(), -limit_s_, limit_s_);
+  const double e = periodJitter(rng_, sigma_s_, lidar_hz_);
   const bool first = std::exchange(first_, false);
   return first ? std::max(0.0, e) : e;
 }

@@ -109,6 +109,10 @@ struct FaultsConfig {
   double read_jitter_scans_sigma_s = 0.0;
 };
 
+/// One time error of a stream at `rate_hz`: N(0, sigma^2) cut to +-0.45 periods, so samples
+/// keep their order (stamp_jitter's stamps, read_jitter's scans).
+double periodJitter(SplitMix64& rng, double sigma_s, double rate_hz);
+
 /// When scan after scan is taken against its stamp (Fault::read_jitter): one draw per scan of
 /// the clean log, in order, from the fault's own stream; 0 while the fault is off. The first
 /// scan is not taken before t = 0, where the run starts.
@@ -118,7 +122,7 @@ class ScanReadJitter {
   double next();
 
  private:
-  double sigma_s_, limit_s_;
+  double sigma_s_, lidar_hz_;
   SplitMix64 rng_;
   bool first_ = true;
 };
