@@ -699,10 +699,7 @@ namespace {
 /// the first one's, fitted against the world, can be far off (fsm_bag 0.129 m for 0), and its
 /// matches showed fsm_bag's twin a slip of 0.116 and a jitter of 0.26 s.
 WheelSlipFit slipWithoutSlip(const TwinFit& fit, const Dataset& d) {
-  const ScanPoints points = matchScanPoints(d, fit.deskew, false);
-  const MatchTrajectoryOptions options = twinMatchOptions();
-  const PoseSeries scan_only =
-      scanOnlyPoses(d, points, options, matchTrajectory(d, points, options));
+  const PoseSeries scan_only = matchScansAlone(d, fit.deskew, false);
   const algo::SensorAgreement agreement = scanAgreement(d, scan_only);
   const algo::PairAgreement* p = algo::wheelsAgainstScans(agreement);
   const sim::FaultsConfig& faults = fit.config.faults;

@@ -103,7 +103,7 @@ TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
   const ScanPoints points = matchScanPoints(d, "none", false);
   const MatchTrajectory run = matchTrajectory(d, points, twinMatchOptions());
   // What `match` (its default, --odometry-noise measured) finds the odometry's noise per step.
-  const auto step_noise = matchTrajectory(d, points, {}).odometry_noise;
+  const auto step_noise = measuredOdometryNoise(d, points);
   for (std::size_t k = 1; k < run.tracked.scans.size(); ++k)
     if (!run.tracked.scans[k].fallback)
       s.residuals_m.push_back(run.tracked.scans[k].match.rms_residual_m);

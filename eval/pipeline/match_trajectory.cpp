@@ -103,9 +103,18 @@ ScanPoints matchScanPoints(const Dataset& d, const std::string& deskew, bool sta
   return out;
 }
 
-MatchTrajectory matchTrajectory(const Dataset& dataset, const ScanPoints& points,
-                                const MatchTrajectoryOptions& options) {
-  MatchTrajectory run;
+namespace {
+
+/// What tracking needs besides the points: every step's guesses and the first scan's pose.
+struct TrackingInput {
+  std::vector<algo::StepPrior> priors;
+  SE2 start;
+};
+
+/// `run`'s stamps, pose times and guess counts, and the input of its tracking. Throws
+/// InputError when first-beam times do not increase.
+TrackingInput prepareTracking(const Dataset& dataset, const ScanPoints& points,
+                              const MatchTrajectoryOptions& options, MatchTrajectory& run) {
   for (std::size_t k = 0; k < dataset.scans.size(); ++k) {
     const LaserScan& scan = dataset.scans[k].scan;
     const double t = algo::firstBeamTime(scan, options.stamp_is_last_beam);
@@ -116,25 +125,44 @@ MatchTrajectory matchTrajectory(const Dataset& dataset, const ScanPoints& points
     const double sweep_s = (scan.size() > 0 ? scan.size() - 1 : 0) * scan.time_increment_s;
     run.pose_time_s.push_back(points.deskewed.at(k) ? t : t + 0.5 * sweep_s);
   }
-  const std::vector<algo::StepPrior> priors = stepPriors(dataset, run.stamps_s, options);
-  for (const algo::StepPrior& p : priors) {
+  TrackingInput in{stepPriors(dataset, run.stamps_s, options), SE2()};
+  for (const algo::StepPrior& p : in.priors) {
     run.odometry_guesses += p.odometry ? 1 : 0;
     run.gyro_guesses += p.gyro_yaw_rad ? 1 : 0;
   }
-  const SE2& T_base_lidar = dataset.info.T_base_lidar;
   const auto odom0 = run.stamps_s.empty() ? std::nullopt : dataset.odom_nominal.at(run.stamps_s[0]);
-  const SE2 start = odom0.value_or(SE2()) * T_base_lidar;
+  in.start = odom0.value_or(SE2()) * dataset.info.T_base_lidar;
+  return in;
+}
+
+}  // namespace
+
+MatchTrajectory matchTrajectory(const Dataset& dataset, const ScanPoints& points,
+                                const MatchTrajectoryOptions& options) {
+  MatchTrajectory run;
+  const TrackingInput in = prepareTracking(dataset, points, options, run);
+  const SE2& T_base_lidar = dataset.info.T_base_lidar;
   const auto begin = std::chrono::steady_clock::now();
   const algo::KeyframeOdometryParams params =
-      fusionParams(points, priors, start, T_base_lidar, options, run);
+      fusionParams(points, in.priors, in.start, T_base_lidar, options, run);
   run.odometry_sigma_m = params.odometry_sigma_m;
   run.odometry_sigma_rad = params.odometry_sigma_rad;
-  run.tracked = algo::trackKeyframes(points.points, priors, params, start);
+  run.tracked = algo::trackKeyframes(points.points, in.priors, params, in.start);
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   const SE2 T_lidar_base = T_base_lidar.inverse();
   for (std::size_t k = 0; k < run.tracked.scans.size(); ++k)
     run.T_world_base.push_back(run.stamps_s[k], run.tracked.scans[k].T_world_lidar * T_lidar_base);
   return run;
+}
+
+std::optional<algo::OdometryNoise> measuredOdometryNoise(const Dataset& dataset,
+                                                         const ScanPoints& points,
+                                                         const MatchTrajectoryOptions& options) {
+  MatchTrajectory run;
+  const TrackingInput in = prepareTracking(dataset, points, options, run);
+  return algo::measureOdometryNoise(
+      algo::trackKeyframes(points.points, in.priors, withoutFusion(options.params), in.start),
+      in.priors);
 }
 
 std::string formatTrackedMatches(const MatchTrajectory& run) {
@@ -170,13 +198,12 @@ MatchTrajectoryOptions scansAlone(MatchTrajectoryOptions options) {
   return options;
 }
 
-/// The accepted poses of the scans matched alone: what the clock sync compares with the wheels.
-PoseSeries matchAlone(const Dataset& d, const std::string& deskew, bool stamp_is_last_beam) {
+}  // namespace
+
+PoseSeries matchScansAlone(const Dataset& d, const std::string& deskew, bool stamp_is_last_beam) {
   return acceptedPoses(matchTrajectory(d, matchScanPoints(d, deskew, stamp_is_last_beam),
                                        scansAlone({{}, stamp_is_last_beam})));
 }
-
-}  // namespace
 
 PoseSeries scanOnlyPoses(const Dataset& dataset, const ScanPoints& points,
                          const MatchTrajectoryOptions& options, const MatchTrajectory& run) {
@@ -199,12 +226,12 @@ algo::SensorAgreement syncStartAgreement(const Dataset& dataset,
                                          const std::string& deskew, bool stamp_is_last_beam) {
   const auto method = algo::parseDeskewMethod(deskew);
   if (!method || !deskewReadsClocks(*method)) return matched;
-  return scanAgreement(dataset, matchAlone(dataset, "none", stamp_is_last_beam));
+  return scanAgreement(dataset, matchScansAlone(dataset, "none", stamp_is_last_beam));
 }
 
 double syncOntoScans(Dataset& dataset, const std::string& deskew, bool stamp_is_last_beam) {
   return syncOntoScans(dataset,
-                       scanAgreement(dataset, matchAlone(dataset, deskew, stamp_is_last_beam)),
+                       scanAgreement(dataset, matchScansAlone(dataset, deskew, stamp_is_last_beam)),
                        deskew, stamp_is_last_beam);
 }
 
@@ -214,7 +241,7 @@ double syncOntoScans(Dataset& dataset, const algo::SensorAgreement& first,
   return algo::syncOntoScanClock(
       dataset, syncStartAgreement(dataset, first, deskew, stamp_is_last_beam),
       thresholds.min_sync_lag_s, thresholds.min_refine_lag_s, [&](const Dataset& d) {
-        return std::vector<PoseSeries>{matchAlone(d, deskew, stamp_is_last_beam)};
+        return std::vector<PoseSeries>{matchScansAlone(d, deskew, stamp_is_last_beam)};
       });
 }
 

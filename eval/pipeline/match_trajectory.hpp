@@ -86,6 +86,16 @@ std::string formatTrackedMatches(const MatchTrajectory& run);
 /// measurement), at the times they stand for (pose_time_s): what is compared with the wheels.
 PoseSeries acceptedPoses(const MatchTrajectory& run);
 
+/// The odometry's noise per scan step that `matchTrajectory` with `options` would measure
+/// (algo::measureOdometryNoise on the scans tracked alone), without tracking them fused after.
+std::optional<algo::OdometryNoise> measuredOdometryNoise(
+    const Dataset& dataset, const ScanPoints& points, const MatchTrajectoryOptions& options = {});
+
+/// The accepted poses of `deskew`'s scans matched alone, the default matcher with the fusion off:
+/// what the clock sync and a twin's slip compare with the wheels.
+PoseSeries matchScansAlone(const Dataset& dataset, const std::string& deskew,
+                           bool stamp_is_last_beam);
+
 /// What the scans say of the motion alone, for comparing it with the wheels: the accepted poses
 /// of a match with the odometry fusion off (`run` itself where it was made so, its first pass
 /// where it measured the odometry's noise). Fused, the poses
