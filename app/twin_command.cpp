@@ -156,9 +156,9 @@ Command addTwinCommand(CLI::App& app) {
       "docs/twin.md measured on both, side by side with their ratio (TWIN: a twin folder or a\n"
       "dataset): scan_rate_hz, beams_per_scan_mean, no_return_fraction,\n"
       "scan_to_map_residual_median_m, scan_to_map_residual_p95_m,\n"
-      "scan_residual_neighbour_correlation, match_converged_percent,\n"
-      "odometry_drift_per_m, wheels_vs_scans_residual_deg, calibration_sigma_b,\n"
-      "calibration_b_m.");
+      "scan_residual_neighbour_correlation, scan_residual_revisit_correlation,\n"
+      "match_converged_percent, odometry_drift_per_m, odometry_step_noise_deg,\n"
+      "wheels_vs_scans_residual_deg, calibration_sigma_b, calibration_b_m.");
   cli->add_option("DATASET", flags->dataset, "the recording (an imported dataset; read only)");
   cli->add_option("--out", flags->out, "the twin's folder")->check(outputPath());
   cli->add_option("--calibration", flags->calibration,

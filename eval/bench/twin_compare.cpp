@@ -31,6 +31,12 @@ const std::map<std::string, const char*>& definitions() {
        "slamprep match --deskew vicp: robust correlation of neighbouring beams' range residuals "
        "against the walls of the dataset's own matched map (what the twin's "
        "lidar.range_noise_correlation is tuned to)"},
+      {"scan_residual_revisit_correlation",
+       "the same residuals' robust correlation where consecutive scans' beams hit within 2 cm of "
+       "one another: how much of the range error is fixed in the world (surfaces, clutter: seen "
+       "again "
+       "by the next scan) rather than drawn afresh each scan (a lidar's own noise, which a "
+       "matcher mistakes for motion between two scans); the twin's noise is drawn afresh"},
       {"match_converged_percent",
        "slamprep match --deskew none: accepted of all scans but the first"},
       {"odometry_drift_per_m",
@@ -110,6 +116,7 @@ TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
   const ErrorStats r = summarize(s.residuals_m);
   const double attempted = double(run.tracked.scans.size()) - 1.0;
   const CalibrationFigures cal = calibrationFigures(dir, d);
+  const ResidualCorrelations correlations = ownMapCorrelations(d, l);
   auto opt = [](bool ok, double v) { return ok ? std::optional<double>(v) : std::nullopt; };
   s.values = {
       {"scan_rate_hz", l.rate_hz},
@@ -117,7 +124,8 @@ TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
       {"no_return_fraction", l.no_return_fraction},
       {"scan_to_map_residual_median_m", opt(r.ok, r.median)},
       {"scan_to_map_residual_p95_m", opt(r.ok, r.p95)},
-      {"scan_residual_neighbour_correlation", ownMapNeighbourCorrelation(d, l)},
+      {"scan_residual_neighbour_correlation", correlations.neighbour},
+      {"scan_residual_revisit_correlation", correlations.revisit},
       {"match_converged_percent", opt(attempted > 0, 100.0 * run.tracked.matched / attempted)},
       {"odometry_drift_per_m", driftPerMetre(d, run)},
       {"odometry_step_noise_deg", stepNoiseDeg(step_noise)},

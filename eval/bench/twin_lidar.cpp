@@ -155,6 +155,36 @@ double neighbourCorrelation(const std::vector<std::pair<double, double>>& pairs)
   return total > 0.0 ? (s_plus * s_plus - s_minus * s_minus) / total : 0.0;
 }
 
+/// A beam's predicted hit on the world and its residual.
+struct BeamResidual {
+  Eigen::Vector2d hit_world;
+  double residual_m = 0.0;
+};
+using ScanResiduals = std::vector<std::optional<BeamResidual>>;  // by beam index
+
+/// Pairs of residuals where a beam of `current` (its lidar at T_world_lidar, first beam) hit
+/// within `distance_m` of where a beam of `previous` did: the beam pointing there is looked up
+/// by its angle, the hits compared.
+void revisitPairs(const ScanResiduals& previous, const ScanResiduals& current,
+                  const LaserScan& scan, const SE2& T_world_lidar, double distance_m,
+                  std::vector<std::pair<double, double>>& pairs) {
+  const SE2 T_lidar_world = T_world_lidar.inverse();
+  const double per_revolution = kTwoPi / std::abs(scan.angle_increment_rad);
+  for (const auto& p : previous) {
+    if (!p) continue;
+    const Eigen::Vector2d q = T_lidar_world * p->hit_world;
+    // Beams from the first to the one pointing at q, within one revolution.
+    double beams = std::remainder(std::atan2(q.y(), q.x()) - scan.angle_min_rad, kTwoPi) /
+                   scan.angle_increment_rad;
+    if (beams < -0.5) beams += per_revolution;
+    const long i = std::lround(beams);
+    if (i < 0 || i >= static_cast<long>(current.size())) continue;
+    const auto& c = current[static_cast<std::size_t>(i)];
+    if (c && (c->hit_world - p->hit_world).norm() <= distance_m)
+      pairs.push_back({p->residual_m, c->residual_m});
+  }
+}
+
 }  // namespace
 
 LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
@@ -174,10 +204,16 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
   m.predicted_by_range.assign(range_bins, 0);
   std::vector<double> residuals;
   std::vector<std::pair<double, double>> neighbours;  // residuals of beams i - 1 and i
+  std::vector<std::pair<double, double>> revisits;    // one spot's residuals in two scans
+  ScanResiduals previous_scan;
   std::size_t predicted = 0, dropped = 0, unpredicted = 0, spurious = 0;
   for (std::size_t k = 0; k < d.scans.size() && k < use.size(); ++k) {
-    if (!use[k]) continue;
+    if (!use[k]) {
+      previous_scan.clear();
+      continue;
+    }
     const LaserScan& s = d.scans[k].scan;
+    ScanResiduals this_scan(s.size());
     std::optional<double> last;  // beam i - 1's residual
     for (std::size_t i = 0; i < s.size(); ++i) {
       const std::optional<double> previous = std::exchange(last, std::nullopt);
@@ -213,13 +249,20 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
       residuals.push_back(r);
       if (previous) neighbours.push_back({*previous, r});
       last = r;
+      this_scan[i] = BeamResidual{
+          T_world_lidar.translation() + *hit * Eigen::Vector2d(std::cos(a), std::sin(a)), r};
     }
+    if (const auto T = T_world_base.at(s.beamTime(0)); T && !previous_scan.empty())
+      revisitPairs(previous_scan, this_scan, s, *T * d.info.T_base_lidar, p.revisit_distance_m,
+                   revisits);
+    previous_scan = std::move(this_scan);
   }
   m.residuals = residuals.size();
   m.residual_median_m = median(residuals);
   for (double& r : residuals) r = std::abs(r - m.residual_median_m);
   m.range_noise_m = 1.4826 * median(residuals);  // robust sigma: people and clutter are outliers
   m.residual_neighbour_correlation = neighbourCorrelation(neighbours);
+  m.residual_revisit_correlation = neighbourCorrelation(revisits);
   m.dropout_probability = predicted > 0 ? double(dropped) / double(predicted) : 0.0;
   m.spurious_fraction = unpredicted > 0 ? double(spurious) / double(unpredicted) : 0.0;
   if (m.beams > 0) {
@@ -268,16 +311,17 @@ PoseSeries matchedPoses(const MatchTrajectory& run) {
 
 }  // namespace
 
-double ownMapNeighbourCorrelation(const Dataset& d, const LidarLayout& layout,
-                                  const WallExtractionParams& walls, const LidarMapParams& params) {
+ResidualCorrelations ownMapCorrelations(const Dataset& d, const LidarLayout& layout,
+                                        const WallExtractionParams& walls,
+                                        const LidarMapParams& params) {
   const ScanPoints points = matchScanPoints(d, "vicp", false);
   const MatchTrajectory run = matchTrajectory(d, points, twinMatchOptions());
   std::vector<char> accepted;
   const WallMap map =
       extractWalls(matchedMapPoints(run, points.points, layout.usable_max_m, accepted), walls);
   const sim::PlanarCaster world(wallsAsWorld(map, walls));
-  return compareWithMap(d, matchedPoses(run), accepted, world, layout, params)
-      .residual_neighbour_correlation;
+  const LidarAgainstMap m = compareWithMap(d, matchedPoses(run), accepted, world, layout, params);
+  return {m.residual_neighbour_correlation, m.residual_revisit_correlation};
 }
 
 MatchedScans measureMatchedScans(const Dataset& d, const LidarLayout& layout,
@@ -289,7 +333,7 @@ MatchedScans measureMatchedScans(const Dataset& d, const LidarLayout& layout,
     if (!run.tracked.scans[k].fallback) rms.push_back(run.tracked.scans[k].match.rms_residual_m);
   MatchedScans m;
   if (const ErrorStats s = summarize(std::move(rms)); s.ok) m.residual_median_m = s.median;
-  m.neighbour_correlation = ownMapNeighbourCorrelation(d, layout, walls, params);
+  m.neighbour_correlation = ownMapCorrelations(d, layout, walls, params).neighbour;
   return m;
 }
 

@@ -39,6 +39,8 @@ struct LidarMapParams {
   double angle_bin_deg = 10.0;   ///< no-return pattern by beam angle ...
   double range_bin_m = 0.5;      ///< ... and by the range the map predicts
   double lidar_height_m = 0.25;  ///< the plane the world is cast in
+  /// Beams of consecutive scans whose predicted hits lie this close saw the same spot.
+  double revisit_distance_m = 0.02;
 };
 
 struct LidarAgainstMap {
@@ -49,6 +51,10 @@ struct LidarAgainstMap {
   /// Robust correlation of neighbouring beams' residuals (both within max_residual_m): range
   /// errors that move together along a wall tilt it, and a matcher takes a tilt for a turn.
   double residual_neighbour_correlation = 0.0;
+  /// Robust correlation of the residuals of one spot of a wall seen by consecutive scans: range
+  /// errors fixed in the world (the surfaces' own shape, clutter) are seen again, a lidar's own
+  /// noise is drawn afresh; what a matcher sees as motion between two scans is the latter.
+  double residual_revisit_correlation = 0.0;
   double dropout_probability = 0.0;  ///< no return where the map predicts one within usable range
   double spurious_fraction = 0.0;    ///< a return where the map predicts none
   double escape_fraction = 0.0;      ///< beams for which the map predicts no wall (of all)
@@ -82,14 +88,20 @@ std::vector<MapPoint> matchedMapPoints(const MatchTrajectory& run,
                                        const std::vector<Points2>& points, double usable_max_m,
                                        std::vector<char>& accepted);
 
-/// LidarAgainstMap::residual_neighbour_correlation of a dataset against its own map: its scans
+/// The residuals' correlations of a dataset against its own map (ownMapCorrelations).
+struct ResidualCorrelations {
+  double neighbour = 0.0;  ///< LidarAgainstMap::residual_neighbour_correlation
+  double revisit = 0.0;    ///< LidarAgainstMap::residual_revisit_correlation
+};
+
+/// LidarAgainstMap's residual correlations of a dataset against its own map: its scans
 /// matched de-skewed (match --deskew vicp: a sweep matched as measured leaves its motion in the
 /// residuals), the accepted scans' map made into walls (extractWalls), and every beam of those
 /// scans cast in them from the matched poses. The same on a recording and on its twin: each
 /// against the walls of its own matched map, so the twin's matched drift does not count.
-double ownMapNeighbourCorrelation(const Dataset& dataset, const LidarLayout& layout,
-                                  const WallExtractionParams& walls = {},
-                                  const LidarMapParams& params = {});
+ResidualCorrelations ownMapCorrelations(const Dataset& dataset, const LidarLayout& layout,
+                                        const WallExtractionParams& walls = {},
+                                        const LidarMapParams& params = {});
 
 /// What the twin tunes its range noise and its correlation to, measured alike on the recording
 /// and the twin.
@@ -97,7 +109,7 @@ struct MatchedScans {
   /// Median of the accepted scans' point-to-line RMS residual, the scans matched as measured
   /// (slamprep match --deskew none).
   double residual_median_m = 0.0;
-  /// ownMapNeighbourCorrelation: structure the walls do not have (clutter, curved surfaces)
+  /// ownMapCorrelations' neighbour: structure the walls do not have (clutter, curved surfaces)
   /// and range errors that move together, which a matcher reads as the pose.
   double neighbour_correlation = 0.0;
 };

@@ -30,7 +30,8 @@ expect 2 twin --compare "$dir/aces"
 
 expect 0 twin --compare "$dir/aces" "$dir/twin" --json "$dir/cmp.json" --plot "$dir/cmp.png" -q
 for key in scan_rate_hz beams_per_scan_mean no_return_fraction scan_to_map_residual_median_m \
-  scan_to_map_residual_p95_m match_converged_percent odometry_drift_per_m \
+  scan_to_map_residual_p95_m scan_residual_neighbour_correlation \
+  scan_residual_revisit_correlation match_converged_percent odometry_drift_per_m \
   odometry_step_noise_deg wheels_vs_scans_residual_deg calibration_sigma_b calibration_b_m; do
   grep -qF "\"$key\"" "$dir/cmp.json" || fail "comparison lacks $key"
 done
