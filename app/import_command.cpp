@@ -195,9 +195,11 @@ void addImportGeometry(CLI::App* cli, const std::shared_ptr<ImportFlags>& flags)
       ->each([flags](const std::string&) { flags->time_increment_given = true; });
   cli->add_option("--lidar-mount", flags->lidar_mount,
                   "x,y,yaw_deg of the lidar on the base: metres, metres, degrees (default: from "
-                  "the log (bags: the tf tree), else 0,0,0)");
+                  "the log: bags' tf tree, CARMEN's PARAM lines or the one offset every laser "
+                  "line has between robot and laser pose; else 0,0,0)");
   cli->add_flag("--lidar-mount-from-poses", flags->params.lidar_mount_from_poses,
-                "carmen: without --lidar-mount or a mount PARAM, take robot_pose^-1 laser_pose");
+                "carmen: without --lidar-mount or a mount PARAM, take robot_pose^-1 laser_pose "
+                "of the first line even where the lines' offsets differ");
 }
 
 /// What a CARMEN log or a bag holds where: stamps, lasers, topics, frames, joints.

@@ -40,8 +40,8 @@ struct ImportParams {
   /// /tf_static and /tf from base_frame to the scans' frame), identity when the log has none.
   std::optional<SE2> T_base_lidar;
   /// CARMEN: take the mount from the laser lines' robot_pose^-1 laser_pose (first line) when
-  /// neither T_base_lidar nor a PARAM gives it. Off by default: two pose estimates are not a
-  /// calibration.
+  /// neither T_base_lidar nor a PARAM gives it, even where the lines' offsets differ (by default
+  /// only one offset shared by every line is taken: two pose estimates are not a calibration).
   bool lidar_mount_from_poses = false;
   /// CARMEN: stamps running backwards within a stream by up to this much are sorted into
   /// place (or, with drop_late_stamps, the late lines dropped); larger backward steps are refused.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <utility>
 
 #include "slamprep/core/error.hpp"
 #include "slamprep/core/order_statistics.hpp"
@@ -132,8 +133,25 @@ std::optional<SE2> paramMount(const CarmenLog& log, CarmenLaserType type, const 
   return std::nullopt;  // RAWLASERn: CARMEN has no mount PARAM for raw lasers
 }
 
-/// The mount: --lidar-mount, else PARAM lines, else (only when asked) the laser lines' poses,
-/// else identity. Notes when the lines' robot_pose^-1 laser_pose disagrees with it.
+/// Largest distance (m) and turn (rad) between `mount` and the lines' robot_pose^-1 laser_pose.
+std::pair<double, double> mountDeparture(const std::vector<CarmenLaser>& lasers, const SE2& mount) {
+  double dx = 0.0, dyaw = 0.0;
+  for (const auto& l : lasers)
+    if (l.T_odom_base && l.T_odom_laser) {
+      const SE2 e = between(mount, between(*l.T_odom_base, *l.T_odom_laser));
+      dx = std::max(dx, std::hypot(e.x, e.y));
+      dyaw = std::max(dyaw, std::abs(e.yaw));
+    }
+  return {dx, dyaw};
+}
+
+/// Poses this close on every line are one offset, not two estimates.
+constexpr double kSameMountM = 1e-3, kSameMountRad = 1e-3;
+
+/// The mount: --lidar-mount, else PARAM lines, else the laser lines' poses where every line
+/// has the same robot_pose^-1 laser_pose (the offset the logger was configured with: CARMEN
+/// writes laser_pose as robot_pose * its front laser offset) or where asked, else identity.
+/// Notes when the lines' robot_pose^-1 laser_pose disagrees with it.
 SE2 lidarMount(const CarmenLog& log, const std::vector<CarmenLaser>& lasers, const ImportParams& p,
                const std::string& file, ImportResult& r) {
   const std::string name(carmenMessageName(lasers.front().type));
@@ -143,6 +161,10 @@ SE2 lidarMount(const CarmenLog& log, const std::vector<CarmenLaser>& lasers, con
       from_poses = between(*l.T_odom_base, *l.T_odom_laser);
       break;
     }
+  const bool one_offset = from_poses && [&] {
+    const auto [dx, dyaw] = mountDeparture(lasers, *from_poses);
+    return dx <= kSameMountM && dyaw <= kSameMountRad;
+  }();
   std::string source;
   SE2 mount;
   if (p.T_base_lidar) {
@@ -155,18 +177,16 @@ SE2 lidarMount(const CarmenLog& log, const std::vector<CarmenLaser>& lasers, con
       throw InputError(file, "--lidar-mount-from-poses: " + name + " lines carry no poses");
     mount = *from_poses;
     source = "robot_pose^-1 laser_pose of the first " + name + " line (--lidar-mount-from-poses)";
+  } else if (one_offset) {
+    mount = *from_poses;
+    source = "robot_pose^-1 laser_pose, the same on every " + name +
+             " line (the offset the logger was configured with; the log has no mount PARAM)";
   } else {
     source = "nothing: the log has no mount PARAM, identity used (give --lidar-mount x,y,yaw_deg)";
   }
   r.summary.lidar_mount = poseText(mount) + " from " + source;
-  double dx = 0.0, dyaw = 0.0;
-  for (const auto& l : lasers)
-    if (l.T_odom_base && l.T_odom_laser) {
-      const SE2 e = between(mount, between(*l.T_odom_base, *l.T_odom_laser));
-      dx = std::max(dx, std::hypot(e.x, e.y));
-      dyaw = std::max(dyaw, std::abs(e.yaw));
-    }
-  if (dx > 1e-3 || dyaw > 1e-3)
+  const auto [dx, dyaw] = mountDeparture(lasers, mount);
+  if (dx > kSameMountM || dyaw > kSameMountRad)
     r.notes.push_back("the " + name +
                       " lines' laser_pose differs from robot_pose * mount by up to " + number(dx) +
                       " m, " + number(dyaw / kDegree) +

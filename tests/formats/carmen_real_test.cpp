@@ -105,7 +105,10 @@ TEST(CarmenExcerpts, MitCsailFlaserOnlyTakesTheOdometryFromTheLaserLines) {
   EXPECT_EQ(d.info.config["odometry_from"], r.summary.odometry);
   EXPECT_EQ(d.scans[0].scan.size(), 361u);
   EXPECT_NEAR(d.scans[0].scan.beamAngle(360), std::numbers::pi / 2, 1e-12);
-  EXPECT_TRUE(contains(r.summary.lidar_mount, "identity used"));
+  // Its laser poses are its robot poses on every line: the mount is identity, and says why.
+  EXPECT_EQ(d.info.T_base_lidar.x, 0.0);
+  EXPECT_TRUE(contains(r.summary.lidar_mount, "the same on every FLASER line"))
+      << r.summary.lidar_mount;
 }
 
 TEST(CarmenExcerpts, FrClinicRobotLaserCarriesItsOwnAnglesAndPoses) {
@@ -118,16 +121,13 @@ TEST(CarmenExcerpts, FrClinicRobotLaserCarriesItsOwnAnglesAndPoses) {
   EXPECT_EQ(d.scans[0].scan.angle_min_rad, -1.570796);
   // The lines say 81.9 m; 81.83 m is the SICK's code for no return (90 readings here).
   EXPECT_EQ(d.scans[0].scan.range_max_m, 81.83);
-  // No PARAM: identity, and the 0.22 m between laser and robot pose is reported, not adopted.
-  EXPECT_EQ(d.info.T_base_lidar.x, 0.0);
-  ASSERT_EQ(r.notes.size(), 2u);
-  EXPECT_TRUE(contains(r.notes[0], "by up to 0.22")) << r.notes[0];
-  EXPECT_TRUE(contains(r.notes[1], "90 readings")) << r.notes[1];
-  ImportParams p;
-  p.lidar_mount_from_poses = true;
-  EXPECT_NEAR(importExcerpt("carmen_fr_clinic/fr-clinic_robotlaser_first200lines.clf", p)
-                  .dataset.info.T_base_lidar.x,
-              0.22, 1e-6);
+  // No PARAM, but every line's laser pose is 0.22 m ahead of its robot pose: the configured
+  // offset, adopted (before, identity: the matched "base" was the laser's path).
+  EXPECT_NEAR(d.info.T_base_lidar.x, 0.22, 1e-6);
+  EXPECT_NEAR(d.info.T_base_lidar.y, 0.0, 1e-6);
+  EXPECT_TRUE(contains(r.summary.lidar_mount, "the same on every ROBOTLASER1 line"));
+  ASSERT_EQ(r.notes.size(), 1u);
+  EXPECT_TRUE(contains(r.notes[0], "90 readings")) << r.notes[0];
 }
 
 TEST(CarmenExcerpts, IntelStampsRunBackBeyondTheDefaultTolerance) {

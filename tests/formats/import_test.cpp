@@ -66,7 +66,25 @@ TEST(ImportCarmen, HandWrittenLogBecomesADatasetThatReadsBack) {
   EXPECT_EQ(back.encoders.size(), 4u);
 }
 
-TEST(ImportCarmen, TheMountIsNeverTakenFromThePosesUnlessAsked) {
+// Every laser line 0.15 m ahead of its robot pose, in the robot's frame: one configured offset
+// (CARMEN writes laser_pose as robot_pose * its front laser offset), taken as the mount.
+TEST(ImportCarmen, TheMountIsTheLinesOffsetWhereEveryLineHasTheSame) {
+  std::string log = kImportLog;
+  const std::string logged = "1.4 2.02 0.1 1.25 2.02 0.1";
+  const std::string ahead = "1.3992504164 2.0349750208 0.1 1.25 2.02 0.1";  // 0.15 along 0.1 rad
+  log.replace(log.find(logged), logged.size(), ahead);
+  const ImportResult r = importCarmen(log, "run.clf");
+  EXPECT_NEAR(r.dataset.info.T_base_lidar.x, 0.15, 1e-9);
+  EXPECT_NEAR(r.dataset.info.T_base_lidar.y, 0.0, 1e-9);
+  EXPECT_NE(r.summary.lidar_mount.find("the same on every ROBOTLASER1 line"), std::string::npos)
+      << r.summary.lidar_mount;
+  for (const auto& note : r.notes) EXPECT_EQ(note.find("laser_pose"), std::string::npos) << note;
+}
+
+// Offsets that differ from line to line (here by 1.5 cm: the second line's laser is 0.15 m
+// ahead in x of the world, not of the robot turned by 0.1 rad) are two pose estimates, not a
+// calibration: identity, and the disagreement said.
+TEST(ImportCarmen, TheMountIsNotTakenFromPosesThatDisagreeUnlessAsked) {
   const ImportResult r = importCarmen(kImportLog, "run.clf");
   EXPECT_EQ(r.dataset.info.T_base_lidar.x, 0.0);
   EXPECT_EQ(r.dataset.info.T_base_lidar.yaw, 0.0);
