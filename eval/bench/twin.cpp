@@ -198,12 +198,16 @@ void faultSets(const Fitted& f, std::vector<std::string>& s) {
     s.push_back("faults.clock_offset.offset_s=" + num(std::clamp(f.scan_lag_s, -1.0, 1.0)));
   }
   const OdometryFit& o = f.odometry;
-  if (o.encoders_jitter_s > 0.0 || o.imu_jitter_s > 0.0 || o.scans_jitter_s > 0.0) {
+  if (o.encoders_jitter_s > 0.0 || o.imu_jitter_s > 0.0 || o.scans_jitter_s > 0.0 ||
+      o.encoders_sampling_jitter_s > 0.0) {
     faults.push_back("stamp_jitter");
     s.push_back("faults.stamp_jitter.sigma_s=0");
     s.push_back("faults.stamp_jitter.encoders_sigma_s=" + num(o.encoders_jitter_s));
     s.push_back("faults.stamp_jitter.imu_sigma_s=" + num(o.imu_jitter_s));
     s.push_back("faults.stamp_jitter.scans_sigma_s=" + num(o.scans_jitter_s));
+    if (o.encoders_sampling_jitter_s > 0.0)
+      s.push_back("faults.stamp_jitter.encoders_sampling_sigma_s=" +
+                  num(o.encoders_sampling_jitter_s));
   }
   if (f.odometry.gaps > 0 && f.odometry.duration_s > 0.0) {
     faults.push_back("encoder_dropouts");
@@ -451,10 +455,20 @@ nlohmann::ordered_json odometryJson(const Fitted& f, const nlohmann::ordered_jso
       {"stamp_jitter_s",
        fitted({{"encoders", o.encoders_jitter_s},
                {"imu", o.imu_jitter_s},
-               {"scans", o.scans_jitter_s}},
+               {"scans", o.scans_jitter_s},
+               {"encoders_about_grid", o.encoders_grid_jitter_s},
+               {"encoders_sampling", o.encoders_sampling_jitter_s},
+               {"encoders_stamp_error_bound",
+                o.encoders_stamp_error_bound_s
+                    ? nlohmann::ordered_json(*o.encoders_stamp_error_bound_s)
+                    : nlohmann::ordered_json(nullptr)}},
               "RMS of each stream's stamps about its grid where calibrate puts them back on it "
               "(docs/deskew.md \"Jittered stamps\"), else 0: the twin's "
-              "faults.stamp_jitter")},
+              "faults.stamp_jitter; the encoders' at most what their ticks say the stamps can be "
+              "wrong by (encoders_stamp_error_bound: ticks that follow irregular stamps were "
+              "sampled irregularly, not stamped wrong), the rest of their jitter about the grid "
+              "when they were sampled (encoders_sampling: "
+              "faults.stamp_jitter.encoders_sampling_sigma_s; docs/twin.md \"Stamp jitter\")")},
       {"ticks_per_revolution", fitted(o.ticks_per_revolution, "dataset.json")},
       {"gaps", fitted({{"count", o.gaps}, {"mean_s", o.gap_mean_s}, {"max_s", o.gap_max_s}},
                       "encoder steps over 2.5 median steps: stale runs the import dropped, lost "
@@ -541,7 +555,12 @@ const char* const kNotReproduced[] = {
     "twist spikes (import --json reports them; the dataset does not keep the twist)",
     ("slip whose size is not Gaussian (a few large heading errors beside many small ones): the "
      "twin's slips are Gaussian, fitted to their variance"),
-    "moving people and objects: their returns are cut from the world where the robot drove"};
+    "moving people and objects: their returns are cut from the world where the robot drove",
+    ("odometry sampled on a coarser internal clock (steps of 3 or 4 ticks): the twin's irregular "
+     "sampling is Gaussian, fitted to its RMS about the grid"),
+    ("range errors fixed in the world (surfaces, clutter), which the next scan sees again "
+     "(twin --compare's scan_residual_revisit_correlation): the twin's noise is drawn afresh "
+     "every scan")};
 
 }  // namespace
 

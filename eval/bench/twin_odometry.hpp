@@ -4,6 +4,7 @@
 // gyro's bias and noise where the robot stood still.
 
 #include <cstddef>
+#include <optional>
 #include <string>
 
 #include "slamprep/core/dataset.hpp"
@@ -26,7 +27,13 @@ struct OdometryFit {
   double gyro_noise_radps = 0.0;  ///< ... and standard deviation
   /// Stamp jitter (s) where calibrate puts a stream back on its grid (algo::regularizeStamps):
   /// the RMS of its stamps about the grid; 0 where the stream is regular or is left alone.
-  double encoders_jitter_s = 0.0;  ///< the encoders' (or the odometry poses' without ticks)
+  double encoders_jitter_s = 0.0;  ///< the encoders' (or the odometry poses' without ticks) ...
+  double encoders_grid_jitter_s = 0.0;  ///< ... the RMS about the grid, ...
+  /// ... no more than the ticks say the stamps can be wrong (nullopt: too few steady steps);
+  /// an odometry sampled irregularly but stamped right jitters about its grid without error.
+  std::optional<double> encoders_stamp_error_bound_s;
+  /// The rest of the grid jitter: sampled at irregular times, stamped right.
+  double encoders_sampling_jitter_s = 0.0;
   double imu_jitter_s = 0.0;
   double scans_jitter_s = 0.0;
   /// The wheels' rate the recording reaches: 99th percentile of |rate| over the encoder steps

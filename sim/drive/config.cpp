@@ -76,6 +76,7 @@ void visitFaultFields(Config& c, Visitor&& v) {
   v("faults.stamp_jitter.encoders_sigma_s", f.stamp_jitter_encoders_sigma_s);
   v("faults.stamp_jitter.imu_sigma_s", f.stamp_jitter_imu_sigma_s);
   v("faults.stamp_jitter.scans_sigma_s", f.stamp_jitter_scans_sigma_s);
+  v("faults.stamp_jitter.encoders_sampling_sigma_s", f.stamp_jitter_encoders_sampling_sigma_s);
   v("faults.read_jitter.encoders_sigma_s", f.read_jitter_encoders_sigma_s);
   v("faults.read_jitter.scans_sigma_s", f.read_jitter_scans_sigma_s);
   v("faults.clock_offset.offset_s", f.clock_offset_s);
@@ -251,6 +252,8 @@ void validateFaults(const Checker& check, const FaultsConfig& f) {
   check.faultRate("faults.encoder_dropouts.rate_hz", f.encoder_dropout_rate_hz);
   check.positive("faults.encoder_dropouts.duration_s", f.encoder_dropout_duration_s);
   check.nonNegative("faults.stamp_jitter.sigma_s", f.stamp_jitter_sigma_s);
+  check.nonNegative("faults.stamp_jitter.encoders_sampling_sigma_s",
+                    f.stamp_jitter_encoders_sampling_sigma_s);
   for (const auto& [key, sigma] :
        {std::pair{"faults.stamp_jitter.encoders_sigma_s", f.stamp_jitter_encoders_sigma_s},
         std::pair{"faults.stamp_jitter.imu_sigma_s", f.stamp_jitter_imu_sigma_s},

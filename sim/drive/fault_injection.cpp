@@ -246,6 +246,21 @@ json readOffStamps(const FaultsConfig& f, std::uint64_t seed, EncoderLog& encode
   return jitterSummary(e);
 }
 
+/// Every encoder sample taken s_k off its grid time and stamped then: stamp and ticks move
+/// together (the clean log's ticks at grid + s_k), so the ticks follow the irregular stamps.
+json sampleOffGrid(const FaultsConfig& f, std::uint64_t seed, double rate_hz,
+                   EncoderLog& encoders) {
+  SplitMix64 rng = stream(seed, RngStream::fault_sampling_encoders);
+  const auto s = jitter(rng, encoders.size(), f.stamp_jitter_encoders_sampling_sigma_s, rate_hz);
+  const EncoderLog clean = encoders;
+  for (std::size_t k = 0; k < encoders.size(); ++k) {
+    const double t = std::max(0.0, clean[k].stamp_s + s[k]);
+    const auto [left, right] = ticksAt(clean, t);
+    encoders[k] = {t, std::llround(left), std::llround(right)};
+  }
+  return jitterSummary(s);
+}
+
 /// What scan after scan was taken off its stamp (the run drew them: ScanReadJitter).
 json scanReadRecord(const FaultsConfig& f, std::uint64_t seed, double lidar_hz, std::size_t scans) {
   ScanReadJitter draws(f, seed, lidar_hz);
@@ -296,6 +311,8 @@ void injectEncoderFaults(const FaultsConfig& f, std::uint64_t seed, const Stream
   if (on.has(Fault::encoder_dropouts))
     out["encoder_dropouts"] = dropoutWindows(f, seed, duration_s, windows);
   if (on.has(Fault::stamp_jitter)) {
+    if (f.stamp_jitter_encoders_sampling_sigma_s > 0.0)
+      jitter_record["encoders_sampling"] = sampleOffGrid(f, seed, rates.encoders_hz, encoders);
     SplitMix64 rng = stream(seed, RngStream::fault_jitter_encoders);
     const auto e = jitter(rng, encoders.size(), f.jitterSigma(f.stamp_jitter_encoders_sigma_s),
                           rates.encoders_hz);

@@ -83,6 +83,10 @@ struct FaultsConfig {
   double stamp_jitter_encoders_sigma_s = -1.0;
   double stamp_jitter_imu_sigma_s = -1.0;
   double stamp_jitter_scans_sigma_s = -1.0;
+  /// Encoders sampled at irregular times and stamped right (a robot that stamps its own
+  /// odometry): sample k is taken and stamped at its grid time + s_k, s_k ~ N(0, this^2) cut at
+  /// 0.45 periods, before any stamp error above; 0: sampled on the grid.
+  double stamp_jitter_encoders_sampling_sigma_s = 0.0;
   double jitterSigma(double stream_sigma_s) const {
     return stream_sigma_s < 0.0 ? stamp_jitter_sigma_s : stream_sigma_s;
   }

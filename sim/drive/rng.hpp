@@ -28,6 +28,7 @@ enum class RngStream : std::uint64_t {
   fault_held_robot = 0x6668656cULL,            // "fhel"
   fault_read_jitter_encoders = 0x6672656aULL,  // "frej"
   fault_read_jitter_scans = 0x66727363ULL,     // "frsc"
+  fault_sampling_encoders = 0x6673656eULL,     // "fsen"
 };
 
 /// SplitMix64 (Steele, Lea, Flood 2014): a tiny generator whose output is fully specified, so

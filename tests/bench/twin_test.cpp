@@ -343,6 +343,7 @@ TEST(Twin, FitsTheStampJitterItWasSimulatedWith) {
   const Dataset d = sim::simulate(c, sim::loadWorld(kWorlds / "box_room.yaml"), s).dataset;
   const OdometryFit f = fitOdometry(d);
   EXPECT_NEAR(f.encoders_jitter_s, 0.0015, 0.08 * 0.0015);
+  EXPECT_LT(f.encoders_sampling_jitter_s, 0.5 * 0.0015);  // the ticks do not follow the stamps
   EXPECT_NEAR(f.scans_jitter_s, 0.008, 0.08 * 0.008);
   EXPECT_EQ(f.imu_jitter_s, 0.0);
   EXPECT_NEAR(f.encoder_rate_hz, 100.0, 0.01);
@@ -350,6 +351,30 @@ TEST(Twin, FitsTheStampJitterItWasSimulatedWith) {
   const OdometryFit clean = fitOdometry(slippingRecording(0.0));
   EXPECT_EQ(clean.encoders_jitter_s, 0.0);
   EXPECT_EQ(clean.scans_jitter_s, 0.0);
+}
+
+// An odometry sampled at irregular times but stamped right (a robot that stamps its own
+// odometry: the TurtleBot4's /odom) jitters about its grid without any stamp error: its ticks
+// follow its stamps. Forward and inverse: 100 Hz encoders sampled 1.5 ms off their grid
+// (faults.stamp_jitter.encoders_sampling_sigma_s) give 1.5 ms about the grid, a stamp error
+// bounded by a fraction of it, and the twin samples its own encoders so, stamped right.
+TEST(Twin, GivesNoStampErrorToTicksThatFollowTheirStamps) {
+  sim::SimConfig c;
+  c.mode = sim::SimMode::kinematic;
+  c.lidar.beams_per_revolution = 90;
+  c.duration_s = 60.0;
+  c.faults.enable.add(sim::Fault::stamp_jitter);
+  c.faults.stamp_jitter_sigma_s = 0.0;
+  c.faults.stamp_jitter_encoders_sampling_sigma_s = 0.0015;
+  const sim::Scenario s = sim::parseScenario(
+      "segments:\n  - {type: figure_eight, radius_m: 0.8, speed_mps: 0.4, loops: 4}\n", "t.yaml");
+  const OdometryFit f =
+      fitOdometry(sim::simulate(c, sim::loadWorld(kWorlds / "box_room.yaml"), s).dataset);
+  EXPECT_NEAR(f.encoders_grid_jitter_s, 0.0015, 0.08 * 0.0015);
+  ASSERT_TRUE(f.encoders_stamp_error_bound_s.has_value());
+  EXPECT_LT(*f.encoders_stamp_error_bound_s, 0.3 * 0.0015);
+  EXPECT_EQ(f.encoders_jitter_s, *f.encoders_stamp_error_bound_s);
+  EXPECT_NEAR(f.encoders_sampling_jitter_s, 0.0015, 0.1 * 0.0015);
 }
 
 // Dropped beams, forward and inverse: a recording that drops 5 % of its beams gives a twin whose
