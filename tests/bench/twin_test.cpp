@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 #include "slamprep/eval/bench/twin_lidar.hpp"
@@ -329,18 +330,25 @@ TEST(Twin, GivesItsTwinTheReadJitterOfTheRecording) {
 // and 8 ms on its scans (10 Hz) gives the twin those sigmas back, and the streams' rates are
 // their grids'. 60 s: 6000 encoder stamps (RMS estimate +-1 %), 600 scans (+-3 %); 8 %. (3 ms
 // on 10 ms is beyond what calibrate takes for jitter about a grid: RMS over 0.25 periods.)
-TEST(Twin, FitsTheStampJitterItWasSimulatedWith) {
+/// Four figure eights (60 s, kinematic, 100 Hz encoders) with the stamp jitter `faults` sets.
+Dataset jitteredRecording(const std::function<void(sim::FaultsConfig&)>& faults) {
   sim::SimConfig c;
   c.mode = sim::SimMode::kinematic;
   c.lidar.beams_per_revolution = 90;
   c.duration_s = 60.0;
   c.faults.enable.add(sim::Fault::stamp_jitter);
   c.faults.stamp_jitter_sigma_s = 0.0;
-  c.faults.stamp_jitter_encoders_sigma_s = 0.0015;
-  c.faults.stamp_jitter_scans_sigma_s = 0.008;
+  faults(c.faults);
   const sim::Scenario s = sim::parseScenario(
       "segments:\n  - {type: figure_eight, radius_m: 0.8, speed_mps: 0.4, loops: 4}\n", "t.yaml");
-  const Dataset d = sim::simulate(c, sim::loadWorld(kWorlds / "box_room.yaml"), s).dataset;
+  return sim::simulate(c, sim::loadWorld(kWorlds / "box_room.yaml"), s).dataset;
+}
+
+TEST(Twin, FitsTheStampJitterItWasSimulatedWith) {
+  const Dataset d = jitteredRecording([](sim::FaultsConfig& f) {
+    f.stamp_jitter_encoders_sigma_s = 0.0015;
+    f.stamp_jitter_scans_sigma_s = 0.008;
+  });
   const OdometryFit f = fitOdometry(d);
   EXPECT_NEAR(f.encoders_jitter_s, 0.0015, 0.08 * 0.0015);
   EXPECT_LT(f.encoders_sampling_jitter_s, 0.5 * 0.0015);  // the ticks do not follow the stamps
@@ -359,17 +367,8 @@ TEST(Twin, FitsTheStampJitterItWasSimulatedWith) {
 // (faults.stamp_jitter.encoders_sampling_sigma_s) give 1.5 ms about the grid, a stamp error
 // bounded by a fraction of it, and the twin samples its own encoders so, stamped right.
 TEST(Twin, GivesNoStampErrorToTicksThatFollowTheirStamps) {
-  sim::SimConfig c;
-  c.mode = sim::SimMode::kinematic;
-  c.lidar.beams_per_revolution = 90;
-  c.duration_s = 60.0;
-  c.faults.enable.add(sim::Fault::stamp_jitter);
-  c.faults.stamp_jitter_sigma_s = 0.0;
-  c.faults.stamp_jitter_encoders_sampling_sigma_s = 0.0015;
-  const sim::Scenario s = sim::parseScenario(
-      "segments:\n  - {type: figure_eight, radius_m: 0.8, speed_mps: 0.4, loops: 4}\n", "t.yaml");
-  const OdometryFit f =
-      fitOdometry(sim::simulate(c, sim::loadWorld(kWorlds / "box_room.yaml"), s).dataset);
+  const OdometryFit f = fitOdometry(jitteredRecording(
+      [](sim::FaultsConfig& f) { f.stamp_jitter_encoders_sampling_sigma_s = 0.0015; }));
   EXPECT_NEAR(f.encoders_grid_jitter_s, 0.0015, 0.08 * 0.0015);
   ASSERT_TRUE(f.encoders_stamp_error_bound_s.has_value());
   EXPECT_LT(*f.encoders_stamp_error_bound_s, 0.3 * 0.0015);
