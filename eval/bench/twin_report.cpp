@@ -78,7 +78,7 @@ std::string shortLabel(const std::string& name) {
       {"match_converged_percent", "conv."},
       {"odometry_drift_per_m", "drift"},
       {"odometry_step_noise_deg", "step"},
-      {"wheels_vs_scans_residual_deg", "wh/scans"},
+      {"wheels_vs_scans_residual_deg", "wh/sc"},
       {"calibration_sigma_b", "sd b"},
       {"calibration_b_m", "b"}};
   const auto it = shorts.find(name);
@@ -88,7 +88,7 @@ std::string shortLabel(const std::string& name) {
 }  // namespace
 
 void plotComparison(const TwinComparison& c, const std::filesystem::path& png) {
-  plot::Figure fig{.width_px = 1400,
+  plot::Figure fig{.width_px = 1800,
                    .height_px = 700,
                    .title = "twin against recording " + recordingName(c.real),
                    .cols = 2};
