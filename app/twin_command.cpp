@@ -144,9 +144,9 @@ Command addTwinCommand(CLI::App& app) {
       "twin", "A simulation that reproduces a recording, and its comparison with the recording.");
   cli->footer(
       "slamprep twin DATASET --out DIR: matches the scans to a map (slamprep match), makes the\n"
-      "map's walls a world, the matched trajectory wheel-rate commands, fits the lidar (rate,\n"
-      "beams, layout, range noise, no-returns, usable range) and the odometry (geometry, rate,\n"
-      "gaps, clock lag, gyro), and writes DIR/world.yaml, DIR/scenario.yaml, DIR/twin.json\n"
+      "map's walls a world, the matched trajectory (smoothed of the matches' jitter) wheel-rate\n"
+      "commands, fits the lidar (rate, beams, layout, range noise, no-returns, usable range) and\n"
+      "the odometry (geometry, rate, gaps, clock lag, stamp jitter, slip, gyro), and writes DIR/world.yaml, DIR/scenario.yaml, DIR/twin.json\n"
       "(every value with how it was measured, and the --set list) and DIR/dataset/ (simulated).\n"
       "The drive is simulated with physics, the commands corrected in closed loop toward their\n"
       "kinematic replay, or kinematically when even so the physics' robot leaves it by more\n"
