@@ -78,6 +78,7 @@ void visitFaultFields(Config& c, Visitor&& v) {
   v("faults.stamp_jitter.scans_sigma_s", f.stamp_jitter_scans_sigma_s);
   v("faults.stamp_jitter.encoders_sampling_sigma_s", f.stamp_jitter_encoders_sampling_sigma_s);
   v("faults.read_jitter.encoders_sigma_s", f.read_jitter_encoders_sigma_s);
+  v("faults.read_jitter.encoders_correlation_s", f.read_jitter_encoders_correlation_s);
   v("faults.read_jitter.scans_sigma_s", f.read_jitter_scans_sigma_s);
   v("faults.clock_offset.offset_s", f.clock_offset_s);
   v("faults.dropped_scans.probability", f.dropped_scan_probability);
@@ -260,6 +261,8 @@ void validateFaults(const Checker& check, const FaultsConfig& f) {
         std::pair{"faults.stamp_jitter.scans_sigma_s", f.stamp_jitter_scans_sigma_s}})
     if (!(sigma >= 0.0 || sigma == -1.0)) check.fail(key, "must be >= 0, or -1 for sigma_s", sigma);
   check.nonNegative("faults.read_jitter.encoders_sigma_s", f.read_jitter_encoders_sigma_s);
+  check.nonNegative("faults.read_jitter.encoders_correlation_s",
+                    f.read_jitter_encoders_correlation_s);
   check.nonNegative("faults.read_jitter.scans_sigma_s", f.read_jitter_scans_sigma_s);
   if (!(std::abs(f.clock_offset_s) <= 1.0))
     check.fail("faults.clock_offset.offset_s", "must be within [-1, 1] s", f.clock_offset_s);

@@ -237,6 +237,11 @@ json readOffStamps(const FaultsConfig& f, std::uint64_t seed, EncoderLog& encode
   SplitMix64 rng = stream(seed, RngStream::fault_read_jitter_encoders);
   std::vector<double> e(encoders.size());  // not cut: a reading may be older than the one before
   for (double& x : e) x = f.read_jitter_encoders_sigma_s * rng.gaussian();
+  if (const double tau = f.read_jitter_encoders_correlation_s; tau > 0.0)
+    for (std::size_t k = 1; k < e.size(); ++k) {  // AR(1) of the same draws, sigma kept
+      const double rho = std::exp(-(encoders[k].stamp_s - encoders[k - 1].stamp_s) / tau);
+      e[k] = rho * e[k - 1] + std::sqrt(1.0 - rho * rho) * e[k];
+    }
   const EncoderLog clean = encoders;
   for (std::size_t k = 0; k < encoders.size(); ++k) {
     const auto [left, right] = ticksAt(clean, clean[k].stamp_s + e[k]);
@@ -301,6 +306,8 @@ void injectEncoderFaults(const FaultsConfig& f, std::uint64_t seed, const Stream
   if (on.has(Fault::read_jitter)) {
     out["read_jitter"] = {{"encoders_sigma_s", f.read_jitter_encoders_sigma_s},
                           {"scans_sigma_s", f.read_jitter_scans_sigma_s}};
+    if (f.read_jitter_encoders_correlation_s > 0.0)
+      out["read_jitter"]["encoders_correlation_s"] = f.read_jitter_encoders_correlation_s;
     out["read_jitter"]["encoders"] = readOffStamps(f, seed, encoders);
   }
   if (on.has(Fault::stale_odometry))

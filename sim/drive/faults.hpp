@@ -107,8 +107,11 @@ struct FaultsConfig {
   double held_robot_rate_hz = 0.01;        ///< holds of the body per second
   double held_robot_min_duration_s = 1.0;  ///< each lasts uniform [min, max]
   double held_robot_max_duration_s = 3.0;
-  /// When the encoders are read against their stamps: N(0, sigma^2).
+  /// When the encoders are read against their stamps: N(0, sigma^2) ...
   double read_jitter_encoders_sigma_s = 0.02;
+  /// ... correlated from sample to sample over this time (AR(1), exp(-dt / this), sigma kept;
+  /// 0: white): a reading late for a while, as a busy driver's is, not independently each time.
+  double read_jitter_encoders_correlation_s = 0.0;
   /// When a scan's first beam is taken against its stamp: N(0, sigma^2), cut at 0.45 periods.
   double read_jitter_scans_sigma_s = 0.0;
 };

@@ -185,40 +185,75 @@ TEST(Faults, StampJitterPerStream) {
   EXPECT_THROW(applyOverride(bad, "faults.stamp_jitter.scans_sigma_s=-0.5"), std::exception);
 }
 
+/// When each left-wheel sample of `d` was read, against the clean log: its ticks off the clean
+/// ones over the wheel's ticks per second (after the 5 s ramp-up, where the rate is constant).
+std::vector<double> readErrors(const Dataset& d, const Dataset& clean) {
+  const auto& cl = clean.encoders;
+  std::vector<double> e;
+  for (std::size_t k = 1; k + 1 < d.encoders.size(); ++k) {
+    EXPECT_EQ(d.encoders[k].stamp_s, cl[k].stamp_s);
+    if (cl[k].stamp_s < 5.0) continue;
+    const double ticks_per_s = double(cl[k + 1].ticks_left - cl[k - 1].ticks_left) /
+                               (cl[k + 1].stamp_s - cl[k - 1].stamp_s);
+    e.push_back(double(d.encoders[k].ticks_left - cl[k].ticks_left) / ticks_per_s);
+  }
+  return e;
+}
+
+double rms(const std::vector<double>& e) {
+  double sum2 = 0.0;
+  for (double x : e) sum2 += x * x;
+  return std::sqrt(sum2 / double(e.size()));
+}
+
+/// The read jitter's run on the arc, and the same run without faults.
+std::pair<Dataset, Dataset> readJitterRun(const std::string& sigma, const std::string& tau) {
+  SimConfig c = longRun("read_jitter", 40.0);
+  applyOverride(c, "faults.read_jitter.encoders_sigma_s=" + sigma);
+  applyOverride(c, "faults.read_jitter.encoders_correlation_s=" + tau);
+  const Scenario arc = scenario("  - {type: arc, v_mps: 0.3, w_radps: 0.8, duration_s: 45}\n");
+  SimConfig off = c;
+  applyOverride(off, "faults.enable=none");
+  return {simulate(c, squareRoom(3.0), arc).dataset, simulate(off, squareRoom(3.0), arc).dataset};
+}
+
 // Read jitter on an arc of constant wheel rates: every stamp stays on its grid, and what each
 // sample is off the clean log, in ticks over the wheel's ticks per second, is when it was read.
 // 3500 samples after the ramp-up.
 TEST(Faults, ReadJitterKeepsTheStampsAndReadsTheWheelsOffThem) {
-  SimConfig c = longRun("read_jitter", 40.0);
-  applyOverride(c, "faults.read_jitter.encoders_sigma_s=0.005");
-  const Scenario arc = scenario("  - {type: arc, v_mps: 0.3, w_radps: 0.8, duration_s: 45}\n");
-  const Dataset d = simulate(c, squareRoom(3.0), arc).dataset;
-  SimConfig off = c;
-  applyOverride(off, "faults.enable=none");
-  const Dataset clean = simulate(off, squareRoom(3.0), arc).dataset;
+  const auto [d, clean] = readJitterRun("0.005", "0");
   ASSERT_EQ(d.encoders.size(), clean.encoders.size());
-  const auto& cl = clean.encoders;
-  double sum2 = 0.0;
-  std::size_t n = 0;
-  for (std::size_t k = 1; k + 1 < d.encoders.size(); ++k) {
-    ASSERT_EQ(d.encoders[k].stamp_s, cl[k].stamp_s);
-    if (cl[k].stamp_s < 5.0) continue;  // the ramp-up: the rate is not yet constant
-    const double ticks_per_s = double(cl[k + 1].ticks_left - cl[k - 1].ticks_left) /
-                               (cl[k + 1].stamp_s - cl[k - 1].stamp_s);
-    const double e = double(d.encoders[k].ticks_left - cl[k].ticks_left) / ticks_per_s;
-    sum2 += e * e;
-    ++n;
-  }
-  ASSERT_GT(n, 3000u);
+  const std::vector<double> e = readErrors(d, clean);
+  ASSERT_GT(e.size(), 3000u);
   const nlohmann::json& record = d.info.faults["read_jitter"];
   const double drawn_rms = record["encoders"]["rms_s"].get<double>();
   EXPECT_NEAR(drawn_rms, 5e-3, 0.2e-3);  // 4000 draws: +-0.056 ms
   // The ticks' rounding adds under 0.2 ms at about 2000 ticks/s.
-  EXPECT_NEAR(std::sqrt(sum2 / double(n)), drawn_rms, 0.2e-3);
+  EXPECT_NEAR(rms(e), drawn_rms, 0.2e-3);
   EXPECT_EQ(record["encoders_sigma_s"], 0.005);
   EXPECT_EQ(record["encoders"]["count"], d.encoders.size());
   EXPECT_FALSE(record.contains("scans"));  // scans_sigma_s is 0 by default
+  SimConfig off = longRun("read_jitter", 40.0);
   EXPECT_THROW(applyOverride(off, "faults.read_jitter.encoders_sigma_s=-1"), std::exception);
+  EXPECT_THROW(applyOverride(off, "faults.read_jitter.encoders_correlation_s=-1"), std::exception);
+}
+
+// Correlated over 0.5 s, the read errors keep their sigma and follow an AR(1): neighbouring
+// samples (10 ms apart at 100 Hz) correlate exp(-0.02) = 0.98, samples 0.5 s apart exp(-1) =
+// 0.37. 40 s hold about 80 independent stretches, so the RMS is good to about +-15 %.
+TEST(Faults, ReadJitterCorrelatedOverTimeKeepsItsSigma) {
+  const auto [d, clean] = readJitterRun("0.005", "0.5");
+  const std::vector<double> e = readErrors(d, clean);
+  ASSERT_GT(e.size(), 3000u);
+  EXPECT_NEAR(rms(e), 5e-3, 0.15 * 5e-3);
+  const auto correlation = [&](std::size_t lag) {
+    double xy = 0.0;
+    for (std::size_t k = lag; k < e.size(); ++k) xy += e[k] * e[k - lag];
+    return xy / double(e.size() - lag) / (rms(e) * rms(e));
+  };
+  const double step = clean.encoders[1].stamp_s - clean.encoders[0].stamp_s;
+  EXPECT_NEAR(correlation(1), std::exp(-step / 0.5), 0.02);
+  EXPECT_NEAR(correlation(std::size_t(std::lround(0.5 / step))), std::exp(-1.0), 0.15);
 }
 
 // The scans' side: stamped on their grid, taken when the record says. A scan's true pose is
