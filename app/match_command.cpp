@@ -103,14 +103,18 @@ double syncAndMatchAgain(Dataset& d, const MatchFlags& flags, MatchPass& pass) {
                                  });
 }
 
+/// Whether the matches were fused with the odometry at all (an odometry sigma of 0: not).
+bool fusedWithOdometry(const eval::MatchTrajectory& run) {
+  return run.odometry_sigma_m > 0.0 && run.odometry_sigma_rad > 0.0;
+}
+
 /// The odometry noise the matches were fused with and how it was found (docs/matching.md).
 nlohmann::ordered_json odometryNoiseJson(const eval::MatchTrajectory& run) {
-  const bool fused = run.odometry_sigma_m > 0.0 && run.odometry_sigma_rad > 0.0;
   const auto& measured = run.odometry_noise;
   nlohmann::ordered_json out = {
-      {"source", !fused     ? "off"
-                 : measured ? "measured"
-                            : "given"},
+      {"source", !fusedWithOdometry(run) ? "off"
+                 : measured              ? "measured"
+                                         : "given"},
       {"sigma_m", run.odometry_sigma_m},
       {"sigma_deg", run.odometry_sigma_rad * kDegPerRad},
       {"steps", measured ? nlohmann::ordered_json(measured->steps) : nullptr},
@@ -119,7 +123,7 @@ nlohmann::ordered_json odometryNoiseJson(const eval::MatchTrajectory& run) {
 }
 
 void printOdometryNoise(const eval::MatchTrajectory& run) {
-  if (!(run.odometry_sigma_m > 0.0 && run.odometry_sigma_rad > 0.0)) return;
+  if (!fusedWithOdometry(run)) return;
   std::printf("fused with an odometry noise per scan step of %.4f m, %.3f deg",
               run.odometry_sigma_m, run.odometry_sigma_rad * kDegPerRad);
   if (const auto& m = run.odometry_noise)

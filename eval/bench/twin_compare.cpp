@@ -34,8 +34,7 @@ const std::map<std::string, const char*>& definitions() {
       {"scan_residual_revisit_correlation",
        "the same residuals' robust correlation where consecutive scans' beams hit within 2 cm of "
        "one another: how much of the range error is fixed in the world (surfaces, clutter: seen "
-       "again "
-       "by the next scan) rather than drawn afresh each scan (a lidar's own noise, which a "
+       "again by the next scan) rather than drawn afresh each scan (a lidar's own noise, which a "
        "matcher mistakes for motion between two scans); the twin's noise is drawn afresh"},
       {"match_converged_percent",
        "slamprep match --deskew none: accepted of all scans but the first"},
