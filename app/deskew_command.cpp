@@ -67,7 +67,7 @@ Geometry chooseGeometry(const DeskewFlags& flags, const Dataset& dataset) {
   if (flags.geometry == "true") {
     if (!dataset.info.true_geometry)
       throw InputError("--geometry true", flags.dataset + " has no true geometry (a real log?)");
-    return {*dataset.info.true_geometry, dataset.info.T_base_lidar, "true"};
+    return {*dataset.info.true_geometry, dataset.info.trueMount(), "true"};
   }
   return {dataset.info.nominal_geometry, dataset.info.T_base_lidar, "nominal"};
 }

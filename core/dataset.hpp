@@ -40,10 +40,16 @@ struct DatasetInfo {
   std::optional<DiffDriveParams> true_geometry;  ///< what Bullet simulated; absent for real logs
   DiffDriveParams nominal_geometry;              ///< what the odometry is told
   SE2 T_base_lidar;                              ///< lidar mount ("lidar_mount": x, y, yaw)
+  /// The mount that was simulated where the dataset is told another ("true_lidar_mount"; the
+  /// simulator's nominal.lidar_mount_error): absent, the told one is the truth.
+  std::optional<SE2> true_T_base_lidar;
   int ticks_per_revolution = 4096;
   nlohmann::json config = nlohmann::json::object();  ///< full configuration as simulated
   /// Every injected fault and its events (docs/faults.md); null when none was on.
   nlohmann::json faults;
+
+  /// The mount the lidar really had: what ground truth is measured with.
+  const SE2& trueMount() const { return true_T_base_lidar ? *true_T_base_lidar : T_base_lidar; }
 };
 
 struct Dataset {

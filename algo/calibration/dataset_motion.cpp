@@ -30,7 +30,7 @@ PoseSeries lidarPosesFromGroundTruth(const Dataset& dataset, bool stamp_is_last_
     if (!T_world_base) T_world_base = dataset.groundtruth.at(t);
     if (!T_world_base) continue;
     if (!poses.empty() && t <= poses.backStamp()) continue;
-    poses.push_back(t, *T_world_base * dataset.info.T_base_lidar);
+    poses.push_back(t, *T_world_base * dataset.info.trueMount());
   }
   return poses;
 }

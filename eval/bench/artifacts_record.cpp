@@ -67,7 +67,7 @@ std::optional<ArtifactScanRecord> shownScan(const Dataset& dataset, const Datase
   const ScanRecord& record = dataset.scans[k];
   const auto T_world_base = dataset.groundtruth.at(record.scan.stamp_s);
   if (!T_world_base) return std::nullopt;
-  const SE2 T_world_lidar = *T_world_base * dataset.info.T_base_lidar;
+  const SE2 T_world_lidar = *T_world_base * dataset.info.trueMount();
   const auto toWorld = [&](const std::vector<std::optional<Eigen::Vector2d>>& p_lidar) {
     WorldPoints points;
     for (const auto& p : p_lidar)

@@ -46,7 +46,7 @@ void scoreEstimate(const Dataset& dataset, const algo::CalibrationResult& result
     if (sigma.size() >= 6) estimate.mount_sigma = sigma.segment<3>(3);
   }
   const auto error =
-      calibrationError(estimate, *dataset.info.true_geometry, dataset.info.T_base_lidar);
+      calibrationError(estimate, *dataset.info.true_geometry, dataset.info.trueMount());
   Eigen::VectorXd error_si(static_cast<Eigen::Index>(error.parameters.size()));
   for (std::size_t i = 0; i < error.parameters.size(); ++i) {
     const auto& p = error.parameters[i];

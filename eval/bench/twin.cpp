@@ -22,29 +22,70 @@ namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
-/// The twin's true geometry: given, calibrated from the recording, or the nominal one.
-DiffDriveParams trueGeometry(const Dataset& real, const std::string& name, const TwinParams& p,
-                             nlohmann::ordered_json& how) {
+/// Each of x, y and yaw of the calibrated mount replaces the told one where it departs from it
+/// by more than this many of its sigmas (p < 0.003 for each, were the told one right).
+constexpr double kMountSigmas = 3.0;
+
+/// What the twin's lidar is mounted at: the recording's told mount, each component replaced by
+/// the calibrated one where the scans and wheels show it wrong. ACES is told 0 and its scans and
+/// wheels say 52 +- 5 mm ahead: driven as told, its twin turned 23 % more than its robot at the
+/// scans' rate, zigzagging after the lidar's sideways swing in turns.
+SE2 twinMount(const SE2& told, const algo::CalibrationResult& r, nlohmann::ordered_json& how) {
+  const Eigen::VectorXd sigma = r.sigma();
+  if (!r.estimates_mount || sigma.size() < 6) return told;
+  const Eigen::Vector3d d(r.T_base_lidar.x - told.x, r.T_base_lidar.y - told.y,
+                          normalizeAngle(r.T_base_lidar.yaw - told.yaw));
+  Eigen::Vector3d m(told.x, told.y, told.yaw);
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(d(i)) > kMountSigmas * sigma(3 + i)) m(i) += d(i);
+  how = {{"calibrated",
+          {{"x", r.T_base_lidar.x}, {"y", r.T_base_lidar.y}, {"yaw", r.T_base_lidar.yaw}}},
+         {"sigma", {{"x", sigma(3)}, {"y", sigma(4)}, {"yaw", sigma(5)}}}};
+  return SE2(m(0), m(1), normalizeAngle(m(2)));
+}
+
+struct TrueRobot {
+  DiffDriveParams geometry;
+  SE2 T_base_lidar;
+  nlohmann::ordered_json how;        ///< where the geometry came from
+  nlohmann::ordered_json mount_how;  ///< the calibrated mount and its sigma, where calibrated
+};
+
+/// The twin's true geometry and mount: given, calibrated from the recording, or the nominal one
+/// (with the told mount).
+TrueRobot trueRobot(const Dataset& real, const std::string& name, const TwinParams& p) {
+  TrueRobot t{real.info.nominal_geometry, real.info.T_base_lidar, {}, nullptr};
   if (p.true_geometry) {
-    how = {{"from", "given (--calibration)"}};
-    return *p.true_geometry;
+    t.how = {{"from", "given (--calibration)"}};
+    t.geometry = *p.true_geometry;
+    return t;
   }
-  if (p.calibrate) {
-    const DatasetCalibration cal = calibrateForTwin(name, real);
-    if (!cal.runs.empty() && cal.runs.front().result.ok) {
-      const algo::CalibrationResult& r = cal.runs.front().result;
-      const Eigen::VectorXd sigma = r.sigma();
-      how = {{"from", kTwinCalibrationFlags},
-             {"sigma_m", {sigma(0), sigma(1), sigma(2)}},
-             {"intervals", r.intervals_used}};
-      return r.geometry;
-    }
-    how = {{"from", "nominal: calibration refused"},
-           {"reason", cal.runs.empty() ? "no run" : cal.runs.front().result.reason}};
-    return real.info.nominal_geometry;
+  if (!p.calibrate) {
+    t.how = {{"from", "nominal (no calibration asked)"}};
+    return t;
   }
-  how = {{"from", "nominal (no calibration asked)"}};
-  return real.info.nominal_geometry;
+  const DatasetCalibration cal = calibrateForTwin(name, real);
+  if (cal.runs.empty() || !cal.runs.front().result.ok) {
+    t.how = {{"from", "nominal: calibration refused"},
+             {"reason", cal.runs.empty() ? "no run" : cal.runs.front().result.reason}};
+    return t;
+  }
+  const algo::CalibrationResult& r = cal.runs.front().result;
+  const Eigen::VectorXd sigma = r.sigma();
+  t.how = {{"from", kTwinCalibrationFlags},
+           {"sigma_m", {sigma(0), sigma(1), sigma(2)}},
+           {"intervals", r.intervals_used}};
+  t.geometry = r.geometry;
+  t.T_base_lidar = twinMount(real.info.T_base_lidar, r, t.mount_how);
+  return t;
+}
+
+/// T_world_base of a base whose lidar mount is `to` instead of `from`, the lidar's path kept.
+PoseSeries movedBase(const PoseSeries& T_world_base, const SE2& from, const SE2& to) {
+  const SE2 T_from_to = from * to.inverse();
+  PoseSeries out;
+  for (const auto& s : T_world_base.samples()) out.push_back(s.stamp_s, s.value * T_from_to);
+  return out;
 }
 
 /// A robot of the recorded geometry: wheels 2 cm wide, a chassis between them.
@@ -174,7 +215,9 @@ struct Fitted {
   WheelSlipFit slip;  ///< from the recording; the twin's sigma is set after its first run
   DiffDriveParams true_geometry;
   DiffDriveParams nominal;
-  SE2 T_base_lidar;
+  SE2 T_base_lidar;       ///< the twin's lidar mount (twinMount)
+  SE2 told_T_base_lidar;  ///< the recording's, which the twin's dataset is told
+  nlohmann::ordered_json mount_how;
   double scan_lag_s = 0.0;  ///< the scans' stamps behind the wheels' (what the clock sync moves)
   bool lag_measured = false;
   /// (r_R / b, r_L / b) that turn the wheels as the scans turned (sensor agreement, Eq. 1).
@@ -255,6 +298,10 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
       "lidar.range_noise_m=" + num(f.against_map.range_noise_m),
       "lidar.mount.x_m=" + num(f.T_base_lidar.x), "lidar.mount.y_m=" + num(f.T_base_lidar.y),
       "lidar.mount.yaw_rad=" + num(normalizeAngle(f.T_base_lidar.yaw + l.mount_yaw_shift_rad)),
+      "nominal.lidar_mount_error.x_m=" + num(f.told_T_base_lidar.x - f.T_base_lidar.x),
+      "nominal.lidar_mount_error.y_m=" + num(f.told_T_base_lidar.y - f.T_base_lidar.y),
+      "nominal.lidar_mount_error.yaw_rad=" +
+          num(normalizeAngle(f.told_T_base_lidar.yaw - f.T_base_lidar.yaw)),
       "encoders.rate_hz=" + num(f.odometry.encoder_rate_hz),
       "encoders.ticks_per_revolution=" + std::to_string(f.odometry.ticks_per_revolution),
       "encoders.slip_tau_s=" + num(f.slip.tau_s)};
@@ -368,6 +415,20 @@ nlohmann::ordered_json lidarJson(const Fitted& f) {
   nlohmann::ordered_json j = layoutJson(f.layout);
   const nlohmann::ordered_json against_map = againstMapJson(f.against_map);  // outlives items()
   for (const auto& [key, value] : against_map.items()) j[key] = value;
+  const auto pose = [](const SE2& m) {
+    return nlohmann::ordered_json{{"x", m.x}, {"y", m.y}, {"yaw", m.yaw}};
+  };
+  nlohmann::ordered_json mount = {{"told", pose(f.told_T_base_lidar)},
+                                  {"true", pose(f.T_base_lidar)}};
+  if (f.mount_how.is_object())
+    for (const auto& [key, value] : f.mount_how.items()) mount[key] = value;
+  j["mount"] = fitted(
+      mount,
+      "told: the recording's dataset.json, which the twin's is told too "
+      "(nominal.lidar_mount_error); true: the twin's lidar.mount, the told one with each of "
+      "x, y and yaw replaced by the calibration's (calibrated, its sigma) where that departs "
+      "by more than " +
+          num(kMountSigmas) + " sigmas; yaw before mount_yaw_shift_deg");
   return j;
 }
 
@@ -569,7 +630,6 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   Fitted f;
   f.layout = fitLidarLayout(real);
   f.nominal = real.info.nominal_geometry;
-  f.T_base_lidar = real.info.T_base_lidar;
   const MatchTrajectoryOptions options = twinMatchOptions();
   const ScanPoints points = matchScanPoints(real, p.deskew, false);
   const MatchTrajectory run = matchTrajectory(real, points, options);
@@ -578,8 +638,12 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   std::vector<char> accepted;
   const WallMap map =
       extractWalls(matchedMapPoints(run, points.points, f.layout.usable_max_m, accepted), p.walls);
-  nlohmann::ordered_json geometry_how;
-  f.true_geometry = trueGeometry(real, name, p, geometry_how);
+  const TrueRobot truth = trueRobot(real, name, p);
+  const nlohmann::ordered_json& geometry_how = truth.how;
+  f.true_geometry = truth.geometry;
+  f.T_base_lidar = truth.T_base_lidar;
+  f.told_T_base_lidar = real.info.T_base_lidar;
+  f.mount_how = truth.mount_how;
   f.robot = twinRobot(f.true_geometry);
   f.odometry = fitOdometry(real);
   TrackParams track = p.track;  // as fast as the recorded wheels turned, with a margin
@@ -588,7 +652,10 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
         std::min(track.max_wheel_radps, p.wheel_rate_margin * f.odometry.wheel_rate_p99_radps);
   // The motion, not the matches' jitter: driven as matched, a TurtleBot4's twin changed speed
   // 13x more from knot to knot than its robot did (docs/twin.md "Drive").
-  const SmoothedTrajectory motion = smoothTrajectory(run.T_world_base);
+  // The twin drives its wheels' path: where the recording's told mount is not its lidar's, the
+  // matched "base" swings sideways in turns, which a diff drive can follow only by zigzagging.
+  const SmoothedTrajectory motion =
+      smoothTrajectory(movedBase(run.T_world_base, real.info.T_base_lidar, f.T_base_lidar));
   const TrackedDrive drive = trackTrajectory(motion.T_world_base, f.true_geometry, track);
   sim::SimConfig probe;
   probe.robot = f.robot;

@@ -111,6 +111,12 @@ DatasetInfo readInfo(const json& root, const std::string& file) {
   info.T_base_lidar = SE2(finiteNumber(mount, "lidar_mount.", "x", file),
                           finiteNumber(mount, "lidar_mount.", "y", file),
                           finiteNumber(mount, "lidar_mount.", "yaw", file));
+  if (root.contains("true_lidar_mount")) {
+    const json& t = requiredObject(root, "true_lidar_mount", file);
+    info.true_T_base_lidar = SE2(finiteNumber(t, "true_lidar_mount.", "x", file),
+                                 finiteNumber(t, "true_lidar_mount.", "y", file),
+                                 finiteNumber(t, "true_lidar_mount.", "yaw", file));
+  }
   const std::int64_t ticks = requiredInteger(root, "ticks_per_revolution", file);
   if (ticks <= 0 || ticks > std::numeric_limits<int>::max())
     keyError(file, "ticks_per_revolution", "must be a positive int, got " + std::to_string(ticks));
@@ -127,9 +133,13 @@ std::string formatDatasetInfo(const DatasetInfo& info, const std::string& file) 
     keyError(file, "format_version", "this build writes version 1 only");
   checkGeometry(info.nominal_geometry, file, "nominal");
   if (info.true_geometry) checkGeometry(*info.true_geometry, file, "true");
+  const auto finite = [](const SE2& m) {
+    return std::isfinite(m.x) && std::isfinite(m.y) && std::isfinite(m.yaw);
+  };
   const SE2& mount = info.T_base_lidar;
-  if (!std::isfinite(mount.x) || !std::isfinite(mount.y) || !std::isfinite(mount.yaw))
-    keyError(file, "lidar_mount", "must be finite to be written");
+  if (!finite(mount)) keyError(file, "lidar_mount", "must be finite to be written");
+  if (info.true_T_base_lidar && !finite(*info.true_T_base_lidar))
+    keyError(file, "true_lidar_mount", "must be finite to be written");
   if (info.ticks_per_revolution <= 0) keyError(file, "ticks_per_revolution", "must be > 0");
   if (!info.config.is_object()) keyError(file, "config", "must be a JSON object");
 
@@ -141,6 +151,8 @@ std::string formatDatasetInfo(const DatasetInfo& info, const std::string& file) 
   if (info.true_geometry) out["true"] = geometryJson(*info.true_geometry);
   out["nominal"] = geometryJson(info.nominal_geometry);
   out["lidar_mount"] = {{"x", mount.x}, {"y", mount.y}, {"yaw", mount.yaw}};
+  if (const auto& t = info.true_T_base_lidar)
+    out["true_lidar_mount"] = {{"x", t->x}, {"y", t->y}, {"yaw", t->yaw}};
   out["ticks_per_revolution"] = info.ticks_per_revolution;
   out["config"] = ordered_json(info.config);
   if (!info.faults.is_null()) out["faults"] = ordered_json(info.faults);

@@ -173,7 +173,7 @@ algo::CalibrationInput datasetInput(const DatasetCalibrationParams& params,
         algo::MountPrior{out.T_base_lidar, out.lidar_mount_from, params.mount_prior_sigma_xy_m,
                          params.mount_prior_sigma_yaw_rad};
   if (dataset->info.true_geometry)
-    out.truth = algo::CalibrationTruth{*dataset->info.true_geometry, dataset->info.T_base_lidar};
+    out.truth = algo::CalibrationTruth{*dataset->info.true_geometry, dataset->info.trueMount()};
   return input;
 }
 

@@ -26,7 +26,7 @@ double sampleGapLimit(const algo::DeskewInputs& in, double limit_s) {
 BeamPoints truthAtReference(const Dataset& dataset, const ScanRecord& record,
                             const algo::DeskewResult& result) {
   if (result.reference_s == result.first_beam_s) return record.p_ref_true;
-  const SE2& l = dataset.info.T_base_lidar;
+  const SE2& l = dataset.info.trueMount();
   const auto T_w_first = dataset.groundtruth.at(result.first_beam_s);
   const auto T_w_ref = dataset.groundtruth.at(result.reference_s);
   if (!T_w_first || !T_w_ref) return {};
@@ -41,7 +41,7 @@ BeamPoints truthAtReference(const Dataset& dataset, const ScanRecord& record,
 // method assumed against the true lidar motion, both seen from the reference frame.
 std::vector<SE2> beamPoseErrors(const Dataset& dataset, const ScanRecord& record,
                                 const algo::DeskewResult& result) {
-  const SE2& l = dataset.info.T_base_lidar;
+  const SE2& l = dataset.info.trueMount();
   const auto T_w_ref = dataset.groundtruth.at(result.reference_s);
   if (!T_w_ref) return {};
   const SE2 T_lidarref_w = (*T_w_ref * l).inverse();
@@ -140,7 +140,7 @@ DatasetDeskew deskewDataset(const Dataset& dataset, algo::DeskewMethod method,
   inputs.groundtruth = dataset.groundtruth;
   // The oracle is the truth, mount included.
   inputs.T_base_lidar =
-      method == algo::DeskewMethod::kOracle ? dataset.info.T_base_lidar : options.T_base_lidar;
+      method == algo::DeskewMethod::kOracle ? dataset.info.trueMount() : options.T_base_lidar;
   inputs.stamp_is_last_beam = options.stamp_is_last_beam;
   inputs.reference = options.reference;
   algo::DeskewParams params = options.params;

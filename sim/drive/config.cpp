@@ -32,6 +32,9 @@ void visitRobotFields(Config& c, Visitor&& v) {
   v("nominal.radius_left_error", c.nominal.radius_left_error);
   v("nominal.radius_right_error", c.nominal.radius_right_error);
   v("nominal.wheel_base_error", c.nominal.wheel_base_error);
+  v("nominal.lidar_mount_error.x_m", c.nominal.lidar_mount_x_error_m);
+  v("nominal.lidar_mount_error.y_m", c.nominal.lidar_mount_y_error_m);
+  v("nominal.lidar_mount_error.yaw_rad", c.nominal.lidar_mount_yaw_error_rad);
 }
 
 template <typename Config, typename Visitor>
@@ -300,6 +303,12 @@ DiffDriveParams SimConfig::nominalGeometry() const {
   return {g.radius_left_m * (1.0 + nominal.radius_left_error),
           g.radius_right_m * (1.0 + nominal.radius_right_error),
           g.wheel_base_m * (1.0 + nominal.wheel_base_error)};
+}
+
+SE2 SimConfig::nominalMount() const {
+  const SE2& m = lidar.T_base_lidar;
+  return {m.x + nominal.lidar_mount_x_error_m, m.y + nominal.lidar_mount_y_error_m,
+          normalizeAngle(m.yaw + nominal.lidar_mount_yaw_error_rad)};
 }
 
 SE2 SimConfig::startPose(const SE2& T_world_start) const {

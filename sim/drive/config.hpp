@@ -31,6 +31,14 @@ struct NominalErrors {
   double radius_left_error = 0.02;     ///< r_L: +2 %
   double radius_right_error = -0.015;  ///< r_R: -1.5 %
   double wheel_base_error = 0.04;      ///< b: +4 %
+  /// The lidar mount the dataset is told: the true one plus these (0: the truth is told).
+  double lidar_mount_x_error_m = 0.0;
+  double lidar_mount_y_error_m = 0.0;
+  double lidar_mount_yaw_error_rad = 0.0;
+  bool mountToldWrong() const {
+    return lidar_mount_x_error_m != 0.0 || lidar_mount_y_error_m != 0.0 ||
+           lidar_mount_yaw_error_rad != 0.0;
+  }
 };
 
 /// Where the robot starts, moved per seed: uniform offsets of up to +-position_m in x and y and
@@ -76,6 +84,9 @@ struct SimConfig {
 
   /// The geometry the odometry is told: the true geometry scaled by the nominal errors.
   DiffDriveParams nominalGeometry() const;
+  /// The lidar mount the dataset is told (dataset.json "lidar_mount"): the true one moved by
+  /// nominal.lidar_mount_error.
+  SE2 nominalMount() const;
   /// The world's start pose moved by this seed's start_jitter draw (unchanged when it is off).
   SE2 startPose(const SE2& T_world_start) const;
 };

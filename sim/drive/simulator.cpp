@@ -350,7 +350,8 @@ DatasetInfo simulatedDatasetInfo(const SimConfig& config) {
   info.seed = config.seed;
   info.true_geometry = config.robot.geometry;
   info.nominal_geometry = config.nominalGeometry();
-  info.T_base_lidar = config.lidar.T_base_lidar;
+  info.T_base_lidar = config.nominalMount();
+  if (config.nominal.mountToldWrong()) info.true_T_base_lidar = config.lidar.T_base_lidar;
   info.ticks_per_revolution = config.encoders.ticks_per_revolution;
   info.config = toJson(config);
   info.config["encoders_from"] = "ticks";  // docs/dataset.md: simulated encoders count ticks

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "slamprep/core/error.hpp"
@@ -39,6 +40,20 @@ TEST(DatasetJson, RealLogsHaveNoTrueGeometry) {
   const std::string text = formatDatasetInfo(info, "d.json");
   EXPECT_EQ(text.find("\"true\""), std::string::npos);
   EXPECT_FALSE(parseDatasetInfo(text, "d.json").true_geometry.has_value());
+}
+
+// A simulation told a wrong mount keeps the true one beside it; one told right writes none.
+TEST(DatasetJson, KeepsATrueMountBesideAToldOne) {
+  DatasetInfo info = sampleInfo();
+  EXPECT_EQ(formatDatasetInfo(info, "d.json").find("true_lidar_mount"), std::string::npos);
+  info.true_T_base_lidar = SE2(0.15, -0.02, 0.01);
+  const DatasetInfo back = parseDatasetInfo(formatDatasetInfo(info, "d.json"), "d.json");
+  EXPECT_EQ(back.T_base_lidar.x, 0.1);
+  ASSERT_TRUE(back.true_T_base_lidar.has_value());
+  EXPECT_EQ(back.trueMount().x, 0.15);
+  EXPECT_EQ(back.trueMount().yaw, 0.01);
+  info.true_T_base_lidar->y = std::nan("");
+  EXPECT_THROW(formatDatasetInfo(info, "d.json"), InputError);
 }
 
 void expectError(const nlohmann::json& j, const std::string& expected) {

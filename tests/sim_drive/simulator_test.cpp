@@ -92,6 +92,42 @@ TEST(Simulator, KinematicSpinDistortionIsWhatTheRatePredicts) {
   EXPECT_GT(check.largest_distortion_m, 0.2);
 }
 
+// A lidar mount told wrong (nominal.lidar_mount_error), as wheel radii are: dataset.json tells
+// the wrong one and keeps the simulated one as true_lidar_mount, which the scans obey and which
+// survives the files; the told mount does not predict the scans' distortion.
+TEST(Simulator, AMountToldWrongKeepsTheTrueOneBesideIt) {
+  SimConfig c = config(SimMode::kinematic, 360);
+  c.duration_s = 3.0;
+  applyOverride(c, "nominal.lidar_mount_error.x_m=-0.05");
+  applyOverride(c, "nominal.lidar_mount_error.yaw_rad=0.02");
+  const Scenario s = scenario("  - {type: spin, angle_deg: 720, rate_radps: 1.0}\n");
+  const SimResult r = simulate(c, squareRoom(3.0), s);
+  const SE2& truth = c.lidar.T_base_lidar;
+  const SE2& told = r.dataset.info.T_base_lidar;
+  EXPECT_NEAR(told.x, truth.x - 0.05, 1e-15);
+  EXPECT_EQ(told.y, truth.y);
+  EXPECT_NEAR(told.yaw, truth.yaw + 0.02, 1e-15);
+  ASSERT_TRUE(r.dataset.info.true_T_base_lidar.has_value());
+  EXPECT_EQ(r.dataset.info.trueMount().x, truth.x);
+  const test::ScratchDir root("sim_told_mount");
+  eval::writeDataset(root / "d", r.dataset);
+  const Dataset back = eval::readDataset(root / "d");
+  EXPECT_EQ(back.info.trueMount().x, truth.x);
+  EXPECT_EQ(back.info.T_base_lidar.x, told.x);
+  const Controller controller(s.profile, c.nominalGeometry());
+  const Eigen::Vector2d rates = controller.wheelRates(2.0);
+  const Eigen::Vector3d xi(c.robot.geometry.twist(rates.x(), rates.y()).x(), 0.0,
+                           c.robot.geometry.twist(rates.x(), rates.y()).y());
+  EXPECT_LT(checkSpin(r.dataset, r.dataset.info.trueMount(), xi, 0.6, 3.0).worst_prediction_error_m,
+            1e-9);
+  // 5 cm of lever at 1 rad/s over a 0.1 s scan moves a beam by millimetres.
+  EXPECT_GT(checkSpin(r.dataset, told, xi, 0.6, 3.0).worst_prediction_error_m, 1e-3);
+  // Told right (the default), dataset.json has no true_lidar_mount.
+  SimConfig right = config(SimMode::kinematic, 90);
+  right.duration_s = 0.5;
+  EXPECT_FALSE(simulate(right, squareRoom(3.0), s).dataset.info.true_T_base_lidar.has_value());
+}
+
 // A head that turns faster than its scans are published (lidar.sweep_s): each scan's beams span
 // the sweep from its stamp, scans stay 1 / rate apart, and the truth's distortion is still what
 // the twist predicts at each beam's time (shorter: the sweep is shorter).
