@@ -218,7 +218,8 @@ struct Fitted {
   SE2 T_base_lidar;       ///< the twin's lidar mount (twinMount)
   SE2 told_T_base_lidar;  ///< the recording's, which the twin's dataset is told
   nlohmann::ordered_json mount_how;
-  double scan_lag_s = 0.0;  ///< the scans' stamps behind the wheels' (what the clock sync moves)
+  double fixed_share = 0.0;  ///< TwinFit::range_noise_fixed_share
+  double scan_lag_s = 0.0;   ///< the scans' stamps behind the wheels' (what the clock sync moves)
   bool lag_measured = false;
   /// (r_R / b, r_L / b) that turn the wheels as the scans turned (sensor agreement, Eq. 1).
   std::optional<Eigen::Vector2d> turn_ratios;
@@ -264,6 +265,24 @@ void faultSets(const Fitted& f, std::vector<std::string>& s) {
   s.push_back(enable);
 }
 
+/// Beyond, the scans would share all their range error: none left to be drawn afresh.
+constexpr double kMaxFixedShare = 0.99;
+
+/// The range noise of total sigma split into the part drawn afresh every scan and the part fixed
+/// in the world, by `fixed_share` of the variance, as --set assignments (the second only where
+/// some is fixed).
+std::vector<std::string> rangeNoiseSets(double sigma, double fixed_share) {
+  std::vector<std::string> s = {"lidar.range_noise_m=" + num(sigma * std::sqrt(1.0 - fixed_share))};
+  if (fixed_share > 0.0)
+    s.push_back("lidar.range_noise_fixed_m=" + num(sigma * std::sqrt(fixed_share)));
+  return s;
+}
+
+/// The total sigma of a lidar's range noise: its two parts are independent.
+double totalRangeNoise(const sim::LidarConfig& l) {
+  return std::hypot(l.range_noise_m, l.range_noise_fixed_m);
+}
+
 /// The recording's revolution, time_increment x beams per revolution, where it is shorter than
 /// the scans' period (the head turns faster than scans are published); else 0, the period.
 double twinSweep(const LidarLayout& l) {
@@ -295,7 +314,6 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
       "lidar.sweep_s=" + num(twinSweep(l)), "lidar.fov_rad=" + num(l.fov_rad),
       std::string("lidar.clockwise=") + (l.angle_increment_rad < 0.0 ? "true" : "false"),
       "lidar.range_min_m=" + num(l.range_min_m), "lidar.range_max_m=" + num(l.usable_max_m),
-      "lidar.range_noise_m=" + num(f.against_map.range_noise_m),
       "lidar.mount.x_m=" + num(f.T_base_lidar.x), "lidar.mount.y_m=" + num(f.T_base_lidar.y),
       "lidar.mount.yaw_rad=" + num(normalizeAngle(f.T_base_lidar.yaw + l.mount_yaw_shift_rad)),
       "nominal.lidar_mount_error.x_m=" + num(f.told_T_base_lidar.x - f.T_base_lidar.x),
@@ -305,6 +323,8 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
       "encoders.rate_hz=" + num(f.odometry.encoder_rate_hz),
       "encoders.ticks_per_revolution=" + std::to_string(f.odometry.ticks_per_revolution),
       "encoders.slip_tau_s=" + num(f.slip.tau_s)};
+  for (const std::string& n : rangeNoiseSets(f.against_map.range_noise_m, f.fixed_share))
+    s.push_back(n);
   if (f.odometry.has_imu && f.odometry.gyro_noise_radps > 0.0) {
     s.push_back("imu.rate_hz=" + num(f.odometry.imu_rate_hz));
     s.push_back("imu.gyro_bias_radps=" + num(f.odometry.gyro_bias_radps));
@@ -422,6 +442,7 @@ nlohmann::ordered_json lidarJson(const Fitted& f) {
                                   {"true", pose(f.T_base_lidar)}};
   if (f.mount_how.is_object())
     for (const auto& [key, value] : f.mount_how.items()) mount[key] = value;
+  j["range_noise_fixed_share"] = fitted(f.fixed_share, "");  // simulateTwin tunes it
   j["mount"] = fitted(
       mount,
       "told: the recording's dataset.json, which the twin's is told too "
@@ -619,9 +640,9 @@ const char* const kNotReproduced[] = {
     "moving people and objects: their returns are cut from the world where the robot drove",
     ("odometry sampled on a coarser internal clock (steps of 3 or 4 ticks): the twin's irregular "
      "sampling is Gaussian, fitted to its RMS about the grid"),
-    ("range errors fixed in the world (surfaces, clutter), which the next scan sees again "
-     "(twin --compare's scan_residual_revisit_correlation): the twin's noise is drawn afresh "
-     "every scan")};
+    ("range errors fixed in the world at scales other than 2 cm (clutter, curved surfaces): "
+     "the twin's fixed part is one Gaussian texture of 2 cm correlation length "
+     "(lidar.range_noise_fixed_share)")};
 
 }  // namespace
 
@@ -672,6 +693,9 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   const MatchedScans as_measured = measureMatchedScans(real, f.layout, p.walls, p.lidar);
   out.residual_median_m = as_measured.residual_median_m;
   out.residual_neighbour_correlation = as_measured.neighbour_correlation;
+  f.fixed_share = std::clamp(as_measured.revisit_correlation, 0.0, kMaxFixedShare);
+  out.range_noise_fixed_share = f.fixed_share;
+  out.residual_revisit_correlation = as_measured.revisit_correlation;
   out.layout = f.layout;
   out.walls = p.walls;
   out.lidar = p.lidar;
@@ -717,8 +741,15 @@ void setKey(TwinFit& fit, const std::string& key, const std::string& value) {
   fit.json["sets"] = fit.sets;
 }
 
+/// The total sigma, split as the fit splits it (rangeNoiseSets; a fixed part set before is
+/// cleared where the share went to 0).
 void setRangeNoise(TwinFit& fit, double sigma) {
-  setKey(fit, "lidar.range_noise_m", num(sigma));
+  if (fit.range_noise_fixed_share == 0.0 && fit.config.lidar.range_noise_fixed_m > 0.0)
+    setKey(fit, "lidar.range_noise_fixed_m", "0");
+  for (const std::string& set : rangeNoiseSets(sigma, fit.range_noise_fixed_share)) {
+    const std::size_t eq = set.find('=');
+    setKey(fit, set.substr(0, eq), set.substr(eq + 1));
+  }
   fit.json["lidar"]["range_noise_m"]["value"] = sigma;
 }
 
@@ -797,6 +828,15 @@ double nextNoiseCorrelation(const std::vector<std::pair<double, double>>& runs, 
   return std::clamp(secantStep(runs, target, kMaxNoiseCorrelation), 0.0, kMaxNoiseCorrelation);
 }
 
+/// The next share of the noise fixed in the world: the first run's plus what its revisit
+/// correlation missed, then interpolated or extrapolated like the noise. `runs`: (share,
+/// measured revisit correlation) of the runs with noise.
+double nextFixedShare(const std::vector<std::pair<double, double>>& runs, double target) {
+  const double next = runs.size() == 1 ? runs[0].first + (target - runs[0].second)
+                                       : secantStep(runs, target, kMaxFixedShare);
+  return std::clamp(next, 0.0, kMaxFixedShare);
+}
+
 }  // namespace
 
 namespace {
@@ -870,7 +910,23 @@ void setNoiseCorrelation(TwinFit& fit, double rho) {
 }
 
 void describeTuning(TwinFit& fit, const std::vector<std::pair<double, double>>& noise_runs,
-                    const std::vector<std::pair<double, double>>& correlation_runs) {
+                    const std::vector<std::pair<double, double>>& correlation_runs,
+                    const std::vector<std::pair<double, double>>& share_runs) {
+  nlohmann::ordered_json& share = fit.json["lidar"]["range_noise_fixed_share"];
+  share["value"] = fit.range_noise_fixed_share;
+  share["recording_revisit_correlation"] = fit.residual_revisit_correlation;
+  share["tuning_runs"] = share_runs;
+  share["how"] =
+      "the share of range_noise_m's variance fixed in the world (lidar.range_noise_fixed_m, a "
+      "Gaussian texture of 2 cm correlation length over the surfaces, the same wherever a spot "
+      "is seen again), the rest drawn afresh each scan; tuned alongside the noise so that the "
+      "twin's scans see their residual again as the recording's do (the revisit correlation "
+      "against each dataset's own map, twin --compare's scan_residual_revisit_correlation): "
+      "first the recording's revisit correlation, then moved by what the run missed, then "
+      "interpolated (at most " +
+      num(kMaxFixedShare) +
+      "); tuning_runs: [share, the twin's revisit correlation] of the runs with noise before "
+      "the last";
   nlohmann::ordered_json& noise = fit.json["lidar"]["range_noise_m"];
   noise["tuning_runs"] = noise_runs;
   noise["how"] =
@@ -899,9 +955,10 @@ sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
   const double target = fit.residual_median_m;
   std::vector<std::pair<double, double>> noise_runs;        // (noise, the twin's residual)
   std::vector<std::pair<double, double>> correlation_runs;  // (correlation, the twin's)
+  std::vector<std::pair<double, double>> share_runs;        // (fixed share, twin's revisit)
   sim::SimResult r;
   nlohmann::ordered_json& j = fit.json["lidar"]["range_noise_m"];
-  j["fitted_against_the_world_m"] = fit.config.lidar.range_noise_m;
+  j["fitted_against_the_world_m"] = totalRangeNoise(fit.config.lidar);
   j["recording_residual_m"] = target;
   constexpr int kTuningRuns = 4;
   for (int k = 0; k < kTuningRuns; ++k) {
@@ -909,17 +966,24 @@ sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
     if (k == kTuningRuns - 1 || target <= 0.0) break;
     const MatchedScans m = measureMatchedScans(r.dataset, fit.layout, fit.walls, fit.lidar);
     const sim::LidarConfig& lidar = fit.config.lidar;
-    noise_runs.push_back({lidar.range_noise_m, m.residual_median_m});
+    noise_runs.push_back({totalRangeNoise(lidar), m.residual_median_m});
     if (lidar.range_noise_m > 0.0)
       correlation_runs.push_back({lidar.range_noise_correlation, m.neighbour_correlation});
+    if (lidar.range_noise_fixed_m > 0.0)
+      share_runs.push_back({fit.range_noise_fixed_share, m.revisit_correlation});
     const double next = std::max(0.0, nextRangeNoise(noise_runs, target));
     const double next_rho =
         correlation_runs.empty()
             ? lidar.range_noise_correlation
             : nextNoiseCorrelation(correlation_runs, fit.residual_neighbour_correlation);
-    if (k > 0 && std::abs(next - lidar.range_noise_m) < 1e-4 &&
-        std::abs(next_rho - lidar.range_noise_correlation) < 1e-3)
+    const double next_share = share_runs.empty()
+                                  ? fit.range_noise_fixed_share
+                                  : nextFixedShare(share_runs, fit.residual_revisit_correlation);
+    if (k > 0 && std::abs(next - totalRangeNoise(lidar)) < 1e-4 &&
+        std::abs(next_rho - lidar.range_noise_correlation) < 1e-3 &&
+        std::abs(next_share - fit.range_noise_fixed_share) < 1e-3)
       break;  // this run is the twin, but for its slip
+    fit.range_noise_fixed_share = next_share;
     setRangeNoise(fit, next);
     setNoiseCorrelation(fit, next_rho);
   }
@@ -927,7 +991,7 @@ sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
   if (setSlip(fit, r)) r = sim::simulate(fit.config, fit.world, scenario);
   // No noise has no correlation: said so (the run is the same, as 0 times any draw is 0).
   if (fit.config.lidar.range_noise_m == 0.0) setNoiseCorrelation(fit, 0.0);
-  describeTuning(fit, noise_runs, correlation_runs);
+  describeTuning(fit, noise_runs, correlation_runs, share_runs);
   return r;
 }
 

@@ -52,6 +52,12 @@ struct TwinFit {
   /// Its neighbouring beams' residual correlation against its own map (MatchedScans): what
   /// simulateTwin tunes the range noise's correlation along the scan to.
   double residual_neighbour_correlation = 0.0;
+  /// Its residual's revisit correlation (MatchedScans): what simulateTwin tunes the share of the
+  /// range noise fixed in the world to.
+  double residual_revisit_correlation = 0.0;
+  /// That share of the range noise's variance (lidar.range_noise_fixed_m; the rest drawn afresh
+  /// each scan): first the recording's revisit correlation, then tuned.
+  double range_noise_fixed_share = 0.0;
   LidarLayout layout;          ///< the recording's lidar
   WallExtractionParams walls;  ///< how its map was made into walls
   LidarMapParams lidar;        ///< how its scans were compared with them

@@ -333,7 +333,9 @@ MatchedScans measureMatchedScans(const Dataset& d, const LidarLayout& layout,
     if (!run.tracked.scans[k].fallback) rms.push_back(run.tracked.scans[k].match.rms_residual_m);
   MatchedScans m;
   if (const ErrorStats s = summarize(std::move(rms)); s.ok) m.residual_median_m = s.median;
-  m.neighbour_correlation = ownMapCorrelations(d, layout, walls, params).neighbour;
+  const ResidualCorrelations c = ownMapCorrelations(d, layout, walls, params);
+  m.neighbour_correlation = c.neighbour;
+  m.revisit_correlation = c.revisit;
   return m;
 }
 

@@ -112,6 +112,7 @@ struct MatchedScans {
   /// ownMapCorrelations' neighbour: structure the walls do not have (clutter, curved surfaces)
   /// and range errors that move together, which a matcher reads as the pose.
   double neighbour_correlation = 0.0;
+  double revisit_correlation = 0.0;  ///< ownMapCorrelations' revisit
 };
 
 MatchedScans measureMatchedScans(const Dataset& dataset, const LidarLayout& layout,

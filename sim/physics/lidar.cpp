@@ -7,6 +7,9 @@
 namespace slamprep::sim {
 
 Lidar::Lidar(const LidarConfig& config, std::uint64_t seed) : config_(config), rng_(seed) {
+  // Its own stream: a lidar without the texture draws its noise as before.
+  if (config.range_noise_fixed_m > 0.0)
+    texture_.emplace(config.range_noise_fixed_length_m, seed ^ 0x74657874ULL /* "text" */);
   assert(config.rate_hz > 0 && config.beams_per_revolution > 0);
   assert(config.fov_rad > 0 && config.fov_rad <= 2 * std::numbers::pi + 1e-12);
   assert(config.range_min_m >= 0 && config.range_max_m > config.range_min_m);
@@ -52,6 +55,8 @@ Lidar::Beam Lidar::measure(const Scene& scene, const Eigen::Vector2d& origin_wor
   const std::optional<double> hit =
       scene.castRay(origin_world_m, dir_world, config_.height_m, config_.range_max_m);
   if (!hit) return {kInf, kInf};
+  if (texture_)
+    noise_m += config_.range_noise_fixed_m * texture_->at(origin_world_m + *hit * dir_world);
   const double measured_m = *hit + noise_m;
   const bool in_limits = measured_m >= config_.range_min_m && measured_m <= config_.range_max_m;
   return {in_limits ? measured_m : kInf, *hit};

@@ -3,11 +3,13 @@
 
 #include <cstdint>
 #include <numbers>
+#include <optional>
 #include <random>
 
 #include "slamprep/core/laser_scan.hpp"
 #include "slamprep/core/se2.hpp"
 #include "slamprep/sim/physics/scene.hpp"
+#include "slamprep/sim/physics/surface_texture.hpp"
 
 namespace slamprep::sim {
 
@@ -26,7 +28,11 @@ struct LidarConfig {
   /// Correlation of consecutive beams' range noise within a scan (AR(1) along the beams, sigma
   /// kept; 0: white).
   double range_noise_correlation = 0.0;
-  bool clockwise = false;                                 ///< negative angle_increment
+  /// Sigma of a range error fixed in the world (SurfaceTexture: the same wherever a spot is seen
+  /// again), added to the per-scan noise; 0: none.
+  double range_noise_fixed_m = 0.0;
+  double range_noise_fixed_length_m = 0.02;  ///< its correlation length along a surface
+  bool clockwise = false;                    ///< negative angle_increment
   SE2 T_base_lidar{0.1, 0.02, std::numbers::pi / 180.0};  ///< mount on the chassis
   double height_m = 0.25;                                 ///< above the floor
 };
@@ -63,6 +69,7 @@ class Lidar {
   double angle_min_rad_ = 0.0;
   double angle_increment_rad_ = 0.0;
   std::mt19937_64 rng_;
+  std::optional<SurfaceTexture> texture_;  ///< with range_noise_fixed_m
   double spare_gaussian_ = 0.0;
   bool has_spare_ = false;
   double last_noise_m_ = 0.0;  ///< the previous beam's, for range_noise_correlation
