@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <numbers>
 
 #include "slamprep/eval/bench/twin_compare.hpp"
 #include "slamprep/eval/plot/plot.hpp"
@@ -39,11 +40,24 @@ std::string twinText(const nlohmann::ordered_json& j) {
   std::snprintf(
       buf, sizeof buf,
       "lidar: %.2f Hz, %.1f beams per scan, %d per revolution, usable range %.2f m, "
-      "range noise %.4f m, dropout %.3f where the world has a wall\n",
+      "range noise %.4f m (%.0f %% of its variance fixed in the world), dropout %.3f where the "
+      "world has a wall\n",
       l["rate_hz"]["value"].get<double>(), l["beams_per_scan"]["value"]["mean"].get<double>(),
       l["beams_per_revolution"]["value"].get<int>(), l["usable_max_range_m"]["value"].get<double>(),
       l["range_noise_m"]["value"].get<double>(),
+      100.0 * l["range_noise_fixed_share"]["value"].get<double>(),
       l["twin_dropout_probability"]["value"].get<double>());
+  out += buf;
+  const auto& m = l["mount"]["value"];
+  std::snprintf(
+      buf, sizeof buf,
+      "lidar mount: told x %.1f mm, y %.1f mm, yaw %.2f deg; the twin's x %.1f mm, y %.1f "
+      "mm, yaw %.2f deg%s\n",
+      m["told"]["x"].get<double>() * 1e3, m["told"]["y"].get<double>() * 1e3,
+      m["told"]["yaw"].get<double>() * 180.0 / std::numbers::pi, m["true"]["x"].get<double>() * 1e3,
+      m["true"]["y"].get<double>() * 1e3, m["true"]["yaw"].get<double>() * 180.0 / std::numbers::pi,
+      m.contains("calibrated") ? " (the calibration's where it departs from the told one)"
+                               : " (as told)");
   out += buf;
   const auto& o = j["odometry"];
   const auto& t = o["true"]["value"];
