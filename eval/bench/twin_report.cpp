@@ -1,5 +1,6 @@
 // What `slamprep twin` prints and draws (docs/twin.md): the fit's summary lines and the
 // comparison's figure.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -99,6 +100,17 @@ std::string shortLabel(const std::string& name) {
   return it == shorts.end() ? name : it->second;
 }
 
+/// Whole decades from 0.1 to 10, widened to hold every ratio: a bar below the axis is not drawn.
+plot::Range ratioRange(const std::vector<TwinComparisonRow>& rows) {
+  double lo = 0.1, hi = 10.0;
+  for (const auto& r : rows)
+    if (r.ratio && *r.ratio > 0.0) {
+      lo = std::min(lo, std::pow(10.0, std::floor(std::log10(*r.ratio))));
+      hi = std::max(hi, std::pow(10.0, std::ceil(std::log10(*r.ratio))));
+    }
+  return {lo, hi};
+}
+
 }  // namespace
 
 void plotComparison(const TwinComparison& c, const std::filesystem::path& png) {
@@ -127,7 +139,7 @@ void plotComparison(const TwinComparison& c, const std::filesystem::path& png) {
                              .dashed = level != 1.0});
   ratios.series.push_back(bars);
   ratios.dodge = false;
-  ratios.y_range = plot::Range{0.1, 10.0};
+  ratios.y_range = ratioRange(c.rows);
   plot::Axes box{.title = "per-scan RMS residual against the map",
                  .y_label = "residual [m]",
                  .legend = plot::LegendPosition::None,
