@@ -909,24 +909,31 @@ void setNoiseCorrelation(TwinFit& fit, double rho) {
   fit.json["lidar"]["range_noise_correlation"]["value"] = rho;
 }
 
+/// A setting tuned to a statistic of the recording: its value, the recording's figure, the runs.
+void tuned(nlohmann::ordered_json& j, double value, const char* recording_key,
+           double recording_value, const std::vector<std::pair<double, double>>& runs,
+           const std::string& how) {
+  j["value"] = value;
+  j[recording_key] = recording_value;
+  j["tuning_runs"] = runs;
+  j["how"] = how;
+}
+
 void describeTuning(TwinFit& fit, const std::vector<std::pair<double, double>>& noise_runs,
                     const std::vector<std::pair<double, double>>& correlation_runs,
                     const std::vector<std::pair<double, double>>& share_runs) {
-  nlohmann::ordered_json& share = fit.json["lidar"]["range_noise_fixed_share"];
-  share["value"] = fit.range_noise_fixed_share;
-  share["recording_revisit_correlation"] = fit.residual_revisit_correlation;
-  share["tuning_runs"] = share_runs;
-  share["how"] =
-      "the share of range_noise_m's variance fixed in the world (lidar.range_noise_fixed_m, a "
-      "Gaussian texture of 2 cm correlation length over the surfaces, the same wherever a spot "
-      "is seen again), the rest drawn afresh each scan; tuned alongside the noise so that the "
-      "twin's scans see their residual again as the recording's do (the revisit correlation "
-      "against each dataset's own map, twin --compare's scan_residual_revisit_correlation): "
-      "first the recording's revisit correlation, then moved by what the run missed, then "
-      "interpolated (at most " +
-      num(kMaxFixedShare) +
-      "); tuning_runs: [share, the twin's revisit correlation] of the runs with noise before "
-      "the last";
+  tuned(fit.json["lidar"]["range_noise_fixed_share"], fit.range_noise_fixed_share,
+        "recording_revisit_correlation", fit.residual_revisit_correlation, share_runs,
+        "the share of range_noise_m's variance fixed in the world (lidar.range_noise_fixed_m, a "
+        "Gaussian texture of 2 cm correlation length over the surfaces, the same wherever a spot "
+        "is seen again), the rest drawn afresh each scan; tuned alongside the noise so that the "
+        "twin's scans see their residual again as the recording's do (the revisit correlation "
+        "against each dataset's own map, twin --compare's scan_residual_revisit_correlation): "
+        "first the recording's revisit correlation, then moved by what the run missed, then "
+        "interpolated (at most " +
+            num(kMaxFixedShare) +
+            "); tuning_runs: [share, the twin's revisit correlation] of the runs with noise "
+            "before the last");
   nlohmann::ordered_json& noise = fit.json["lidar"]["range_noise_m"];
   noise["tuning_runs"] = noise_runs;
   noise["how"] =
@@ -936,17 +943,14 @@ void describeTuning(TwinFit& fit, const std::vector<std::pair<double, double>>& 
       "runs that bracket the recording's residual (4 runs at most, without slip; the last is "
       "the twin, or, where it is given slip (odometry.slip), one more run with it); "
       "tuning_runs: [noise, the twin's residual] of the runs before the last";
-  nlohmann::ordered_json& rho = fit.json["lidar"]["range_noise_correlation"];
-  rho["value"] = fit.config.lidar.range_noise_correlation;
-  rho["recording_neighbour_correlation"] = fit.residual_neighbour_correlation;
-  rho["tuning_runs"] = correlation_runs;
-  rho["how"] =
-      "the AR(1) correlation of the range noise along the scan, tuned so that neighbouring "
-      "beams' residuals against each dataset's own map (the scans matched de-skewed, robust "
-      "correlation) correlate as the recording's: none while the uncorrelated first run's do "
-      "already, then the recording's correlation, then interpolated between the runs that "
-      "bracket it or extrapolated (at most 0.97), alongside the noise; tuning_runs: "
-      "[correlation, the twin's neighbour correlation] of the runs with noise before the last";
+  tuned(fit.json["lidar"]["range_noise_correlation"], fit.config.lidar.range_noise_correlation,
+        "recording_neighbour_correlation", fit.residual_neighbour_correlation, correlation_runs,
+        "the AR(1) correlation of the range noise along the scan, tuned so that neighbouring "
+        "beams' residuals against each dataset's own map (the scans matched de-skewed, robust "
+        "correlation) correlate as the recording's: none while the uncorrelated first run's do "
+        "already, then the recording's correlation, then interpolated between the runs that "
+        "bracket it or extrapolated (at most 0.97), alongside the noise; tuning_runs: "
+        "[correlation, the twin's neighbour correlation] of the runs with noise before the last");
 }
 
 }  // namespace

@@ -143,13 +143,15 @@ TEST(Twin, MountsItsLidarWhereTheScansAndWheelsPutIt) {
   EXPECT_GT(as_told.json["drive"]["replay_rms_heading_deg"].get<double>(), 5.0 * heading_deg);
 }
 
-/// The figure eight with `noise_m` of range noise correlated `rho` from beam to beam.
-Dataset correlatedRecording(double noise_m, double rho, std::uint64_t seed = 1) {
+/// The figure eight with `noise_m` of range noise drawn afresh each scan, correlated `rho` from
+/// beam to beam, and `fixed_m` fixed in the world (sim lidar.range_noise_fixed_m).
+Dataset noisyRecording(double noise_m, double rho, std::uint64_t seed = 1, double fixed_m = 0.0) {
   sim::SimConfig c;
   c.seed = seed;
   c.lidar.beams_per_revolution = 360;
   c.lidar.range_noise_m = noise_m;
   c.lidar.range_noise_correlation = rho;
+  c.lidar.range_noise_fixed_m = fixed_m;
   const sim::Scenario s = sim::parseScenario(
       "segments:\n  - {type: figure_eight, radius_m: 0.8, speed_mps: 0.4}\n", "t.yaml");
   return sim::simulate(c, sim::loadWorld(kWorlds / "box_room.yaml"), s).dataset;
@@ -161,26 +163,27 @@ Dataset correlatedRecording(double noise_m, double rho, std::uint64_t seed = 1) 
 TEST(Twin, NoisyRangesMakeNoGhostWalls) {
   TwinParams p;
   p.calibrate = false;
-  const TwinFit fit = fitTwin(correlatedRecording(0.02, 0.0), "noisy", p);
+  const TwinFit fit = fitTwin(noisyRecording(0.02, 0.0), "noisy", p);
   EXPECT_EQ(fit.world.walls.size(), 4u);
   EXPECT_GT(coveredLength(fit.world, {-3, -2}, {3, -2}), 0.8 * 6.0);
   EXPECT_GT(coveredLength(fit.world, {3, -2}, {3, 2}), 0.8 * 4.0);
 }
 
-struct CorrelationTwin {
-  double recording = 0.0, twin = 0.0;  ///< neighbour correlations, measured alike
-  double fitted_rho = 0.0;
+/// A recording's noise statistics and its twin's, measured alike (each against its own map), and
+/// the noise the twin was given.
+struct NoiseTwin {
+  MatchedScans recording, twin;
+  sim::LidarConfig lidar;  ///< range_noise_m, range_noise_correlation, range_noise_fixed_m
 };
 
-CorrelationTwin correlationTwin(const Dataset& real) {
+NoiseTwin noiseTwin(const Dataset& real) {
   TwinParams p;
   p.calibrate = false;
-  TwinFit fit = fitTwin(real, "correlated", p);
+  TwinFit fit = fitTwin(real, "noisy", p);
   const Dataset twin =
       simulateTwin(fit, sim::parseScenario(fit.scenario_yaml, "twin-scenario.yaml")).dataset;
-  return {fit.residual_neighbour_correlation,
-          measureMatchedScans(twin, fit.layout).neighbour_correlation,
-          fit.config.lidar.range_noise_correlation};
+  return {measureMatchedScans(real, fit.layout), measureMatchedScans(twin, fit.layout),
+          fit.config.lidar};
 }
 
 // Range noise correlated along the scan, forward and inverse: the twin's neighbouring beams'
@@ -191,43 +194,15 @@ CorrelationTwin correlationTwin(const Dataset& real) {
 // recording's do not; its first run, white, measures above the recording already). With the
 // ghost walls of NoisyRangesMakeNoGhostWalls the white recording alone correlated 0.6.
 TEST(Twin, ReproducesTheRangeNoisesCorrelationAlongTheScan) {
-  const CorrelationTwin correlated = correlationTwin(correlatedRecording(0.02, 0.8));
-  EXPECT_NEAR(correlated.recording, 0.8, 0.05);
-  EXPECT_NEAR(correlated.twin, correlated.recording, 0.03);
-  EXPECT_NEAR(correlated.fitted_rho, 0.8, 0.05);
-  const CorrelationTwin white = correlationTwin(correlatedRecording(0.02, 0.0));
-  EXPECT_LT(white.recording, 0.1);
-  EXPECT_LT(white.twin, 0.3);
-  EXPECT_LT(white.fitted_rho, 0.05);
-}
-
-/// The figure eight with `fresh_m` of range noise drawn afresh each scan and `fixed_m` fixed in
-/// the world (sim lidar.range_noise_fixed_m).
-Dataset texturedRecording(double fresh_m, double fixed_m, std::uint64_t seed = 1) {
-  sim::SimConfig c;
-  c.seed = seed;
-  c.lidar.beams_per_revolution = 360;
-  c.lidar.range_noise_m = fresh_m;
-  c.lidar.range_noise_fixed_m = fixed_m;
-  const sim::Scenario s = sim::parseScenario(
-      "segments:\n  - {type: figure_eight, radius_m: 0.8, speed_mps: 0.4}\n", "t.yaml");
-  return sim::simulate(c, sim::loadWorld(kWorlds / "box_room.yaml"), s).dataset;
-}
-
-struct TexturedTwin {
-  double recording = 0.0, twin = 0.0;   ///< revisit correlations, measured alike
-  double fresh_m = 0.0, fixed_m = 0.0;  ///< the twin's noise drawn afresh and fixed in the world
-};
-
-TexturedTwin texturedTwin(const Dataset& real) {
-  TwinParams p;
-  p.calibrate = false;
-  TwinFit fit = fitTwin(real, "textured", p);
-  const Dataset twin =
-      simulateTwin(fit, sim::parseScenario(fit.scenario_yaml, "twin-scenario.yaml")).dataset;
-  return {fit.residual_revisit_correlation,
-          measureMatchedScans(twin, fit.layout).revisit_correlation, fit.config.lidar.range_noise_m,
-          fit.config.lidar.range_noise_fixed_m};
+  const NoiseTwin correlated = noiseTwin(noisyRecording(0.02, 0.8));
+  EXPECT_NEAR(correlated.recording.neighbour_correlation, 0.8, 0.05);
+  EXPECT_NEAR(correlated.twin.neighbour_correlation, correlated.recording.neighbour_correlation,
+              0.03);
+  EXPECT_NEAR(correlated.lidar.range_noise_correlation, 0.8, 0.05);
+  const NoiseTwin white = noiseTwin(noisyRecording(0.02, 0.0));
+  EXPECT_LT(white.recording.neighbour_correlation, 0.1);
+  EXPECT_LT(white.twin.neighbour_correlation, 0.3);
+  EXPECT_LT(white.lidar.range_noise_correlation, 0.05);
 }
 
 // A range error fixed in the world, forward and inverse: a recording with 5 mm of noise drawn
@@ -236,15 +211,15 @@ TexturedTwin texturedTwin(const Dataset& real) {
 // 5.3-5.9 mm and 18.4-20.8 mm and sees within 0.003 of the recording's. White noise alone
 // (20 mm): the recording 0.01-0.05, the twin none fixed (its revisit 0.03-0.15).
 TEST(Twin, ReproducesARangeErrorFixedInTheWorld) {
-  const TexturedTwin textured = texturedTwin(texturedRecording(0.005, 0.02));
-  EXPECT_GT(textured.recording, 0.7);
-  EXPECT_NEAR(textured.twin, textured.recording, 0.05);
-  EXPECT_NEAR(textured.fixed_m, 0.02, 0.004);
-  EXPECT_NEAR(textured.fresh_m, 0.005, 0.002);
-  const TexturedTwin white = texturedTwin(texturedRecording(0.02, 0.0));
-  EXPECT_LT(white.recording, 0.1);
-  EXPECT_EQ(white.fixed_m, 0.0);
-  EXPECT_NEAR(white.fresh_m, 0.02, 0.002);
+  const NoiseTwin textured = noiseTwin(noisyRecording(0.005, 0.0, 1, 0.02));
+  EXPECT_GT(textured.recording.revisit_correlation, 0.7);
+  EXPECT_NEAR(textured.twin.revisit_correlation, textured.recording.revisit_correlation, 0.05);
+  EXPECT_NEAR(textured.lidar.range_noise_fixed_m, 0.02, 0.004);
+  EXPECT_NEAR(textured.lidar.range_noise_m, 0.005, 0.002);
+  const NoiseTwin white = noiseTwin(noisyRecording(0.02, 0.0));
+  EXPECT_LT(white.recording.revisit_correlation, 0.1);
+  EXPECT_EQ(white.lidar.range_noise_fixed_m, 0.0);
+  EXPECT_NEAR(white.lidar.range_noise_m, 0.02, 0.002);
 }
 
 /// Ten seconds standing in box_room.yaml, 20 mm of white range noise: every scan sees the same
