@@ -642,7 +642,9 @@ const char* const kNotReproduced[] = {
      "sampling is Gaussian, fitted to its RMS about the grid"),
     ("range errors fixed in the world at scales other than 2 cm (clutter, curved surfaces): "
      "the twin's fixed part is one Gaussian texture of 2 cm correlation length "
-     "(lidar.range_noise_fixed_share)")};
+     "(lidar.range_noise_fixed_share)"),
+    ("a slip both wheels share, which moves the path length and no heading: the slip is "
+     "fitted on headings")};
 
 }  // namespace
 
