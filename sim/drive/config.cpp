@@ -60,6 +60,7 @@ void visitSensorFields(Config& c, Visitor&& v) {
   v("encoders.slip_sigma", c.encoders.slip_sigma);
   v("encoders.slip_tau_s", c.encoders.slip_tau_s);
   v("encoders.turn_slip_sigma", c.encoders.turn_slip_sigma);
+  v("encoders.common_slip_sigma", c.encoders.common_slip_sigma);
   v("imu.rate_hz", c.imu.rate_hz);
   v("imu.gyro_noise_radps", c.imu.gyro_noise_radps);
   v("imu.gyro_bias_radps", c.imu.gyro_bias_radps);
@@ -495,6 +496,8 @@ void validateSensors(const Checker& check, const SimConfig& c) {
   check.positive("encoders.slip_tau_s", c.encoders.slip_tau_s);
   if (!(c.encoders.turn_slip_sigma >= 0.0 && c.encoders.turn_slip_sigma <= kMaxSlipSigma))
     check.fail("encoders.turn_slip_sigma", "must be in [0, 0.5]", c.encoders.turn_slip_sigma);
+  if (!(c.encoders.common_slip_sigma >= 0.0 && c.encoders.common_slip_sigma <= kMaxSlipSigma))
+    check.fail("encoders.common_slip_sigma", "must be in [0, 0.5]", c.encoders.common_slip_sigma);
   check.positive("imu.rate_hz", c.imu.rate_hz);
   // Wheel encoders and IMUs are logged at up to a few kHz.
   if (c.encoders.rate_hz > kMaxSensorRate_hz)

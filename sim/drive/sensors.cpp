@@ -35,6 +35,11 @@ Eigen::Vector2d WheelSlip::count(const Eigen::Vector2d& turned_rad, double dt_s)
     const double turning = 0.5 * (turned_rad.y() - turned_rad.x());
     counted_rad_ += Eigen::Vector2d(-u_ * turning, u_ * turning);
   }
+  if (common_sigma_ > 0.0) {  // drawn last: runs without it keep their numbers
+    c_ = a * c_ + common_sigma_ * std::sqrt(1.0 - a * a) * rng_.gaussian();
+    const double rolling = 0.5 * (turned_rad.x() + turned_rad.y());  // the step's straight part
+    counted_rad_ += Eigen::Vector2d::Constant(c_ * rolling);
+  }
   return counted_rad_;
 }
 

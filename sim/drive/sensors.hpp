@@ -21,6 +21,9 @@ struct EncoderConfig {
   /// process with this stationary sigma (0: off): in a turn the tyres scrub and the castor
   /// drags, so the turn per wheel angle varies, while straight driving keeps its distance.
   double turn_slip_sigma = 0.0;
+  /// Slip both wheels share: they count (1 + c) of the distance rolled, c an Ornstein-Uhlenbeck
+  /// process with this stationary sigma (0: off): the distance varies, the turn does not.
+  double common_slip_sigma = 0.0;
 };
 
 struct ImuConfig {
@@ -42,20 +45,29 @@ std::int64_t quantizeTicks(double wheel_angle_rad, int ticks_per_revolution);
 /// Over a window of duration T >> tau the counted angle is off by N(0, 2 sigma^2 tau int w^2 dt).
 /// Slip in turns (turn_slip_sigma): u, a third such process, adds u d to the right wheel and
 /// takes it from the left, d = (dphi_R - dphi_L) / 2 the step's turning part, so the counted
-/// turn is (1 + u) of the turn made and the distance is unchanged.
+/// turn is (1 + u) of the turn made and the distance is unchanged. Common slip
+/// (common_slip_sigma): c, a fourth, adds c m to both wheels, m = (dphi_L + dphi_R) / 2 the
+/// step's straight part, so the counted distance is (1 + c) of the distance rolled and the turn
+/// is unchanged.
 class WheelSlip {
  public:
-  WheelSlip(double sigma, double tau_s, std::uint64_t seed, double turn_sigma = 0.0)
-      : sigma_(sigma), turn_sigma_(turn_sigma), tau_s_(tau_s), rng_(seed) {}
-  bool on() const { return sigma_ > 0.0 || turn_sigma_ > 0.0; }
+  WheelSlip(double sigma, double tau_s, std::uint64_t seed, double turn_sigma = 0.0,
+            double common_sigma = 0.0)
+      : sigma_(sigma),
+        turn_sigma_(turn_sigma),
+        common_sigma_(common_sigma),
+        tau_s_(tau_s),
+        rng_(seed) {}
+  bool on() const { return sigma_ > 0.0 || turn_sigma_ > 0.0 || common_sigma_ > 0.0; }
   /// The counted angles after the wheels turned by `turned_rad` over `dt_s`.
   Eigen::Vector2d count(const Eigen::Vector2d& turned_rad, double dt_s);
 
  private:
-  double sigma_, turn_sigma_, tau_s_;
+  double sigma_, turn_sigma_, common_sigma_, tau_s_;
   SplitMix64 rng_;
   Eigen::Vector2d s_ = Eigen::Vector2d::Zero();  ///< (left, right); starts at 0: no slip at rest
   double u_ = 0.0;                               ///< the turn's
+  double c_ = 0.0;                               ///< both wheels'
   Eigen::Vector2d counted_rad_ = Eigen::Vector2d::Zero();
 };
 

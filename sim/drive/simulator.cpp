@@ -272,7 +272,8 @@ class EncoderStream {
   EncoderStream(const EncoderConfig& config, std::uint64_t seed, EncoderLog& out)
       : ticks_(config.ticks_per_revolution),
         clock_(config.rate_hz),
-        slip_(config.slip_sigma, config.slip_tau_s, seed, config.turn_slip_sigma),
+        slip_(config.slip_sigma, config.slip_tau_s, seed, config.turn_slip_sigma,
+              config.common_slip_sigma),
         out_(out) {}
 
   void advance(const Interval& step, double t_end_s) {

@@ -133,6 +133,12 @@ TEST(Sensors, ImuNoiseHasItsStatedMeanAndSigma) {
 // A wheel turning at a constant rate w for T: the counted angle is off by int w s dt, whose
 // variance for an Ornstein-Uhlenbeck s started at 0 is
 // 2 sigma^2 tau w^2 (T - 2 tau (1 - e^(-T/tau)) + (tau / 2)(1 - e^(-2T/tau))).
+double slipVariance(double sigma, double tau, double w, double T) {
+  return 2.0 * sigma * sigma * tau * w * w *
+         (T - 2.0 * tau * (1.0 - std::exp(-T / tau)) +
+          0.5 * tau * (1.0 - std::exp(-2.0 * T / tau)));
+}
+
 TEST(Sensors, WheelSlipHasTheVarianceOfAnOrnsteinUhlenbeckProcess) {
   const double sigma = 0.05, tau = 0.5, w = 10.0, dt = 0.01, T = 10.0;
   const int runs = 2000, steps = static_cast<int>(T / dt);
@@ -145,9 +151,7 @@ TEST(Sensors, WheelSlipHasTheVarianceOfAnOrnsteinUhlenbeckProcess) {
     sum += error;
     sum2 += error * error;
   }
-  const double expected =
-      2.0 * sigma * sigma * tau * w * w *
-      (T - 2.0 * tau * (1.0 - std::exp(-T / tau)) + 0.5 * tau * (1.0 - std::exp(-2.0 * T / tau)));
+  const double expected = slipVariance(sigma, tau, w, T);
   // Standard error of a variance from 2000 draws: sqrt(2 / 2000) = 3.2 %; the steps of 10 ms
   // against tau = 0.5 s add about 1 %.
   EXPECT_NEAR(sum2 / runs / expected, 1.0, 0.12);
@@ -172,15 +176,35 @@ TEST(Sensors, TurnSlipChangesTheTurnAndNotTheDistance) {
     EXPECT_NEAR(counted.x() + counted.y(), 0.0, 1e-9);  // the distance: none, as driven
     sum2 += turn_error * turn_error;
   }
-  const double expected =
-      2.0 * sigma * sigma * tau * w * w *
-      (T - 2.0 * tau * (1.0 - std::exp(-T / tau)) + 0.5 * tau * (1.0 - std::exp(-2.0 * T / tau)));
+  const double expected = slipVariance(sigma, tau, w, T);
   EXPECT_NEAR(sum2 / runs / expected, 1.0, 0.12);  // as above
   WheelSlip straight(0.0, tau, 1, sigma);
   EXPECT_TRUE(straight.on());
   Eigen::Vector2d counted;
   for (int k = 0; k < steps; ++k) counted = straight.count(Eigen::Vector2d(w * dt, w * dt), dt);
   EXPECT_NEAR(counted.x(), w * T, 1e-9);
+  EXPECT_NEAR(counted.y(), w * T, 1e-9);
+}
+
+// Common slip: driving straight at w, both wheels' counted angles are off by the same amount,
+// with the variance above; turning on the spot, the counted angles are exact.
+TEST(Sensors, CommonSlipChangesTheDistanceAndNotTheTurn) {
+  const double sigma = 0.05, tau = 0.5, w = 10.0, dt = 0.01, T = 10.0;
+  const int runs = 2000, steps = static_cast<int>(T / dt);
+  double sum2 = 0.0;
+  for (int run = 0; run < runs; ++run) {
+    WheelSlip slip(0.0, tau, streamSeed(run, RngStream::encoder_slip), 0.0, sigma);
+    Eigen::Vector2d counted = Eigen::Vector2d::Zero();
+    for (int k = 0; k < steps; ++k) counted = slip.count(Eigen::Vector2d(w * dt, w * dt), dt);
+    EXPECT_NEAR(counted.y() - counted.x(), 0.0, 1e-9);  // the turn: none, as driven
+    sum2 += (counted.x() - w * T) * (counted.x() - w * T);
+  }
+  EXPECT_NEAR(sum2 / runs / slipVariance(sigma, tau, w, T), 1.0, 0.12);  // as above
+  WheelSlip spin(0.0, tau, 1, 0.0, sigma);
+  EXPECT_TRUE(spin.on());
+  Eigen::Vector2d counted;
+  for (int k = 0; k < steps; ++k) counted = spin.count(Eigen::Vector2d(-w * dt, w * dt), dt);
+  EXPECT_NEAR(counted.x(), -w * T, 1e-9);
   EXPECT_NEAR(counted.y(), w * T, 1e-9);
 }
 
