@@ -268,14 +268,15 @@ void faultSets(const Fitted& f, std::vector<std::string>& s) {
 /// Beyond, the scans would share all their range error: none left to be drawn afresh.
 constexpr double kMaxFixedShare = 0.99;
 
-/// The range noise of total sigma split into the part drawn afresh every scan and the part fixed
-/// in the world, by `fixed_share` of the variance, as --set assignments (the second only where
-/// some is fixed).
-std::vector<std::string> rangeNoiseSets(double sigma, double fixed_share) {
-  std::vector<std::string> s = {"lidar.range_noise_m=" + num(sigma * std::sqrt(1.0 - fixed_share))};
-  if (fixed_share > 0.0)
-    s.push_back("lidar.range_noise_fixed_m=" + num(sigma * std::sqrt(fixed_share)));
-  return s;
+/// The range noise of total sigma split by `fixed_share` of its variance into the part drawn
+/// afresh every scan (lidar.range_noise_m) and the part fixed in the world
+/// (lidar.range_noise_fixed_m).
+struct RangeNoiseSplit {
+  double fresh_m, fixed_m;
+};
+
+RangeNoiseSplit splitRangeNoise(double sigma, double fixed_share) {
+  return {sigma * std::sqrt(1.0 - fixed_share), sigma * std::sqrt(fixed_share)};
 }
 
 /// The total sigma of a lidar's range noise: its two parts are independent.
@@ -323,8 +324,9 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
       "encoders.rate_hz=" + num(f.odometry.encoder_rate_hz),
       "encoders.ticks_per_revolution=" + std::to_string(f.odometry.ticks_per_revolution),
       "encoders.slip_tau_s=" + num(f.slip.tau_s)};
-  for (const std::string& n : rangeNoiseSets(f.against_map.range_noise_m, f.fixed_share))
-    s.push_back(n);
+  const RangeNoiseSplit noise = splitRangeNoise(f.against_map.range_noise_m, f.fixed_share);
+  s.push_back("lidar.range_noise_m=" + num(noise.fresh_m));
+  if (noise.fixed_m > 0.0) s.push_back("lidar.range_noise_fixed_m=" + num(noise.fixed_m));
   if (f.odometry.has_imu && f.odometry.gyro_noise_radps > 0.0) {
     s.push_back("imu.rate_hz=" + num(f.odometry.imu_rate_hz));
     s.push_back("imu.gyro_bias_radps=" + num(f.odometry.gyro_bias_radps));
@@ -743,15 +745,13 @@ void setKey(TwinFit& fit, const std::string& key, const std::string& value) {
   fit.json["sets"] = fit.sets;
 }
 
-/// The total sigma, split as the fit splits it (rangeNoiseSets; a fixed part set before is
-/// cleared where the share went to 0).
+/// The total sigma, split as the fit splits it (splitRangeNoise); the fixed part is set where
+/// there is some or was some before.
 void setRangeNoise(TwinFit& fit, double sigma) {
-  if (fit.range_noise_fixed_share == 0.0 && fit.config.lidar.range_noise_fixed_m > 0.0)
-    setKey(fit, "lidar.range_noise_fixed_m", "0");
-  for (const std::string& set : rangeNoiseSets(sigma, fit.range_noise_fixed_share)) {
-    const std::size_t eq = set.find('=');
-    setKey(fit, set.substr(0, eq), set.substr(eq + 1));
-  }
+  const RangeNoiseSplit noise = splitRangeNoise(sigma, fit.range_noise_fixed_share);
+  setKey(fit, "lidar.range_noise_m", num(noise.fresh_m));
+  if (noise.fixed_m > 0.0 || fit.config.lidar.range_noise_fixed_m > 0.0)
+    setKey(fit, "lidar.range_noise_fixed_m", num(noise.fixed_m));
   fit.json["lidar"]["range_noise_m"]["value"] = sigma;
 }
 
