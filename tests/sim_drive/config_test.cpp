@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string_view>
 
 #include "slamprep/core/error.hpp"
 
@@ -73,6 +74,11 @@ TEST(SimConfig, BadOverridesNameTheKey) {
   EXPECT_NE(overrideError("lidar.sweep_s=-0.01").find("lidar.sweep_s"), std::string::npos);
   EXPECT_NE(overrideError("nominal.wheel_base_error=-1").find("nominal.wheel_base_error"),
             std::string::npos);
+  for (const char* bad : {"lidar.range_noise_fixed_m=-0.01", "lidar.range_noise_fixed_length_m=0",
+                          "encoders.common_slip_sigma=0.6", "nominal.lidar_mount_error.x_m=nan"}) {
+    const std::string key(bad, std::string_view(bad).find('='));
+    EXPECT_NE(overrideError(bad).find(key), std::string::npos) << overrideError(bad);
+  }
   // A failed override leaves the configuration untouched.
   SimConfig c;
   EXPECT_THROW(applyOverride(c, "robot.wheel_base_m=0"), InputError);
