@@ -22,6 +22,8 @@ using Matrix = Eigen::Matrix<double, kVariances, kVariances>;
 struct Piece {
   double error_rad = 0.0;
   Vector x = Vector::Zero();
+  double known = 0.0;  ///< variance taken as known (Eq. 2's wheel slip term), not fitted
+  double predicted(const Vector& v) const { return v.dot(x) + known; }
 };
 
 /// (sigma^2, sigma_turn^2, sigma_t^2, c) of Eq. (1).
@@ -107,7 +109,7 @@ std::optional<Variances> fitSubset(const std::vector<Piece>& pieces,
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     const Vector x = pieces[k].x.cwiseProduct(on);
     A += weights[k] * x * x.transpose();
-    rhs += weights[k] * x * (pieces[k].error_rad * pieces[k].error_rad);
+    rhs += weights[k] * x * (pieces[k].error_rad * pieces[k].error_rad - pieces[k].known);
   }
   const Eigen::FullPivLU<Matrix> lu(A);
   if (!lu.isInvertible()) return std::nullopt;
@@ -121,11 +123,10 @@ constexpr int kTiming = 1 << 2;
 /// Gaussian log-likelihood of the pieces' errors under the variances, over `durations`: the
 /// pieces of every duration cover the same stretch, which is counted once.
 double logLikelihood(const std::vector<Piece>& pieces, const Variances& v, std::size_t durations,
-                     const WheelSlipParams& params) {
-  const double floor = params.min_sigma_rad * params.min_sigma_rad;
+                     double floor) {
   double sum = 0.0;
   for (const Piece& p : pieces) {
-    const double variance = std::max(floor, v.dot(p.x));
+    const double variance = std::max(floor, p.predicted(v));
     sum -= 0.5 * (std::log(variance) + p.error_rad * p.error_rad / variance);
   }
   return sum / double(std::max<std::size_t>(1, durations));
@@ -136,15 +137,14 @@ double logLikelihood(const std::vector<Piece>& pieces, const Variances& v, std::
 /// variance 2 (v . x)^2 (Fisher scoring), until it settles. The first pass assumes slip only
 /// (c = 0), so a long piece does not outweigh many short ones. nullopt where a variance comes
 /// out negative: its maximum lies on a smaller subset.
-std::optional<Variances> fitSubsetByLikelihood(const std::vector<Piece>& pieces,
-                                               const WheelSlipParams& params, int subset) {
+std::optional<Variances> fitSubsetByLikelihood(const std::vector<Piece>& pieces, double floor,
+                                               int subset) {
   constexpr int kPasses = 12;
-  const double floor = params.min_sigma_rad * params.min_sigma_rad;
   std::vector<double> weights(pieces.size());
   Variances v(1.0, 1.0, 0.0, 0.0);
   for (int pass = 0; pass < kPasses; ++pass) {
     for (std::size_t k = 0; k < pieces.size(); ++k) {
-      const double predicted = std::max(floor, v.dot(pieces[k].x));
+      const double predicted = std::max(floor, pieces[k].predicted(v));
       weights[k] = 1.0 / (predicted * predicted);
     }
     const std::optional<Variances> next = fitSubset(pieces, weights, subset);
@@ -156,15 +156,14 @@ std::optional<Variances> fitSubsetByLikelihood(const std::vector<Piece>& pieces,
 
 /// The maximum likelihood with every variance >= 0: the most likely of the fits on the subsets
 /// of the `allowed` variances.
-Variances fitMostLikely(const std::vector<Piece>& pieces, const WheelSlipParams& params,
-                        int allowed) {
+Variances fitMostLikely(const std::vector<Piece>& pieces, double floor, int allowed) {
   Variances best = Variances::Zero();
   double best_likelihood = -std::numeric_limits<double>::infinity();
   for (int subset = 1; subset < (1 << kVariances); ++subset) {
     if ((subset & ~allowed) != 0) continue;
-    const std::optional<Variances> v = fitSubsetByLikelihood(pieces, params, subset);
+    const std::optional<Variances> v = fitSubsetByLikelihood(pieces, floor, subset);
     if (!v) continue;
-    const double likelihood = logLikelihood(pieces, *v, 1, params);
+    const double likelihood = logLikelihood(pieces, *v, 1, floor);
     if (likelihood > best_likelihood) best_likelihood = likelihood, best = *v;
   }
   return best;
@@ -172,12 +171,148 @@ Variances fitMostLikely(const std::vector<Piece>& pieces, const WheelSlipParams&
 
 /// The pieces within outlier_sigmas of what the variances predict for them.
 std::vector<Piece> withoutOutliers(const std::vector<Piece>& pieces, const Variances& v,
-                                   const WheelSlipParams& params) {
+                                   double sigmas) {
   std::vector<Piece> kept;
   for (const Piece& p : pieces)
-    if (p.error_rad * p.error_rad <= params.outlier_sigmas * params.outlier_sigmas * v.dot(p.x))
-      kept.push_back(p);
+    if (p.error_rad * p.error_rad <= sigmas * sigmas * p.predicted(v)) kept.push_back(p);
   return kept;
+}
+
+/// The pieces of every duration along the reference, as (t0, t1) within the odometry.
+std::vector<std::pair<double, double>> allPieces(const PoseSeries& reference,
+                                                 const PoseSeries& odometry,
+                                                 const WheelSlipParams& params) {
+  std::vector<std::pair<double, double>> stamps;
+  for (const double duration_s : params.piece_s)
+    for (const auto& [t0, t1] : pieceStamps(reference, duration_s, params))
+      if (odometry.covers(t0) && odometry.covers(t1)) stamps.emplace_back(t0, t1);
+  return stamps;
+}
+
+/// The pieces' heading errors and Eq. (1)'s regressors.
+std::vector<Piece> headingPieces(const OdometryEncoders& encoders, const DiffDriveParams& g,
+                                 const PoseSeries& reference, const PoseSeries& odometry,
+                                 const WheelSlipParams& params) {
+  const double max_error = params.max_heading_error_deg * std::numbers::pi / 180.0;
+  std::vector<Piece> pieces;
+  for (const auto& [t0, t1] : allPieces(reference, odometry, params)) {
+    const double error =
+        normalizeAngle(headingChange(odometry, t0, t1) - headingChange(reference, t0, t1));
+    const Eigen::Vector2d q = slipRegressors(encoders, g, params.tau_s, t0, t1);
+    if (std::abs(error) <= max_error && q(0) > 0.0) {
+      const double w0 = turnRate(odometry, t0, params.rate_span_s);
+      const double w1 = turnRate(odometry, t1, params.rate_span_s);
+      pieces.push_back({error, Vector(q(0), q(1), w0 * w0 + w1 * w1, 1.0)});
+    }
+  }
+  return pieces;
+}
+
+double chord(const PoseSeries& series, double t0, double t1) {
+  return (series.at(t1)->translation() - series.at(t0)->translation()).norm();
+}
+
+/// The speed along `direction` at t, over span_s around it (within the series).
+double speedAlong(const PoseSeries& series, const Eigen::Vector2d& direction, double t,
+                  double span_s) {
+  const double a = std::max(series.frontStamp(), t - 0.5 * span_s);
+  const double b = std::min(series.backStamp(), t + 0.5 * span_s);
+  if (!(b > a)) return 0.0;
+  return direction.dot(series.at(b)->translation() - series.at(a)->translation()) / (b - a);
+}
+
+/// Eq. (2)'s regressors over the encoder steps inside [t0, t1]: C, and the wheel slip term's
+/// S(ds_L a) + S(ds_R a).
+Eigen::Vector2d distanceRegressors(const OdometryEncoders& enc, const DiffDriveParams& g,
+                                   const PoseSeries& odometry, const Eigen::Vector2d& direction,
+                                   double tau_s, double t0, double t1) {
+  const double rad_per_tick = radiansPerTick(enc.ticks_per_revolution);
+  CorrelatedSum common(tau_s), left(tau_s), right(tau_s);
+  const EncoderLog& e = enc.encoders;
+  const auto first = std::lower_bound(
+      e.begin(), e.end(), t0, [](const EncoderSample& s, double t) { return s.stamp_s < t; });
+  for (std::size_t k = std::max<std::size_t>(1, first - e.begin() + 1);
+       k < e.size() && e[k].stamp_s <= t1; ++k) {
+    const double yaw = odometry.at(e[k].stamp_s)->yaw;
+    const double a = direction.dot(Eigen::Vector2d(std::cos(yaw), std::sin(yaw)));
+    const double ds_l =
+        a * g.radius_left_m * rad_per_tick * double(e[k].ticks_left - e[k - 1].ticks_left);
+    const double ds_r =
+        a * g.radius_right_m * rad_per_tick * double(e[k].ticks_right - e[k - 1].ticks_right);
+    common.add(0.5 * (ds_l + ds_r), e[k].stamp_s);
+    left.add(ds_l, e[k].stamp_s);
+    right.add(ds_r, e[k].stamp_s);
+  }
+  return {common.sum(), left.sum() + right.sum()};
+}
+
+/// The pieces that turn little: their distance errors, Eq. (2)'s C, W, V and 1 as regressors and
+/// its wheel slip term as known, from the heading fit's sigma.
+std::vector<Piece> distancePieces(const OdometryEncoders& encoders, const DiffDriveParams& g,
+                                  const PoseSeries& reference, const PoseSeries& odometry,
+                                  const WheelSlipFit& heading, const WheelSlipParams& params) {
+  const double max_turn = params.max_distance_turn_deg * std::numbers::pi / 180.0;
+  const double slip2 = heading.sigma * heading.sigma;
+  std::vector<Piece> pieces;
+  for (const auto& [t0, t1] : allPieces(reference, odometry, params)) {
+    if (std::abs(headingChange(odometry, t0, t1)) > max_turn) continue;
+    const double error = chord(odometry, t0, t1) - chord(reference, t0, t1);
+    if (!(std::abs(error) <= params.max_distance_error_m)) continue;
+    const Eigen::Vector2d along = odometry.at(t1)->translation() - odometry.at(t0)->translation();
+    const Eigen::Vector2d direction =
+        along.norm() > 0.0 ? Eigen::Vector2d(along.normalized()) : Eigen::Vector2d::UnitX();
+    const Eigen::Vector2d q =
+        distanceRegressors(encoders, g, odometry, direction, params.tau_s, t0, t1);
+    const double v0 = speedAlong(odometry, direction, t0, params.rate_span_s);
+    const double v1 = speedAlong(odometry, direction, t1, params.rate_span_s);
+    const double w0 = turnRate(odometry, t0, params.rate_span_s);
+    const double w1 = turnRate(odometry, t1, params.rate_span_s);
+    Piece p{error, Vector(q(0), w0 * w0 + w1 * w1, v0 * v0 + v1 * v1, 1.0)};
+    p.known = slip2 * q(1) / 4.0;
+    pieces.push_back(p);
+  }
+  return pieces;
+}
+
+/// Eq. (1) on the heading pieces: the wheel slip, the turn slip, the timing (kept only beyond
+/// the likelihood ratio) and the reference's heading noise.
+void fitHeading(std::vector<Piece> pieces, const WheelSlipParams& params, WheelSlipFit& fit) {
+  const double floor = params.min_sigma_rad * params.min_sigma_rad;
+  fit.pieces = pieces.size();
+  if (pieces.size() < params.min_pieces) return;
+  pieces =
+      withoutOutliers(pieces, fitMostLikely(pieces, floor, kAllVariances), params.outlier_sigmas);
+  fit.pieces = pieces.size();
+  fit.fitted = pieces.size() >= params.min_pieces;
+  if (!fit.fitted) return;
+  Variances v = fitMostLikely(pieces, floor, kAllVariances);
+  // The timing and the turn slip both show in turns: on a short recording they are told apart
+  // by chance. The timing is kept where the pieces show it beyond chance (Wilks).
+  const Variances without = fitMostLikely(pieces, floor, kAllVariances & ~kTiming);
+  const std::size_t durations = params.piece_s.size();
+  fit.timing_likelihood_ratio = 2.0 * (logLikelihood(pieces, v, durations, floor) -
+                                       logLikelihood(pieces, without, durations, floor));
+  if (!(fit.timing_likelihood_ratio > params.timing_likelihood_ratio)) v = without;
+  fit.sigma = std::sqrt(v(0));
+  fit.turn_sigma = std::sqrt(v(1));
+  fit.timing_jitter_s = std::sqrt(v(2));
+  fit.reference_noise_rad = std::sqrt(v(3));
+}
+
+/// Eq. (2) on the distance pieces (every regressor fitted): the common slip and the reference's
+/// distance noise (its constant; its terms in turns and in speed are not reported).
+void fitDistance(std::vector<Piece> pieces, const WheelSlipParams& params, WheelSlipFit& fit) {
+  const double floor = params.min_sigma_m * params.min_sigma_m;
+  fit.distance_pieces = pieces.size();
+  if (pieces.size() < params.min_pieces) return;
+  pieces =
+      withoutOutliers(pieces, fitMostLikely(pieces, floor, kAllVariances), params.outlier_sigmas);
+  fit.distance_pieces = pieces.size();
+  fit.common_fitted = pieces.size() >= params.min_pieces;
+  if (!fit.common_fitted) return;
+  const Variances v = fitMostLikely(pieces, floor, kAllVariances);
+  fit.common_sigma = std::sqrt(v(0));
+  fit.reference_distance_noise_m = std::sqrt(v(3));
 }
 
 }  // namespace
@@ -188,43 +323,9 @@ WheelSlipFit fitWheelSlip(const OdometryEncoders& encoders, const DiffDriveParam
   fit.tau_s = params.tau_s;
   if (encoders.encoders.size() < 2) return fit;
   const PoseSeries odometry = integrateOdometry(encoders, g);
-  const double max_error = params.max_heading_error_deg * std::numbers::pi / 180.0;
-  std::vector<std::pair<double, double>> stamps;
-  for (const double duration_s : params.piece_s) {
-    const auto cut = pieceStamps(reference, duration_s, params);
-    stamps.insert(stamps.end(), cut.begin(), cut.end());
-  }
-  std::vector<Piece> pieces;
-  for (const auto& [t0, t1] : stamps) {
-    if (!odometry.covers(t0) || !odometry.covers(t1)) continue;
-    const double error =
-        normalizeAngle(headingChange(odometry, t0, t1) - headingChange(reference, t0, t1));
-    const Eigen::Vector2d q = slipRegressors(encoders, g, params.tau_s, t0, t1);
-    if (std::abs(error) <= max_error && q(0) > 0.0) {
-      const double w0 = turnRate(odometry, t0, params.rate_span_s);
-      const double w1 = turnRate(odometry, t1, params.rate_span_s);
-      pieces.push_back({error, Vector(q(0), q(1), w0 * w0 + w1 * w1, 1.0)});
-    }
-  }
-  fit.pieces = pieces.size();
-  if (pieces.size() < params.min_pieces) return fit;
-  const std::vector<Piece> kept =
-      withoutOutliers(pieces, fitMostLikely(pieces, params, kAllVariances), params);
-  fit.pieces = kept.size();
-  fit.fitted = kept.size() >= params.min_pieces;
-  if (!fit.fitted) return fit;
-  Variances v = fitMostLikely(kept, params, kAllVariances);
-  // The timing and the turn slip both show in turns: on a short recording they are told apart
-  // by chance. The timing is kept where the pieces show it beyond chance (Wilks).
-  const Variances without = fitMostLikely(kept, params, kAllVariances & ~kTiming);
-  const std::size_t durations = params.piece_s.size();
-  fit.timing_likelihood_ratio = 2.0 * (logLikelihood(kept, v, durations, params) -
-                                       logLikelihood(kept, without, durations, params));
-  if (!(fit.timing_likelihood_ratio > params.timing_likelihood_ratio)) v = without;
-  fit.sigma = std::sqrt(v(0));
-  fit.turn_sigma = std::sqrt(v(1));
-  fit.timing_jitter_s = std::sqrt(v(2));
-  fit.reference_noise_rad = std::sqrt(v(3));
+  fitHeading(headingPieces(encoders, g, reference, odometry, params), params, fit);
+  if (fit.fitted)
+    fitDistance(distancePieces(encoders, g, reference, odometry, fit, params), params, fit);
   return fit;
 }
 

@@ -34,6 +34,11 @@ struct WheelSlipParams {
   /// The timing is fitted only where it raises the pieces' likelihood (each stretch counted
   /// once) by this likelihood ratio: chi2 with 1 degree of freedom at p = 0.001.
   double timing_likelihood_ratio = 10.83;
+  /// The distance fit (Eq. 2) takes pieces that turn less than this: a turn moves a lidar told
+  /// off its true mount along a chord the base does not, which is not slip.
+  double max_distance_turn_deg = 30.0;
+  double max_distance_error_m = 0.5;  ///< beyond: a failed match or a held robot, not slip
+  double min_sigma_m = 1e-3;          ///< as min_sigma_rad, for the distance (1 mm)
 };
 
 struct WheelSlipFit {
@@ -48,6 +53,12 @@ struct WheelSlipFit {
   /// Heading noise per piece that does not grow with the wheels' motion: the reference's own.
   double reference_noise_rad = 0.0;
   double tau_s = 0.0;
+  /// Slip both wheels share (Eq. 2): the distance the wheels count against the reference's, with
+  /// the wheel slip above taken as known.
+  std::size_t distance_pieces = 0;          ///< pieces used
+  bool common_fitted = false;               ///< at least min_pieces
+  double common_sigma = 0.0;                ///< stationary sigma of the common slip c at tau_s
+  double reference_distance_noise_m = 0.0;  ///< the reference's own, per piece
 };
 
 /// Least squares of the pieces' (all durations) squared heading error on what the slip model
@@ -64,6 +75,19 @@ struct WheelSlipFit {
 /// distance driven, turn slip with the turning, timing with the turn rate where a piece starts
 /// and ends whatever it turned between: a robot that slips in its turns and not on the straight
 /// is told apart, and one whose wheels and scans are paired at varying times from both.
+///
+/// The distance both wheels count, against the reference's chord, over the pieces that turn
+/// little, by the same maximum likelihood:
+///   E[dd_k^2] = sigma_c^2 C_k + k_w W_k + sigma_v^2 V_k + c_d + sigma^2 (S(ds_L a) + S(ds_R a)) /
+///   4, C_k = S(m a),  m = (ds_L + ds_R) / 2,  a_i = cos(theta_i - phi),  V_k = v_0^2 + v_1^2,  (2)
+/// dd = |p_odometry(t1) - p_odometry(t0)| - |p_reference(t1) - p_reference(t0)|: both wheels
+/// count (1 + c) of their common part (sim::WheelSlip), which lengthens each step m by c m, and
+/// the chord by its share a along the chord's direction phi. The last term is what the heading
+/// fit's wheel slip adds (held, not refitted: on the straight a wheel's own slip and the common
+/// one are the same to the distance). The others are the reference's: W = omega_0^2 + omega_1^2
+/// (a scan taken while turning is matched a little off), V with v the speed along the chord at
+/// the ends (scans and wheels paired at varying times), c_d a constant. A common slip leaves
+/// every heading as it was, so Eq. (1) never sees it.
 WheelSlipFit fitWheelSlip(const OdometryEncoders& encoders, const DiffDriveParams& true_geometry,
                           const PoseSeries& T_world_base_reference,
                           const WheelSlipParams& params = {});
