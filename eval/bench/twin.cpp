@@ -476,6 +476,12 @@ nlohmann::ordered_json slipJson(const WheelSlipFit& s) {
       {"timing_likelihood_ratio",
        s.fitted ? nlohmann::ordered_json(s.timing_likelihood_ratio) : nullptr},
       {"reference_noise_rad", s.fitted ? nlohmann::ordered_json(s.reference_noise_rad) : nullptr},
+      {"common_sigma", s.common_fitted ? nlohmann::ordered_json(s.common_sigma) : nullptr},
+      {"common_likelihood_ratio",
+       s.common_fitted ? nlohmann::ordered_json(s.common_likelihood_ratio) : nullptr},
+      {"distance_pieces", s.distance_pieces},
+      {"reference_distance_noise_m",
+       s.common_fitted ? nlohmann::ordered_json(s.reference_distance_noise_m) : nullptr},
       {"how",
        "the recording's encoders with the true geometry, its r_L / b and r_R / b those of the "
        "sensor agreement (the turn the scans saw per wheel angle), against the scans matched "
@@ -492,7 +498,12 @@ nlohmann::ordered_json slipJson(const WheelSlipFit& s) {
            "recording's; the twin is given what its run without them, measured the same way "
            "against its own scans, does not show already (twin_sigma, physics_sigma; "
            "twin_turn_sigma, physics_turn_sigma; twin_read_jitter_s, physics_timing_jitter_s: "
-           "faults.read_jitter)"}};
+           "faults.read_jitter). common_sigma: the slip both wheels share (they count (1 + c) "
+           "of the distance, no heading), from the pieces that turn less than 30 deg: the "
+           "distance the wheels count against the scans' chord, regressed on what such a slip "
+           "predicts, with the wheel slip sigma held and the scans' own error (a constant, "
+           "reference_distance_noise_m, and terms in the turn rate and the speed at the ends) "
+           "beside it; the twin is given twin_common_sigma beyond physics_common_sigma"}};
 }
 
 /// The true geometry with the wheels' turn per wheel angle, r_L / b and r_R / b, the sensor
@@ -644,9 +655,7 @@ const char* const kNotReproduced[] = {
      "sampling is Gaussian, fitted to its RMS about the grid"),
     ("range errors fixed in the world at scales other than 2 cm (clutter, curved surfaces): "
      "the twin's fixed part is one Gaussian texture of 2 cm correlation length "
-     "(lidar.range_noise_fixed_share)"),
-    ("a slip both wheels share, which moves the path length and no heading: the slip is "
-     "fitted on headings")};
+     "(lidar.range_noise_fixed_share)")};
 
 }  // namespace
 
@@ -706,6 +715,7 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   out.recording_slip_sigma = f.slip.sigma;
   out.recording_turn_slip_sigma = f.slip.turn_sigma;
   out.recording_timing_jitter_s = f.slip.timing_jitter_s;
+  out.recording_common_slip_sigma = f.slip.common_sigma;
   out.deskew = p.deskew;
   out.replay = drive.replay;
   out.sets = twinSets(f, p.seed);
@@ -881,6 +891,8 @@ bool setSlip(TwinFit& fit, const sim::SimResult& without) {
   const double turn_sigma =
       given("twin_turn_sigma", beyond(fit.recording_turn_slip_sigma, physics.turn_sigma));
   const double jitter_s = beyond(fit.recording_timing_jitter_s, physics.timing_jitter_s);
+  const double common_sigma =
+      given("twin_common_sigma", beyond(fit.recording_common_slip_sigma, physics.common_sigma));
   const auto measured = [&](double v) {
     return physics.fitted ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
   };
@@ -890,15 +902,19 @@ bool setSlip(TwinFit& fit, const sim::SimResult& without) {
   j["twin_turn_sigma"] = turn_sigma;
   j["physics_timing_jitter_s"] = measured(physics.timing_jitter_s);
   j["twin_read_jitter_s"] = jitter_s;
+  j["physics_common_sigma"] =
+      physics.common_fitted ? nlohmann::ordered_json(physics.common_sigma) : nullptr;
+  j["twin_common_sigma"] = common_sigma;
   if (sigma > 0.0) setKey(fit, "encoders.slip_sigma", num(sigma));
   if (turn_sigma > 0.0) setKey(fit, "encoders.turn_slip_sigma", num(turn_sigma));
+  if (common_sigma > 0.0) setKey(fit, "encoders.common_slip_sigma", num(common_sigma));
   if (jitter_s > 0.0) {
     setKey(fit, "faults.read_jitter.encoders_sigma_s", num(jitter_s));
     sim::FaultSet faults = fit.config.faults.enable;
     faults.add(sim::Fault::read_jitter);
     setKey(fit, "faults.enable", sim::toString(faults));
   }
-  return sigma > 0.0 || turn_sigma > 0.0 || jitter_s > 0.0;
+  return sigma > 0.0 || turn_sigma > 0.0 || jitter_s > 0.0 || common_sigma > 0.0;
 }
 
 }  // namespace

@@ -72,8 +72,9 @@ struct TwinFit {
   /// scans matched alone): simulateTwin gives the twin what its run without slip at the tuned
   /// range noise, measured the same way, does not show already.
   double recording_slip_sigma = 0.0;
-  double recording_turn_slip_sigma = 0.0;  ///< and its slip in turns (the same)
-  double recording_timing_jitter_s = 0.0;  ///< and when its wheels are read (the same)
+  double recording_turn_slip_sigma = 0.0;    ///< and its slip in turns (the same)
+  double recording_timing_jitter_s = 0.0;    ///< and when its wheels are read (the same)
+  double recording_common_slip_sigma = 0.0;  ///< and the slip both wheels share (the same)
 };
 
 /// Simulates the twin, in physics mode when its robot follows the replay within

@@ -12,6 +12,29 @@
 
 namespace slamprep::eval {
 
+namespace {
+
+/// "0.012" or "-" where the fit had too few pieces (null) or the key is absent.
+std::string valueOrDash(const nlohmann::ordered_json& j, const char* key, const char* format) {
+  if (!j.contains(key) || !j[key].is_number()) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, format, j[key].get<double>());
+  return buf;
+}
+
+/// The slips the recording shows and what the twin was given beyond its physics' own.
+std::string slipText(const nlohmann::ordered_json& s) {
+  const auto pair = [&s](const char* recording, const char* twin, const char* format) {
+    return valueOrDash(s, recording, format) + " (twin " + valueOrDash(s, twin, format) + ")";
+  };
+  return "slip: each wheel " + pair("sigma", "twin_sigma", "%.4f") + ", in turns " +
+         pair("turn_sigma", "twin_turn_sigma", "%.4f") + ", both wheels " +
+         pair("common_sigma", "twin_common_sigma", "%.4f") + ", read jitter " +
+         pair("timing_jitter_s", "twin_read_jitter_s", "%.4f") + " s\n";
+}
+
+}  // namespace
+
 std::string twinText(const nlohmann::ordered_json& j) {
   char buf[512];
   std::string out;
@@ -69,7 +92,7 @@ std::string twinText(const nlohmann::ordered_json& j) {
                 t["radius_left_m"].get<double>() * 1e3, t["radius_right_m"].get<double>() * 1e3,
                 t["wheel_base_m"].get<double>() * 1e3, o["true"]["how"].get<std::string>().c_str());
   out += buf;
-  return out;
+  return out + slipText(o["slip"]);
 }
 
 namespace {

@@ -310,7 +310,15 @@ void fitDistance(std::vector<Piece> pieces, const WheelSlipParams& params, Wheel
   fit.distance_pieces = pieces.size();
   fit.common_fitted = pieces.size() >= params.min_pieces;
   if (!fit.common_fitted) return;
-  const Variances v = fitMostLikely(pieces, floor, kAllVariances);
+  Variances v = fitMostLikely(pieces, floor, kAllVariances);
+  // The reference's own terms can take a common slip's variance and the slip theirs: the slip is
+  // kept where the pieces show it beyond chance (Wilks), as the timing is.
+  constexpr int kCommon = 1 << 0;
+  const Variances without = fitMostLikely(pieces, floor, kAllVariances & ~kCommon);
+  const std::size_t durations = params.piece_s.size();
+  fit.common_likelihood_ratio = 2.0 * (logLikelihood(pieces, v, durations, floor) -
+                                       logLikelihood(pieces, without, durations, floor));
+  if (!(fit.common_likelihood_ratio > params.common_likelihood_ratio)) v = without;
   fit.common_sigma = std::sqrt(v(0));
   fit.reference_distance_noise_m = std::sqrt(v(3));
 }

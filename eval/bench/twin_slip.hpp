@@ -39,6 +39,9 @@ struct WheelSlipParams {
   double max_distance_turn_deg = 30.0;
   double max_distance_error_m = 0.5;  ///< beyond: a failed match or a held robot, not slip
   double min_sigma_m = 1e-3;          ///< as min_sigma_rad, for the distance (1 mm)
+  /// The common slip is fitted only where it raises the distance pieces' likelihood (each
+  /// stretch counted once) by this likelihood ratio, as the timing is.
+  double common_likelihood_ratio = 10.83;
 };
 
 struct WheelSlipFit {
@@ -55,9 +58,12 @@ struct WheelSlipFit {
   double tau_s = 0.0;
   /// Slip both wheels share (Eq. 2): the distance the wheels count against the reference's, with
   /// the wheel slip above taken as known.
-  std::size_t distance_pieces = 0;          ///< pieces used
-  bool common_fitted = false;               ///< at least min_pieces
-  double common_sigma = 0.0;                ///< stationary sigma of the common slip c at tau_s
+  std::size_t distance_pieces = 0;  ///< pieces used
+  bool common_fitted = false;       ///< at least min_pieces
+  double common_sigma = 0.0;        ///< stationary sigma of the common slip c at tau_s
+  /// 2 (log L with the common slip - log L without it), as timing_likelihood_ratio: the slip is
+  /// kept (common_sigma > 0) only beyond WheelSlipParams::common_likelihood_ratio.
+  double common_likelihood_ratio = 0.0;
   double reference_distance_noise_m = 0.0;  ///< the reference's own, per piece
 };
 
