@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <functional>
+#include <optional>
+
+#include "slamprep/algo/timing/stamp_checks.hpp"
 
 namespace slamprep::algo {
 namespace {
@@ -15,28 +18,61 @@ std::vector<double> stampsOf(const std::vector<Sample>& samples) {
   return t;
 }
 
-StreamStamps report(std::string stream, std::size_t samples, const StampGrid& grid) {
-  return {std::move(stream),   samples,
-          grid.applied,        grid.reason,
-          grid.period_s,       grid.residual_rms_s,
-          grid.residual_max_s, grid.missing_samples};
-}
-
-// A stream's fitted grid, and how to write a new stamp back into the dataset.
+// A stream's fitted grid, how to write a new stamp back into the dataset, and why its stamps
+// are right where its own evidence says so ("": no such evidence).
 struct Fitted {
   std::string stream;
   std::vector<double> stamps;
   StampGrid grid;
   std::function<void(std::size_t, double)> set;
+  std::string right;
 };
+
+StreamStamps report(const Fitted& f) {
+  const StampGrid& g = f.grid;
+  return {f.stream,         f.stamps.size(),  g.applied,         g.reason,        g.period_s,
+          g.residual_rms_s, g.residual_max_s, g.missing_samples, !f.right.empty()};
+}
 
 // The host stamps every stream of a log alike: moving some onto their grids while one that has
 // no grid keeps its raw stamps would shift them against each other (fr079's laser at 4.7 Hz
-// against its irregular ODOM lines), so then every stream keeps its stamps.
+// against its irregular ODOM lines), so then every stream keeps its stamps. A stream stamped
+// right has a grid; it keeps its stamps because they are right.
 bool aStreamHasNoGrid(const std::vector<Fitted>& fitted) {
   return std::any_of(fitted.begin(), fitted.end(), [](const Fitted& f) {
-    return !f.grid.applied && f.grid.reason != "regular already";
+    return !f.grid.applied && f.right.empty() && f.grid.reason != "regular already";
   });
+}
+
+std::string ms(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2g ms", 1e3 * s);
+  return buf;
+}
+
+/// Why the encoders' stamps are right: their ticks bound the stamp error (Eq. 1 of
+/// stamp_checks.hpp) well below their irregularity about the grid.
+std::string encodersRight(const Dataset& d, const StampGrid& grid, const StampGridParams& p) {
+  if (!grid.applied) return "";
+  const std::optional<double> bound = tickStampErrorBound(d.encoders);
+  if (!bound || !(*bound < p.right_fraction * grid.residual_rms_s)) return "";
+  return "stamped right: their ticks bound the stamp error to " + ms(*bound) + ", their " +
+         ms(grid.residual_rms_s) + " about the grid is when they were sampled";
+}
+
+/// Why the scans' stamps are right: each step is a scan's own reported scan_time.
+std::string scansRight(const Dataset& d, const StampGrid& grid, const StampGridParams& p) {
+  if (!grid.applied) return "";
+  const std::optional<ScanTimeCheck> c = checkScanTimes(d.scans);
+  if (!c || !(c->rms_about_scan_time_s < p.right_fraction * c->rms_about_period_s)) return "";
+  return "stamped right: their steps are their own scan_time within " +
+         ms(c->rms_about_scan_time_s) + " RMS, against " + ms(c->rms_about_period_s) +
+         " about the mean step";
+}
+
+/// The odometry poses stamped with the encoders (the same stamps) share the encoders' verdict.
+bool sameStamps(const std::vector<double>& a, const std::vector<double>& b) {
+  return a == b;
 }
 
 }  // namespace
@@ -47,7 +83,7 @@ std::vector<StreamStamps> regularizeStamps(Dataset& d, const StampGridParams& pa
                  std::function<void(std::size_t, double)> set) {
     if (stamps.empty()) return;
     StampGrid grid = fitStampGrid(stamps, params);
-    fitted.push_back({std::move(stream), std::move(stamps), std::move(grid), std::move(set)});
+    fitted.push_back({std::move(stream), std::move(stamps), std::move(grid), std::move(set), ""});
   };
   fit("encoders", stampsOf(d.encoders),
       [&](std::size_t i, double t) { d.encoders[i].stamp_s = t; });
@@ -59,16 +95,27 @@ std::vector<StreamStamps> regularizeStamps(Dataset& d, const StampGridParams& pa
   for (const ScanRecord& r : d.scans) scan_stamps.push_back(r.scan.stamp_s);
   fit("scans", scan_stamps, [&](std::size_t i, double t) { d.scans[i].scan.stamp_s = t; });
 
+  const std::vector<double> encoder_stamps = stampsOf(d.encoders);
+  std::string encoders_right;
+  for (Fitted& f : fitted) {
+    if (f.stream == "encoders") f.right = encoders_right = encodersRight(d, f.grid, params);
+    if (f.stream == "odometry" && f.grid.applied && sameStamps(f.stamps, encoder_stamps))
+      f.right = encoders_right;
+    if (f.stream == "scans") f.right = scansRight(d, f.grid, params);
+  }
   const bool keep_all = aStreamHasNoGrid(fitted);
   std::vector<StreamStamps> out;
   for (Fitted& f : fitted) {
-    if (keep_all && f.grid.applied) {
+    if (!f.right.empty()) {
+      f.grid.applied = false;
+      f.grid.reason = f.right;
+    } else if (keep_all && f.grid.applied) {
       f.grid.applied = false;
       f.grid.reason = "kept with the other streams: one of them has no constant-rate grid";
     }
     if (f.grid.applied)
       for (std::size_t i = 0; i < f.stamps.size(); ++i) f.set(i, f.grid.stamps[i]);
-    out.push_back(report(f.stream, f.stamps.size(), f.grid));
+    out.push_back(report(f));
   }
   if (!moved.empty()) d.odom_nominal = std::move(moved);
   if (anyApplied(out))
@@ -86,6 +133,7 @@ bool anyApplied(const std::vector<StreamStamps>& streams) {
 std::string stampsSummary(const std::vector<StreamStamps>& streams) {
   std::string out;
   for (const StreamStamps& s : streams) {
+    if (s.stamped_right) out += "stamps: " + s.stream + " kept as " + s.reason + "\n";
     if (!s.applied) continue;
     char line[200];
     std::snprintf(line, sizeof line,

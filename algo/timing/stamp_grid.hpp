@@ -21,6 +21,10 @@ struct StampGridParams {
   double max_rms_fraction = 0.25;
   /// Samples in each local line fit: the grid's period may drift with the sensor's clock.
   std::size_t window = 201;
+  /// A stream whose own evidence (stamp_checks.hpp) puts its stamps' error below this fraction
+  /// of their irregularity keeps them (regularizeStamps): it was sampled irregularly and stamped
+  /// right, and its grid would move each sample by about its irregularity.
+  double right_fraction = 1.0 / 3.0;
 };
 
 /// What fitStampGrid found and did.

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "slamprep/algo/timing/dataset_stamps.hpp"
+#include "slamprep/algo/timing/stamp_checks.hpp"
 #include "slamprep/algo/timing/stamp_grid.hpp"
 #include "slamprep/core/order_statistics.hpp"
 #include "slamprep/core/se2.hpp"
@@ -63,48 +64,17 @@ std::vector<double> wheelRates(const Dataset& d) {
   return rates;
 }
 
-/// Steady steps fewer than this bound nothing.
-constexpr std::size_t kMinSteadySteps = 30;
-
-/// How wrong the encoders' stamps can be, judged by the ticks (docs/twin.md "Stamp jitter").
-/// Where the wheels turn steadily (the rate over the 3 steps before a step and the 3 after agree
-/// within 10 %, and a period turns them by at least 20 ticks) a step's ticks are predicted by
-/// the rate over 7 steps around it times the step's duration; a stamp error e_i makes the
-/// prediction miss by (e_i - e_{i-1}) / T of a period's ticks, so the robust sigma m of the
-/// misses bounds the error: sigma_e <= T m / sqrt(2) (other noise adds to m, never takes off).
-/// An odometry whose ticks follow its irregular stamps has irregular sampling, not stamp errors.
-/// nullopt: too few steady steps.
-std::optional<double> stampErrorBound(const std::vector<EncoderSample>& e) {
-  std::vector<double> t;
-  for (const EncoderSample& s : e) t.push_back(s.stamp_s);
-  if (t.size() < 2 * kMinSteadySteps) return std::nullopt;
-  const double T = medianSpacing(t);
-  std::vector<double> miss;
-  for (const auto ticks : {&EncoderSample::ticks_left, &EncoderSample::ticks_right})
-    for (std::size_t i = 4; i + 3 < e.size(); ++i) {
-      const auto c = [&](std::size_t k) { return double(e[k].*ticks); };
-      const double rate = (c(i + 3) - c(i - 4)) / (t[i + 3] - t[i - 4]);
-      const double before = (c(i - 1) - c(i - 4)) / (t[i - 1] - t[i - 4]);
-      const double after = (c(i + 3) - c(i)) / (t[i + 3] - t[i]);
-      if (std::abs(rate * T) < 20.0 || std::abs(before - after) > 0.1 * std::abs(rate)) continue;
-      miss.push_back((c(i) - c(i - 1) - rate * (t[i] - t[i - 1])) / (rate * T));
-    }
-  if (miss.size() < kMinSteadySteps) return std::nullopt;
-  for (double& m : miss) m = std::abs(m);
-  return T * 1.4826 * median(std::move(miss)) / std::sqrt(2.0);
-}
-
 /// What calibrate's stamp regularisation finds on each stream (on a copy): its jitter where it
 /// puts the stream back on its grid, which the twin then adds to its own stamps; the encoders'
-/// no more than their ticks say their stamps can be wrong (stampErrorBound), the rest being
-/// when they were sampled.
+/// no more than their ticks say their stamps can be wrong (algo::tickStampErrorBound), the rest
+/// being when they were sampled; scans stamped right (by their own scan_time) none.
 void fitStampJitter(const Dataset& d, OdometryFit& f) {
   Dataset copy = d;
   for (const algo::StreamStamps& s : algo::regularizeStamps(copy)) {
-    if (!s.applied) continue;
+    if (!s.applied && !s.stamped_right) continue;
     if (s.stream == "encoders" || (s.stream == "odometry" && d.encoders.size() < 2)) {
       f.encoders_grid_jitter_s = s.residual_rms_s;
-      f.encoders_stamp_error_bound_s = stampErrorBound(d.encoders);
+      f.encoders_stamp_error_bound_s = algo::tickStampErrorBound(d.encoders);
       f.encoders_jitter_s =
           std::min(s.residual_rms_s, f.encoders_stamp_error_bound_s.value_or(s.residual_rms_s));
       // The rest of the jitter about the grid is when the samples were taken (variances add).
@@ -112,7 +82,7 @@ void fitStampJitter(const Dataset& d, OdometryFit& f) {
           0.0, s.residual_rms_s * s.residual_rms_s - f.encoders_jitter_s * f.encoders_jitter_s));
     } else if (s.stream == "imu")
       f.imu_jitter_s = s.residual_rms_s;
-    else if (s.stream == "scans")
+    else if (s.stream == "scans" && !s.stamped_right)
       f.scans_jitter_s = s.residual_rms_s;
   }
 }
