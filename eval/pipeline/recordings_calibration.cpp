@@ -8,6 +8,7 @@
 #include "slamprep/algo/calibration/calibration_json.hpp"
 #include "slamprep/algo/calibration/gyro_check.hpp"
 #include "slamprep/algo/calibration/mount_flag.hpp"
+#include "slamprep/algo/calibration/scale_flag.hpp"
 #include "slamprep/algo/calibration/validation_flag.hpp"
 #include "slamprep/core/atomic_file.hpp"
 #include "slamprep/core/error.hpp"
@@ -100,8 +101,11 @@ RecordingCalibration calibrateRecording(const RecordingsCalibrationParams& p,
 algo::MethodReport methodReport(const algo::CalibrationRun& run, const RecordingCalibration& r,
                                 const RecordingsCalibrationParams& p) {
   algo::MethodReport m{run, {}, std::nullopt};
-  if (!r.dataset.empty())  // --tuples alone has no nominal geometry to compare with
+  if (!r.dataset.empty()) {  // --tuples alone has no nominal geometry to compare with
     m.flags = algo::nominalFlags(run.result, r.calibration.nominal, p.flags);
+    if (const auto flag = algo::scaleFlag(run.result, r.calibration.nominal))
+      m.flags.push_back(*flag);
+  }
   if (r.calibration.agreement && algo::isIntervalMethod(run.method)) {
     if (const auto flag = algo::gyroFlag(run.result, *r.calibration.agreement))
       m.flags.push_back(*flag);
@@ -175,8 +179,11 @@ void combine(const RecordingsCalibrationParams& p, RecordingsCalibration& out) {
   out.report.combined_truth = sharedTruth(recs);
   for (const algo::CombinedRun& c : out.combined) {
     algo::MethodReport m{c.run, {}, combinedValidation(out, c.run, p.validate_fraction)};
-    if (!recs.front().dataset.empty())
+    if (!recs.front().dataset.empty()) {
       m.flags = algo::nominalFlags(c.run.result, recs.front().calibration.nominal, p.flags);
+      if (const auto flag = algo::scaleFlag(c.run.result, recs.front().calibration.nominal))
+        m.flags.push_back(*flag);
+    }
     if (const DatasetCalibration* given = sharedMount(recs))
       if (const auto flag =
               algo::mountFlag(c.run.result, given->T_base_lidar, given->lidar_mount_from))

@@ -160,6 +160,35 @@ TEST(CalibrationValidation, AMountFarFromTheRecordingsTfIsFlaggedNotFused) {
   EXPECT_NE(causes[0].find("suspect"), std::string::npos) << causes[0];
 }
 
+// The figure eight told a geometry 2 % large in r_L, r_R and b alike (as a lidar reading 2 %
+// short would make it look): flagged as a range scale, which the simulator's usual wrong nominal
+// (r_L +2 %, r_R -1.5 %, b +4 %) is not.
+TEST(CalibrationValidation, AGeometryOffByOneFactorIsFlaggedAsARangeScale) {
+  const test::ScratchDir scratch("calibration_scale_flag");
+  auto flags = [&](const char* name, double error) {
+    sim::SimConfig config;
+    config.scenario = "worlds/scenarios/figure_eight.yaml";
+    config.mode = sim::SimMode::kinematic;
+    if (error != 0.0) config.nominal = {error, error, error};
+    writeDataset(scratch / name, sim::simulate(config).dataset);
+    RecordingsCalibrationParams params;
+    params.datasets = {(scratch / name).string()};
+    params.base.methods = {algo::CalibrationMethod::kJoint};
+    const algo::MethodReport m = calibrateRecordings(params).report.recordings[0].methods[0];
+    EXPECT_TRUE(m.run.result.ok) << m.run.result.reason;
+    std::vector<algo::NominalFlag> out;
+    for (const algo::NominalFlag& f : m.flags)
+      if (f.param == "range_scale") out.push_back(f);
+    return out;
+  };
+  const std::vector<algo::NominalFlag> one_factor = flags("one_factor", 0.02);
+  ASSERT_EQ(one_factor.size(), 1u);
+  EXPECT_NEAR(one_factor[0].ratio, 1.0 / 1.02, 0.002);
+  EXPECT_NE(one_factor[0].likely_cause.find("read 1.9"), std::string::npos)
+      << one_factor[0].likely_cause;
+  EXPECT_TRUE(flags("usual", 0.0).empty());
+}
+
 // Two recordings of one robot (the figure eight with seeds 1 and 2): each scored whole with the
 // other's estimate beats the wrong nominal geometry as the held-out part did above.
 TEST(CalibrationValidation, LeaveOneOutScoresEachRecordingWithTheOthersEstimate) {
