@@ -274,53 +274,64 @@ std::vector<Piece> distancePieces(const OdometryEncoders& encoders, const DiffDr
   return pieces;
 }
 
-/// Eq. (1) on the heading pieces: the wheel slip, the turn slip, the timing (kept only beyond
-/// the likelihood ratio) and the reference's heading noise.
-void fitHeading(std::vector<Piece> pieces, const WheelSlipParams& params, WheelSlipFit& fit) {
-  const double floor = params.min_sigma_rad * params.min_sigma_rad;
+/// The pieces' variances by maximum likelihood, outliers left out and the fit repeated, with
+/// the variance `tested` (its bit) kept only where it raises the likelihood beyond `min_ratio`
+/// (Wilks; the log-likelihood divided by the durations, whose pieces cover each stretch once).
+struct TestedFit {
+  std::size_t pieces = 0;  ///< after the outliers
+  bool fitted = false;     ///< at least min_pieces
+  Variances v = Variances::Zero();
+  double likelihood_ratio = 0.0;  ///< 2 (log L with the tested variance - log L without)
+};
+
+TestedFit fitWithTest(std::vector<Piece> pieces, double floor, int tested, double min_ratio,
+                      const WheelSlipParams& params) {
+  TestedFit fit;
   fit.pieces = pieces.size();
-  if (pieces.size() < params.min_pieces) return;
+  if (pieces.size() < params.min_pieces) return fit;
   pieces =
       withoutOutliers(pieces, fitMostLikely(pieces, floor, kAllVariances), params.outlier_sigmas);
   fit.pieces = pieces.size();
   fit.fitted = pieces.size() >= params.min_pieces;
-  if (!fit.fitted) return;
-  Variances v = fitMostLikely(pieces, floor, kAllVariances);
-  // The timing and the turn slip both show in turns: on a short recording they are told apart
-  // by chance. The timing is kept where the pieces show it beyond chance (Wilks).
-  const Variances without = fitMostLikely(pieces, floor, kAllVariances & ~kTiming);
+  if (!fit.fitted) return fit;
+  fit.v = fitMostLikely(pieces, floor, kAllVariances);
+  const Variances without = fitMostLikely(pieces, floor, kAllVariances & ~tested);
   const std::size_t durations = params.piece_s.size();
-  fit.timing_likelihood_ratio = 2.0 * (logLikelihood(pieces, v, durations, floor) -
-                                       logLikelihood(pieces, without, durations, floor));
-  if (!(fit.timing_likelihood_ratio > params.timing_likelihood_ratio)) v = without;
-  fit.sigma = std::sqrt(v(0));
-  fit.turn_sigma = std::sqrt(v(1));
-  fit.timing_jitter_s = std::sqrt(v(2));
-  fit.reference_noise_rad = std::sqrt(v(3));
+  fit.likelihood_ratio = 2.0 * (logLikelihood(pieces, fit.v, durations, floor) -
+                                logLikelihood(pieces, without, durations, floor));
+  if (!(fit.likelihood_ratio > min_ratio)) fit.v = without;
+  return fit;
 }
 
-/// Eq. (2) on the distance pieces (every regressor fitted): the common slip and the reference's
-/// distance noise (its constant; its terms in turns and in speed are not reported).
+/// Eq. (1) on the heading pieces: the wheel slip, the turn slip, the timing and the reference's
+/// heading noise. The timing and the turn slip both show in turns: on a short recording they
+/// are told apart by chance, so the timing is tested.
+void fitHeading(std::vector<Piece> pieces, const WheelSlipParams& params, WheelSlipFit& fit) {
+  const TestedFit t = fitWithTest(std::move(pieces), params.min_sigma_rad * params.min_sigma_rad,
+                                  kTiming, params.timing_likelihood_ratio, params);
+  fit.pieces = t.pieces;
+  fit.fitted = t.fitted;
+  if (!t.fitted) return;
+  fit.timing_likelihood_ratio = t.likelihood_ratio;
+  fit.sigma = std::sqrt(t.v(0));
+  fit.turn_sigma = std::sqrt(t.v(1));
+  fit.timing_jitter_s = std::sqrt(t.v(2));
+  fit.reference_noise_rad = std::sqrt(t.v(3));
+}
+
+/// Eq. (2) on the distance pieces: the common slip and the reference's distance noise (its
+/// constant; its terms in turns and in speed are not reported). The reference's own terms can
+/// take a common slip's variance and the slip theirs, so the slip is tested.
 void fitDistance(std::vector<Piece> pieces, const WheelSlipParams& params, WheelSlipFit& fit) {
-  const double floor = params.min_sigma_m * params.min_sigma_m;
-  fit.distance_pieces = pieces.size();
-  if (pieces.size() < params.min_pieces) return;
-  pieces =
-      withoutOutliers(pieces, fitMostLikely(pieces, floor, kAllVariances), params.outlier_sigmas);
-  fit.distance_pieces = pieces.size();
-  fit.common_fitted = pieces.size() >= params.min_pieces;
-  if (!fit.common_fitted) return;
-  Variances v = fitMostLikely(pieces, floor, kAllVariances);
-  // The reference's own terms can take a common slip's variance and the slip theirs: the slip is
-  // kept where the pieces show it beyond chance (Wilks), as the timing is.
   constexpr int kCommon = 1 << 0;
-  const Variances without = fitMostLikely(pieces, floor, kAllVariances & ~kCommon);
-  const std::size_t durations = params.piece_s.size();
-  fit.common_likelihood_ratio = 2.0 * (logLikelihood(pieces, v, durations, floor) -
-                                       logLikelihood(pieces, without, durations, floor));
-  if (!(fit.common_likelihood_ratio > params.common_likelihood_ratio)) v = without;
-  fit.common_sigma = std::sqrt(v(0));
-  fit.reference_distance_noise_m = std::sqrt(v(3));
+  const TestedFit t = fitWithTest(std::move(pieces), params.min_sigma_m * params.min_sigma_m,
+                                  kCommon, params.common_likelihood_ratio, params);
+  fit.distance_pieces = t.pieces;
+  fit.common_fitted = t.fitted;
+  if (!t.fitted) return;
+  fit.common_likelihood_ratio = t.likelihood_ratio;
+  fit.common_sigma = std::sqrt(t.v(0));
+  fit.reference_distance_noise_m = std::sqrt(t.v(3));
 }
 
 }  // namespace
