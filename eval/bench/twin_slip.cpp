@@ -221,8 +221,8 @@ double speedAlong(const PoseSeries& series, const Eigen::Vector2d& direction, do
   return direction.dot(series.at(b)->translation() - series.at(a)->translation()) / (b - a);
 }
 
-/// Eq. (2)'s regressors over the encoder steps inside [t0, t1]: C, and the wheel slip term's
-/// S(ds_L a) + S(ds_R a).
+/// Eq. (2)'s regressors over the encoder steps inside [t0, t1]: C and R
+/// (the wheel slip term's).
 Eigen::Vector2d distanceRegressors(const OdometryEncoders& enc, const DiffDriveParams& g,
                                    const PoseSeries& odometry, const Eigen::Vector2d& direction,
                                    double tau_s, double t0, double t1) {

@@ -84,8 +84,9 @@ struct WheelSlipFit {
 ///
 /// The distance both wheels count, against the reference's chord, over the pieces that turn
 /// little, by the same maximum likelihood:
-///   E[dd_k^2] = sigma_c^2 C_k + k_w W_k + sigma_v^2 V_k + c_d + sigma^2 (S(ds_L a) + S(ds_R a)) /
-///   4, C_k = S(m a),  m = (ds_L + ds_R) / 2,  a_i = cos(theta_i - phi),  V_k = v_0^2 + v_1^2,  (2)
+///   E[dd_k^2] = sigma_c^2 C_k + k_w W_k + sigma_v^2 V_k + c_d + sigma^2 R_k / 4,           (2)
+///   C_k = S(m a),  R_k = S(ds_L a) + S(ds_R a),  m = (ds_L + ds_R) / 2,
+///   a_i = cos(theta_i - phi),  V_k = v_0^2 + v_1^2,
 /// dd = |p_odometry(t1) - p_odometry(t0)| - |p_reference(t1) - p_reference(t0)|: both wheels
 /// count (1 + c) of their common part (sim::WheelSlip), which lengthens each step m by c m, and
 /// the chord by its share a along the chord's direction phi. The last term is what the heading
