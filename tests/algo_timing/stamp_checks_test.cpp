@@ -90,6 +90,9 @@ TEST(DatasetStamps, KeepsStampsTheirTicksAndScanTimesSayAreRight) {
     EXPECT_NE(s.reason.find("stamped right"), std::string::npos) << s.reason;
     EXPECT_GT(s.residual_rms_s, 0.004) << s.stream;  // how irregularly it was sampled
   }
+  EXPECT_NE(stampsSummary(kept).find("stamps: scans kept as stamped right: their steps are"),
+            std::string::npos)
+      << stampsSummary(kept);
   for (std::size_t k = 0; k < right.encoders.size(); ++k)
     ASSERT_EQ(right.encoders[k].stamp_s, before.encoders[k].stamp_s);
   for (std::size_t k = 0; k < right.scans.size(); ++k)
