@@ -60,16 +60,6 @@ std::string encodersRight(const Dataset& d, const StampGrid& grid, const StampGr
          ms(grid.residual_rms_s) + " about the grid is when they were sampled";
 }
 
-/// Why the scans' stamps are right: each step is a scan's own reported scan_time.
-std::string scansRight(const Dataset& d, const StampGrid& grid, const StampGridParams& p) {
-  if (!grid.applied) return "";
-  const std::optional<ScanTimeCheck> c = checkScanTimes(d.scans);
-  if (!c || !(c->rms_about_scan_time_s < p.right_fraction * c->rms_about_period_s)) return "";
-  return "stamped right: their steps are their own scan_time within " +
-         ms(c->rms_about_scan_time_s) + " RMS, against " + ms(c->rms_about_period_s) +
-         " about the mean step";
-}
-
 /// The odometry poses stamped with the encoders (the same stamps) share the encoders' verdict.
 bool sameStamps(const std::vector<double>& a, const std::vector<double>& b) {
   return a == b;
@@ -101,7 +91,6 @@ std::vector<StreamStamps> regularizeStamps(Dataset& d, const StampGridParams& pa
     if (f.stream == "encoders") f.right = encoders_right = encodersRight(d, f.grid, params);
     if (f.stream == "odometry" && f.grid.applied && sameStamps(f.stamps, encoder_stamps))
       f.right = encoders_right;
-    if (f.stream == "scans") f.right = scansRight(d, f.grid, params);
   }
   const bool keep_all = aStreamHasNoGrid(fitted);
   std::vector<StreamStamps> out;

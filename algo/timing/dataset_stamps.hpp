@@ -21,15 +21,15 @@ struct StreamStamps {
   double residual_rms_s = 0.0;
   double residual_max_s = 0.0;
   std::size_t missing_samples = 0;
-  /// Kept because its own evidence says its stamps are right (its ticks, its scans' scan_time):
-  /// residual_rms_s is then how irregularly it was sampled, not a stamp error.
+  /// Kept because its own evidence says its stamps are right (the encoders' ticks, and the
+  /// odometry stamped with them): residual_rms_s is then how irregularly it was sampled.
   bool stamped_right = false;
 };
 
 /// Regularises each stream of `dataset` in place; a stream that is regular already, not
 /// constant-rate, too short, or stamped right by its own evidence (encoders whose ticks follow
-/// their stamps, and the odometry stamped with them; scans whose stamps step by their own
-/// scan_time: StreamStamps::stamped_right) keeps its stamps bit for bit, and when any stream has
+/// their stamps, and the odometry stamped with them: StreamStamps::stamped_right) keeps its
+/// stamps bit for bit, and when any stream has
 /// no constant-rate grid every stream keeps its stamps (they were stamped by one host: moving
 /// some would shift them against it). A scan's nominal odometry pose is re-read at its new stamp.
 std::vector<StreamStamps> regularizeStamps(Dataset& dataset, const StampGridParams& params = {});
@@ -38,9 +38,9 @@ std::vector<StreamStamps> regularizeStamps(Dataset& dataset, const StampGridPara
 bool anyApplied(const std::vector<StreamStamps>& streams);
 
 /// One line per regularised stream, e.g. "stamps: scans put on their 0.1 s grid (jitter RMS
-/// 1.01 ms, max 2.99 ms)", and per stream kept as stamped right, e.g. "stamps: scans kept as
-/// stamped right: their steps are their own scan_time within 1 ms RMS, against 6.1 ms about the
-/// mean step"; empty when neither.
+/// 1.01 ms, max 2.99 ms)", and per stream kept as stamped right, e.g. "stamps: encoders kept as
+/// stamped right: their ticks bound the stamp error to 0.63 ms, their 7.1 ms about the grid is
+/// when they were sampled"; empty when neither.
 std::string stampsSummary(const std::vector<StreamStamps>& streams);
 
 }  // namespace slamprep::algo

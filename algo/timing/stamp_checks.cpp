@@ -8,14 +8,8 @@
 namespace slamprep::algo {
 namespace {
 
-/// Steady steps, or scan steps, fewer than this decide nothing.
+/// Steady steps fewer than this decide nothing.
 constexpr std::size_t kMinSteps = 30;
-
-double rms(const std::vector<double>& v) {
-  double sum = 0.0;
-  for (double x : v) sum += x * x;
-  return v.empty() ? 0.0 : std::sqrt(sum / double(v.size()));
-}
 
 }  // namespace
 
@@ -37,28 +31,6 @@ std::optional<double> tickStampErrorBound(const std::vector<EncoderSample>& e) {
   if (miss.size() < kMinSteps) return std::nullopt;
   for (double& m : miss) m = std::abs(m);
   return T * 1.4826 * median(std::move(miss)) / std::sqrt(2.0);  // Eq. 1
-}
-
-std::optional<ScanTimeCheck> checkScanTimes(const std::vector<ScanRecord>& scans) {
-  std::vector<double> steps, started, ended;  // step k: scan k's stamp to scan k + 1's
-  for (std::size_t k = 0; k + 1 < scans.size(); ++k) {
-    const LaserScan &a = scans[k].scan, &b = scans[k + 1].scan;
-    if (!(a.scan_time_s > 0.0 && b.scan_time_s > 0.0)) continue;
-    steps.push_back(b.stamp_s - a.stamp_s);
-    started.push_back(a.scan_time_s);
-    ended.push_back(b.scan_time_s);
-  }
-  if (steps.size() < kMinSteps) return std::nullopt;
-  double mean = 0.0;
-  for (double s : steps) mean += s / double(steps.size());
-  std::vector<double> about_mean, about_started, about_ended;
-  for (std::size_t k = 0; k < steps.size(); ++k) {
-    about_mean.push_back(steps[k] - mean);
-    about_started.push_back(steps[k] - started[k]);
-    about_ended.push_back(steps[k] - ended[k]);
-  }
-  return ScanTimeCheck{steps.size(), std::min(rms(about_started), rms(about_ended)),
-                       rms(about_mean)};
 }
 
 }  // namespace slamprep::algo

@@ -1,8 +1,8 @@
 #pragma once
 // Whether a stream's irregular stamps are right: a sensor that samples irregularly and stamps
-// each sample when it took it has stamps a grid would make wrong (docs/deskew.md, "Stamps").
-// Two streams carry their own evidence: encoder ticks, which follow the time that really passed,
-// and scans, which report how long their revolution took.
+// each sample when it took it has stamps a grid would make wrong (docs/deskew.md, "Jittered
+// stamps"). Encoder ticks carry their own evidence: they follow the time that really passed.
+// A scan's scan_time does not: drivers measure it on the host clock that stamps the scan.
 
 #include <cstddef>
 #include <optional>
@@ -20,16 +20,5 @@ namespace slamprep::algo {
 ///   sigma_e <= T m / sqrt(2)                                                          (Eq. 1)
 /// (other noise adds to m, never takes off). nullopt: fewer than 30 steady steps.
 std::optional<double> tickStampErrorBound(const std::vector<EncoderSample>& encoders);
-
-/// The scans' stamp steps against their own scan_time (the revolution's duration the driver
-/// reports): each step is the duration of the scan it starts or of the one it ends.
-struct ScanTimeCheck {
-  std::size_t steps = 0;
-  double rms_about_scan_time_s = 0.0;  ///< step - scan_time, of the better of the two pairings
-  double rms_about_period_s = 0.0;     ///< step - the mean step
-};
-
-/// nullopt: fewer than 30 steps between scans that report a scan_time.
-std::optional<ScanTimeCheck> checkScanTimes(const std::vector<ScanRecord>& scans);
 
 }  // namespace slamprep::algo

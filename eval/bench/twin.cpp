@@ -558,8 +558,7 @@ nlohmann::ordered_json odometryJson(const Fitted& f, const nlohmann::ordered_jso
                     ? nlohmann::ordered_json(*o.encoders_stamp_error_bound_s)
                     : nlohmann::ordered_json(nullptr)}},
               "RMS of each stream's stamps about its grid where calibrate puts them back on it "
-              "(docs/deskew.md \"Jittered stamps\"), else 0 (scans whose steps are their own "
-              "scan_time are stamped right: 0): the twin's "
+              "(docs/deskew.md \"Jittered stamps\"), else 0: the twin's "
               "faults.stamp_jitter; the encoders' at most what their ticks say the stamps can be "
               "wrong by (encoders_stamp_error_bound: ticks that follow irregular stamps were "
               "sampled irregularly, not stamped wrong), the rest of their jitter about the grid "
@@ -654,8 +653,6 @@ const char* const kNotReproduced[] = {
     "moving people and objects: their returns are cut from the world where the robot drove",
     ("odometry sampled on a coarser internal clock (steps of 3 or 4 ticks): the twin's irregular "
      "sampling is Gaussian, fitted to its RMS about the grid"),
-    ("a lidar whose revolutions vary in duration, stamped right (each step its scan_time): the "
-     "twin's turns at the mean rate"),
     ("range errors fixed in the world at scales other than 2 cm (clutter, curved surfaces): "
      "the twin's fixed part is one Gaussian texture of 2 cm correlation length "
      "(lidar.range_noise_fixed_share)")};

@@ -67,7 +67,7 @@ std::vector<double> wheelRates(const Dataset& d) {
 /// What calibrate's stamp regularisation finds on each stream (on a copy): its jitter where it
 /// puts the stream back on its grid, which the twin then adds to its own stamps; the encoders'
 /// no more than their ticks say their stamps can be wrong (algo::tickStampErrorBound), the rest
-/// being when they were sampled; scans stamped right (by their own scan_time) none.
+/// being when they were sampled.
 void fitStampJitter(const Dataset& d, OdometryFit& f) {
   Dataset copy = d;
   for (const algo::StreamStamps& s : algo::regularizeStamps(copy)) {
@@ -82,7 +82,7 @@ void fitStampJitter(const Dataset& d, OdometryFit& f) {
           0.0, s.residual_rms_s * s.residual_rms_s - f.encoders_jitter_s * f.encoders_jitter_s));
     } else if (s.stream == "imu")
       f.imu_jitter_s = s.residual_rms_s;
-    else if (s.stream == "scans" && !s.stamped_right)
+    else if (s.stream == "scans")
       f.scans_jitter_s = s.residual_rms_s;
   }
 }
