@@ -327,6 +327,8 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
   const RangeNoiseSplit noise = splitRangeNoise(f.against_map.range_noise_m, f.fixed_share);
   s.push_back("lidar.range_noise_m=" + num(noise.fresh_m));
   if (noise.fixed_m > 0.0) s.push_back("lidar.range_noise_fixed_m=" + num(noise.fixed_m));
+  if (!f.against_map.range_bias_by_beam_m.empty())
+    s.push_back("lidar.range_bias_by_beam_m=" + factors(f.against_map.range_bias_by_beam_m));
   if (f.odometry.has_imu && f.odometry.gyro_noise_radps > 0.0) {
     s.push_back("imu.rate_hz=" + num(f.odometry.imu_rate_hz));
     s.push_back("imu.gyro_bias_radps=" + num(f.odometry.gyro_bias_radps));
@@ -403,6 +405,19 @@ nlohmann::ordered_json againstMapJson(const LidarAgainstMap& m) {
       {"residual_neighbour_correlation",
        fitted(m.residual_neighbour_correlation,
               "robust correlation of neighbouring beams' residuals (docs/twin.md, Lidar)")},
+      {"residual_beam_halves_correlation",
+       fitted(m.residual_beam_halves_correlation,
+              "each beam's mean residual over the first half of the scans against its mean over "
+              "the second, correlated over the beams: a range error fixed in the lidar's frame "
+              "repeats by beam wherever the robot is, the world's shape does not")},
+      {"range_bias_by_beam_m",
+       fitted(m.range_bias_by_beam_m,
+              "each beam's mean residual less the mean over the beams, times sqrt(2 rho / (1 + "
+              "rho)), the square root of a mean over both halves' reliability (rho: "
+              "residual_beam_halves_correlation), so the pattern has the variance of the beams' "
+              "own error; where rho is beyond 3 / sqrt(beams) and 0.25 (chance: neighbouring "
+              "beams' means move together with the world's shape), else none: the twin's "
+              "lidar.range_bias_by_beam_m")},
       {"residuals", m.residuals},
       {"dropout_probability", fitted(m.dropout_probability,
                                      "no return where the world predicts one within the usable "

@@ -185,6 +185,60 @@ void revisitPairs(const ScanResiduals& previous, const ScanResiduals& current,
   }
 }
 
+/// Each beam's residuals, split by the half of the scans they came from.
+struct BeamHalves {
+  std::vector<double> sum[2], count[2];
+  void add(std::size_t beam, bool second, double r) {
+    for (int h = 0; h < 2; ++h)
+      if (sum[h].size() <= beam) sum[h].resize(beam + 1), count[h].resize(beam + 1);
+    sum[second][beam] += r;
+    count[second][beam] += 1.0;
+  }
+};
+
+double pearson(const std::vector<double>& x, const std::vector<double>& y) {
+  const double n = double(x.size());
+  double mx = 0.0, my = 0.0, sxy = 0.0, sxx = 0.0, syy = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) mx += x[i] / n, my += y[i] / n;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sxy += (x[i] - mx) * (y[i] - my);
+    sxx += (x[i] - mx) * (x[i] - mx);
+    syy += (y[i] - my) * (y[i] - my);
+  }
+  return sxx > 0.0 && syy > 0.0 ? sxy / std::sqrt(sxx * syy) : 0.0;
+}
+
+/// LidarAgainstMap::residual_beam_halves_correlation and range_bias_by_beam_m.
+void fitBeamBias(const BeamHalves& b, const LidarMapParams& p, LidarAgainstMap& m) {
+  constexpr double kMinResiduals = 10.0;
+  constexpr std::size_t kMinBeams = 30;
+  const std::size_t beams = std::min(b.sum[0].size(), b.sum[1].size());
+  std::vector<std::size_t> index;
+  std::vector<double> first, second, whole;
+  for (std::size_t i = 0; i < beams; ++i) {
+    if (b.count[0][i] < kMinResiduals || b.count[1][i] < kMinResiduals) continue;
+    index.push_back(i);
+    first.push_back(b.sum[0][i] / b.count[0][i]);
+    second.push_back(b.sum[1][i] / b.count[1][i]);
+    whole.push_back((b.sum[0][i] + b.sum[1][i]) / (b.count[0][i] + b.count[1][i]));
+  }
+  if (index.size() < kMinBeams) return;
+  const double rho = pearson(first, second);
+  m.residual_beam_halves_correlation = rho;
+  if (!(rho > std::max(3.0 / std::sqrt(double(index.size())), p.min_beam_halves_correlation)))
+    return;
+  // The share of the whole-recording means' variance the beams' own error makes (Spearman-
+  // Brown: the reliability of a mean over both halves); scaled by its square root, the pattern
+  // has the variance of that error, not of the means (its noise) nor of their best estimate
+  // (less).
+  const double reliability = 2.0 * rho / (1.0 + rho);
+  double mean = 0.0;
+  for (double w : whole) mean += w / double(whole.size());
+  m.range_bias_by_beam_m.assign(beams, 0.0);
+  for (std::size_t k = 0; k < index.size(); ++k)
+    m.range_bias_by_beam_m[index[k]] = std::sqrt(reliability) * (whole[k] - mean);
+}
+
 }  // namespace
 
 LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
@@ -206,6 +260,8 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
   std::vector<std::pair<double, double>> neighbours;  // residuals of beams i - 1 and i
   std::vector<std::pair<double, double>> revisits;    // one spot's residuals in two scans
   ScanResiduals previous_scan;
+  BeamHalves halves;
+  const bool one_layout = layout.beams_min == layout.beams_max;
   std::size_t predicted = 0, dropped = 0, unpredicted = 0, spurious = 0;
   for (std::size_t k = 0; k < d.scans.size() && k < use.size(); ++k) {
     if (!use[k]) {
@@ -247,6 +303,7 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
       const double r = s.ranges_m[i] - *hit;
       if (std::abs(r) > p.max_residual_m) continue;
       residuals.push_back(r);
+      if (one_layout) halves.add(i, 2 * k >= d.scans.size(), r);
       if (previous) neighbours.push_back({*previous, r});
       last = r;
       this_scan[i] = BeamResidual{
@@ -263,6 +320,7 @@ LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
   m.range_noise_m = 1.4826 * median(residuals);  // robust sigma: people and clutter are outliers
   m.residual_neighbour_correlation = neighbourCorrelation(neighbours);
   m.residual_revisit_correlation = neighbourCorrelation(revisits);
+  fitBeamBias(halves, p, m);
   m.dropout_probability = predicted > 0 ? double(dropped) / double(predicted) : 0.0;
   m.spurious_fraction = unpredicted > 0 ? double(spurious) / double(unpredicted) : 0.0;
   if (m.beams > 0) {
@@ -321,7 +379,8 @@ ResidualCorrelations ownMapCorrelations(const Dataset& d, const LidarLayout& lay
       extractWalls(matchedMapPoints(run, points.points, layout.usable_max_m, accepted), walls);
   const sim::PlanarCaster world(wallsAsWorld(map, walls));
   const LidarAgainstMap m = compareWithMap(d, matchedPoses(run), accepted, world, layout, params);
-  return {m.residual_neighbour_correlation, m.residual_revisit_correlation};
+  return {m.residual_neighbour_correlation, m.residual_revisit_correlation,
+          m.residual_beam_halves_correlation};
 }
 
 MatchedScans measureMatchedScans(const Dataset& d, const LidarLayout& layout,

@@ -1,12 +1,34 @@
 #include "slamprep/sim/physics/lidar.hpp"
 
 #include <cassert>
+#include <charconv>
 #include <cmath>
 #include <limits>
 
 namespace slamprep::sim {
 
-Lidar::Lidar(const LidarConfig& config, std::uint64_t seed) : config_(config), rng_(seed) {
+std::optional<std::vector<double>> parseRangeBias(std::string_view text, std::string* error) {
+  std::vector<double> bias;
+  while (!text.empty()) {
+    const std::size_t comma = text.find(',');
+    const std::string_view item = text.substr(0, comma);
+    double value = 0.0;
+    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
+    if (ec != std::errc() || end != item.data() + item.size() || !(std::abs(value) <= 1.0)) {
+      if (error) *error = std::string("'").append(item).append("' is not a number in [-1, 1]");
+      return std::nullopt;
+    }
+    bias.push_back(value);
+    text = comma == std::string_view::npos ? std::string_view{} : text.substr(comma + 1);
+  }
+  return bias;
+}
+
+Lidar::Lidar(const LidarConfig& config, std::uint64_t seed)
+    : config_(config),
+      rng_(seed),
+      bias_by_beam_m_(
+          parseRangeBias(config.range_bias_by_beam_m, nullptr).value_or(std::vector<double>{})) {
   // Its own stream: a lidar without the texture draws its noise as before.
   if (config.range_noise_fixed_m > 0.0)
     texture_.emplace(config.range_noise_fixed_length_m, seed ^ 0x74657874ULL /* "text" */);
@@ -57,6 +79,7 @@ Lidar::Beam Lidar::measure(const Scene& scene, const Eigen::Vector2d& origin_wor
   if (!hit) return {kInf, kInf};
   if (texture_)
     noise_m += config_.range_noise_fixed_m * texture_->at(origin_world_m + *hit * dir_world);
+  if (i < bias_by_beam_m_.size()) noise_m += bias_by_beam_m_[i];
   const double measured_m = *hit + noise_m;
   const bool in_limits = measured_m >= config_.range_min_m && measured_m <= config_.range_max_m;
   return {in_limits ? measured_m : kInf, *hit};

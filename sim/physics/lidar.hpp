@@ -5,6 +5,9 @@
 #include <numbers>
 #include <optional>
 #include <random>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include "slamprep/core/laser_scan.hpp"
 #include "slamprep/core/se2.hpp"
@@ -32,10 +35,18 @@ struct LidarConfig {
   /// again), added to the per-scan noise; 0: none.
   double range_noise_fixed_m = 0.0;
   double range_noise_fixed_length_m = 0.02;  ///< its correlation length along a surface
-  bool clockwise = false;                    ///< negative angle_increment
+  /// A range error fixed in the lidar's own frame: metres added to beam i's range, comma
+  /// separated in beam order ("": none; beams beyond the list: 0). A head whose range
+  /// calibration varies with its angle reads some beams long wherever it is.
+  std::string range_bias_by_beam_m;
+  bool clockwise = false;                                 ///< negative angle_increment
   SE2 T_base_lidar{0.1, 0.02, std::numbers::pi / 180.0};  ///< mount on the chassis
   double height_m = 0.25;                                 ///< above the floor
 };
+
+/// Reads LidarConfig::range_bias_by_beam_m: comma-separated finite numbers within [-1, 1] m
+/// ("" gives none); nullopt (and *error set) otherwise.
+std::optional<std::vector<double>> parseRangeBias(std::string_view text, std::string* error);
 
 /// A rotating 2D lidar: beam i of a scan is taken at its own time from its own pose.
 class Lidar {
@@ -70,6 +81,7 @@ class Lidar {
   double angle_increment_rad_ = 0.0;
   std::mt19937_64 rng_;
   std::optional<SurfaceTexture> texture_;  ///< with range_noise_fixed_m
+  std::vector<double> bias_by_beam_m_;     ///< range_bias_by_beam_m, parsed
   double spare_gaussian_ = 0.0;
   bool has_spare_ = false;
   double last_noise_m_ = 0.0;  ///< the previous beam's, for range_noise_correlation

@@ -147,6 +147,31 @@ TEST(Lidar, RangeLimitsGiveNoReturn) {
 
 // A range error fixed in the world: seen again from the same pose it is the same, from another
 // pose the spot's (not the beam's), and a lidar without it draws its noise bit for bit as before.
+// A range error fixed in the lidar's frame: beam i reads its bias long from any pose, the beams
+// beyond the list none.
+TEST(Lidar, BiasByBeamIsAddedToItsBeamFromAnyPose) {
+  const Scene scene(loadWorld(test::worldFile("box_room.yaml")));
+  LidarConfig config;
+  config.range_noise_m = 0.0;
+  config.range_bias_by_beam_m = "0.05,-0.02,0";
+  Lidar lidar(config, 7);
+  for (const SE2& T_world_lidar : {SE2(0.3, 0.2, 0.1), SE2(-1.0, 0.5, 2.0)}) {
+    std::vector<double> error;
+    for (std::size_t i = 0; i < 5; ++i) {
+      const Lidar::Beam beam = lidar.measure(scene, T_world_lidar, i);
+      error.push_back(beam.range_m - beam.true_range_m);
+    }
+    EXPECT_NEAR(error[0], 0.05, 1e-12);
+    EXPECT_NEAR(error[1], -0.02, 1e-12);
+    EXPECT_EQ(error[2], 0.0);
+    EXPECT_EQ(error[4], 0.0);
+  }
+  std::string why;
+  EXPECT_FALSE(parseRangeBias("0.01,,0.02", &why));
+  EXPECT_NE(why.find("'' is not a number"), std::string::npos) << why;
+  EXPECT_EQ(parseRangeBias("", nullptr)->size(), 0u);
+}
+
 TEST(Lidar, FixedErrorIsTheSpotsWhereverItIsSeenFrom) {
   const Scene scene(loadWorld(test::worldFile("box_room.yaml")));
   LidarConfig config;
