@@ -1,9 +1,11 @@
 #include "slamprep/sim/drive/faults.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
+#include <limits>
 #include <utility>
+
+#include "slamprep/core/number_list.hpp"
 
 namespace slamprep::sim {
 
@@ -44,26 +46,9 @@ std::optional<FaultSet> parseFaultSet(std::string_view text, std::string* error)
 }
 
 std::optional<std::vector<double>> parseFactors(std::string_view text, std::string* error) {
-  constexpr std::size_t kMaxFactors = 3600;  // 0.1 deg bins
-  std::vector<double> factors;
-  while (!text.empty()) {
-    const std::size_t comma = text.find(',');
-    const std::string_view item = text.substr(0, comma);
-    double value = 0.0;
-    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
-    if (ec != std::errc() || end != item.data() + item.size() || !std::isfinite(value) ||
-        value < 0.0) {
-      if (error) *error = std::string("'").append(item).append("' is not a number >= 0");
-      return std::nullopt;
-    }
-    factors.push_back(value);
-    if (factors.size() > kMaxFactors) {
-      if (error) *error = "more than 3600 factors";
-      return std::nullopt;
-    }
-    text = comma == std::string_view::npos ? std::string_view{} : text.substr(comma + 1);
-  }
-  return factors;
+  constexpr NumberListRule kFactors{0.0, std::numeric_limits<double>::max(), 3600,  // 0.1 deg bins
+                                    "a number >= 0"};
+  return parseNumberList(text, kFactors, error);
 }
 
 double periodJitter(SplitMix64& rng, double sigma_s, double rate_hz) {

@@ -1,27 +1,16 @@
 #include "slamprep/sim/physics/lidar.hpp"
 
 #include <cassert>
-#include <charconv>
 #include <cmath>
 #include <limits>
+
+#include "slamprep/core/number_list.hpp"
 
 namespace slamprep::sim {
 
 std::optional<std::vector<double>> parseRangeBias(std::string_view text, std::string* error) {
-  std::vector<double> bias;
-  while (!text.empty()) {
-    const std::size_t comma = text.find(',');
-    const std::string_view item = text.substr(0, comma);
-    double value = 0.0;
-    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
-    if (ec != std::errc() || end != item.data() + item.size() || !(std::abs(value) <= 1.0)) {
-      if (error) *error = std::string("'").append(item).append("' is not a number in [-1, 1]");
-      return std::nullopt;
-    }
-    bias.push_back(value);
-    text = comma == std::string_view::npos ? std::string_view{} : text.substr(comma + 1);
-  }
-  return bias;
+  constexpr NumberListRule kBias{-1.0, 1.0, 100000, "a number in [-1, 1]"};
+  return parseNumberList(text, kBias, error);
 }
 
 Lidar::Lidar(const LidarConfig& config, std::uint64_t seed)
