@@ -72,6 +72,17 @@ std::string twinText(const nlohmann::ordered_json& j) {
       100.0 * l["range_noise_fixed_share"]["value"].get<double>(),
       l["twin_dropout_probability"]["value"].get<double>());
   out += buf;
+  if (l.contains("range_bias_by_beam_m") && !l["range_bias_by_beam_m"]["value"].empty()) {
+    double sum_sq = 0.0;
+    const auto& bias = l["range_bias_by_beam_m"]["value"];
+    for (const auto& b : bias) sum_sq += b.get<double>() * b.get<double>();
+    std::snprintf(buf, sizeof buf,
+                  "lidar range bias by beam: %.1f mm RMS over %zu beams (each beam's mean residual "
+                  "repeats between the recording's halves, correlation %.3f)\n",
+                  1e3 * std::sqrt(sum_sq / double(bias.size())), bias.size(),
+                  l["residual_beam_halves_correlation"]["value"].get<double>());
+    out += buf;
+  }
   const auto& m = l["mount"]["value"];
   std::snprintf(
       buf, sizeof buf,
