@@ -60,11 +60,6 @@ std::string encodersRight(const Dataset& d, const StampGrid& grid, const StampGr
          ms(grid.residual_rms_s) + " about the grid is when they were sampled";
 }
 
-/// The odometry poses stamped with the encoders (the same stamps) share the encoders' verdict.
-bool sameStamps(const std::vector<double>& a, const std::vector<double>& b) {
-  return a == b;
-}
-
 }  // namespace
 
 std::vector<StreamStamps> regularizeStamps(Dataset& d, const StampGridParams& params) {
@@ -85,12 +80,15 @@ std::vector<StreamStamps> regularizeStamps(Dataset& d, const StampGridParams& pa
   for (const ScanRecord& r : d.scans) scan_stamps.push_back(r.scan.stamp_s);
   fit("scans", scan_stamps, [&](std::size_t i, double t) { d.scans[i].scan.stamp_s = t; });
 
-  const std::vector<double> encoder_stamps = stampsOf(d.encoders);
-  std::string encoders_right;
+  // The odometry poses stamped with the encoders (the same stamps) share the encoders' verdict.
+  const Fitted* encoders = nullptr;
   for (Fitted& f : fitted) {
-    if (f.stream == "encoders") f.right = encoders_right = encodersRight(d, f.grid, params);
-    if (f.stream == "odometry" && f.grid.applied && sameStamps(f.stamps, encoder_stamps))
-      f.right = encoders_right;
+    if (f.stream == "encoders") {
+      f.right = encodersRight(d, f.grid, params);
+      encoders = &f;
+    }
+    if (f.stream == "odometry" && encoders && f.grid.applied && f.stamps == encoders->stamps)
+      f.right = encoders->right;
   }
   const bool keep_all = aStreamHasNoGrid(fitted);
   std::vector<StreamStamps> out;

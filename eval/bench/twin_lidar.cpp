@@ -379,8 +379,7 @@ ResidualCorrelations ownMapCorrelations(const Dataset& d, const LidarLayout& lay
       extractWalls(matchedMapPoints(run, points.points, layout.usable_max_m, accepted), walls);
   const sim::PlanarCaster world(wallsAsWorld(map, walls));
   const LidarAgainstMap m = compareWithMap(d, matchedPoses(run), accepted, world, layout, params);
-  return {m.residual_neighbour_correlation, m.residual_revisit_correlation,
-          m.residual_beam_halves_correlation};
+  return {m.residual_neighbour_correlation, m.residual_revisit_correlation};
 }
 
 MatchedScans measureMatchedScans(const Dataset& d, const LidarLayout& layout,

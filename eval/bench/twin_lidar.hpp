@@ -107,9 +107,8 @@ std::vector<MapPoint> matchedMapPoints(const MatchTrajectory& run,
 
 /// The residuals' correlations of a dataset against its own map (ownMapCorrelations).
 struct ResidualCorrelations {
-  double neighbour = 0.0;    ///< LidarAgainstMap::residual_neighbour_correlation
-  double revisit = 0.0;      ///< LidarAgainstMap::residual_revisit_correlation
-  double beam_halves = 0.0;  ///< LidarAgainstMap::residual_beam_halves_correlation
+  double neighbour = 0.0;  ///< LidarAgainstMap::residual_neighbour_correlation
+  double revisit = 0.0;    ///< LidarAgainstMap::residual_revisit_correlation
 };
 
 /// LidarAgainstMap's residual correlations of a dataset against its own map: its scans
