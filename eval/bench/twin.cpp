@@ -196,7 +196,8 @@ std::string num(double v) {
   return buf;
 }
 
-/// "1,0.5,0": factors to 4 significant digits, as faults.dropped_beams.by_angle reads them.
+/// "1,0.5,0": numbers to 4 significant digits, as the simulator's list keys read them
+/// (faults.dropped_beams.by_angle, lidar.range_bias_by_beam_m: core/number_list.hpp).
 std::string factors(const std::vector<double>& values) {
   std::string out;
   char buf[32];
