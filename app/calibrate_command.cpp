@@ -212,7 +212,12 @@ std::string prefixed(const std::string& text, const std::string& who) {
 void printNotes(const eval::DatasetCalibration& c, const std::string& who) {
   std::cerr << algo::stampsSummary(c.stamps);
   if (c.failed_matches > 0)
-    std::cerr << who << c.failed_matches << " scan matches failed (chains broken)\n";
+    std::cerr << who << c.failed_matches << " scan matches failed (chains broken)"
+              << (c.sparse_scans > 0 ? ", " + std::to_string(c.sparse_scans) +
+                                           " of them on scans with too few points for ICP "
+                                           "(the lidar saw little)"
+                                     : std::string())
+              << "\n";
   if (c.from_motion)
     std::cerr << who << c.intervals.intervals.size() << " intervals ("
               << c.intervals.dropped_standstill << " standing still, "

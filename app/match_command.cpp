@@ -1,6 +1,7 @@
 // `slamprep match`: lidar odometry of a dataset by scan-to-local-map matching (point-to-line ICP,
 // the odometry as the guess), its trajectory as TUM, one JSON line per scan and a JSON summary
 // (docs/matching.md).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -54,6 +55,20 @@ eval::ErrorStats acceptedResiduals(const algo::KeyframeOdometry& t) {
   for (std::size_t k = 1; k < t.scans.size(); ++k)
     if (!t.scans[k].fallback) rms.push_back(t.scans[k].match.rms_residual_m);
   return eval::summarize(std::move(rms));
+}
+
+/// The median count of a scan's points within the matcher's range: what ICP has to work with.
+std::size_t pointsPerScanMedian(const algo::KeyframeOdometry& t) {
+  std::vector<std::size_t> n;
+  for (const algo::TrackedScan& s : t.scans) n.push_back(s.points);
+  if (n.empty()) return 0;
+  std::nth_element(n.begin(), n.begin() + n.size() / 2, n.end());
+  return n[n.size() / 2];
+}
+
+/// Fallbacks that are none of rejected, unsupported or sparse: no guess's match converged.
+std::size_t notConverged(const algo::KeyframeOdometry& t) {
+  return t.fallbacks - t.rejected - t.unsupported - t.sparse;
 }
 
 /// Which guess each scan's pose came from, and how often the guesses disagreed.
@@ -155,6 +170,9 @@ nlohmann::ordered_json summaryJson(const MatchFlags& f, const eval::MatchTraject
       {"fallbacks", t.fallbacks},
       {"rejected", t.rejected},
       {"unsupported", t.unsupported},
+      {"sparse", t.sparse},
+      {"not_converged", notConverged(t)},
+      {"points_per_scan_median", pointsPerScanMedian(t)},
       {"converged_percent", 100.0 * double(t.matched) / double(attempted)},
       {"keyframes", t.keyframes},
       {"odometry_guesses", run.odometry_guesses},
@@ -215,6 +233,17 @@ void checkMatchOutputs(const MatchFlags& flags) {
   guard.check();
 }
 
+/// Says why a match fails throughout where the scans hold too few points for ICP.
+void printSparseNote(const algo::KeyframeOdometry& t, const algo::KeyframeOdometryParams& p) {
+  const std::size_t median = pointsPerScanMedian(t);
+  if (t.scans.size() < 2 || 10 * t.sparse < t.scans.size() - 1) return;
+  std::printf(
+      "match: note: %zu of %zu scans hold fewer than %zu points within %g m (median %zu a "
+      "scan): ICP cannot place them, the guesses do. The lidar saw little: open space beyond "
+      "its range, or a blocked or faulty head\n",
+      t.sparse, t.scans.size() - 1, p.icp.min_inliers, p.max_range_m, median);
+}
+
 /// What stdout says of a match: the counts, the guesses, the residual, the de-skew, the sync,
 /// the sensor agreement and the files written.
 void printMatch(const MatchFlags& flags, const MatchPass& pass,
@@ -222,10 +251,12 @@ void printMatch(const MatchFlags& flags, const MatchPass& pass,
   const algo::KeyframeOdometry& t = pass.run.tracked;
   std::printf(
       "matched %zu of %zu scans against the local map (%.2f %%), %zu fell back to a "
-      "guess (%zu converged beyond the correction limit, %zu without the map's support); %zu "
-      "keyframes\n",
+      "guess (%zu converged beyond the correction limit, %zu without the map's support, %zu "
+      "with under %zu points, %zu without convergence); %zu keyframes\n",
       t.matched, t.scans.size() - 1, summary["converged_percent"].get<double>(), t.fallbacks,
-      t.rejected, t.unsupported, t.keyframes);
+      t.rejected, t.unsupported, t.sparse, flags.params.icp.min_inliers, notConverged(t),
+      t.keyframes);
+  printSparseNote(t, flags.params);
   printGuesses(pass.run);
   printOdometryNoise(pass.run);
   const eval::ErrorStats residual = acceptedResiduals(t);

@@ -142,6 +142,13 @@ const Hypothesis& bestGuess(std::vector<Hypothesis>& hs, const KeyframeMap& map,
 void explainFallback(const std::vector<Hypothesis>& hs, const KeyframeOdometryParams& params,
                      TrackedScan& scan, KeyframeOdometry& out) {
   ++out.fallbacks;
+  // No guess could have matched: the lidar saw too little (open space, a blocked head).
+  if (scan.points < params.icp.min_inliers) {
+    ++out.sparse;
+    scan.match.reason = "only " + std::to_string(scan.points) + " points within max_range (need " +
+                        std::to_string(params.icp.min_inliers) + "): the lidar saw too little";
+    return;
+  }
   const bool converged =
       std::any_of(hs.begin(), hs.end(), [](const Hypothesis& h) { return h.match.converged; });
   const bool believable =
@@ -168,6 +175,7 @@ TrackedScan trackScan(const Points2& points, const StepPrior& prior, const SE2& 
   TrackedScan scan;
   scan.keyframe = map.newest;
   scan.map_points = reference.points().size();
+  scan.points = points.size();
   scan.hypotheses = hs.size();
   if (hs.size() > 1) ++out.multi_hypothesis;
   const Hypothesis* best = bestMatch(hs, params);
@@ -228,6 +236,7 @@ KeyframeOdometry trackKeyframes(const std::vector<Points2>& all_points,
   first.T_world_lidar = T_world_lidar_start;
   first.is_keyframe = true;
   first.map_points = reference.points().size();
+  first.points = points[0].size();
   out.scans.push_back(std::move(first));
   out.keyframes = 1;
   SE2 last_step;  // the last step taken: the constant-velocity guess

@@ -119,6 +119,7 @@ struct TrackedScan {
   bool fallback = false;       ///< pose taken from the guess (failed or rejected match)
   bool is_keyframe = false;    ///< this scan started a keyframe
   std::size_t map_points = 0;  ///< points of the local map it was matched against
+  std::size_t points = 0;      ///< points of the scan within max_range_m
   GuessSource guess = GuessSource::kOdometry;  ///< the guess whose match (or pose) was taken
   std::size_t hypotheses = 1;                  ///< distinct guesses matched
   ScanSupport support;                         ///< of the pose taken
@@ -131,6 +132,7 @@ struct KeyframeOdometry {
   std::size_t rejected = 0;        ///< of the fallbacks: converged, but beyond max_correction
   std::size_t keyframes = 0;
   std::size_t unsupported = 0;  ///< of the fallbacks: converged, but the map did not support it
+  std::size_t sparse = 0;       ///< of the fallbacks: fewer points than icp.min_inliers
   std::size_t multi_hypothesis = 0;  ///< scans whose guesses disagreed, so each was matched
   /// Scans 1..n-1 per GuessSource whose guess won (matched or fallen back to).
   std::array<std::size_t, kGuessSources> won_by{};

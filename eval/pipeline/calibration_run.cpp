@@ -33,7 +33,7 @@ algo::DeskewMethod deskewMethodFor(const Dataset& dataset, const std::string& de
 /// T_world_lidar of the scans `match` tracks against its map, fusion off; a chain ends at every
 /// fallback (its pose is a guess, not a measurement).
 std::vector<PoseSeries> mapChains(const Dataset& dataset, const CalibrationMotionOptions& options,
-                                  int& fallbacks) {
+                                  int& fallbacks, int& sparse) {
   const algo::DeskewMethod method = deskewMethodFor(dataset, options.deskew);
   MatchTrajectoryOptions match;
   match.stamp_is_last_beam = options.stamp_is_last_beam;
@@ -44,6 +44,7 @@ std::vector<PoseSeries> mapChains(const Dataset& dataset, const CalibrationMotio
                       matchScanPoints(dataset, std::string(algo::deskewMethodName(method)),
                                       options.stamp_is_last_beam),
                       match);
+  sparse = static_cast<int>(run.tracked.sparse);
   std::vector<PoseSeries> chains(1);
   for (std::size_t k = 0; k < run.tracked.scans.size(); ++k) {
     if (run.tracked.scans[k].fallback) {
@@ -248,6 +249,7 @@ void cutIntervals(const DatasetCalibrationParams& params, std::optional<Dataset>
     }
   }
   out.failed_matches = motion.failed_matches;
+  out.sparse_scans = motion.sparse_scans;
   out.loops = motion.loops;
   input.heading_loops = std::move(motion.heading_loops);
 }
@@ -279,7 +281,7 @@ CalibrationMotion calibrationMotion(const Dataset& dataset,
   if (options.source == MotionSource::kGroundTruth) {
     motion.chains.push_back(algo::lidarPosesFromGroundTruth(dataset, options.stamp_is_last_beam));
   } else if (options.source == MotionSource::kMap) {
-    motion.chains = mapChains(dataset, options, motion.failed_matches);
+    motion.chains = mapChains(dataset, options, motion.failed_matches, motion.sparse_scans);
   } else {
     const algo::DeskewMethod method = deskewMethodFor(dataset, options.deskew);
     std::vector<Points2> points;  // empty: the scans as measured

@@ -68,6 +68,7 @@ struct CalibrationMotion {
   std::vector<algo::ScanMatch> matches;  ///< consecutive scans (none for ground truth)
   std::vector<PoseSeries> chains;        ///< T_world_lidar chains (one for ground truth)
   int failed_matches = 0;
+  int sparse_scans = 0;  ///< of the failed (map motion): fewer points than ICP needs
   std::optional<LoopClosureSummary> loops;    ///< with loop_closure
   std::vector<algo::LoopSpan> heading_loops;  ///< the spans the loop closures corrected
   algo::IntervalSet intervals;
@@ -130,6 +131,7 @@ struct DatasetCalibration {
   algo::IntervalSet intervals;                ///< what the interval methods used, what was dropped
   bool from_motion = false;  ///< the intervals were cut from the dataset's motion (no tuples)
   int failed_matches = 0;    ///< scan matches that broke a chain
+  int sparse_scans = 0;      ///< of those: fewer points than ICP needs (the lidar saw little)
   std::optional<LoopClosureSummary> loops;  ///< with --loop-closure
   /// The wheels, gyro, odometry topic and scan-matched motion compared (from the dataset's
   /// motion only, not --tuples), and where the wheels came from (algo::encodersFrom).

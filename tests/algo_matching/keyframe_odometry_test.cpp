@@ -114,6 +114,8 @@ TEST(KeyframeOdometry, AFailedMatchFallsBackToTheOdometryStepAndIsCounted) {
   EXPECT_EQ(run.matched, 6u);
   EXPECT_EQ(run.fallbacks, 1u);
   EXPECT_EQ(run.rejected, 0u);
+  EXPECT_EQ(run.sparse, 1u);  // an empty scan: no guess could have matched it
+  EXPECT_EQ(run.scans[3].points, 0u);
   EXPECT_TRUE(run.scans[3].fallback);
   EXPECT_FALSE(run.scans[3].match.converged);
   EXPECT_FALSE(run.scans[3].match.reason.empty());
@@ -125,6 +127,27 @@ TEST(KeyframeOdometry, AFailedMatchFallsBackToTheOdometryStepAndIsCounted) {
   EXPECT_FALSE(run.scans[4].fallback);
   EXPECT_NEAR(run.scans[4].T_world_lidar.x, truth[4].x, kPoseTolM);
   EXPECT_NEAR(run.scans[4].T_world_lidar.yaw, truth[4].yaw, kYawTolRad);
+}
+
+// A scan with fewer points than ICP's min_inliers is counted as sparse, one with as many is not:
+// every 18th beam of 360 leaves 20, every 19th 19.
+TEST(KeyframeOdometry, AScanWithFewerPointsThanICPNeedsIsCountedAsSparse) {
+  const std::vector<SE2> truth = path(4, SE2(0.1, 0.0, 0.0));
+  Log log = logAlong(truth);
+  const auto everyNth = [](const Points2& p, std::size_t n) {
+    Points2 out;
+    for (std::size_t i = 0; i < p.size(); i += n) out.push_back(p[i]);
+    return out;
+  };
+  log.points[2] = everyNth(log.points[2], 19);
+  log.points[3] = everyNth(log.points[3], 18);
+  const KeyframeOdometry run = trackKeyframes(log.points, log.increments, {}, truth[0]);
+  ASSERT_EQ(run.scans[2].points, 19u);
+  ASSERT_EQ(run.scans[3].points, 20u);
+  EXPECT_EQ(run.sparse, 1u);
+  EXPECT_TRUE(run.scans[2].fallback);
+  EXPECT_NE(run.scans[2].match.reason.find("only 19 points"), std::string::npos);
+  EXPECT_EQ(run.scans[1].points, 360u);
 }
 
 // Policy: a match that converges farther from the guess than max_correction is not believed.
@@ -139,6 +162,7 @@ TEST(KeyframeOdometry, AMatchBeyondTheCorrectionLimitIsRejectedAndCounted) {
   EXPECT_EQ(run.matched, 1u);
   EXPECT_EQ(run.fallbacks, 1u);
   EXPECT_EQ(run.rejected, 1u);
+  EXPECT_EQ(run.sparse, 0u);
   EXPECT_TRUE(run.scans[2].match.converged);
   EXPECT_TRUE(run.scans[2].fallback);
   const SE2 expected = run.scans[1].T_world_lidar * SE2(0.15, 0.0, 0.0);
