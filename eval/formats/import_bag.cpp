@@ -683,6 +683,7 @@ ImportResult importRosbag2(const std::filesystem::path& path, const ImportParams
                            open.bag().compression == BagCompressionMode::kMessage};
     r = importBag(open.storages(), layout, p, path.string());
     r.summary.storage = storageText(open.bag());
+    r.notes.insert(r.notes.begin(), open.bag().notes.begin(), open.bag().notes.end());
     for (const std::string& n : open.notes()) r.notes.push_back(n);
   }
   return r;

@@ -2,10 +2,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <optional>
-#include <set>
 
 #include "slamprep/core/error.hpp"
 #include "slamprep/core/input_file.hpp"
@@ -48,26 +48,60 @@ std::optional<BagStorageKind> kindFromName(fs::path name) {
   return std::nullopt;
 }
 
-fs::path listedFile(const fs::path& dir, const YAML::Node& p, const std::string& where) {
+/// The storage files `dir` holds, by name: what a renamed bag's metadata.yaml no longer names.
+std::vector<fs::path> heldFiles(const fs::path& dir) {
+  std::vector<fs::path> held;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.is_regular_file() && kindFromName(e.path().filename())) held.push_back(e.path());
+  std::sort(held.begin(), held.end());
+  return held;
+}
+
+std::string namesOf(const std::vector<fs::path>& files) {
+  std::string names;
+  for (const fs::path& f : files) names += (names.empty() ? "" : ", ") + f.filename().string();
+  return names;
+}
+
+/// A listed file in `dir`, or nothing where it is missing.
+std::optional<fs::path> listedFile(const fs::path& dir, const YAML::Node& p,
+                                   const std::string& where) {
   if (!p.IsScalar()) throw InputError(where, "relative_file_paths: an entry is not a name");
   const fs::path relative = p.as<std::string>();
   fs::path file = dir / relative;
   // Older rosbag2 versions wrote the bag folder's name in front of each file.
   if (!fs::exists(file) && relative.has_parent_path()) file = dir / relative.filename();
-  if (!fs::is_regular_file(file)) {
-    std::set<std::string> names;  // a renamed bag: say what the folder holds
-    for (const auto& e : fs::directory_iterator(dir))
-      if (kindFromName(e.path().filename())) names.insert(e.path().filename().string());
-    std::string present;
-    for (const std::string& n : names) {
-      if (!present.empty()) present += ", ";
-      present += n;
-    }
-    throw InputError(where, "relative_file_paths: " + relative.string() + " not found in " +
-                                dir.string() +
-                                (present.empty() ? "" : " (it holds " + present + ")"));
-  }
+  if (!fs::is_regular_file(file)) return std::nullopt;
   return file;
+}
+
+/// The storage files metadata.yaml lists; where none is present and the folder holds as many of
+/// one kind (a bag whose folder and files were renamed), those, with a note.
+std::vector<fs::path> storageFiles(const fs::path& dir, const YAML::Node& paths,
+                                   const std::string& where, std::vector<std::string>& notes) {
+  std::vector<fs::path> found;
+  std::vector<std::string> missing;
+  for (const YAML::Node& p : paths) {
+    if (const auto file = listedFile(dir, p, where))
+      found.push_back(*file);
+    else
+      missing.push_back(p.as<std::string>());
+  }
+  if (missing.empty()) return found;
+  const std::vector<fs::path> held = heldFiles(dir);
+  const bool one_kind = std::all_of(held.begin(), held.end(), [&](const fs::path& f) {
+    return kindFromName(f.filename()) == kindFromName(held.front().filename());
+  });
+  if (found.empty() && !held.empty() && held.size() == paths.size() && one_kind) {
+    notes.push_back("metadata.yaml lists " + std::to_string(missing.size()) +
+                    " storage file(s) the folder does not hold (" + missing.front() +
+                    (missing.size() > 1 ? ", ..." : "") + "): read " + namesOf(held) +
+                    " instead, the folder's own (a renamed bag)");
+    return held;
+  }
+  throw InputError(where, "relative_file_paths: " + missing.front() + " not found in " +
+                              dir.string() +
+                              (held.empty() ? "" : " (it holds " + namesOf(held) + ")"));
 }
 
 Rosbag2Bag fromMetadata(const fs::path& dir, const YAML::Node& root, const std::string& where) {
@@ -83,7 +117,7 @@ Rosbag2Bag fromMetadata(const fs::path& dir, const YAML::Node& root, const std::
   const YAML::Node paths = info["relative_file_paths"];
   if (!paths || !paths.IsSequence() || paths.size() == 0)
     throw InputError(where, "relative_file_paths: missing or empty");
-  for (const YAML::Node& p : paths) bag.files.push_back(listedFile(dir, p, where));
+  bag.files = storageFiles(dir, paths, where, bag.notes);
   bag.storage_identifier = scalarOr(info, "storage_identifier", "");
   // Early bags (version 1-2) may leave it empty: the files' extension says.
   if (bag.storage_identifier.empty())

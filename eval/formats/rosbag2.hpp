@@ -34,14 +34,17 @@ struct Rosbag2Bag {
   BagCompressionMode compression = BagCompressionMode::kNone;
   std::string compression_format;            ///< "" or "zstd"
   std::vector<std::filesystem::path> files;  ///< the storage files, in recording order
+  std::vector<std::string> notes;            ///< what reading them assumed (a renamed bag)
 };
 
 /// Reads a bag folder's metadata.yaml (versions 1 to 9 as rosbag2 writes them: only
 /// storage_identifier, relative_file_paths, compression_format and compression_mode are used;
 /// topics, QoS strings or lists, type hashes and custom data are ignored), or takes one storage
 /// file by its magic (SQLite, MCAP, a zstd frame: a FILE-compressed storage file) or extension.
-/// Throws InputError naming the folder, metadata.yaml or file when there is no metadata.yaml, a
-/// listed file is missing, or the storage or compression is unknown.
+/// A renamed bag (no listed file present, the folder holding as many storage files of one kind
+/// as are listed) is read from the files it holds, in name order, with a note. Throws InputError
+/// naming the folder, metadata.yaml or file when there is no metadata.yaml, a listed file is
+/// missing otherwise, or the storage or compression is unknown.
 Rosbag2Bag readRosbag2(const std::filesystem::path& bag);
 
 std::string_view storageName(BagStorageKind k);

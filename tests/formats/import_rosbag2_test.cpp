@@ -233,6 +233,27 @@ TEST(ImportRosbag2, FileCompressionIsUnpackedIntoAScratchFolderThatIsRemoved) {
   }
 }
 
+// A bag whose folder and file were renamed after recording: metadata.yaml names a file the folder
+// does not hold. With as many storage files held as listed, those are read, and the import says
+// so; where it could be another bag's file (more held than listed), it is refused naming them.
+TEST(ImportRosbag2, ARenamedBagIsReadFromTheFilesItsFolderHolds) {
+  const test::ScratchDir scratch("rosbag2");
+  const fs::path dir = scratch / "obstacle_avoider";
+  fs::create_directories(dir);
+  test::writeSqliteBag(dir / "obstacle_avoider_0.db3", source().file);
+  writeFileAtomic(dir / "metadata.yaml", test::metadataYaml(5, "sqlite3", {"object_0.db3"}));
+  const ImportResult r = importRosbag2(dir, source().params);
+  expectSameDataset(r.dataset, fromMcap());
+  ASSERT_FALSE(r.notes.empty());
+  EXPECT_NE(r.notes.front().find("read obstacle_avoider_0.db3 instead"), std::string::npos)
+      << r.notes.front();
+  test::writeSqliteBag(dir / "other_0.db3", source().file);
+  EXPECT_NE(importErrorOf(dir).find("object_0.db3 not found in " + dir.string() +
+                                    " (it holds obstacle_avoider_0.db3, other_0.db3)"),
+            std::string::npos)
+      << importErrorOf(dir);
+}
+
 TEST(ImportRosbag2, BrokenBagsAreRefusedNamingTheFile) {
   const test::ScratchDir scratch("rosbag2");
   const fs::path dir = scratch / "broken";
