@@ -89,6 +89,8 @@ nlohmann::ordered_json agreementJson(const SensorAgreement& a, const std::string
           {"step_s", a.params.step_s},
           {"disagreement_sigmas", a.params.disagreement_sigmas},
           {"disagreement_floor_deg", a.params.disagreement_floor_rad * kDeg},
+          {"turning_from_s", a.shared_from_s},
+          {"turning_to_s", a.shared_to_s},
           {"sources", sources},
           {"pairs", pairs},
           {"findings", a.findings}};
@@ -96,12 +98,15 @@ nlohmann::ordered_json agreementJson(const SensorAgreement& a, const std::string
 
 std::string agreementText(const SensorAgreement& a) {
   if (a.sources.size() < 2) return "sensor agreement: fewer than two rotation sources\n";
-  std::string s = line("sensor agreement (%.0f s windows):\n  turning:", a.params.window_s);
+  const double t_start = startOf(a);
+  std::string s =
+      line("sensor agreement (%.0f s windows):\n  turning over +%.1f..+%.1f s (what all cover):",
+           a.params.window_s, a.shared_from_s - t_start, a.shared_to_s - t_start);
   for (std::size_t i = 0; i < a.sources.size(); ++i)
     s += line("%s %s net %.1f deg, absolute %.1f deg", i ? ";" : "", a.sources[i].name.c_str(),
               a.sources[i].net_rad * kDeg, a.sources[i].absolute_rad * kDeg);
   s += "\n";
-  for (const PairAgreement& p : a.pairs) s += pairText(p, startOf(a));
+  for (const PairAgreement& p : a.pairs) s += pairText(p, t_start);
   for (const std::string& f : a.findings) s += "  finding: " + f + "\n";
   return s;
 }

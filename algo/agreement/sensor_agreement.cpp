@@ -334,13 +334,18 @@ PairAgreement comparePair(const Source& a, const Source& b, const AgreementParam
   return out;
 }
 
-SourceTurning turningOf(const Source& s, const AgreementParams& p) {
+/// What `s` turned from `from` to `to`: the span every source covers, so that the sources'
+/// figures compare (an odometry that starts before the lidar, or scans cut for validation, would
+/// otherwise add turns the others never saw).
+SourceTurning turningOf(const Source& s, double from, double to, const AgreementParams& p) {
   SourceTurning t{s.name, s.from(), s.to(), 0.0, 0.0};
+  const double no_gap_limit = std::numeric_limits<double>::infinity();
   for (const HeadingSeries& h : s.pieces) {
-    t.net_rad += h[h.size() - 1].value - h[0].value;
-    for (double t0 = h.frontStamp(); t0 < h.backStamp(); t0 += p.step_s)
-      if (const auto d =
-              turned(h, t0, std::min(t0 + p.step_s, h.backStamp()), s.gapLimit(p.max_gap_s)))
+    const double a = std::max(from, h.frontStamp()), b = std::min(to, h.backStamp());
+    if (!(a < b)) continue;
+    t.net_rad += turned(h, a, b, no_gap_limit).value_or(0.0);
+    for (double t0 = a; t0 < b; t0 += p.step_s)
+      if (const auto d = turned(h, t0, std::min(t0 + p.step_s, b), s.gapLimit(p.max_gap_s)))
         t.absolute_rad += std::abs(*d);
   }
   return t;
@@ -436,7 +441,15 @@ SensorAgreement compareSensors(const RotationSources& in, const AgreementParams&
   SensorAgreement out;
   out.params = params;
   const std::vector<Source> sources = namedSources(in);
-  for (const Source& s : sources) out.sources.push_back(turningOf(s, params));
+  out.shared_from_s = -std::numeric_limits<double>::infinity();
+  out.shared_to_s = std::numeric_limits<double>::infinity();
+  for (const Source& s : sources) {
+    out.shared_from_s = std::max(out.shared_from_s, s.from());
+    out.shared_to_s = std::min(out.shared_to_s, s.to());
+  }
+  if (sources.empty()) out.shared_from_s = out.shared_to_s = 0.0;
+  for (const Source& s : sources)
+    out.sources.push_back(turningOf(s, out.shared_from_s, out.shared_to_s, params));
   for (std::size_t i = 0; i < sources.size(); ++i)
     for (std::size_t j = i + 1; j < sources.size(); ++j)
       out.pairs.push_back(comparePair(sources[i], sources[j], params));

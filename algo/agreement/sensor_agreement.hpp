@@ -81,12 +81,13 @@ struct AgreementParams {
   double lag_significance = 10.83;
 };
 
-/// How much one source turned over the recording.
+/// How much one source turned over the span every source covers (SensorAgreement::shared_from_s
+/// .. shared_to_s), so that the sources' figures compare.
 struct SourceTurning {
   std::string name;
-  double from_s = 0.0, to_s = 0.0;
-  double net_rad = 0.0;       ///< last minus first heading
-  double absolute_rad = 0.0;  ///< sum of |turn| over steps of step_s
+  double from_s = 0.0, to_s = 0.0;  ///< what the source itself covers
+  double net_rad = 0.0;             ///< last minus first heading over the shared span
+  double absolute_rad = 0.0;        ///< sum of |turn| over steps of step_s, likewise
 };
 
 /// A span of merged disagreeing windows.
@@ -120,6 +121,7 @@ struct PairAgreement {
 struct SensorAgreement {
   AgreementParams params;
   std::vector<SourceTurning> sources;
+  double shared_from_s = 0.0, shared_to_s = 0.0;  ///< the span every source covers
   std::vector<PairAgreement> pairs;
   /// Recording-level conclusions in words (a gyro-heading odometry, ...).
   std::vector<std::string> findings;

@@ -70,6 +70,28 @@ TEST(SensorAgreement, AWrongNominalWheelBaseIsAScaleNotADisagreement) {
   EXPECT_NEAR(a.sources[1].net_rad, d.truth[d.truth.size() - 1].value + 0.24, 0.05);
 }
 
+// The gyro started 40 s before the wheels were logged: the turning compared is over the 80 s both
+// cover, not the gyro's whole 120 s (that would add turns the wheels never saw).
+TEST(SensorAgreement, TurningIsSummedOverTheSpanEverySourceCovers) {
+  Drive d = drive();
+  WheelTrack late = d.wheels;
+  late.phi_rad = {};
+  for (std::size_t i = 0; i < d.wheels.phi_rad.size(); ++i)
+    if (d.wheels.phi_rad[i].stamp_s >= 40.0)
+      late.phi_rad.push_back(d.wheels.phi_rad[i].stamp_s, d.wheels.phi_rad[i].value);
+  const SensorAgreement a =
+      compareSensors({late, gyroHeading(d.imu), std::nullopt, {}, std::nullopt});
+  ASSERT_EQ(a.sources.size(), 2u);
+  EXPECT_NEAR(a.shared_from_s, 40.0, 1e-9);
+  EXPECT_NEAR(a.shared_to_s, 120.0, 1e-9);
+  EXPECT_NEAR(a.sources[1].from_s, 0.0, 1e-9);  // what the gyro itself covers
+  const std::size_t at40 = 4000, end = d.truth.size() - 1;
+  ASSERT_NEAR(d.truth[at40].stamp_s, 40.0, 1e-9);
+  const double truth_turn = d.truth[end].value - d.truth[at40].value;
+  EXPECT_NEAR(a.sources[1].net_rad, truth_turn + 0.002 * 80.0, 0.05);   // the gyro, with its bias
+  EXPECT_NEAR(a.sources[0].net_rad, truth_turn * 0.178 / 0.160, 0.05);  // the wheels' long b
+}
+
 TEST(SensorAgreement, ALiftedRobotIsADisagreementWithItsCause) {
   const Drive d = drive(50.0, 60.0);  // turning -338 deg meanwhile
   const SensorAgreement a =
