@@ -3,9 +3,11 @@
 // decoded into the dataset's values as they stream by.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <deque>
 #include <memory>
 #include <numbers>
+#include <optional>
 
 #include "slamprep/core/error.hpp"
 #include "slamprep/core/odometry.hpp"
@@ -504,6 +506,8 @@ void levelImu(const BagData& d, const ImportParams& p, ImportResult& r) {
 /// Scans whose time_increment --time-increment replaced, and those left at 0.
 struct TimeIncrementCounts {
   std::size_t replaced = 0, zero = 0;
+  std::vector<double> zero_stamps_s;  ///< of the scans without one: what their period is
+  double zero_angle_increment_rad = 0.0;
 };
 
 void applyTimeIncrement(LaserScan& scan, const ImportParams& p, TimeIncrementCounts& counts) {
@@ -512,7 +516,23 @@ void applyTimeIncrement(LaserScan& scan, const ImportParams& p, TimeIncrementCou
       ++counts.replaced;
     scan.time_increment_s = *p.time_increment_s;
   }
-  if (scan.time_increment_s == 0) ++counts.zero;
+  if (scan.time_increment_s == 0) {
+    ++counts.zero;
+    counts.zero_stamps_s.push_back(scan.stamp_s);
+    counts.zero_angle_increment_rad = std::abs(scan.angle_increment_rad);
+  }
+}
+
+/// What time_increment a head that turns once per scan would have: the median scan period times
+/// the beam spacing over a full turn (a 5 Hz, 1-degree Neato: 0.2 s / 360).
+std::optional<double> oneTurnPerScanIncrement(const TimeIncrementCounts& c) {
+  std::vector<double> steps;
+  for (std::size_t i = 1; i < c.zero_stamps_s.size(); ++i)
+    if (c.zero_stamps_s[i] > c.zero_stamps_s[i - 1])
+      steps.push_back(c.zero_stamps_s[i] - c.zero_stamps_s[i - 1]);
+  if (steps.size() < 2 || !(c.zero_angle_increment_rad > 0.0)) return std::nullopt;
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  return steps[steps.size() / 2] * c.zero_angle_increment_rad / (2.0 * std::numbers::pi);
 }
 
 void addTimeIncrementNotes(const TimeIncrementCounts& c, std::size_t scans,
@@ -521,10 +541,20 @@ void addTimeIncrementNotes(const TimeIncrementCounts& c, std::size_t scans,
   if (c.replaced)
     notes.push_back("--time-increment replaced a different time_increment in " +
                     std::to_string(c.replaced) + " of " + n + " scans");
-  if (c.zero)
-    notes.push_back(std::to_string(c.zero) + " of " + n +
-                    " scans have time_increment 0 (the bag does not say when each beam was "
-                    "taken): de-skew methods will refuse them; give --time-increment SECONDS");
+  if (!c.zero) return;
+  std::string hint;
+  if (const auto dt = oneTurnPerScanIncrement(c)) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  " (a head that turns once per scan would have %.3g s: the scans' median "
+                  "period over one turn of their beam spacing)",
+                  *dt);
+    hint = text;
+  }
+  notes.push_back(std::to_string(c.zero) + " of " + n +
+                  " scans have time_increment 0 (the bag does not say when each beam was "
+                  "taken): de-skew methods will refuse them; give --time-increment SECONDS" +
+                  hint);
 }
 
 void setTimeIncrement(const ImportParams& p, ImportResult& r) {

@@ -271,10 +271,14 @@ TEST(ImportBag, ScansWithoutBeamTimingAreKeptWithANoteOrGivenOne) {
   const ImportResult r = importMcap(test::robotBag(b), "t.mcap", p);
   ASSERT_EQ(r.dataset.scans.size(), 3u);
   EXPECT_EQ(r.dataset.scans[1].scan.time_increment_s, 0.0);
-  bool noted = false;
-  for (const auto& n : r.notes)
+  bool noted = false, hinted = false;
+  for (const auto& n : r.notes) {
     noted = noted || n.find("3 of 3 scans have time_increment 0") != std::string::npos;
+    // Scans every 0.3 s, beams 0.25 rad apart: one turn per scan is 0.3 x 0.25 / 2 pi s a beam.
+    hinted = hinted || n.find("would have 0.0119 s") != std::string::npos;
+  }
   EXPECT_TRUE(noted);
+  EXPECT_TRUE(hinted);
   p.time_increment_s = 2e-4;
   const ImportResult given = importMcap(test::robotBag(b), "t.mcap", p);
   for (const auto& s : given.dataset.scans) EXPECT_EQ(s.scan.time_increment_s, 2e-4);
