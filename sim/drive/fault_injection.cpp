@@ -318,12 +318,21 @@ void injectEncoderFaults(const FaultsConfig& f, std::uint64_t seed, const Stream
   if (on.has(Fault::encoder_dropouts))
     out["encoder_dropouts"] = dropoutWindows(f, seed, duration_s, windows);
   if (on.has(Fault::stamp_jitter)) {
+    const EncoderLog grid = encoders;
     if (f.stamp_jitter_encoders_sampling_sigma_s > 0.0)
       jitter_record["encoders_sampling"] = sampleOffGrid(f, seed, rates.encoders_hz, encoders);
     SplitMix64 rng = stream(seed, RngStream::fault_jitter_encoders);
-    const auto e = jitter(rng, encoders.size(), f.jitterSigma(f.stamp_jitter_encoders_sigma_s),
-                          rates.encoders_hz);
-    for (std::size_t k = 0; k < e.size(); ++k) encoders[k].stamp_s += e[k];
+    auto e = jitter(rng, encoders.size(), f.jitterSigma(f.stamp_jitter_encoders_sigma_s),
+                    rates.encoders_hz);
+    // Sampled off the grid and stamped off that, a sample stays within 0.45 periods of its grid
+    // time as either alone keeps it: two draws could otherwise swap neighbours, and a log's
+    // stamps do not run backwards.
+    const double limit_s = 0.45 / rates.encoders_hz;
+    for (std::size_t k = 0; k < e.size(); ++k) {
+      const double offset = encoders[k].stamp_s - grid[k].stamp_s;
+      e[k] = std::clamp(offset + e[k], -limit_s, limit_s) - offset;
+      encoders[k].stamp_s += e[k];
+    }
     jitter_record["encoders"] = jitterSummary(e);
   }
   if (!windows.empty())

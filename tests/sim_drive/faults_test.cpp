@@ -185,6 +185,25 @@ TEST(Faults, StampJitterPerStream) {
   EXPECT_THROW(applyOverride(bad, "faults.stamp_jitter.scans_sigma_s=-0.5"), std::exception);
 }
 
+// Sampled off the grid and stamped off that (a twin of a host-stamped robot gets both), the two
+// draws together stay within 0.45 periods of the grid, as each does alone: 40 % of a period each
+// would otherwise swap neighbours (their difference exceeds a period 5 % of the time).
+TEST(Faults, SamplingAndStampJitterTogetherKeepTheOrder) {
+  SimConfig c = longRun("stamp_jitter", 100.0);
+  applyOverride(c, "faults.stamp_jitter.encoders_sigma_s=0.004");
+  applyOverride(c, "faults.stamp_jitter.encoders_sampling_sigma_s=0.004");
+  const SimResult r = run(c);
+  const auto& e = r.dataset.encoders;
+  ASSERT_GT(e.size(), 9000u);
+  double max_off = 0.0;
+  for (std::size_t k = 1; k < e.size(); ++k) {
+    ASSERT_GT(e[k].stamp_s, e[k - 1].stamp_s) << k;
+    max_off = std::max(max_off, std::abs(e[k].stamp_s - std::round(e[k].stamp_s * 100.0) / 100.0));
+  }
+  EXPECT_LE(max_off, 0.0045 + 1e-12);
+  EXPECT_GT(max_off, 0.004);  // the bound is reached: the draws do add up
+}
+
 /// When each left-wheel sample of `d` was read, against the clean log: its ticks off the clean
 /// ones over the wheel's ticks per second (after the 5 s ramp-up, where the rate is constant).
 std::vector<double> readErrors(const Dataset& d, const Dataset& clean) {
