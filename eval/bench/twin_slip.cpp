@@ -289,8 +289,13 @@ TestedFit fitWithTest(std::vector<Piece> pieces, double floor, int tested, doubl
   TestedFit fit;
   fit.pieces = pieces.size();
   if (pieces.size() < params.min_pieces) return fit;
-  pieces =
-      withoutOutliers(pieces, fitMostLikely(pieces, floor, kAllVariances), params.outlier_sigmas);
+  // Outliers inflate the first fit's variances, and so the bound that judges them: left out
+  // and refitted until the kept set repeats.
+  for (std::size_t before = 0; before != pieces.size() && pieces.size() >= params.min_pieces;) {
+    before = pieces.size();
+    pieces =
+        withoutOutliers(pieces, fitMostLikely(pieces, floor, kAllVariances), params.outlier_sigmas);
+  }
   fit.pieces = pieces.size();
   fit.fitted = pieces.size() >= params.min_pieces;
   if (!fit.fitted) return fit;

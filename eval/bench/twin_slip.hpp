@@ -22,7 +22,7 @@ struct WheelSlipParams {
   double tau_s = 0.5;
   double max_heading_error_deg = 45.0;  ///< beyond: a failed match or a held robot, not slip
   /// After a first fit, a piece whose error is beyond this many of its predicted sigmas is
-  /// left out and the fit repeated (a Gaussian loses 0.3 % of its pieces at 3).
+  /// left out and the fit repeated, until none is (a Gaussian loses 0.3 % of its pieces at 3).
   double outlier_sigmas = 3.0;
   double max_gap_s = 1.0;      ///< a piece with a longer step of the reference is not used
   std::size_t min_pieces = 8;  ///< fewer: no fit (sigma 0)
