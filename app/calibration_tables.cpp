@@ -258,6 +258,7 @@ namespace {
 const char* ratioMeaning(const std::string& param) {
   if (param == "b_vs_gyro") return " (b over the gyro's b): ";
   if (param == "held_out") return " (held-out error, calibrated over raw): ";
+  if (param == "range_scale") return " x nominal (r_L, r_R and b by one factor): ";
   if (param == "b_not_measured" || param == "wheels_vs_scans" || param == "lidar_mount")
     return nullptr;
   return " x nominal (more than 15 % off): likely cause: ";
