@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <optional>
+#include <string>
+#include <utility>
 
 #include "slamprep/core/error.hpp"
 #include "slamprep/core/input_file.hpp"
@@ -48,12 +50,24 @@ std::optional<BagStorageKind> kindFromName(fs::path name) {
   return std::nullopt;
 }
 
-/// The storage files `dir` holds, by name: what a renamed bag's metadata.yaml no longer names.
+/// A split file's number: rosbag2 names them NAME_0, NAME_1, ... (before the extensions).
+std::pair<std::string, long> splitIndex(const fs::path& file) {
+  std::string stem = file.filename().string();
+  stem = stem.substr(0, stem.find('.'));
+  const std::size_t digits = stem.find_last_not_of("0123456789") + 1;
+  const std::string number = stem.substr(digits);
+  return {stem.substr(0, digits), number.empty() || number.size() > 9 ? -1 : std::stol(number)};
+}
+
+/// The storage files `dir` holds, in split order (_2 before _10): what a renamed bag's
+/// metadata.yaml no longer names.
 std::vector<fs::path> heldFiles(const fs::path& dir) {
   std::vector<fs::path> held;
   for (const auto& e : fs::directory_iterator(dir))
     if (e.is_regular_file() && kindFromName(e.path().filename())) held.push_back(e.path());
-  std::sort(held.begin(), held.end());
+  std::sort(held.begin(), held.end(), [](const fs::path& a, const fs::path& b) {
+    return std::pair(splitIndex(a), a) < std::pair(splitIndex(b), b);
+  });
   return held;
 }
 

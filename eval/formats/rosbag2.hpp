@@ -42,7 +42,7 @@ struct Rosbag2Bag {
 /// topics, QoS strings or lists, type hashes and custom data are ignored), or takes one storage
 /// file by its magic (SQLite, MCAP, a zstd frame: a FILE-compressed storage file) or extension.
 /// A renamed bag (no listed file present, the folder holding as many storage files of one kind
-/// as are listed) is read from the files it holds, in name order, with a note. Throws InputError
+/// as are listed) is read from the files it holds, in split order (_2 before _10), with a note. Throws InputError
 /// naming the folder, metadata.yaml or file when there is no metadata.yaml, a listed file is
 /// missing otherwise, or the storage or compression is unknown.
 Rosbag2Bag readRosbag2(const std::filesystem::path& bag);

@@ -247,6 +247,19 @@ TEST(ImportRosbag2, ARenamedBagIsReadFromTheFilesItsFolderHolds) {
   ASSERT_FALSE(r.notes.empty());
   EXPECT_NE(r.notes.front().find("read obstacle_avoider_0.db3 instead"), std::string::npos)
       << r.notes.front();
+  // Split, renamed: read in split order, _2 before _10 (twelve files listed, twelve held).
+  const fs::path split = scratch / "split";
+  fs::create_directories(split);
+  std::vector<std::string> listed;
+  for (int i = 0; i < 12; ++i) {
+    test::writeSqliteBag(split / ("renamed_" + std::to_string(i) + ".db3"), source().file);
+    listed.push_back("old_" + std::to_string(i) + ".db3");
+  }
+  writeFileAtomic(split / "metadata.yaml", test::metadataYaml(5, "sqlite3", listed));
+  const Rosbag2Bag bag = readRosbag2(split);
+  ASSERT_EQ(bag.files.size(), 12u);
+  for (int i = 0; i < 12; ++i)
+    EXPECT_EQ(bag.files[i].filename(), "renamed_" + std::to_string(i) + ".db3");
   test::writeSqliteBag(dir / "other_0.db3", source().file);
   EXPECT_NE(importErrorOf(dir).find("object_0.db3 not found in " + dir.string() +
                                     " (it holds obstacle_avoider_0.db3, other_0.db3)"),
