@@ -417,8 +417,12 @@ nlohmann::ordered_json againstMapJson(const LidarAgainstMap& m) {
               "rho)), the square root of a mean over both halves' reliability (rho: "
               "residual_beam_halves_correlation), so the pattern has the variance of the beams' "
               "own error; where rho is beyond 3 / sqrt(beams) and 0.25 (chance: neighbouring "
-              "beams' means move together with the world's shape), else none: the twin's "
-              "lidar.range_bias_by_beam_m")},
+              "beams' means move together with the world's shape), else none; none too where "
+              "its RMS exceeds the recording's whole residual (range_bias_not_given): the "
+              "twin's lidar.range_bias_by_beam_m")},
+      {"range_bias_not_given", m.range_bias_not_given.empty()
+                                   ? nlohmann::ordered_json(nullptr)
+                                   : nlohmann::ordered_json(m.range_bias_not_given)},
       {"residuals", m.residuals},
       {"dropout_probability", fitted(m.dropout_probability,
                                      "no return where the world predicts one within the usable "
@@ -721,6 +725,7 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   TwinFit out;
   const MatchedScans as_measured = measureMatchedScans(real, f.layout, p.walls, p.lidar);
   out.residual_median_m = as_measured.residual_median_m;
+  dropBeamBiasBeyondResidual(as_measured.residual_median_m, f.against_map);
   out.residual_neighbour_correlation = as_measured.neighbour_correlation;
   f.fixed_share = std::clamp(as_measured.revisit_correlation, 0.0, kMaxFixedShare);
   out.range_noise_fixed_share = f.fixed_share;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -240,6 +241,23 @@ void fitBeamBias(const BeamHalves& b, const LidarMapParams& p, LidarAgainstMap& 
 }
 
 }  // namespace
+
+void dropBeamBiasBeyondResidual(double residual_m, LidarAgainstMap& m) {
+  double sum2 = 0.0;
+  std::size_t fitted = 0;
+  for (double b : m.range_bias_by_beam_m)
+    if (b != 0.0) sum2 += b * b, ++fitted;
+  if (fitted == 0) return;
+  const double rms_m = std::sqrt(sum2 / double(fitted));
+  if (rms_m <= residual_m) return;
+  char text[240];
+  std::snprintf(text, sizeof text,
+                "a pattern of %.1f mm RMS over %zu beams exceeds the recording's whole residual "
+                "(%.1f mm): the walls' own errors seen by the same beams, not the lidar's",
+                1e3 * rms_m, fitted, 1e3 * residual_m);
+  m.range_bias_not_given = text;
+  m.range_bias_by_beam_m.clear();
+}
 
 LidarAgainstMap compareWithMap(const Dataset& d, const PoseSeries& T_world_base,
                                const std::vector<char>& use, const sim::PlanarCaster& world,

@@ -72,6 +72,8 @@ struct LidarAgainstMap {
   /// error; where rho is beyond chance (LidarMapParams::min_beam_halves_correlation), else
   /// empty: the twin's lidar.range_bias_by_beam_m.
   std::vector<double> range_bias_by_beam_m;
+  /// Why a pattern beyond chance was not given (dropBeamBiasBeyondResidual); empty otherwise.
+  std::string range_bias_not_given;
   double dropout_probability = 0.0;  ///< no return where the map predicts one within usable range
   double spurious_fraction = 0.0;    ///< a return where the map predicts none
   double escape_fraction = 0.0;      ///< beams for which the map predicts no wall (of all)
@@ -95,6 +97,12 @@ struct LidarAgainstMap {
 
 /// Casts every beam of the accepted scans (`use[k]`) in `world` from the matched trajectory
 /// (the base at the scans' first beams, interpolated to every beam's time).
+/// A range error fixed in the lidar's frame is a part of what the scans miss their map by: a
+/// pattern whose RMS (over the beams it was fitted on) exceeds the recording's whole residual
+/// (`residual_m`, the per-scan RMS residual's median) is the walls' own errors seen again by the
+/// same beams of a robot that moved little, not the lidar's; it is dropped, and why is said.
+void dropBeamBiasBeyondResidual(double residual_m, LidarAgainstMap& m);
+
 LidarAgainstMap compareWithMap(const Dataset& dataset, const PoseSeries& T_world_base,
                                const std::vector<char>& use, const sim::PlanarCaster& world,
                                const LidarLayout& layout, const LidarMapParams& params = {});

@@ -83,6 +83,9 @@ std::string twinText(const nlohmann::ordered_json& j) {
                   l["residual_beam_halves_correlation"]["value"].get<double>());
     out += buf;
   }
+  if (l.contains("range_bias_not_given") && l["range_bias_not_given"].is_string())
+    out += "lidar range bias by beam: none given: " + l["range_bias_not_given"].get<std::string>() +
+           "\n";
   const auto& m = l["mount"]["value"];
   std::snprintf(
       buf, sizeof buf,

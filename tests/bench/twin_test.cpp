@@ -254,6 +254,21 @@ std::vector<double> fittedBeamBias(const std::vector<double>& bias, std::uint64_
 // forward and inverse: 10 mm RMS over 360 beams comes back correlated 0.996 with the truth at
 // 9.3 mm RMS (seeds 1-3; the halves' per-beam means correlate 0.99), and a lidar without one
 // gets none (the halves correlate 0.03-0.17 over seeds 1-8, under the 0.25 the fit needs).
+// A per-beam pattern is a part of the residual: 30 mm RMS over the fitted beams (the unfitted
+// ones 0) against a whole residual of 25 mm is dropped with its reason; against 35 mm it stays.
+TEST(Twin, ARangeBiasLargerThanTheWholeResidualIsNotGiven) {
+  LidarAgainstMap m;
+  m.range_bias_by_beam_m = {0.03, -0.03, 0.0, 0.03, -0.03};
+  LidarAgainstMap kept = m;
+  dropBeamBiasBeyondResidual(0.035, kept);
+  EXPECT_EQ(kept.range_bias_by_beam_m.size(), 5u);
+  EXPECT_TRUE(kept.range_bias_not_given.empty());
+  dropBeamBiasBeyondResidual(0.025, m);
+  EXPECT_TRUE(m.range_bias_by_beam_m.empty());
+  EXPECT_NE(m.range_bias_not_given.find("30.0 mm RMS over 4 beams"), std::string::npos)
+      << m.range_bias_not_given;
+}
+
 TEST(Twin, FitsARangeBiasFixedInTheLidarsFrame) {
   const std::vector<double> truth = beamBias();
   const std::vector<double> fitted = fittedBeamBias(truth, 1);
