@@ -1,5 +1,7 @@
 // `slamprep import`: a CARMEN log or a ROS 2 bag (sqlite3 or MCAP) into a dataset directory (no
 // ground truth) that calibrate and deskew read (docs/export.md).
+#include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <numbers>
 #include <sstream>
@@ -26,7 +28,7 @@ struct ImportFlags : CommonFlags {
   std::string out;
   double wheel_radius_m = 0.0;  // 0: use the left/right ones
   DiffDriveParams geometry;
-  double time_increment_s = 0.0;
+  std::string time_increment;  // --time-increment: seconds, or "auto"
   bool geometry_given = false;
   bool time_increment_given = false;
   std::string lidar_mount;  // "x,y,yaw_deg"
@@ -39,6 +41,24 @@ struct ImportFlags : CommonFlags {
 SE2 parseMount(const std::string& text) {
   const auto v = parseList(text, "--lidar-mount", {"x", "y", "yaw_deg"});
   return {v[0], v[1], v[2] * std::numbers::pi / 180};
+}
+
+/// --time-increment SECONDS (>= 0), or `auto` for bags (eval::ImportParams).
+void setTimeIncrement(const std::string& text, bool carmen, eval::ImportParams& params) {
+  if (text == "auto") {
+    if (carmen)
+      throw InputError("--time-increment",
+                       "auto is for bags, whose scans carry their own "
+                       "(give the laser's SECONDS for a CARMEN log)");
+    params.time_increment_one_turn = true;
+    return;
+  }
+  char* end = nullptr;
+  const double seconds = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(seconds))
+    throw InputError("--time-increment", "expected seconds or auto (got " + text + ")");
+  if (seconds < 0.0) throw InputError("--time-increment", "must be >= 0 (got " + text + ")");
+  params.time_increment_s = seconds;
 }
 
 void printSummary(const eval::ImportSummary& s, bool carmen) {
@@ -77,7 +97,7 @@ int runImport(ImportFlags flags) {
     flags.geometry.radius_left_m = flags.geometry.radius_right_m = flags.wheel_radius_m;
   if (flags.geometry_given) flags.params.nominal_geometry = flags.geometry;
   flags.params.trim = !flags.no_trim;
-  if (flags.time_increment_given) flags.params.time_increment_s = flags.time_increment_s;
+  if (flags.time_increment_given) setTimeIncrement(flags.time_increment, carmen, flags.params);
   if (!flags.lidar_mount.empty()) flags.params.T_base_lidar = parseMount(flags.lidar_mount);
   if (!flags.nominal.empty()) {
     if (flags.geometry_given)
@@ -188,10 +208,11 @@ void addImportGeometry(CLI::App* cli, const std::shared_ptr<ImportFlags>& flags)
                   "resolution of the derived encoder ticks")
       ->check(positive())
       ->capture_default_str();
-  cli->add_option("--time-increment", flags->time_increment_s,
+  cli->add_option("--time-increment", flags->time_increment,
                   "time between beams (s); carmen default: the log's PARAM, else 0 = unknown "
-                  "(de-skew refuses); bags: replace every LaserScan's")
-      ->check(nonNegative())
+                  "(de-skew refuses); bags: replace every LaserScan's, or `auto`: give a scan "
+                  "with 0 the time of a head that turns once per scan (its median period x "
+                  "|angle_increment| / 2 pi)")
       ->each([flags](const std::string&) { flags->time_increment_given = true; });
   cli->add_option("--lidar-mount", flags->lidar_mount,
                   "x,y,yaw_deg of the lidar on the base: metres, metres, degrees (default: from "

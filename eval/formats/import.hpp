@@ -35,6 +35,10 @@ struct ImportParams {
   /// `PARAM slamprep_time_increment`, else 0 = unknown (de-skew refuses such scans). MCAP: given,
   /// it replaces every LaserScan's; otherwise the messages keep their own (0 kept, with a note).
   std::optional<double> time_increment_s;
+  /// Bags (`--time-increment auto`): a scan whose time_increment is 0 is given that of a head that
+  /// turns once per scan, the scans' median period times |angle_increment| / 2 pi; scans that
+  /// carry one keep it. Not with time_increment_s.
+  bool time_increment_one_turn = false;
   /// Lidar mount; nullopt: from the log (CARMEN `PARAM robot_frontlaser_offset` and its
   /// side/angular offsets, rear laser: `robot_rearlaser_offset` turned by pi; MCAP: the tf tree of
   /// /tf_static and /tf from base_frame to the scans' frame), identity when the log has none.

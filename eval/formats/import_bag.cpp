@@ -505,16 +505,36 @@ void levelImu(const BagData& d, const ImportParams& p, ImportResult& r) {
 
 /// Scans whose time_increment --time-increment replaced, and those left at 0.
 struct TimeIncrementCounts {
-  std::size_t replaced = 0, zero = 0;
+  std::size_t replaced = 0, zero = 0, derived = 0;
   std::vector<double> zero_stamps_s;  ///< of the scans without one: what their period is
   double zero_angle_increment_rad = 0.0;
+  double period_s = 0.0;  ///< with time_increment_one_turn: the scans' median period
 };
+
+/// The median step between increasing stamps; 0 with fewer than three.
+double medianPeriod(const std::vector<double>& stamps_s) {
+  std::vector<double> steps;
+  for (std::size_t i = 1; i < stamps_s.size(); ++i)
+    if (stamps_s[i] > stamps_s[i - 1]) steps.push_back(stamps_s[i] - stamps_s[i - 1]);
+  if (steps.size() < 2) return 0.0;
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  return steps[steps.size() / 2];
+}
+
+/// A head that turns once per scan takes its beams period |angle_increment| / 2 pi apart.
+double oneTurnIncrement(double period_s, double angle_increment_rad) {
+  return period_s * std::abs(angle_increment_rad) / (2.0 * std::numbers::pi);
+}
 
 void applyTimeIncrement(LaserScan& scan, const ImportParams& p, TimeIncrementCounts& counts) {
   if (p.time_increment_s) {
     if (scan.time_increment_s != 0 && scan.time_increment_s != *p.time_increment_s)
       ++counts.replaced;
     scan.time_increment_s = *p.time_increment_s;
+  }
+  if (scan.time_increment_s == 0 && p.time_increment_one_turn && counts.period_s > 0.0) {
+    scan.time_increment_s = oneTurnIncrement(counts.period_s, scan.angle_increment_rad);
+    ++counts.derived;
   }
   if (scan.time_increment_s == 0) {
     ++counts.zero;
@@ -523,32 +543,28 @@ void applyTimeIncrement(LaserScan& scan, const ImportParams& p, TimeIncrementCou
   }
 }
 
-/// What time_increment a head that turns once per scan would have: the median scan period times
-/// the beam spacing over a full turn (a 5 Hz, 1-degree Neato: 0.2 s / 360).
-std::optional<double> oneTurnPerScanIncrement(const TimeIncrementCounts& c) {
-  std::vector<double> steps;
-  for (std::size_t i = 1; i < c.zero_stamps_s.size(); ++i)
-    if (c.zero_stamps_s[i] > c.zero_stamps_s[i - 1])
-      steps.push_back(c.zero_stamps_s[i] - c.zero_stamps_s[i - 1]);
-  if (steps.size() < 2 || !(c.zero_angle_increment_rad > 0.0)) return std::nullopt;
-  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
-  return steps[steps.size() / 2] * c.zero_angle_increment_rad / (2.0 * std::numbers::pi);
-}
-
 void addTimeIncrementNotes(const TimeIncrementCounts& c, std::size_t scans,
                            std::vector<std::string>& notes) {
   const std::string n = std::to_string(scans);
+  char text[200];
   if (c.replaced)
     notes.push_back("--time-increment replaced a different time_increment in " +
                     std::to_string(c.replaced) + " of " + n + " scans");
+  if (c.derived) {
+    std::snprintf(text, sizeof text,
+                  "--time-increment auto: %zu of %s scans had time_increment 0 and were given one "
+                  "turn per scan of their median period, %.4g s",
+                  c.derived, n.c_str(), c.period_s);
+    notes.push_back(text);
+  }
   if (!c.zero) return;
   std::string hint;
-  if (const auto dt = oneTurnPerScanIncrement(c)) {
-    char text[160];
+  if (const double period_s = medianPeriod(c.zero_stamps_s);
+      period_s > 0.0 && c.zero_angle_increment_rad > 0.0) {
     std::snprintf(text, sizeof text,
                   " (a head that turns once per scan would have %.3g s: the scans' median "
-                  "period over one turn of their beam spacing)",
-                  *dt);
+                  "period over one turn of their beam spacing; --time-increment auto gives it)",
+                  oneTurnIncrement(period_s, c.zero_angle_increment_rad));
     hint = text;
   }
   notes.push_back(std::to_string(c.zero) + " of " + n +
@@ -559,6 +575,9 @@ void addTimeIncrementNotes(const TimeIncrementCounts& c, std::size_t scans,
 
 void setTimeIncrement(const ImportParams& p, ImportResult& r) {
   TimeIncrementCounts counts;
+  std::vector<double> stamps_s;
+  for (const ScanRecord& s : r.dataset.scans) stamps_s.push_back(s.scan.stamp_s);
+  counts.period_s = medianPeriod(stamps_s);
   for (ScanRecord& s : r.dataset.scans) applyTimeIncrement(s.scan, p, counts);
   addTimeIncrementNotes(counts, r.dataset.scans.size(), r.notes);
 }
@@ -575,7 +594,11 @@ class SpilledScans final : public ScanStream {
         topics_(d.topics),
         odometry_(ds.odom_nominal),
         upside_down_(ds.info.config.value("lidar_upside_down", "") == "true"),
-        params_(p) {}
+        params_(p) {
+    std::vector<double> stamps_s;
+    for (const auto& stub : stubs_) stamps_s.push_back(stub.value.stamp_s);
+    counts_.period_s = medianPeriod(stamps_s);
+  }
 
   bool next(ScanRecord& out) override {
     while (k_ < stubs_.size()) {
@@ -627,9 +650,11 @@ void summarizeScans(const BagData& d, const ImportParams& p, std::size_t message
             std::to_string(d.beams_min) +
             (d.beams_max > d.beams_min ? ".." + std::to_string(d.beams_max) : "") +
             " beams; angles, range limits and beam timing from each message";
-  s.time_increment = p.time_increment_s
-                         ? std::to_string(*p.time_increment_s) + " s (--time-increment)"
-                         : "each LaserScan's time_increment";
+  s.time_increment =
+      p.time_increment_s          ? std::to_string(*p.time_increment_s) + " s (--time-increment)"
+      : p.time_increment_one_turn ? "each LaserScan's time_increment; where 0, one turn per scan "
+                                    "(--time-increment auto)"
+                                  : "each LaserScan's time_increment";
   s.range = rangeReport(d.ranges, p.max_range_m, d.cut_by_max_range);
   Dataset& ds = r.dataset;
   if (p.max_range_m) ds.info.config["max_range_m"] = *p.max_range_m;

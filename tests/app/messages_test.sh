@@ -29,6 +29,13 @@ expect 2 calibrate "$ds" --mount-prior 0,2
 err_has "--mount-prior: the 1-sigmas must be > 0 (none: no prior)"
 expect 2 calibrate "$ds" --mount-prior 2
 err_has "--mount-prior: expected sigma_cm,sigma_deg"
+: >"$dir/none.clf"
+expect 2 import --format carmen "$dir/none.clf" --out "$dir/i" --time-increment -1
+err_has "--time-increment: must be >= 0 (got -1)"
+expect 2 import --format carmen "$dir/none.clf" --out "$dir/i" --time-increment fast
+err_has "--time-increment: expected seconds or auto (got fast)"
+expect 2 import --format carmen "$dir/none.clf" --out "$dir/i" --time-increment auto
+err_has "--time-increment: auto is for bags"
 expect 2 deskew "$ds" --stamps grid
 err_has "unknown stamps 'grid' (valid: auto, raw)"
 

@@ -326,6 +326,20 @@ TEST(ImportBag, SpilledScansAreTheScansOfTheInMemoryImport) {
   EXPECT_EQ(notes, memory.notes);
   spilled.scans.reset();
   EXPECT_TRUE(fs::is_empty(spill_dir));
+  // --time-increment auto: both give a scan with 0 one turn of the same median period (scans
+  // every 0.3 s, beams 0.25 rad apart).
+  p.time_increment_one_turn = true;
+  p.spill_dir.clear();
+  const ImportResult memory_auto = importMcap(file, p);
+  p.spill_dir = spill_dir;
+  ImportResult spilled_auto = importMcap(file, p);
+  std::size_t k = 0;
+  for (ScanRecord r; spilled_auto.scans->next(r); ++k) {
+    ASSERT_LT(k, memory_auto.dataset.scans.size());
+    EXPECT_EQ(r.scan.time_increment_s, memory_auto.dataset.scans[k].scan.time_increment_s);
+    EXPECT_NEAR(r.scan.time_increment_s, 0.3 * 0.25 / (2.0 * std::numbers::pi), 1e-7);
+  }
+  EXPECT_EQ(k, memory_auto.dataset.scans.size());
 }
 
 }  // namespace
