@@ -100,6 +100,17 @@ void hintMount(std::vector<algo::CalibrationRun>& runs, const SE2& T_base_lidar)
           "not know: --lidar-mount dataset takes the dataset's mount as known";
 }
 
+// A refused interval fit whose scan matches failed mostly on scans too sparse for ICP: the
+// reason says so, since "too few intervals" alone points at the drive, not at the lidar.
+void hintSparseScans(std::vector<algo::CalibrationRun>& runs, const DatasetCalibration& c,
+                     std::size_t scans) {
+  if (c.sparse_scans == 0 || 2 * std::size_t(c.sparse_scans) < scans) return;
+  for (algo::CalibrationRun& run : runs)
+    if (!run.result.ok && algo::isIntervalMethod(run.method))
+      run.result.reason += "; " + std::to_string(c.sparse_scans) + " of " + std::to_string(scans) +
+                           " scans hold fewer points than ICP needs: the lidar saw little";
+}
+
 bool contains(const std::vector<algo::CalibrationMethod>& methods, algo::CalibrationMethod m) {
   return std::find(methods.begin(), methods.end(), m) != methods.end();
 }
@@ -336,6 +347,7 @@ DatasetCalibration calibrateDataset(const DatasetCalibrationParams& params,
   }
   out.runs = algo::calibrate(applicable, input, params.params);
   if (d && !params.mount_from_dataset) hintMount(out.runs, d->info.T_base_lidar);
+  if (d) hintSparseScans(out.runs, out, d->scans.size());
   for (algo::CalibrationRun& run : out.runs)
     if (algo::isIntervalMethod(run.method)) run.relative_to_odometry = out.relative_to_odometry;
   return out;

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 
 #include "slamprep/algo/agreement/agreement_report.hpp"
@@ -118,6 +119,25 @@ TEST(CalibrationRun, ScanToMapMotionCalibratesLikeChainedMatches) {
     EXPECT_NEAR(run.result.geometry.radius_left_m / t.radius_left_m, 1.0, 0.005);
     EXPECT_NEAR(run.result.geometry.radius_right_m / t.radius_right_m, 1.0, 0.005);
     EXPECT_NEAR(run.result.geometry.wheel_base_m / t.wheel_base_m, 1.0, 0.005);
+  }
+}
+
+// A lidar that sees little (every scan but its first cut to 12 returns, under ICP's 20): no
+// match, no interval, and the refusal says why rather than blaming the drive alone.
+TEST(CalibrationRun, ARefusalOnScansTooSparseForICPSaysSo) {
+  Dataset d = drive();
+  for (std::size_t k = 1; k < d.scans.size(); ++k) {
+    std::vector<double>& r = d.scans[k].scan.ranges_m;
+    for (std::size_t i = 12; i < r.size(); ++i) r[i] = std::numeric_limits<double>::infinity();
+  }
+  DatasetCalibrationParams params = jointAndCeres();
+  params.motion.source = MotionSource::kMap;
+  const DatasetCalibration c = calibrateDataset(params, d);
+  EXPECT_EQ(c.sparse_scans, static_cast<int>(d.scans.size()) - 1);
+  for (const algo::CalibrationRun& run : c.runs) {
+    EXPECT_FALSE(run.result.ok);
+    EXPECT_NE(run.result.reason.find("scans hold fewer points than ICP needs"), std::string::npos)
+        << run.result.reason;
   }
 }
 
