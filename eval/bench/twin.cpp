@@ -677,6 +677,13 @@ const char* const kNotReproduced[] = {
      "the twin's fixed part is one Gaussian texture of 2 cm correlation length "
      "(lidar.range_noise_fixed_share)")};
 
+/// Why the matches failed, where most scans held too few points for ICP (else nothing).
+std::string sparseCause(const algo::KeyframeOdometry& tracked) {
+  if (tracked.scans.size() < 2 || 2 * tracked.sparse < tracked.scans.size() - 1) return "";
+  return " (" + std::to_string(tracked.sparse) + " of " + std::to_string(tracked.scans.size() - 1) +
+         " scans hold fewer points than ICP needs: the lidar saw little)";
+}
+
 }  // namespace
 
 TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& p) {
@@ -688,7 +695,7 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   const ScanPoints points = matchScanPoints(real, p.deskew, false);
   const MatchTrajectory run = matchTrajectory(real, points, options);
   if (run.tracked.matched == 0)
-    throw InputError(name, "no scan matched: no map to make a world of");
+    throw InputError(name, "no scan matched: no map to make a world of" + sparseCause(run.tracked));
   std::vector<char> accepted;
   const WallMap map =
       extractWalls(matchedMapPoints(run, points.points, f.layout.usable_max_m, accepted), p.walls);

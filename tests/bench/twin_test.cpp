@@ -9,6 +9,7 @@
 #include <functional>
 #include <numbers>
 
+#include "slamprep/core/error.hpp"
 #include "slamprep/eval/bench/twin_lidar.hpp"
 #include "slamprep/eval/bench/twin_odometry.hpp"
 #include "slamprep/eval/bench/twin_slip.hpp"
@@ -117,6 +118,21 @@ TEST(Twin, SimulatesWhatItFitted) {
 // and wheels say 5 cm ahead): the twin's lidar goes where the calibration puts it, its dataset is
 // told what the recording was, and it drives the wheels' path. Driven after the told base, whose
 // path swings sideways in every turn, its replay zigzags.
+// A recording whose lidar saw almost nothing (every scan cut to 12 returns, under ICP's 20) has
+// no map to make a world of, and the refusal says why.
+TEST(Twin, ARecordingTooSparseToMatchIsRefusedWithItsCause) {
+  Dataset d = recording();
+  for (ScanRecord& record : d.scans) record.scan.ranges_m.resize(12);
+  try {
+    fitTwin(d, "sparse", {});
+    FAIL() << "a recording without a matched scan made a twin";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scans hold fewer points than ICP needs"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Twin, MountsItsLidarWhereTheScansAndWheelsPutIt) {
   sim::SimConfig c;
   c.mode = sim::SimMode::kinematic;
