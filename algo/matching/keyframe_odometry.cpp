@@ -200,6 +200,12 @@ TrackedScan trackScan(const Points2& points, const StepPrior& prior, const SE2& 
 
 }  // namespace
 
+std::string sparseScansCause(std::size_t sparse, std::size_t attempted) {
+  if (sparse == 0 || 2 * sparse < attempted) return "";
+  return std::to_string(sparse) + " of " + std::to_string(attempted) +
+         " scans hold fewer points than ICP needs: the lidar saw little";
+}
+
 std::string_view guessSourceName(GuessSource source) {
   return nameOf(kGuessSourceNames, source);
 }

@@ -23,6 +23,7 @@
 #include <cstddef>
 #include <numbers>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "slamprep/algo/matching/icp.hpp"
@@ -137,6 +138,10 @@ struct KeyframeOdometry {
   /// Scans 1..n-1 per GuessSource whose guess won (matched or fallen back to).
   std::array<std::size_t, kGuessSources> won_by{};
 };
+
+/// Where at least half of the `attempted` scans held fewer points than ICP needs
+/// (KeyframeOdometry::sparse), the cause of failed matches in words; else empty.
+std::string sparseScansCause(std::size_t sparse, std::size_t attempted);
 
 /// The information-weighted mean of the match and the guess, both T_kf_scan, as (x, y, yaw)
 /// vectors: g + (C_match^-1 + C_odo^-1)^-1 C_match^-1 (m - g), C_odo = diag(s_m^2, s_m^2, s_rad^2)

@@ -7,6 +7,7 @@
 
 #include "slamprep/algo/agreement/dataset_sources.hpp"
 #include "slamprep/algo/agreement/sensor_agreement.hpp"
+#include "slamprep/algo/matching/keyframe_odometry.hpp"
 #include "slamprep/core/error.hpp"
 #include "slamprep/eval/bench/trajectory_smoother.hpp"
 #include "slamprep/eval/bench/twin_odometry.hpp"
@@ -677,13 +678,6 @@ const char* const kNotReproduced[] = {
      "the twin's fixed part is one Gaussian texture of 2 cm correlation length "
      "(lidar.range_noise_fixed_share)")};
 
-/// Why the matches failed, where most scans held too few points for ICP (else nothing).
-std::string sparseCause(const algo::KeyframeOdometry& tracked) {
-  if (tracked.scans.size() < 2 || 2 * tracked.sparse < tracked.scans.size() - 1) return "";
-  return " (" + std::to_string(tracked.sparse) + " of " + std::to_string(tracked.scans.size() - 1) +
-         " scans hold fewer points than ICP needs: the lidar saw little)";
-}
-
 }  // namespace
 
 TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& p) {
@@ -694,8 +688,12 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   const MatchTrajectoryOptions options = twinMatchOptions();
   const ScanPoints points = matchScanPoints(real, p.deskew, false);
   const MatchTrajectory run = matchTrajectory(real, points, options);
-  if (run.tracked.matched == 0)
-    throw InputError(name, "no scan matched: no map to make a world of" + sparseCause(run.tracked));
+  if (run.tracked.matched == 0) {
+    const std::string cause =
+        algo::sparseScansCause(run.tracked.sparse, run.tracked.scans.size() - 1);
+    throw InputError(name, "no scan matched: no map to make a world of" +
+                               (cause.empty() ? "" : " (" + cause + ")"));
+  }
   std::vector<char> accepted;
   const WallMap map =
       extractWalls(matchedMapPoints(run, points.points, f.layout.usable_max_m, accepted), p.walls);

@@ -11,6 +11,7 @@
 
 #include "slamprep/core/error.hpp"
 #include "slamprep/core/odometry.hpp"
+#include "slamprep/core/order_statistics.hpp"
 #include "slamprep/eval/formats/bag_open.hpp"
 #include "slamprep/eval/formats/bag_storage.hpp"
 #include "slamprep/eval/formats/bag_topics.hpp"
@@ -506,20 +507,9 @@ void levelImu(const BagData& d, const ImportParams& p, ImportResult& r) {
 /// Scans whose time_increment --time-increment replaced, and those left at 0.
 struct TimeIncrementCounts {
   std::size_t replaced = 0, zero = 0, derived = 0;
-  std::vector<double> zero_stamps_s;  ///< of the scans without one: what their period is
-  double zero_angle_increment_rad = 0.0;
-  double period_s = 0.0;  ///< with time_increment_one_turn: the scans' median period
+  double zero_angle_increment_rad = 0.0;  ///< of a scan without one: its beams' spacing
+  double period_s = 0.0;                  ///< the scans' median period (medianSpacing)
 };
-
-/// The median step between increasing stamps; 0 with fewer than three.
-double medianPeriod(const std::vector<double>& stamps_s) {
-  std::vector<double> steps;
-  for (std::size_t i = 1; i < stamps_s.size(); ++i)
-    if (stamps_s[i] > stamps_s[i - 1]) steps.push_back(stamps_s[i] - stamps_s[i - 1]);
-  if (steps.size() < 2) return 0.0;
-  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
-  return steps[steps.size() / 2];
-}
 
 /// A head that turns once per scan takes its beams period |angle_increment| / 2 pi apart.
 double oneTurnIncrement(double period_s, double angle_increment_rad) {
@@ -538,7 +528,6 @@ void applyTimeIncrement(LaserScan& scan, const ImportParams& p, TimeIncrementCou
   }
   if (scan.time_increment_s == 0) {
     ++counts.zero;
-    counts.zero_stamps_s.push_back(scan.stamp_s);
     counts.zero_angle_increment_rad = std::abs(scan.angle_increment_rad);
   }
 }
@@ -559,12 +548,11 @@ void addTimeIncrementNotes(const TimeIncrementCounts& c, std::size_t scans,
   }
   if (!c.zero) return;
   std::string hint;
-  if (const double period_s = medianPeriod(c.zero_stamps_s);
-      period_s > 0.0 && c.zero_angle_increment_rad > 0.0) {
+  if (c.period_s > 0.0 && c.zero_angle_increment_rad > 0.0) {
     std::snprintf(text, sizeof text,
                   " (a head that turns once per scan would have %.3g s: the scans' median "
                   "period over one turn of their beam spacing; --time-increment auto gives it)",
-                  oneTurnIncrement(period_s, c.zero_angle_increment_rad));
+                  oneTurnIncrement(c.period_s, c.zero_angle_increment_rad));
     hint = text;
   }
   notes.push_back(std::to_string(c.zero) + " of " + n +
@@ -577,7 +565,7 @@ void setTimeIncrement(const ImportParams& p, ImportResult& r) {
   TimeIncrementCounts counts;
   std::vector<double> stamps_s;
   for (const ScanRecord& s : r.dataset.scans) stamps_s.push_back(s.scan.stamp_s);
-  counts.period_s = medianPeriod(stamps_s);
+  counts.period_s = medianSpacing(stamps_s);
   for (ScanRecord& s : r.dataset.scans) applyTimeIncrement(s.scan, p, counts);
   addTimeIncrementNotes(counts, r.dataset.scans.size(), r.notes);
 }
@@ -597,7 +585,7 @@ class SpilledScans final : public ScanStream {
         params_(p) {
     std::vector<double> stamps_s;
     for (const auto& stub : stubs_) stamps_s.push_back(stub.value.stamp_s);
-    counts_.period_s = medianPeriod(stamps_s);
+    counts_.period_s = medianSpacing(stamps_s);
   }
 
   bool next(ScanRecord& out) override {

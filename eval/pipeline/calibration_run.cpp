@@ -8,6 +8,7 @@
 #include "slamprep/algo/agreement/agreement_report.hpp"
 #include "slamprep/algo/agreement/dataset_sources.hpp"
 #include "slamprep/algo/calibration/dataset_motion.hpp"
+#include "slamprep/algo/matching/keyframe_odometry.hpp"
 #include "slamprep/core/error.hpp"
 #include "slamprep/core/odometry.hpp"
 #include "slamprep/eval/formats/dataset_io.hpp"
@@ -104,11 +105,10 @@ void hintMount(std::vector<algo::CalibrationRun>& runs, const SE2& T_base_lidar)
 // reason says so, since "too few intervals" alone points at the drive, not at the lidar.
 void hintSparseScans(std::vector<algo::CalibrationRun>& runs, const DatasetCalibration& c,
                      std::size_t scans) {
-  if (c.sparse_scans == 0 || 2 * std::size_t(c.sparse_scans) < scans) return;
+  const std::string cause = algo::sparseScansCause(std::size_t(c.sparse_scans), scans);
+  if (cause.empty()) return;
   for (algo::CalibrationRun& run : runs)
-    if (!run.result.ok && algo::isIntervalMethod(run.method))
-      run.result.reason += "; " + std::to_string(c.sparse_scans) + " of " + std::to_string(scans) +
-                           " scans hold fewer points than ICP needs: the lidar saw little";
+    if (!run.result.ok && algo::isIntervalMethod(run.method)) run.result.reason += "; " + cause;
 }
 
 bool contains(const std::vector<algo::CalibrationMethod>& methods, algo::CalibrationMethod m) {
