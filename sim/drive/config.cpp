@@ -51,6 +51,7 @@ void visitSensorFields(Config& c, Visitor&& v) {
   v("lidar.range_noise_fixed_m", l.range_noise_fixed_m);
   v("lidar.range_noise_fixed_length_m", l.range_noise_fixed_length_m);
   v("lidar.range_bias_by_beam_m", l.range_bias_by_beam_m);
+  v("lidar.range_bias_by_range_m", l.range_bias_by_range_m);
   v("lidar.clockwise", l.clockwise);
   v("lidar.mount.x_m", l.T_base_lidar.x);
   v("lidar.mount.y_m", l.T_base_lidar.y);
@@ -482,6 +483,9 @@ void validateLidar(const Checker& check, const LidarConfig& l) {
   if (std::string error; !parseRangeBias(l.range_bias_by_beam_m, &error))
     check.fail("lidar.range_bias_by_beam_m", "expected comma-separated metres: " + error,
                l.range_bias_by_beam_m);
+  if (std::string error; !parseRangeBias(l.range_bias_by_range_m, &error))
+    check.fail("lidar.range_bias_by_range_m", "expected comma-separated metres: " + error,
+               l.range_bias_by_range_m);
   if (!(l.range_noise_correlation >= 0.0 && l.range_noise_correlation < 1.0))
     check.fail("lidar.range_noise_correlation", "must be in [0, 1)", l.range_noise_correlation);
   check.positive("lidar.height_m", l.height_m);

@@ -1,5 +1,6 @@
 #include "slamprep/sim/physics/lidar.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -13,11 +14,23 @@ std::optional<std::vector<double>> parseRangeBias(std::string_view text, std::st
   return parseNumberList(text, kBias, error);
 }
 
+double rangeBiasAt(const std::vector<double>& bias_by_metre_m, double range_m) {
+  if (bias_by_metre_m.empty()) return 0.0;
+  const double last = static_cast<double>(bias_by_metre_m.size() - 1);
+  const double at = std::clamp(range_m, 0.0, last);
+  const auto below = static_cast<std::size_t>(std::floor(at));
+  if (below + 1 >= bias_by_metre_m.size()) return bias_by_metre_m.back();
+  const double t = at - static_cast<double>(below);
+  return (1.0 - t) * bias_by_metre_m[below] + t * bias_by_metre_m[below + 1];
+}
+
 Lidar::Lidar(const LidarConfig& config, std::uint64_t seed)
     : config_(config),
       rng_(seed),
       bias_by_beam_m_(
-          parseRangeBias(config.range_bias_by_beam_m, nullptr).value_or(std::vector<double>{})) {
+          parseRangeBias(config.range_bias_by_beam_m, nullptr).value_or(std::vector<double>{})),
+      bias_by_range_m_(
+          parseRangeBias(config.range_bias_by_range_m, nullptr).value_or(std::vector<double>{})) {
   // Its own stream: a lidar without the texture draws its noise as before.
   if (config.range_noise_fixed_m > 0.0)
     texture_.emplace(config.range_noise_fixed_length_m, seed ^ 0x74657874ULL /* "text" */);
@@ -69,6 +82,7 @@ Lidar::Beam Lidar::measure(const Scene& scene, const Eigen::Vector2d& origin_wor
   if (texture_)
     noise_m += config_.range_noise_fixed_m * texture_->at(origin_world_m + *hit * dir_world);
   if (i < bias_by_beam_m_.size()) noise_m += bias_by_beam_m_[i];
+  noise_m += rangeBiasAt(bias_by_range_m_, *hit);
   const double measured_m = *hit + noise_m;
   const bool in_limits = measured_m >= config_.range_min_m && measured_m <= config_.range_max_m;
   return {in_limits ? measured_m : kInf, *hit};

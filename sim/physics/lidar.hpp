@@ -39,14 +39,22 @@ struct LidarConfig {
   /// separated in beam order ("": none; beams beyond the list: 0). A head whose range
   /// calibration varies with its angle reads some beams long wherever it is.
   std::string range_bias_by_beam_m;
+  /// A range error that depends on the range: metres added to a return at 0, 1, 2, ... m of true
+  /// range, comma separated, interpolated linearly and held beyond the last ("": none). A
+  /// triangulation head's error grows with range, so a wall seen from two ranges bends.
+  std::string range_bias_by_range_m;
   bool clockwise = false;                                 ///< negative angle_increment
   SE2 T_base_lidar{0.1, 0.02, std::numbers::pi / 180.0};  ///< mount on the chassis
   double height_m = 0.25;                                 ///< above the floor
 };
 
 /// Reads LidarConfig::range_bias_by_beam_m: comma-separated finite numbers within [-1, 1] m
-/// ("" gives none); nullopt (and *error set) otherwise.
+/// ("" gives none); nullopt (and *error set) otherwise. The same for range_bias_by_range_m.
 std::optional<std::vector<double>> parseRangeBias(std::string_view text, std::string* error);
+
+/// range_bias_by_range_m's curve at `range_m`: knots at whole metres, linear between, the end
+/// knots held beyond (0 for an empty curve).
+double rangeBiasAt(const std::vector<double>& bias_by_metre_m, double range_m);
 
 /// A rotating 2D lidar: beam i of a scan is taken at its own time from its own pose.
 class Lidar {
@@ -82,6 +90,7 @@ class Lidar {
   std::mt19937_64 rng_;
   std::optional<SurfaceTexture> texture_;  ///< with range_noise_fixed_m
   std::vector<double> bias_by_beam_m_;     ///< range_bias_by_beam_m, parsed
+  std::vector<double> bias_by_range_m_;    ///< range_bias_by_range_m, parsed
   double spare_gaussian_ = 0.0;
   bool has_spare_ = false;
   double last_noise_m_ = 0.0;  ///< the previous beam's, for range_noise_correlation

@@ -76,7 +76,8 @@ TEST(SimConfig, BadOverridesNameTheKey) {
             std::string::npos);
   for (const char* bad : {"lidar.range_noise_fixed_m=-0.01", "lidar.range_noise_fixed_length_m=0",
                           "encoders.common_slip_sigma=0.6", "nominal.lidar_mount_error.x_m=nan",
-                          "lidar.range_bias_by_beam_m=0.01,x", "lidar.range_bias_by_beam_m=2"}) {
+                          "lidar.range_bias_by_beam_m=0.01,x", "lidar.range_bias_by_beam_m=2",
+                          "lidar.range_bias_by_range_m=0,inf"}) {
     const std::string key(bad, std::string_view(bad).find('='));
     EXPECT_NE(overrideError(bad).find(key), std::string::npos) << overrideError(bad);
   }

@@ -172,6 +172,29 @@ TEST(Lidar, BiasByBeamIsAddedToItsBeamFromAnyPose) {
   EXPECT_EQ(parseRangeBias("", nullptr)->size(), 0u);
 }
 
+// A range error by range: each return is off by the curve at its true range, whatever the beam.
+TEST(Lidar, BiasByRangeFollowsTheCurveAtTheTrueRange) {
+  EXPECT_EQ(rangeBiasAt({}, 3.0), 0.0);
+  const std::vector<double> curve{-0.01, 0.0, 0.02};
+  EXPECT_NEAR(rangeBiasAt(curve, 0.5), -0.005, 1e-15);
+  EXPECT_NEAR(rangeBiasAt(curve, 1.25), 0.005, 1e-15);
+  EXPECT_EQ(rangeBiasAt(curve, 7.0), 0.02);  // held beyond the last knot
+  EXPECT_EQ(rangeBiasAt(curve, -1.0), -0.01);
+  const Scene scene(loadWorld(test::worldFile("box_room.yaml")));
+  LidarConfig config;
+  config.range_noise_m = 0.0;
+  config.range_bias_by_range_m = "-0.01,0,0.02";
+  Lidar lidar(config, 7);
+  std::size_t hits = 0;
+  for (std::size_t i = 0; i < lidar.beamsPerScan(); ++i) {
+    const Lidar::Beam beam = lidar.measure(scene, SE2(0.3, 0.2, 0.1), i);
+    if (std::isinf(beam.range_m)) continue;
+    ++hits;
+    EXPECT_NEAR(beam.range_m - beam.true_range_m, rangeBiasAt(curve, beam.true_range_m), 1e-12);
+  }
+  EXPECT_GT(hits, lidar.beamsPerScan() / 2);
+}
+
 TEST(Lidar, FixedErrorIsTheSpotsWhereverItIsSeenFrom) {
   const Scene scene(loadWorld(test::worldFile("box_room.yaml")));
   LidarConfig config;
