@@ -119,6 +119,10 @@ void visitFields(Config& c, Visitor&& v) {
   visitRobotFields(c, v);
   visitSensorFields(c, v);
   visitFaultFields(c, v);
+  v("people.count", c.people.count);
+  v("people.distance_m", c.people.distance_m);
+  v("people.correlation_s", c.people.correlation_s);
+  v("people.radius_m", c.people.radius_m);
 }
 
 nlohmann::json::json_pointer pointer(const std::string& dotted) {
@@ -342,6 +346,7 @@ nlohmann::json toJson(const SimConfig& config, bool every_key) {
   if (!every_key && !config.faults.enable.any()) json.erase("faults");
   if (!every_key && config.odometry.heading_from == OdometryHeading::wheels) json.erase("odometry");
   if (!every_key && !config.start_jitter.any()) json.erase("start_jitter");
+  if (!every_key && config.people.count == 0) json.erase("people");
   return json;
 }
 
@@ -518,6 +523,15 @@ void validateSensors(const Checker& check, const SimConfig& c) {
   check.nonNegative("imu.accel_noise_mps2", c.imu.accel_noise_mps2);
 }
 
+void validatePeople(const Checker& check, const PeopleConfig& p) {
+  // Every person is cast against every beam: a crowd would be a world, not a disturbance.
+  if (!(p.count >= 0 && p.count <= 20)) check.fail("people.count", "must be in [0, 20]", p.count);
+  check.positive("people.distance_m", p.distance_m);
+  check.positive("people.correlation_s", p.correlation_s);
+  if (!(p.radius_m > 0.0 && p.radius_m <= 1.0))
+    check.fail("people.radius_m", "must be in (0, 1]", p.radius_m);
+}
+
 }  // namespace
 
 void validate(const SimConfig& c, const std::string& where) {
@@ -528,6 +542,7 @@ void validate(const SimConfig& c, const std::string& where) {
   validateLidar(check, c.lidar);
   validateSensors(check, c);
   validateFaults(check, c.faults);
+  validatePeople(check, c.people);
 }
 
 void checkRunSize(const SimConfig& c, double duration_s) {

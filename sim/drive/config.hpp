@@ -11,6 +11,7 @@
 #include "slamprep/core/diff_drive.hpp"
 #include "slamprep/core/enum_names.hpp"
 #include "slamprep/sim/drive/faults.hpp"
+#include "slamprep/sim/drive/people.hpp"
 #include "slamprep/sim/drive/sensors.hpp"
 #include "slamprep/sim/physics/lidar.hpp"
 #include "slamprep/sim/physics/robot.hpp"
@@ -81,6 +82,7 @@ struct SimConfig {
   ImuConfig imu;                    ///< planar IMU
   OdometryConfig odometry;          ///< how odom_nominal is integrated
   FaultsConfig faults;              ///< injected faults, all off by default (docs/faults.md)
+  PeopleConfig people;              ///< people about the robot, none by default
 
   /// The geometry the odometry is told: the true geometry scaled by the nominal errors.
   DiffDriveParams nominalGeometry() const;

@@ -15,6 +15,7 @@ enum class RngStream : std::uint64_t {
   imu = 0x696d7531ULL,           // "imu1"
   start_pose = 0x73747274ULL,    // "strt": the start_jitter draw
   encoder_slip = 0x736c6970ULL,  // "slip": random wheel slip (EncoderConfig::slip_sigma)
+  people = 0x70656f70ULL,        // "peop": people about the robot (PeopleConfig)
   // One stream per fault (sim/drive/faults.hpp), so turning one on leaves the others' draws.
   fault_encoder_spikes = 0x66737069ULL,        // "fspi"
   fault_encoder_dropouts = 0x6664726fULL,      // "fdro"

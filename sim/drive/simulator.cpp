@@ -18,6 +18,7 @@
 #include "slamprep/sim/drive/fault_injection.hpp"
 #include "slamprep/sim/drive/floor_slip.hpp"
 #include "slamprep/sim/drive/held_robot.hpp"
+#include "slamprep/sim/drive/people.hpp"
 #include "slamprep/sim/drive/rng.hpp"
 #include "slamprep/sim/drive/sensors.hpp"
 #include "slamprep/sim/physics/lidar.hpp"
@@ -187,8 +188,9 @@ class KinematicMotion : public Motion {
 class LidarStream {
  public:
   LidarStream(const LidarConfig& config, std::uint64_t seed, ScanReadJitter read_jitter,
-              std::vector<ScanRecord>& out)
+              People people, std::vector<ScanRecord>& out)
       : lidar_(config, seed),
+        people_(std::move(people)),
         T_base_lidar_(SE2CosSin::from(config.T_base_lidar)),
         read_jitter_(read_jitter),
         out_(out) {
@@ -234,9 +236,11 @@ class LidarStream {
       current_.T_world_base_true = T_world_base.se2();
     }
     const Eigen::Vector2d dir_world = T_world_lidar.rotate(beam_dir_[beam_]);
-    const double range_m =
-        lidar_.measure(scene, Eigen::Vector2d(T_world_lidar.x, T_world_lidar.y), dir_world, beam_)
-            .range_m;
+    const Eigen::Vector2d origin_world(T_world_lidar.x, T_world_lidar.y);
+    const std::optional<double> person_m =
+        people_.castRay(origin_world, dir_world, Eigen::Vector2d(T_world_base.x, T_world_base.y),
+                        nextTime(), lidar_.config().range_max_m);
+    const double range_m = lidar_.measure(scene, origin_world, dir_world, beam_, person_m).range_m;
     current_.scan.ranges_m[beam_] = range_m;
     if (std::isfinite(range_m)) {
       const Eigen::Vector2d p_lidar = range_m * beam_dir_[beam_];
@@ -253,6 +257,7 @@ class LidarStream {
   }
 
   Lidar lidar_;
+  People people_;
   SE2CosSin T_base_lidar_;
   ScanReadJitter read_jitter_;
   std::vector<Eigen::Vector2d> beam_dir_;  ///< (cos, sin) of every beam angle
@@ -326,7 +331,8 @@ class SensorStreams {
   SensorStreams(const SimConfig& config, const Scene& scene, Dataset& data)
       : scene_(scene),
         lidar_(config.lidar, streamSeed(config.seed, RngStream::lidar),
-               ScanReadJitter(config.faults, config.seed, config.lidar.rate_hz), data.scans),
+               ScanReadJitter(config.faults, config.seed, config.lidar.rate_hz),
+               People(config.people, streamSeed(config.seed, RngStream::people)), data.scans),
         encoders_(config.encoders, streamSeed(config.seed, RngStream::encoder_slip), data.encoders),
         imu_(config.imu, streamSeed(config.seed, RngStream::imu), data.imu) {}
 

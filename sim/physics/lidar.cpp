@@ -67,7 +67,8 @@ Lidar::Beam Lidar::measure(const Scene& scene, const SE2& T_world_lidar, std::si
 }
 
 Lidar::Beam Lidar::measure(const Scene& scene, const Eigen::Vector2d& origin_world_m,
-                           const Eigen::Vector2d& dir_world, std::size_t i) {
+                           const Eigen::Vector2d& dir_world, std::size_t i,
+                           std::optional<double> moving_m) {
   assert(i < beams_per_scan_);
   constexpr double kInf = std::numeric_limits<double>::infinity();
   // One draw per beam, hit or not, so beam i's noise depends only on the seed and i (correlated:
@@ -76,8 +77,9 @@ Lidar::Beam Lidar::measure(const Scene& scene, const Eigen::Vector2d& origin_wor
   if (const double rho = config_.range_noise_correlation; rho > 0.0 && i > 0)
     noise_m = rho * last_noise_m_ + std::sqrt(1.0 - rho * rho) * noise_m;
   last_noise_m_ = noise_m;
-  const std::optional<double> hit =
+  std::optional<double> hit =
       scene.castRay(origin_world_m, dir_world, config_.height_m, config_.range_max_m);
+  if (moving_m && (!hit || *moving_m < *hit)) hit = moving_m;
   if (!hit) return {kInf, kInf};
   if (texture_)
     noise_m += config_.range_noise_fixed_m * texture_->at(origin_world_m + *hit * dir_world);

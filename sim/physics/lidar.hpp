@@ -74,9 +74,11 @@ class Lidar {
   /// seeded generator, so call it in beam order.
   Beam measure(const Scene& scene, const SE2& T_world_lidar, std::size_t i);
   /// The same with the beam's world-frame origin and unit direction given (callers that keep
-  /// the lidar's rotation as cosine and sine avoid the trigonometry).
+  /// the lidar's rotation as cosine and sine avoid the trigonometry), and what moves in the
+  /// world: `moving_m`, the range to something not in the scene (people), where nearer.
   Beam measure(const Scene& scene, const Eigen::Vector2d& origin_world_m,
-               const Eigen::Vector2d& dir_world, std::size_t i);
+               const Eigen::Vector2d& dir_world, std::size_t i,
+               std::optional<double> moving_m = std::nullopt);
   /// Angle of beam i in the lidar frame (same as header().beamAngle(i)).
   double beamAngle(std::size_t i) const { return angle_min_rad_ + i * angle_increment_rad_; }
 

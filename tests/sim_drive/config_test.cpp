@@ -77,7 +77,8 @@ TEST(SimConfig, BadOverridesNameTheKey) {
   for (const char* bad : {"lidar.range_noise_fixed_m=-0.01", "lidar.range_noise_fixed_length_m=0",
                           "encoders.common_slip_sigma=0.6", "nominal.lidar_mount_error.x_m=nan",
                           "lidar.range_bias_by_beam_m=0.01,x", "lidar.range_bias_by_beam_m=2",
-                          "lidar.range_bias_by_range_m=0,inf"}) {
+                          "lidar.range_bias_by_range_m=0,inf", "people.count=-1", "people.count=21",
+                          "people.radius_m=0", "people.correlation_s=0"}) {
     const std::string key(bad, std::string_view(bad).find('='));
     EXPECT_NE(overrideError(bad).find(key), std::string::npos) << overrideError(bad);
   }
@@ -96,6 +97,7 @@ TEST(SimConfig, JsonRoundTripsEveryKey) {
   applyOverride(c, "faults.enable=clock_offset");  // the fault keys are written only with one on
   applyOverride(c, "start_jitter.yaw_deg=30");     // and the start_jitter keys only when it is on
   applyOverride(c, "odometry.heading_from=gyro");  // and the odometry key only when it is gyro
+  applyOverride(c, "people.count=2");              // and the people keys only with people
   const nlohmann::json json = toJson(c);
   EXPECT_EQ(json["lidar"]["mount"]["yaw_rad"], -0.25);
   EXPECT_EQ(json["odometry"]["heading_from"], "gyro");

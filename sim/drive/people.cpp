@@ -1,0 +1,73 @@
+#include "slamprep/sim/drive/people.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace slamprep::sim {
+namespace {
+
+/// Range to the disc (centre c, radius r) along the ray p + s d (|d| = 1), s > 0; the near root
+/// of |p + s d - c|^2 = r^2. nullopt where the ray misses it or starts inside it.
+std::optional<double> rayDisc(const Eigen::Vector2d& p, const Eigen::Vector2d& d,
+                              const Eigen::Vector2d& c, double r) {
+  const Eigen::Vector2d pc = c - p;
+  const double along = pc.dot(d);
+  const double miss_sq = pc.squaredNorm() - along * along;
+  if (miss_sq > r * r || pc.squaredNorm() <= r * r) return std::nullopt;
+  const double s = along - std::sqrt(r * r - miss_sq);
+  return s > 0.0 ? std::optional<double>(s) : std::nullopt;
+}
+
+Eigen::Vector2d keptAway(Eigen::Vector2d o) {
+  const double n = o.norm();
+  if (n >= People::kNearestM) return o;
+  return n > 0.0 ? Eigen::Vector2d(o * (People::kNearestM / n))
+                 : Eigen::Vector2d(People::kNearestM, 0.0);
+}
+
+}  // namespace
+
+People::People(const PeopleConfig& config, std::uint64_t seed)
+    : config_(config), rng_(seed), a_(std::exp(-kStepS / config.correlation_s)) {
+  assert(config.count >= 0 && config.distance_m > 0.0 && config.correlation_s > 0.0);
+  for (int j = 0; j < config_.count; ++j)
+    before_.push_back(
+        keptAway(config_.distance_m * Eigen::Vector2d(rng_.gaussian(), rng_.gaussian())));
+  after_ = draw();
+}
+
+std::vector<Eigen::Vector2d> People::draw() {
+  std::vector<Eigen::Vector2d> next;
+  const double innovation = std::sqrt(1.0 - a_ * a_) * config_.distance_m;
+  for (const Eigen::Vector2d& o : before_)
+    next.push_back(
+        keptAway(a_ * o + innovation * Eigen::Vector2d(rng_.gaussian(), rng_.gaussian())));
+  return next;
+}
+
+void People::advanceTo(double t_s) {
+  while (double(k_ + 1) * kStepS < t_s) {
+    before_ = std::move(after_);
+    ++k_;
+    after_ = draw();
+  }
+}
+
+std::optional<double> People::castRay(const Eigen::Vector2d& origin, const Eigen::Vector2d& dir,
+                                      const Eigen::Vector2d& robot_world, double t_s,
+                                      double max_range_m) {
+  if (config_.count == 0) return std::nullopt;
+  advanceTo(t_s);
+  const double f = std::clamp(t_s / kStepS - double(k_), 0.0, 1.0);
+  std::optional<double> nearest;
+  for (std::size_t j = 0; j < before_.size(); ++j) {
+    const Eigen::Vector2d centre = robot_world + (1.0 - f) * before_[j] + f * after_[j];
+    if (const auto s = rayDisc(origin, dir, centre, config_.radius_m);
+        s && *s <= max_range_m && (!nearest || *s < *nearest))
+      nearest = s;
+  }
+  return nearest;
+}
+
+}  // namespace slamprep::sim
