@@ -161,7 +161,7 @@ Command addTwinCommand(CLI::App& app) {
       "dataset): scan_rate_hz, beams_per_scan_mean, no_return_fraction,\n"
       "scan_to_map_residual_median_m, scan_to_map_residual_p95_m,\n"
       "scan_residual_neighbour_correlation, scan_residual_revisit_correlation,\n"
-      "match_converged_percent, odometry_drift_per_m, odometry_step_noise_deg,\n"
+      "scan_transient_fraction, match_converged_percent, odometry_drift_per_m, odometry_step_noise_deg,\n"
       "wheels_vs_scans_residual_deg, calibration_sigma_b, calibration_b_m.");
   cli->add_option("DATASET", flags->dataset, "the recording (an imported dataset; read only)");
   cli->add_option("--out", flags->out, "the twin's folder")->check(outputPath());

@@ -36,6 +36,11 @@ const std::map<std::string, const char*>& definitions() {
        "one another: how much of the range error is fixed in the world (surfaces, clutter: seen "
        "again by the next scan) rather than drawn afresh each scan (a lidar's own noise, which a "
        "matcher mistakes for motion between two scans); the twin's noise is drawn afresh"},
+      {"scan_transient_fraction",
+       "the returns of those scans, placed by the same matched poses (0.5 m to the usable "
+       "range), that no return at least 3 s earlier or later supports within 5 cm, of all: "
+       "people walking by, things moved, clutter seen once (docs/twin.md \"Transient "
+       "returns\"); the twin's world is still"},
       {"match_converged_percent",
        "slamprep match --deskew none: accepted of all scans but the first"},
       {"odometry_drift_per_m",
@@ -125,6 +130,7 @@ TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
       {"scan_to_map_residual_p95_m", opt(r.ok, r.p95)},
       {"scan_residual_neighbour_correlation", correlations.neighbour},
       {"scan_residual_revisit_correlation", correlations.revisit},
+      {"scan_transient_fraction", correlations.transient},
       {"match_converged_percent", opt(attempted > 0, 100.0 * run.tracked.matched / attempted)},
       {"odometry_drift_per_m", driftPerMetre(d, run)},
       {"odometry_step_noise_deg", stepNoiseDeg(step_noise)},

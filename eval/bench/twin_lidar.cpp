@@ -11,6 +11,7 @@
 
 #include "slamprep/algo/timing/stamp_grid.hpp"
 #include "slamprep/core/order_statistics.hpp"
+#include "slamprep/eval/bench/transient_returns.hpp"
 #include "slamprep/eval/metrics/error_stats.hpp"
 #include "slamprep/eval/pipeline/match_trajectory.hpp"
 
@@ -396,8 +397,10 @@ ResidualCorrelations ownMapCorrelations(const Dataset& d, const LidarLayout& lay
   const WallMap map =
       extractWalls(matchedMapPoints(run, points.points, layout.usable_max_m, accepted), walls);
   const sim::PlanarCaster world(wallsAsWorld(map, walls));
-  const LidarAgainstMap m = compareWithMap(d, matchedPoses(run), accepted, world, layout, params);
-  return {m.residual_neighbour_correlation, m.residual_revisit_correlation};
+  const PoseSeries T_world_base = matchedPoses(run);
+  const LidarAgainstMap m = compareWithMap(d, T_world_base, accepted, world, layout, params);
+  return {m.residual_neighbour_correlation, m.residual_revisit_correlation,
+          transientReturns(d, T_world_base, accepted, layout.usable_max_m).fraction()};
 }
 
 MatchedScans measureMatchedScans(const Dataset& d, const LidarLayout& layout,

@@ -117,9 +117,11 @@ std::vector<MapPoint> matchedMapPoints(const MatchTrajectory& run,
 struct ResidualCorrelations {
   double neighbour = 0.0;  ///< LidarAgainstMap::residual_neighbour_correlation
   double revisit = 0.0;    ///< LidarAgainstMap::residual_revisit_correlation
+  double transient = 0.0;  ///< transientReturns' fraction, on the same matched poses
 };
 
-/// LidarAgainstMap's residual correlations of a dataset against its own map: its scans
+/// LidarAgainstMap's residual correlations of a dataset against its own map, and the share of
+/// its returns no other moment supports (transient_returns.hpp): its scans
 /// matched de-skewed (match --deskew vicp: a sweep matched as measured leaves its motion in the
 /// residuals), the accepted scans' map made into walls (extractWalls), and every beam of those
 /// scans cast in them from the matched poses. The same on a recording and on its twin: each
