@@ -46,6 +46,7 @@ void writeTwin(eval::TwinFit& fit, const TwinFlags& flags, const fs::path& parti
                nlohmann::ordered_json& json) {
   writeFileAtomic(partial / "world.yaml", fit.world_yaml);
   writeFileAtomic(partial / "scenario.yaml", fit.scenario_yaml);
+  if (!fit.transients_csv.empty()) writeFileAtomic(partial / "transients.csv", fit.transients_csv);
   // Simulated from the files as written (rounded), so their --set list gives the same bytes.
   fit.world = sim::loadWorld(partial / "world.yaml");
   sim::SimConfig& config = fit.config;
@@ -148,8 +149,10 @@ Command addTwinCommand(CLI::App& app) {
       "the wheels by the lidar mount the calibration finds where it departs from the told one)\n"
       "wheel-rate commands, fits the lidar (rate, beams, layout, range noise, a range bias by\n"
       "beam, no-returns, usable range, mount) and the odometry (geometry, rate, gaps, clock lag,\n"
-      "stamp jitter, slip of each wheel, in turns and of both wheels, gyro), and writes\n"
-      "DIR/world.yaml, DIR/scenario.yaml, DIR/twin.json (every value with how it was measured,\n"
+      "stamp jitter, slip of each wheel, in turns and of both wheels, gyro), replays the\n"
+      "returns no other moment of the recording supports (people, things moved) where and when\n"
+      "they were seen, and writes DIR/world.yaml, DIR/scenario.yaml, DIR/transients.csv,\n"
+      "DIR/twin.json (every value with how it was measured,\n"
       "and the --set list) and DIR/dataset/ (simulated, told the recording's mount). The drive\n"
       "is simulated with physics, the commands corrected in closed loop toward their kinematic\n"
       "replay, or kinematically when even so the physics' robot leaves it by more than 0.3 m\n"
@@ -161,7 +164,8 @@ Command addTwinCommand(CLI::App& app) {
       "dataset): scan_rate_hz, beams_per_scan_mean, no_return_fraction,\n"
       "scan_to_map_residual_median_m, scan_to_map_residual_p95_m,\n"
       "scan_residual_neighbour_correlation, scan_residual_revisit_correlation,\n"
-      "scan_transient_fraction, match_converged_percent, odometry_drift_per_m, odometry_step_noise_deg,\n"
+      "scan_transient_fraction, match_converged_percent, odometry_drift_per_m, "
+      "odometry_step_noise_deg,\n"
       "wheels_vs_scans_residual_deg, calibration_sigma_b, calibration_b_m.");
   cli->add_option("DATASET", flags->dataset, "the recording (an imported dataset; read only)");
   cli->add_option("--out", flags->out, "the twin's folder")->check(outputPath());

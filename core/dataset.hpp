@@ -25,6 +25,10 @@ struct ScanRecord {
   /// Ground-truth undistorted point of every beam in the lidar frame at the scan stamp
   /// (docs/design.md#what-the-simulators-truth-means); empty without truth, nullopt for no-hit.
   std::vector<std::optional<Eigen::Vector2d>> p_ref_true;
+  /// Simulated beams that returned from the world's transients (a twin's replay of its
+  /// recording's transient returns, returns that were seen): the dropped-beam fault leaves them.
+  /// Empty without any; not written.
+  std::vector<std::size_t> replayed_beams;
   /// A de-skewed scan's exact corrected points (lidar frame at the scan stamp), one per measured
   /// beam, nullopt for no return: rays that are not on the scan's regular grid. Empty for a scan
   /// on its grid (docs/dataset.md, "p_ref").

@@ -10,6 +10,7 @@ namespace {
 struct Return {
   Eigen::Vector2d p_world;
   double t_s = 0.0;
+  Eigen::Vector2d origin_world;
 };
 
 /// Returns binned in square cells of the search radius, each cell's in time order.
@@ -74,7 +75,8 @@ std::vector<Return> placedReturns(const Dataset& d, const PoseSeries& T_world_ba
       if (!T) continue;
       const double a = s.beamAngle(i);
       const Eigen::Vector2d p_lidar = s.ranges_m[i] * Eigen::Vector2d(std::cos(a), std::sin(a));
-      out.push_back({*T * (d.info.T_base_lidar * p_lidar), s.beamTime(i)});
+      const SE2 T_world_lidar = *T * d.info.T_base_lidar;
+      out.push_back({T_world_lidar * p_lidar, s.beamTime(i), T_world_lidar.translation()});
     }
   }
   return out;
@@ -90,8 +92,11 @@ TransientReturns transientReturns(const Dataset& d, const PoseSeries& T_world_ba
   const ReturnGrid grid(returns, p.radius_m);
   TransientReturns out;
   out.returns = returns.size();
-  for (const Return& r : returns)
-    if (!grid.supported(r, p.min_gap_s, p.radius_m)) ++out.transient;
+  for (const Return& r : returns) {
+    if (grid.supported(r, p.min_gap_s, p.radius_m)) continue;
+    ++out.transient;
+    if (p.keep_points) out.points.push_back({r.p_world, r.origin_world, r.t_s});
+  }
   return out;
 }
 

@@ -14,11 +14,19 @@ struct TransientParams {
   double min_gap_s = 3.0;    ///< support must come from a return at least this far in time
   double radius_m = 0.05;    ///< and lie this close (the matched map's voxel)
   double min_range_m = 0.5;  ///< nearer returns: the robot's own body and what it pushes
+  bool keep_points = false;  ///< TransientReturns::points wanted
+};
+
+/// A transient return where it was seen: the hit, the lidar it was seen from, when.
+struct TransientPoint {
+  Eigen::Vector2d p_world, origin_world;
+  double t_s = 0.0;
 };
 
 struct TransientReturns {
-  std::size_t returns = 0;    ///< valid returns placed in the world
-  std::size_t transient = 0;  ///< of those, without support
+  std::size_t returns = 0;             ///< valid returns placed in the world
+  std::size_t transient = 0;           ///< of those, without support
+  std::vector<TransientPoint> points;  ///< the transient ones, with TransientParams::keep_points
   double fraction() const { return returns ? double(transient) / double(returns) : 0.0; }
 };
 

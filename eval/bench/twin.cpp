@@ -10,6 +10,7 @@
 #include "slamprep/algo/matching/keyframe_odometry.hpp"
 #include "slamprep/core/error.hpp"
 #include "slamprep/eval/bench/trajectory_smoother.hpp"
+#include "slamprep/eval/bench/transient_returns.hpp"
 #include "slamprep/eval/bench/twin_odometry.hpp"
 #include "slamprep/eval/bench/twin_slip.hpp"
 #include "slamprep/eval/metrics/error_stats.hpp"
@@ -620,6 +621,39 @@ nlohmann::ordered_json worldJson(const WallMap& map, const WorldBuild& b) {
           {"world_cylinders", b.world.cylinders.size()}};
 }
 
+/// The recording's transient returns as its world's transients: each a disc of the search's
+/// radius whose near face is where the return was, there for half a scan period either side of
+/// its beam's time on the drive's clock, so that the twin's lidar sees it once, from about where
+/// the robot's did.
+std::vector<sim::Transient> replayedTransients(const TransientReturns& found,
+                                               const TransientParams& p, double period_s,
+                                               double t0_s) {
+  std::vector<sim::Transient> out;
+  for (const TransientPoint& q : found.points) {
+    const Eigen::Vector2d away = (q.p_world - q.origin_world).normalized();
+    const double t = q.t_s - t0_s;
+    out.push_back(
+        {t - 0.5 * period_s, t + 0.5 * period_s, q.p_world + p.radius_m * away, p.radius_m});
+  }
+  return out;
+}
+
+nlohmann::ordered_json transientsJson(const TransientReturns& found, const TransientParams& p,
+                                      double period_s) {
+  return {{"returns", found.returns},
+          {"transient", found.transient},
+          {"fraction", found.fraction()},
+          {"radius_m", p.radius_m},
+          {"present_s", period_s},
+          {"how",
+           "the recording's returns (0.5 m to the usable range) that no return at least 3 s "
+           "earlier or later lies within 5 cm of, placed by the map's matched trajectory (twin "
+           "--compare's scan_transient_fraction): each replayed as a disc of 5 cm whose near "
+           "face is where the return was, there for one scan period about its time "
+           "(transients.csv, the world's transients_file): people walking by, things moved, "
+           "clutter seen once"}};
+}
+
 nlohmann::ordered_json axisJson(const AxisNoise& a, double scale, const std::string& unit) {
   return {{"measurement_" + unit, a.measurement * scale},
           {"acceleration_psd_" + unit + "2_per_s3", a.acceleration_psd * scale * scale}};
@@ -671,7 +705,9 @@ const char* const kNotReproduced[] = {
     "twist spikes (import --json reports them; the dataset does not keep the twist)",
     ("slip whose size is not Gaussian (a few large heading errors beside many small ones): the "
      "twin's slips are Gaussian, fitted to their variance"),
-    "moving people and objects: their returns are cut from the world where the robot drove",
+    ("moving people and objects as objects: their returns are replayed one by one, each where "
+     "and when it was seen (world.transients), not as something that walks on; what stood in "
+     "the robot's path is cut from the world"),
     ("odometry sampled on a coarser internal clock (steps of 3 or 4 ticks): the twin's irregular "
      "sampling is Gaussian, fitted to its RMS about the grid"),
     ("range errors fixed in the world at scales other than 2 cm (clutter, curved surfaces): "
@@ -722,6 +758,12 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   WorldBuild built = buildWorld(map, p.walls, drive, reach);
   if (built.world.walls.empty() && built.world.cylinders.empty())
     throw InputError(name, "the matched map has no walls to make a world of");
+  TransientParams moving;
+  moving.keep_points = true;
+  const TransientReturns found =
+      transientReturns(real, run.T_world_base, accepted, f.layout.usable_max_m, moving);
+  const double period_s = f.layout.rate_hz > 0.0 ? 1.0 / f.layout.rate_hz : 0.0;
+  built.world.transients = replayedTransients(found, moving, period_s, drive.t0_s);
   const sim::PlanarCaster caster(built.world);
   f.against_map = compareWithMap(real, run.T_world_base, accepted, caster, f.layout, p.lidar);
   const PoseSeries scan_only = scanOnlyPoses(real, points, options, run);
@@ -746,7 +788,10 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   out.replay = drive.replay;
   out.sets = twinSets(f, p.seed);
   for (const std::string& s : out.sets) sim::applyOverride(out.config, s);
-  const nlohmann::ordered_json world_json = worldJson(map, built);
+  nlohmann::ordered_json world_json = worldJson(map, built);
+  world_json["transients"] = transientsJson(found, moving, period_s);
+  if (!built.world.transients.empty())
+    out.transients_csv = sim::transientsCsv(built.world.transients);
   out.world = std::move(built.world);
   out.world_yaml = worldYaml(out.world, "The world of slamprep twin " + name + " (docs/twin.md)");
   out.scenario_yaml = scenarioYaml(drive, track, p.tracking,

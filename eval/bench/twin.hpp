@@ -43,6 +43,7 @@ struct TwinFit {
   sim::World world;
   std::string world_yaml;
   std::string scenario_yaml;
+  std::string transients_csv;     ///< the world's transients_file ("": none)
   std::vector<std::string> sets;  ///< `--set key=value`, in order
   sim::SimConfig config;          ///< the defaults with `sets` applied
   nlohmann::ordered_json json;    ///< twin.json without the simulated run's part

@@ -37,6 +37,7 @@ std::string worldYaml(const sim::World& w, const std::string& comment) {
   for (const sim::Cylinder& c : w.cylinders)
     y += format("  - {center: [%.4f, %.4f], radius: %.4f, height: %.2f}\n", c.center_m.x(),
                 c.center_m.y(), c.radius_m, c.height_m);
+  if (!w.transients.empty()) y += "transients_file: transients.csv\n";
   return y;
 }
 

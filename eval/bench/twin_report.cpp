@@ -46,6 +46,15 @@ std::string twinText(const nlohmann::ordered_json& j) {
                 w["occupied_cells"].get<int>(), w["cells_on_walls_percent"].get<double>(),
                 w["cut_by_the_path"].get<int>());
   out += buf;
+  if (w.contains("transients")) {
+    const auto& t = w["transients"];
+    std::snprintf(buf, sizeof buf,
+                  "transients: %zu of %zu returns no other moment supports (%.1f %%), replayed "
+                  "for %.3f s each (transients.csv)\n",
+                  t["transient"].get<std::size_t>(), t["returns"].get<std::size_t>(),
+                  100.0 * t["fraction"].get<double>(), t["present_s"].get<double>());
+    out += buf;
+  }
   const auto& d = j["drive"];
   std::snprintf(buf, sizeof buf,
                 "drive: %zu wheel-rate knots over %.2f m; kinematic replay %.4f m RMS (max %.4f "

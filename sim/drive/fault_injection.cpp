@@ -160,6 +160,9 @@ json dropBeams(const FaultsConfig& f, std::uint64_t seed, std::vector<ScanRecord
     json beams = json::array();
     for (std::size_t i = 0; i < r.scan.size(); ++i) {
       const double u = rng.uniform();
+      // A replayed return was one the recording had: its dropouts are already the recording's.
+      if (std::find(r.replayed_beams.begin(), r.replayed_beams.end(), i) != r.replayed_beams.end())
+        continue;
       const bool drop = keep.shaped()
                             ? !(u < keep.returnProbability(r.scan.beamAngle(i), r.scan.ranges_m[i]))
                             : u < f.dropped_beam_probability;

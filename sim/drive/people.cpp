@@ -4,20 +4,10 @@
 #include <cassert>
 #include <cmath>
 
+#include "slamprep/sim/physics/transients.hpp"
+
 namespace slamprep::sim {
 namespace {
-
-/// Range to the disc (centre c, radius r) along the ray p + s d (|d| = 1), s > 0; the near root
-/// of |p + s d - c|^2 = r^2. nullopt where the ray misses it or starts inside it.
-std::optional<double> rayDisc(const Eigen::Vector2d& p, const Eigen::Vector2d& d,
-                              const Eigen::Vector2d& c, double r) {
-  const Eigen::Vector2d pc = c - p;
-  const double along = pc.dot(d);
-  const double miss_sq = pc.squaredNorm() - along * along;
-  if (miss_sq > r * r || pc.squaredNorm() <= r * r) return std::nullopt;
-  const double s = along - std::sqrt(r * r - miss_sq);
-  return s > 0.0 ? std::optional<double>(s) : std::nullopt;
-}
 
 Eigen::Vector2d keptAway(Eigen::Vector2d o) {
   const double n = o.norm();

@@ -188,9 +188,10 @@ class KinematicMotion : public Motion {
 class LidarStream {
  public:
   LidarStream(const LidarConfig& config, std::uint64_t seed, ScanReadJitter read_jitter,
-              People people, std::vector<ScanRecord>& out)
+              People people, std::vector<Transient> transients, std::vector<ScanRecord>& out)
       : lidar_(config, seed),
         people_(std::move(people)),
+        transients_(std::move(transients)),
         T_base_lidar_(SE2CosSin::from(config.T_base_lidar)),
         read_jitter_(read_jitter),
         out_(out) {
@@ -237,10 +238,7 @@ class LidarStream {
     }
     const Eigen::Vector2d dir_world = T_world_lidar.rotate(beam_dir_[beam_]);
     const Eigen::Vector2d origin_world(T_world_lidar.x, T_world_lidar.y);
-    const std::optional<double> person_m =
-        people_.castRay(origin_world, dir_world, Eigen::Vector2d(T_world_base.x, T_world_base.y),
-                        nextTime(), lidar_.config().range_max_m);
-    const double range_m = lidar_.measure(scene, origin_world, dir_world, beam_, person_m).range_m;
+    const double range_m = measureBeam(scene, origin_world, dir_world, T_world_base);
     current_.scan.ranges_m[beam_] = range_m;
     if (std::isfinite(range_m)) {
       const Eigen::Vector2d p_lidar = range_m * beam_dir_[beam_];
@@ -256,8 +254,25 @@ class LidarStream {
     }
   }
 
+  /// The beam's range: the world's, or what moves (people, the world's transients) where nearer;
+  /// a return from a transient is marked so that the dropped-beam fault leaves it.
+  double measureBeam(const Scene& scene, const Eigen::Vector2d& origin, const Eigen::Vector2d& dir,
+                     const SE2CosSin& T_world_base) {
+    const double t = nextTime(), max_m = lidar_.config().range_max_m;
+    const auto person = people_.castRay(origin, dir, {T_world_base.x, T_world_base.y}, t, max_m);
+    const auto transient = transients_.castRay(origin, dir, t, max_m);
+    const auto moving = person && transient ? std::min(person, transient)
+                        : person            ? person
+                                            : transient;
+    const Lidar::Beam beam = lidar_.measure(scene, origin, dir, beam_, moving);
+    if (transient && beam.true_range_m == *transient && std::isfinite(beam.range_m))
+      current_.replayed_beams.push_back(beam_);
+    return beam.range_m;
+  }
+
   Lidar lidar_;
   People people_;
+  TransientCaster transients_;
   SE2CosSin T_base_lidar_;
   ScanReadJitter read_jitter_;
   std::vector<Eigen::Vector2d> beam_dir_;  ///< (cos, sin) of every beam angle
@@ -332,7 +347,8 @@ class SensorStreams {
       : scene_(scene),
         lidar_(config.lidar, streamSeed(config.seed, RngStream::lidar),
                ScanReadJitter(config.faults, config.seed, config.lidar.rate_hz),
-               People(config.people, streamSeed(config.seed, RngStream::people)), data.scans),
+               People(config.people, streamSeed(config.seed, RngStream::people)),
+               scene.world().transients, data.scans),
         encoders_(config.encoders, streamSeed(config.seed, RngStream::encoder_slip), data.encoders),
         imu_(config.imu, streamSeed(config.seed, RngStream::imu), data.imu) {}
 

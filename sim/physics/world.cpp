@@ -205,7 +205,8 @@ SE2 parseStart(const YamlDoc& doc, const YAML::Node& node) {
 World parseWorld(const YamlDoc& doc, const YAML::Node& root, const std::filesystem::path& file) {
   if (!root.IsMap()) throw InputError(file.string(), "expected a mapping at the top level");
   doc.checkKeys(root, "",
-                {"name", "start", "walls", "boxes", "cylinders", "polygons", "floor_patches"});
+                {"name", "start", "walls", "boxes", "cylinders", "polygons", "floor_patches",
+                 "transients_file"});
   World world;
   world.source = file;
   world.name = file.stem().string();
@@ -227,6 +228,9 @@ World parseWorld(const YamlDoc& doc, const YAML::Node& root, const std::filesyst
   forEachItem(doc, root, "floor_patches", objects, [&](const YAML::Node& n, const std::string& k) {
     world.floor_patches.push_back(parseFloorPatch(doc, n, k, vertices));
   });
+  // Beside the world file, as a scenario's paths are: a twin's folder moves as one.
+  if (const YAML::Node t = root["transients_file"])
+    world.transients = loadTransients(file.parent_path() / doc.string(t, "transients_file"));
   if (world.walls.empty() && world.boxes.empty() && world.cylinders.empty() &&
       world.polygons.empty())
     throw InputError(file.string(), "world has no geometry (walls, boxes, cylinders, polygons)");

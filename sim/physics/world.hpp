@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "slamprep/core/se2.hpp"
+#include "slamprep/sim/physics/transients.hpp"
 
 namespace slamprep::sim {
 
@@ -58,7 +59,9 @@ struct World {
   std::vector<Cylinder> cylinders;        ///< pillars, round tables
   std::vector<Polygon> polygons;          ///< prisms of arbitrary simple outline
   std::vector<FloorPatch> floor_patches;  ///< low-friction floor areas
-  SE2 T_world_start;                      ///< where the robot starts by default
+  /// What is there only for a moment (`transients_file`): the lidar sees it, the physics not.
+  std::vector<Transient> transients;
+  SE2 T_world_start;  ///< where the robot starts by default
 };
 
 /// Loads a world file. Throws InputError("file:line: key", "...") on bad input and unknown keys.

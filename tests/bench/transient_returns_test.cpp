@@ -6,6 +6,7 @@
 
 #include <filesystem>
 
+#include "slamprep/eval/bench/twin.hpp"
 #include "slamprep/sim/drive/scenario.hpp"
 #include "slamprep/sim/drive/simulator.hpp"
 #include "slamprep/sim/physics/world.hpp"
@@ -84,6 +85,50 @@ TEST(TransientReturns, AStillRoomHasFewPeopleMany) {
       transientReturns(walked, walked.groundtruth, everyNth(walked, 1), 30.0).fraction();
   EXPECT_LT(f_still, 0.005);
   EXPECT_GT(f_walked, 0.02);  // 0.036 at seed 1: people come back near where they were
+}
+
+// A recording with people: its twin replays each transient return as a disc there for one scan
+// period, so the twin's returns are as often transient as the recording's (each from its true
+// poses), where its world alone has none.
+TEST(TransientReturns, ATwinReplaysTheRecordingsTransientReturns) {
+  const Dataset recording = figureEight(3);
+  TwinParams p;
+  p.calibrate = false;
+  TwinFit fit = fitTwin(recording, "figure-eight-with-people", p);
+  EXPECT_GT(fit.world.transients.size(), 100u);
+  EXPECT_FALSE(fit.transients_csv.empty());
+  const Dataset twin =
+      simulateTwin(fit, sim::parseScenario(fit.scenario_yaml, "twin-scenario.yaml")).dataset;
+  const auto fraction = [](const Dataset& d) {
+    return transientReturns(d, d.groundtruth, everyNth(d, 1), 30.0).fraction();
+  };
+  const double real = fraction(recording), replayed = fraction(twin);
+  EXPECT_NEAR(replayed / real, 1.0, 0.5);  // 0.0278 against 0.0359 at seed 1
+  fit.world.transients.clear();
+  const Dataset still =
+      simulateTwin(fit, sim::parseScenario(fit.scenario_yaml, "twin-scenario.yaml")).dataset;
+  EXPECT_LT(fraction(still), 0.2 * real);
+}
+
+// The dropped-beam fault leaves the beams that returned from a transient: they were returns.
+TEST(TransientReturns, TheDroppedBeamFaultLeavesReplayedReturns) {
+  sim::SimConfig c;
+  c.lidar.beams_per_revolution = 360;
+  c.faults.enable = *sim::parseFaultSet("dropped_beams", nullptr);
+  c.faults.dropped_beam_probability = 1.0;
+  sim::World world =
+      sim::loadWorld(std::filesystem::path(SLAMPREP_SOURCE_DIR) / "worlds" / "box_room.yaml");
+  world.transients.push_back({0.0, 100.0, {1.0, 0.0}, 0.2});  // 1 m ahead of the start
+  const sim::Scenario s =
+      sim::parseScenario("segments:\n  - {type: stop, duration_s: 1}\n", "t.yaml");
+  const Dataset d = sim::simulate(c, world, s).dataset;
+  ASSERT_FALSE(d.scans.empty());
+  for (const ScanRecord& r : d.scans) {
+    std::size_t returns = 0;
+    for (std::size_t i = 0; i < r.scan.size(); ++i) returns += r.scan.valid(i);
+    EXPECT_GT(returns, 5u);   // the disc, 23 deg wide from 0.8 m less the mount
+    EXPECT_LT(returns, 30u);  // and nothing else
+  }
 }
 
 }  // namespace
