@@ -136,6 +136,7 @@ std::string shortLabel(const std::string& name) {
       {"scan_to_map_residual_p95_m", "res. 95"},
       {"scan_residual_neighbour_correlation", "corr."},
       {"scan_residual_revisit_correlation", "revisit"},
+      {"scan_transient_fraction", "trans."},
       {"match_converged_percent", "conv."},
       {"odometry_drift_per_m", "drift"},
       {"odometry_step_noise_deg", "step"},
