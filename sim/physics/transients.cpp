@@ -79,11 +79,21 @@ TransientCaster::TransientCaster(std::vector<Transient> transients)
     : by_start_(std::move(transients)) {
   std::stable_sort(by_start_.begin(), by_start_.end(),
                    [](const Transient& a, const Transient& b) { return a.from_s < b.from_s; });
+  for (const Transient& t : by_start_) longest_s_ = std::max(longest_s_, t.to_s - t.from_s);
 }
 
 std::optional<double> TransientCaster::castRay(const Eigen::Vector2d& origin,
                                                const Eigen::Vector2d& dir, double t_s,
                                                double max_range_m) {
+  if (t_s < last_t_s_) {  // stepped back: those that began since may not have, and some ended
+    present_.clear();
+    const auto first =
+        std::partition_point(by_start_.begin(), by_start_.end(), [&](const Transient& t) {
+          return t.from_s < t_s - longest_s_;  // began before the longest could last: over
+        });
+    next_ = static_cast<std::size_t>(first - by_start_.begin());
+  }
+  last_t_s_ = t_s;
   for (; next_ < by_start_.size() && by_start_[next_].from_s <= t_s; ++next_)
     present_.push_back(next_);
   std::erase_if(present_, [&](std::size_t i) { return by_start_[i].to_s < t_s; });

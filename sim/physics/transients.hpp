@@ -24,7 +24,8 @@ std::vector<Transient> loadTransients(const std::filesystem::path& file);
 /// The same format, written.
 std::string transientsCsv(const std::vector<Transient>& transients);
 
-/// Casts rays against the transients present at a time; the times asked must not decrease.
+/// Casts rays against the transients present at a time; fastest when the times asked do not
+/// decrease (a scan's beams), exact when they step back (a scan read early).
 class TransientCaster {
  public:
   explicit TransientCaster(std::vector<Transient> transients);
@@ -35,7 +36,9 @@ class TransientCaster {
 
  private:
   std::vector<Transient> by_start_;  ///< sorted by from_s
-  std::size_t next_ = 0;             ///< the first not yet present
+  double longest_s_ = 0.0;           ///< the longest to_s - from_s
+  double last_t_s_ = 0.0;
+  std::size_t next_ = 0;  ///< the first not yet present
   std::vector<std::size_t> present_;
 };
 

@@ -30,6 +30,9 @@ TEST(Transients, ADiscIsSeenOnlyWhileItIsThere) {
   EXPECT_FALSE(caster.castRay(o, east, 2.5, 4.0));  // beyond the range
   EXPECT_FALSE(caster.castRay(o, east, 3.5, 30.0));
   EXPECT_TRUE(caster.castRay(o, north, 9.0, 30.0));
+  // Asked again earlier (a scan read before the last one ended): what was there then.
+  EXPECT_NEAR(*caster.castRay(o, east, 2.9, 30.0), 4.9, 1e-12);
+  EXPECT_FALSE(caster.castRay(o, east, 1.9, 30.0));
 }
 
 TEST(Transients, TheFileReadsBackAsWritten) {
