@@ -7,11 +7,8 @@
 namespace slamprep::eval {
 namespace {
 
-struct Return {
-  Eigen::Vector2d p_world;
-  double t_s = 0.0;
-  Eigen::Vector2d origin_world;
-};
+/// Every return placed, transient or not, as TransientReturns::points keeps the transient ones.
+using Return = TransientPoint;
 
 /// Returns binned in square cells of the search radius, each cell's in time order.
 class ReturnGrid {
@@ -73,10 +70,8 @@ std::vector<Return> placedReturns(const Dataset& d, const PoseSeries& T_world_ba
       if (!s.valid(i) || s.ranges_m[i] < p.min_range_m || s.ranges_m[i] > max_range_m) continue;
       const auto T = T_world_base.at(s.beamTime(i));
       if (!T) continue;
-      const double a = s.beamAngle(i);
-      const Eigen::Vector2d p_lidar = s.ranges_m[i] * Eigen::Vector2d(std::cos(a), std::sin(a));
       const SE2 T_world_lidar = *T * d.info.T_base_lidar;
-      out.push_back({T_world_lidar * p_lidar, s.beamTime(i), T_world_lidar.translation()});
+      out.push_back({T_world_lidar * s.point(i), T_world_lidar.translation(), s.beamTime(i)});
     }
   }
   return out;
@@ -95,7 +90,7 @@ TransientReturns transientReturns(const Dataset& d, const PoseSeries& T_world_ba
   for (const Return& r : returns) {
     if (grid.supported(r, p.min_gap_s, p.radius_m)) continue;
     ++out.transient;
-    if (p.keep_points) out.points.push_back({r.p_world, r.origin_world, r.t_s});
+    if (p.keep_points) out.points.push_back(r);
   }
   return out;
 }
