@@ -120,7 +120,7 @@ TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
   const ErrorStats r = summarize(s.residuals_m);
   const double attempted = double(run.tracked.scans.size()) - 1.0;
   const CalibrationFigures cal = calibrationFigures(dir, d);
-  const ResidualCorrelations correlations = ownMapCorrelations(d, l);
+  const ResidualCorrelations correlations = ownMapCorrelations(d, l, {}, {}, true);
   auto opt = [](bool ok, double v) { return ok ? std::optional<double>(v) : std::nullopt; };
   s.values = {
       {"scan_rate_hz", l.rate_hz},

@@ -390,7 +390,7 @@ PoseSeries matchedPoses(const MatchTrajectory& run) {
 
 ResidualCorrelations ownMapCorrelations(const Dataset& d, const LidarLayout& layout,
                                         const WallExtractionParams& walls,
-                                        const LidarMapParams& params) {
+                                        const LidarMapParams& params, bool count_transients) {
   const ScanPoints points = matchScanPoints(d, "vicp", false);
   const MatchTrajectory run = matchTrajectory(d, points, twinMatchOptions());
   std::vector<char> accepted;
@@ -400,7 +400,9 @@ ResidualCorrelations ownMapCorrelations(const Dataset& d, const LidarLayout& lay
   const PoseSeries T_world_base = matchedPoses(run);
   const LidarAgainstMap m = compareWithMap(d, T_world_base, accepted, world, layout, params);
   return {m.residual_neighbour_correlation, m.residual_revisit_correlation,
-          transientReturns(d, T_world_base, accepted, layout.usable_max_m).fraction()};
+          count_transients
+              ? transientReturns(d, T_world_base, accepted, layout.usable_max_m).fraction()
+              : 0.0};
 }
 
 MatchedScans measureMatchedScans(const Dataset& d, const LidarLayout& layout,

@@ -117,7 +117,7 @@ std::vector<MapPoint> matchedMapPoints(const MatchTrajectory& run,
 struct ResidualCorrelations {
   double neighbour = 0.0;  ///< LidarAgainstMap::residual_neighbour_correlation
   double revisit = 0.0;    ///< LidarAgainstMap::residual_revisit_correlation
-  double transient = 0.0;  ///< transientReturns' fraction, on the same matched poses
+  double transient = 0.0;  ///< transientReturns' fraction, on the same matched poses (or 0)
 };
 
 /// LidarAgainstMap's residual correlations of a dataset against its own map, and the share of
@@ -126,9 +126,12 @@ struct ResidualCorrelations {
 /// residuals), the accepted scans' map made into walls (extractWalls), and every beam of those
 /// scans cast in them from the matched poses. The same on a recording and on its twin: each
 /// against the walls of its own matched map, so the twin's matched drift does not count.
+/// `transient` is counted only with `count_transients` (the comparison's; the twin's tuning runs
+/// do not read it).
 ResidualCorrelations ownMapCorrelations(const Dataset& dataset, const LidarLayout& layout,
                                         const WallExtractionParams& walls = {},
-                                        const LidarMapParams& params = {});
+                                        const LidarMapParams& params = {},
+                                        bool count_transients = false);
 
 /// What the twin tunes its range noise and its correlation to, measured alike on the recording
 /// and the twin.
