@@ -539,18 +539,18 @@ DiffDriveParams turningGeometry(DiffDriveParams g, const std::optional<Eigen::Ve
   return g;
 }
 
-/// A dataset's random wheel slip: its wheels against its scans matched alone, moved to the
-/// wheels' clock by the scans' lag (a lag would otherwise look like slip in turns).
-WheelSlipFit slipAgainstScans(const Dataset& d, const std::string& name,
-                              const PoseSeries& scan_only, const DiffDriveParams& geometry,
-                              double lag_s) {
+/// What a dataset's random wheel slip is fitted on: its wheels against its scans matched alone,
+/// moved to the wheels' clock by the scans' lag (a lag would otherwise look like slip in turns).
+WheelSlipInput slipAgainstScans(const Dataset& d, const std::string& name,
+                                const PoseSeries& scan_only, const DiffDriveParams& geometry,
+                                double lag_s) {
   PoseSeries accepted;
   for (const auto& s : scan_only.samples()) accepted.push_back(s.stamp_s - lag_s, s.value);
-  return fitWheelSlip(odometryEncoders(d, name), geometry, accepted);
+  return {odometryEncoders(d, name), geometry, std::move(accepted)};
 }
 
-WheelSlipFit recordingSlip(const Dataset& real, const std::string& name,
-                           const PoseSeries& scan_only, const Fitted& f) {
+WheelSlipInput recordingSlipInput(const Dataset& real, const std::string& name,
+                                  const PoseSeries& scan_only, const Fitted& f) {
   return slipAgainstScans(real, name, scan_only, turningGeometry(f.true_geometry, f.turn_ratios),
                           f.lag_measured ? f.scan_lag_s : 0.0);
 }
@@ -768,8 +768,10 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   f.against_map = compareWithMap(real, run.T_world_base, accepted, caster, f.layout, p.lidar);
   const PoseSeries scan_only = scanOnlyPoses(real, points, options, run);
   measureLag(real, scan_only, p.deskew, f);
-  f.slip = recordingSlip(real, name, scan_only, f);
+  WheelSlipInput slip_input = recordingSlipInput(real, name, scan_only, f);
+  f.slip = fitWheelSlip(slip_input);
   TwinFit out;
+  out.recording_slip_input = std::move(slip_input);
   const MatchedScans as_measured = measureMatchedScans(real, f.layout, p.walls, p.lidar);
   out.residual_median_m = as_measured.residual_median_m;
   dropBeamBiasBeyondResidual(as_measured.residual_median_m, f.against_map);
@@ -780,10 +782,7 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   out.layout = f.layout;
   out.walls = p.walls;
   out.lidar = p.lidar;
-  out.recording_slip_sigma = f.slip.sigma;
-  out.recording_turn_slip_sigma = f.slip.turn_sigma;
-  out.recording_timing_jitter_s = f.slip.timing_jitter_s;
-  out.recording_common_slip_sigma = f.slip.common_sigma;
+  out.recording_slip = f.slip;
   out.deskew = p.deskew;
   out.replay = drive.replay;
   out.sets = twinSets(f, p.seed);
@@ -924,7 +923,7 @@ double nextFixedShare(const std::vector<std::pair<double, double>>& runs, double
 
 namespace {
 
-/// A run without slip measured as the recording was (recordingSlip): against its scans matched
+/// A run without slip measured as the recording was (recordingSlipInput): against its scans matched
 /// alone, its wheels turned by the agreement's ratios, moved by the clock offset it was given.
 /// What its physics slips, and what its matcher and its lidar's sweep add as in the recording
 /// (against the ground truth they were left out of one side). The run at the tuned range noise:
@@ -936,15 +935,36 @@ WheelSlipFit slipWithoutSlip(const TwinFit& fit, const Dataset& d) {
   const algo::PairAgreement* p = algo::wheelsAgainstScans(agreement);
   const sim::FaultsConfig& faults = fit.config.faults;
   const double lag_s = faults.enable.has(sim::Fault::clock_offset) ? faults.clock_offset_s : 0.0;
-  return slipAgainstScans(
+  return fitWheelSlip(slipAgainstScans(
       d, "the twin", scan_only,
-      turningGeometry(*d.info.true_geometry, p ? p->wheel_ratios : std::nullopt), lag_s);
+      turningGeometry(*d.info.true_geometry, p ? p->wheel_ratios : std::nullopt), lag_s));
+}
+
+/// The recording's slip fitted again with its reference noise held at what the twin's own scans
+/// show on the same drive (`physics`), where that is less, and its slips as they were: the rest
+/// of that noise, which does not grow with the piece as a slip does, is not its matcher's, and
+/// the timing takes it. nullopt where it is not less.
+std::optional<WheelSlipFit> slipBeyondTheMatcher(const TwinFit& fit, const WheelSlipFit& physics) {
+  const WheelSlipFit& free = fit.recording_slip;
+  if (!free.fitted || !physics.fitted || !(physics.reference_noise_rad < free.reference_noise_rad))
+    return std::nullopt;
+  WheelSlipParams params;
+  params.reference_noise_rad = physics.reference_noise_rad;
+  params.slip_sigma = free.sigma;
+  params.turn_slip_sigma = free.turn_sigma;
+  WheelSlipFit held = fitWheelSlip(fit.recording_slip_input, params);
+  if (!held.fitted) return std::nullopt;
+  held.common_fitted = free.common_fitted;  // Eq. (2) as first fitted: no heading in it
+  held.common_sigma = free.common_sigma;
+  return held;
 }
 
 /// The twin's random slips: the recording's less what a run without them shows already,
 /// measured the same way (variances add). True when the twin is given some.
 bool setSlip(TwinFit& fit, const sim::SimResult& without) {
   const WheelSlipFit physics = slipWithoutSlip(fit, without.dataset);
+  const std::optional<WheelSlipFit> held = slipBeyondTheMatcher(fit, physics);
+  const WheelSlipFit& recording = held ? *held : fit.recording_slip;
   const auto beyond = [](double real, double physics_sigma) {
     return std::sqrt(std::max(0.0, real * real - physics_sigma * physics_sigma));
   };
@@ -958,15 +978,24 @@ bool setSlip(TwinFit& fit, const sim::SimResult& without) {
                             num(sim::kMaxSlipSigma));
     return std::min(value, sim::kMaxSlipSigma);
   };
-  const double sigma = given("twin_sigma", beyond(fit.recording_slip_sigma, physics.sigma));
+  const double sigma = given("twin_sigma", beyond(recording.sigma, physics.sigma));
   const double turn_sigma =
-      given("twin_turn_sigma", beyond(fit.recording_turn_slip_sigma, physics.turn_sigma));
-  const double jitter_s = beyond(fit.recording_timing_jitter_s, physics.timing_jitter_s);
+      given("twin_turn_sigma", beyond(recording.turn_sigma, physics.turn_sigma));
+  const double jitter_s = beyond(recording.timing_jitter_s, physics.timing_jitter_s);
   const double common_sigma =
-      given("twin_common_sigma", beyond(fit.recording_common_slip_sigma, physics.common_sigma));
+      given("twin_common_sigma", beyond(recording.common_sigma, physics.common_sigma));
   const auto measured = [&](double v) {
     return physics.fitted ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
   };
+  j["physics_reference_noise_rad"] = measured(physics.reference_noise_rad);
+  j["reference_noise_held"] =
+      !held
+          ? nlohmann::ordered_json(nullptr)
+          : nlohmann::ordered_json{{"reference_noise_rad", recording.reference_noise_rad},
+                                   {"sigma", recording.sigma},
+                                   {"turn_sigma", recording.turn_sigma},
+                                   {"timing_jitter_s", recording.timing_jitter_s},
+                                   {"timing_likelihood_ratio", recording.timing_likelihood_ratio}};
   j["physics_sigma"] = measured(physics.sigma);
   j["twin_sigma"] = sigma;
   j["physics_turn_sigma"] = measured(physics.turn_sigma);

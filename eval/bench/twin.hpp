@@ -12,6 +12,7 @@
 #include "slamprep/core/dataset.hpp"
 #include "slamprep/eval/bench/twin_drive.hpp"
 #include "slamprep/eval/bench/twin_lidar.hpp"
+#include "slamprep/eval/bench/twin_slip.hpp"
 #include "slamprep/eval/bench/twin_walls.hpp"
 #include "slamprep/sim/drive/config.hpp"
 #include "slamprep/sim/drive/scenario.hpp"
@@ -70,12 +71,11 @@ struct TwinFit {
   double max_physics_deviation_m = 0.3;
   std::string deskew;  ///< how the scans were matched for the map and the slip (TwinParams)
   /// The random wheel slip the recording shows (its wheels with the true geometry against its
-  /// scans matched alone): simulateTwin gives the twin what its run without slip at the tuned
-  /// range noise, measured the same way, does not show already.
-  double recording_slip_sigma = 0.0;
-  double recording_turn_slip_sigma = 0.0;    ///< and its slip in turns (the same)
-  double recording_timing_jitter_s = 0.0;    ///< and when its wheels are read (the same)
-  double recording_common_slip_sigma = 0.0;  ///< and the slip both wheels share (the same)
+  /// scans matched alone), and what it was fitted on: simulateTwin gives the twin what its run
+  /// without slip at the tuned range noise, measured the same way, does not show already, the
+  /// recording fitted again with its reference noise held at that run's where the run's is less.
+  WheelSlipFit recording_slip;
+  WheelSlipInput recording_slip_input;
 };
 
 /// Simulates the twin, in physics mode when its robot follows the replay within

@@ -22,7 +22,8 @@ using Matrix = Eigen::Matrix<double, kVariances, kVariances>;
 struct Piece {
   double error_rad = 0.0;
   Vector x = Vector::Zero();
-  double known = 0.0;  ///< variance taken as known (Eq. 2's wheel slip term), not fitted
+  /// Variance taken as known, not fitted: Eq. (2)'s wheel slip term; Eq. (1)'s held ones.
+  double known = 0.0;
   double predicted(const Vector& v) const { return v.dot(x) + known; }
 };
 
@@ -136,7 +137,9 @@ double logLikelihood(const std::vector<Piece>& pieces, const Variances& v, std::
 /// dtheta^2 reweighted by 1 / (predicted variance)^2, the inverse of a Gaussian dtheta^2's
 /// variance 2 (v . x)^2 (Fisher scoring), until it settles. The first pass assumes slip only
 /// (c = 0), so a long piece does not outweigh many short ones. nullopt where a variance comes
-/// out negative: its maximum lies on a smaller subset.
+/// out negative once it has settled: its maximum lies on a smaller subset. (Judged on the first
+/// pass, the start's weights decided: a reference noise held at (8 mrad)^2 made the turn slip of
+/// a Neato's spins come out negative there, from the many straight pieces whose error is less.)
 std::optional<Variances> fitSubsetByLikelihood(const std::vector<Piece>& pieces, double floor,
                                                int subset) {
   constexpr int kPasses = 12;
@@ -144,13 +147,14 @@ std::optional<Variances> fitSubsetByLikelihood(const std::vector<Piece>& pieces,
   Variances v(1.0, 1.0, 0.0, 0.0);
   for (int pass = 0; pass < kPasses; ++pass) {
     for (std::size_t k = 0; k < pieces.size(); ++k) {
-      const double predicted = std::max(floor, pieces[k].predicted(v));
+      const double predicted = std::max(floor, pieces[k].predicted(v.cwiseMax(0.0)));
       weights[k] = 1.0 / (predicted * predicted);
     }
     const std::optional<Variances> next = fitSubset(pieces, weights, subset);
-    if (!next || (next->array() < 0.0).any()) return std::nullopt;
+    if (!next) return std::nullopt;
     v = *next;
   }
+  if ((v.array() < 0.0).any()) return std::nullopt;
   return v;
 }
 
@@ -189,6 +193,20 @@ std::vector<std::pair<double, double>> allPieces(const PoseSeries& reference,
   return stamps;
 }
 
+/// Eq. (1)'s sigmas held by `params` (sigma, sigma_turn, sigma_t, sqrt(c)): < 0 where fitted.
+Vector heldHeadingSigmas(const WheelSlipParams& params) {
+  return {params.slip_sigma, params.turn_slip_sigma, -1.0, params.reference_noise_rad};
+}
+
+/// Which of Eq. (1)'s variances `params` leaves to the fit.
+int fittedHeadingVariances(const WheelSlipParams& params) {
+  const Vector held = heldHeadingSigmas(params);
+  int fitted = 0;
+  for (int i = 0; i < kVariances; ++i)
+    if (held(i) < 0.0) fitted |= 1 << i;
+  return fitted;
+}
+
 /// The pieces' heading errors and Eq. (1)'s regressors.
 std::vector<Piece> headingPieces(const OdometryEncoders& encoders, const DiffDriveParams& g,
                                  const PoseSeries& reference, const PoseSeries& odometry,
@@ -202,7 +220,14 @@ std::vector<Piece> headingPieces(const OdometryEncoders& encoders, const DiffDri
     if (std::abs(error) <= max_error && q(0) > 0.0) {
       const double w0 = turnRate(odometry, t0, params.rate_span_s);
       const double w1 = turnRate(odometry, t1, params.rate_span_s);
-      pieces.push_back({error, Vector(q(0), q(1), w0 * w0 + w1 * w1, 1.0)});
+      Piece p{error, Vector(q(0), q(1), w0 * w0 + w1 * w1, 1.0)};
+      const Vector held = heldHeadingSigmas(params);
+      for (int i = 0; i < kVariances; ++i)
+        if (held(i) >= 0.0) {  // its variance known, its regressor out
+          p.known += held(i) * held(i) * p.x(i);
+          p.x(i) = 0.0;
+        }
+      pieces.push_back(p);
     }
   }
   return pieces;
@@ -284,8 +309,8 @@ struct TestedFit {
   double likelihood_ratio = 0.0;  ///< 2 (log L with the tested variance - log L without)
 };
 
-TestedFit fitWithTest(std::vector<Piece> pieces, double floor, int tested, double min_ratio,
-                      const WheelSlipParams& params) {
+TestedFit fitWithTest(std::vector<Piece> pieces, double floor, int allowed, int tested,
+                      double min_ratio, const WheelSlipParams& params) {
   TestedFit fit;
   fit.pieces = pieces.size();
   if (pieces.size() < params.min_pieces) return fit;
@@ -293,14 +318,13 @@ TestedFit fitWithTest(std::vector<Piece> pieces, double floor, int tested, doubl
   // and refitted until the kept set repeats.
   for (std::size_t before = 0; before != pieces.size() && pieces.size() >= params.min_pieces;) {
     before = pieces.size();
-    pieces =
-        withoutOutliers(pieces, fitMostLikely(pieces, floor, kAllVariances), params.outlier_sigmas);
+    pieces = withoutOutliers(pieces, fitMostLikely(pieces, floor, allowed), params.outlier_sigmas);
   }
   fit.pieces = pieces.size();
   fit.fitted = pieces.size() >= params.min_pieces;
   if (!fit.fitted) return fit;
-  fit.v = fitMostLikely(pieces, floor, kAllVariances);
-  const Variances without = fitMostLikely(pieces, floor, kAllVariances & ~tested);
+  fit.v = fitMostLikely(pieces, floor, allowed);
+  const Variances without = fitMostLikely(pieces, floor, allowed & ~tested);
   const std::size_t durations = params.piece_s.size();
   fit.likelihood_ratio = 2.0 * (logLikelihood(pieces, fit.v, durations, floor) -
                                 logLikelihood(pieces, without, durations, floor));
@@ -312,16 +336,19 @@ TestedFit fitWithTest(std::vector<Piece> pieces, double floor, int tested, doubl
 /// heading noise. The timing and the turn slip both show in turns: on a short recording they
 /// are told apart by chance, so the timing is tested.
 void fitHeading(std::vector<Piece> pieces, const WheelSlipParams& params, WheelSlipFit& fit) {
-  const TestedFit t = fitWithTest(std::move(pieces), params.min_sigma_rad * params.min_sigma_rad,
-                                  kTiming, params.timing_likelihood_ratio, params);
+  const TestedFit t =
+      fitWithTest(std::move(pieces), params.min_sigma_rad * params.min_sigma_rad,
+                  fittedHeadingVariances(params), kTiming, params.timing_likelihood_ratio, params);
   fit.pieces = t.pieces;
   fit.fitted = t.fitted;
   if (!t.fitted) return;
   fit.timing_likelihood_ratio = t.likelihood_ratio;
-  fit.sigma = std::sqrt(t.v(0));
-  fit.turn_sigma = std::sqrt(t.v(1));
-  fit.timing_jitter_s = std::sqrt(t.v(2));
-  fit.reference_noise_rad = std::sqrt(t.v(3));
+  const Vector held = heldHeadingSigmas(params);
+  const auto sigma = [&](int i) { return held(i) >= 0.0 ? held(i) : std::sqrt(t.v(i)); };
+  fit.sigma = sigma(0);
+  fit.turn_sigma = sigma(1);
+  fit.timing_jitter_s = sigma(2);
+  fit.reference_noise_rad = sigma(3);
 }
 
 /// Eq. (2) on the distance pieces: the common slip and the reference's distance noise (its
@@ -330,7 +357,7 @@ void fitHeading(std::vector<Piece> pieces, const WheelSlipParams& params, WheelS
 void fitDistance(std::vector<Piece> pieces, const WheelSlipParams& params, WheelSlipFit& fit) {
   constexpr int kCommon = 1 << 0;
   const TestedFit t = fitWithTest(std::move(pieces), params.min_sigma_m * params.min_sigma_m,
-                                  kCommon, params.common_likelihood_ratio, params);
+                                  kAllVariances, kCommon, params.common_likelihood_ratio, params);
   fit.distance_pieces = t.pieces;
   fit.common_fitted = t.fitted;
   if (!t.fitted) return;

@@ -42,6 +42,14 @@ struct WheelSlipParams {
   /// The common slip is fitted only where it raises the distance pieces' likelihood (each
   /// stretch counted once) by this likelihood ratio, as the timing is.
   double common_likelihood_ratio = 10.83;
+  /// Eq. (1)'s variances held, not fitted, where >= 0 (< 0: fitted): the reference's own heading
+  /// noise per piece c, the wheel slip and the turn slip. A twin holds its recording's c at what
+  /// the twin's own scans show and the slips at the recording's: a robot turning steadily (a
+  /// wall or person follower) turns as fast at every piece's ends, so the timing's W_k is about
+  /// constant and c, fitted free, takes the timing; held, the timing takes what c did beyond it.
+  double reference_noise_rad = -1.0;
+  double slip_sigma = -1.0;
+  double turn_slip_sigma = -1.0;
 };
 
 struct WheelSlipFit {
@@ -53,7 +61,8 @@ struct WheelSlipFit {
   /// 2 (log L with the timing - log L without it), each stretch of pieces counted once: the
   /// timing is kept (timing_jitter_s > 0) only beyond WheelSlipParams::timing_likelihood_ratio.
   double timing_likelihood_ratio = 0.0;
-  /// Heading noise per piece that does not grow with the wheels' motion: the reference's own.
+  /// Heading noise per piece that does not grow with the wheels' motion: the reference's own
+  /// (sigma, turn_sigma and this: WheelSlipParams's where held).
   double reference_noise_rad = 0.0;
   double tau_s = 0.0;
   /// Slip both wheels share (Eq. 2): the distance the wheels count against the reference's, with
@@ -65,6 +74,14 @@ struct WheelSlipFit {
   /// kept (common_sigma > 0) only beyond WheelSlipParams::common_likelihood_ratio.
   double common_likelihood_ratio = 0.0;
   double reference_distance_noise_m = 0.0;  ///< the reference's own, per piece
+};
+
+/// What a slip fit reads: the wheels, the geometry they are integrated with, and the reference
+/// heading on the wheels' clock.
+struct WheelSlipInput {
+  OdometryEncoders encoders;
+  DiffDriveParams geometry;
+  PoseSeries T_world_base_reference;
 };
 
 /// Least squares of the pieces' (all durations) squared heading error on what the slip model
@@ -98,5 +115,8 @@ struct WheelSlipFit {
 WheelSlipFit fitWheelSlip(const OdometryEncoders& encoders, const DiffDriveParams& true_geometry,
                           const PoseSeries& T_world_base_reference,
                           const WheelSlipParams& params = {});
+inline WheelSlipFit fitWheelSlip(const WheelSlipInput& in, const WheelSlipParams& params = {}) {
+  return fitWheelSlip(in.encoders, in.geometry, in.T_world_base_reference, params);
+}
 
 }  // namespace slamprep::eval
