@@ -22,6 +22,20 @@ std::string valueOrDash(const nlohmann::ordered_json& j, const char* key, const 
   return buf;
 }
 
+/// Where the recording's slip was fitted again with the matches' heading noise held at the
+/// twin's own (docs/twin.md "Wheel slip"): what that fit gave the timing.
+std::string heldText(const nlohmann::ordered_json& s) {
+  if (!s.contains("reference_noise_held") || !s["reference_noise_held"].is_object()) return "";
+  const auto& h = s["reference_noise_held"];
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "slip: the matches' heading noise %.1f mrad per piece where the twin's own show "
+                "%.1f: held there, the read jitter %.4f s\n",
+                1e3 * s["reference_noise_rad"].get<double>(),
+                1e3 * h["reference_noise_rad"].get<double>(), h["timing_jitter_s"].get<double>());
+  return buf;
+}
+
 /// The slips the recording shows and what the twin was given beyond its physics' own.
 std::string slipText(const nlohmann::ordered_json& s) {
   const auto pair = [&s](const char* recording, const char* twin, const char* format) {
@@ -30,7 +44,7 @@ std::string slipText(const nlohmann::ordered_json& s) {
   return "slip: each wheel " + pair("sigma", "twin_sigma", "%.4f") + ", in turns " +
          pair("turn_sigma", "twin_turn_sigma", "%.4f") + ", both wheels " +
          pair("common_sigma", "twin_common_sigma", "%.4f") + ", read jitter " +
-         pair("timing_jitter_s", "twin_read_jitter_s", "%.4f") + " s\n";
+         pair("timing_jitter_s", "twin_read_jitter_s", "%.4f") + " s\n" + heldText(s);
 }
 
 }  // namespace
