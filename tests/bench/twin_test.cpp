@@ -342,6 +342,23 @@ TEST(Twin, FallsBackToKinematicWhenThePhysicsLeavesTheReplay) {
   EXPECT_LT(worst, 1e-4);  // the tracker integrates in 10 ms steps, the simulator in 1 ms
 }
 
+/// A kinematic run of `scenario_yaml` in box_room.yaml (360 beams; the commands use the true
+/// geometry: a wrong one would drift the path into a wall) whose encoders are read
+/// `read_jitter_s` off their stamps; `c` sets the rest.
+Dataset kinematicRecording(sim::SimConfig c, std::uint64_t seed, double read_jitter_s,
+                           const std::string& scenario_yaml) {
+  c.mode = sim::SimMode::kinematic;
+  c.seed = seed;
+  c.lidar.beams_per_revolution = 360;
+  if (read_jitter_s > 0.0) {
+    sim::applyOverride(c, "faults.enable=read_jitter");
+    c.faults.read_jitter_encoders_sigma_s = read_jitter_s;
+  }
+  c.nominal = {0.0, 0.0, 0.0};
+  const sim::World world = sim::loadWorld(kWorlds / "box_room.yaml");
+  return sim::simulate(c, world, sim::parseScenario(scenario_yaml, "t.yaml")).dataset;
+}
+
 /// Three UMBmark squares (1.5 m sides, 90 deg turns on the spot; about 100 s), kinematic, with
 /// random wheel slip of `sigma`, slip in turns of `turn_sigma` and the encoders read
 /// `read_jitter_s` off their stamps: straight driving and turns apart, so that the fit can tell
@@ -349,34 +366,27 @@ TEST(Twin, FallsBackToKinematicWhenThePhysicsLeavesTheReplay) {
 Dataset slippingRecording(double sigma, double turn_sigma = 0.0, std::uint64_t seed = 1,
                           double read_jitter_s = 0.0, double common_sigma = 0.0, int laps = 3) {
   sim::SimConfig c;
-  c.mode = sim::SimMode::kinematic;
-  c.seed = seed;
-  c.lidar.beams_per_revolution = 360;
   c.encoders.slip_sigma = sigma;
   c.encoders.turn_slip_sigma = turn_sigma;
   c.encoders.common_slip_sigma = common_sigma;
-  if (read_jitter_s > 0.0) {
-    sim::applyOverride(c, "faults.enable=read_jitter");
-    c.faults.read_jitter_encoders_sigma_s = read_jitter_s;
-  }
-  // The commands use the nominal geometry: a wrong one would drift the squares into a wall.
-  c.nominal = {0.0, 0.0, 0.0};
-  const sim::World world = sim::loadWorld(kWorlds / "box_room.yaml");
-  const sim::Scenario s = sim::parseScenario(
-      "segments:\n  - {type: umbmark, direction: ccw, side_m: 1.5, speed_mps: 0.4, "
-      "turn_rate_radps: 0.8, laps: " +
-          std::to_string(laps) + "}\n",
-      "t.yaml");
-  return sim::simulate(c, world, s).dataset;
+  return kinematicRecording(c, seed, read_jitter_s,
+                            "segments:\n  - {type: umbmark, direction: ccw, side_m: 1.5, "
+                            "speed_mps: 0.4, turn_rate_radps: 0.8, laps: " +
+                                std::to_string(laps) + "}\n");
+}
+
+/// The slip fit against the scans matched alone, with `params`.
+WheelSlipFit matchedSlipFit(const Dataset& d, const WheelSlipParams& params = {}) {
+  const ScanPoints points = matchScanPoints(d, "none", false);
+  const MatchTrajectory run = matchTrajectory(d, points, {});
+  return fitWheelSlip(odometryEncoders(d, "slipping"), *d.info.true_geometry,
+                      scanOnlyPoses(d, points, {}, run), params);
 }
 
 /// The slip fitted against the ground truth and against the scans matched alone.
 std::pair<WheelSlipFit, WheelSlipFit> slipFits(const Dataset& d) {
-  const OdometryEncoders enc = odometryEncoders(d, "slipping");
-  const ScanPoints points = matchScanPoints(d, "none", false);
-  const MatchTrajectory run = matchTrajectory(d, points, {});
-  return {fitWheelSlip(enc, *d.info.true_geometry, d.groundtruth),
-          fitWheelSlip(enc, *d.info.true_geometry, scanOnlyPoses(d, points, {}, run))};
+  return {fitWheelSlip(odometryEncoders(d, "slipping"), *d.info.true_geometry, d.groundtruth),
+          matchedSlipFit(d)};
 }
 
 // Forward and inverse: slip simulated with sigma, fitted back from the encoders against the
@@ -457,30 +467,12 @@ TEST(Twin, FitsTheReadJitterItWasSimulatedWith) {
   EXPECT_LT(matched.sigma, 0.004);
 }
 
-/// Three figure eights (0.7 m circles at 0.25 m/s: the turn rate 0.36 rad/s everywhere but where it
-/// flips, about 85 s), kinematic, the encoders read `read_jitter_s` off their stamps.
+/// Three figure eights (0.7 m circles at 0.25 m/s: the turn rate 0.36 rad/s everywhere but where
+/// it flips, about 85 s), kinematic, the encoders read `read_jitter_s` off their stamps.
 Dataset weavingRecording(double read_jitter_s, std::uint64_t seed = 1) {
-  sim::SimConfig c;
-  c.mode = sim::SimMode::kinematic;
-  c.seed = seed;
-  c.lidar.beams_per_revolution = 360;
-  if (read_jitter_s > 0.0) {
-    sim::applyOverride(c, "faults.enable=read_jitter");
-    c.faults.read_jitter_encoders_sigma_s = read_jitter_s;
-  }
-  c.nominal = {0.0, 0.0, 0.0};
-  const sim::World world = sim::loadWorld(kWorlds / "box_room.yaml");
-  const sim::Scenario s = sim::parseScenario(
-      "segments:\n  - {type: figure_eight, radius_m: 0.7, speed_mps: 0.25, loops: 3}\n", "t.yaml");
-  return sim::simulate(c, world, s).dataset;
-}
-
-/// The slip fit against the scans matched alone, with `params`.
-WheelSlipFit matchedSlipFit(const Dataset& d, const WheelSlipParams& params = {}) {
-  const ScanPoints points = matchScanPoints(d, "none", false);
-  const MatchTrajectory run = matchTrajectory(d, points, {});
-  return fitWheelSlip(odometryEncoders(d, "weaving"), *d.info.true_geometry,
-                      scanOnlyPoses(d, points, {}, run), params);
+  return kinematicRecording(
+      {}, seed, read_jitter_s,
+      "segments:\n  - {type: figure_eight, radius_m: 0.7, speed_mps: 0.25, loops: 3}\n");
 }
 
 // A robot that turns as fast wherever a piece starts and ends (a figure eight) shows its wheels'
