@@ -923,12 +923,12 @@ double nextFixedShare(const std::vector<std::pair<double, double>>& runs, double
 
 namespace {
 
-/// A run without slip measured as the recording was (recordingSlipInput): against its scans matched
-/// alone, its wheels turned by the agreement's ratios, moved by the clock offset it was given.
-/// What its physics slips, and what its matcher and its lidar's sweep add as in the recording
-/// (against the ground truth they were left out of one side). The run at the tuned range noise:
-/// the first one's, fitted against the world, can be far off (fsm_bag 0.129 m for 0), and its
-/// matches showed fsm_bag's twin a slip of 0.116 and a jitter of 0.26 s.
+/// A run without slip measured as the recording was (recordingSlipInput): against its scans
+/// matched alone, its wheels turned by the agreement's ratios, moved by the clock offset it was
+/// given. What its physics slips, and what its matcher and its lidar's sweep add as in the
+/// recording (against the ground truth they were left out of one side). The run at the tuned
+/// range noise: the first one's, fitted against the world, can be far off (fsm_bag 0.129 m for
+/// 0), and its matches showed fsm_bag's twin a slip of 0.116 and a jitter of 0.26 s.
 WheelSlipFit slipWithoutSlip(const TwinFit& fit, const Dataset& d) {
   const PoseSeries scan_only = matchScansAlone(d, fit.deskew, false);
   const algo::SensorAgreement agreement = scanAgreement(d, scan_only);
@@ -954,9 +954,7 @@ std::optional<WheelSlipFit> slipBeyondTheMatcher(const TwinFit& fit, const Wheel
   params.turn_slip_sigma = free.turn_sigma;
   WheelSlipFit held = fitWheelSlip(fit.recording_slip_input, params);
   if (!held.fitted) return std::nullopt;
-  held.common_fitted = free.common_fitted;  // Eq. (2) as first fitted: no heading in it
-  held.common_sigma = free.common_sigma;
-  return held;
+  return held;  // Eq. (2) as first fitted: it reads the heading fit's wheel slip, held
 }
 
 /// The twin's random slips: the recording's less what a run without them shows already,
