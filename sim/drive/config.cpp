@@ -42,6 +42,7 @@ void visitSensorFields(Config& c, Visitor&& v) {
   auto& l = c.lidar;
   v("lidar.rate_hz", l.rate_hz);
   v("lidar.sweep_s", l.sweep_s);
+  v("lidar.free_running", l.free_running);
   v("lidar.beams_per_revolution", l.beams_per_revolution);
   v("lidar.fov_rad", l.fov_rad);
   v("lidar.range_min_m", l.range_min_m);

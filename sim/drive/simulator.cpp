@@ -221,11 +221,13 @@ class LidarStream {
  private:
   double nextTime() const { return current_.scan.beamTime(beam_); }
 
-  /// Scan k is stamped k / rate and taken read_jitter_ later (0 unless that fault is on).
+  /// Scan k is stamped k / rate and taken where its revolution starts (a free-running head's
+  /// boundary nearest the stamp, else the stamp) plus read_jitter_ (0 unless that fault is on).
   void startScan() {
     current_ = ScanRecord{};
     stamp_s_ = static_cast<double>(scan_index_) / lidar_.config().rate_hz;
-    current_.scan = lidar_.header(stamp_s_ + read_jitter_.next());
+    current_.scan =
+        lidar_.header(stamp_s_ + lidar_.revolutionOffset(stamp_s_) + read_jitter_.next());
     current_.p_ref_true.assign(current_.scan.size(), std::nullopt);
     beam_ = 0;
   }

@@ -60,6 +60,14 @@ LaserScan Lidar::header(double stamp_s) const {
   return scan;
 }
 
+double Lidar::revolutionOffset(double stamp_s) const {
+  const double sweep_s = config_.sweep_s;
+  // A head as fast as the publishing (sweep_s 0 or 1 / rate) starts every scan at its stamp.
+  if (!config_.free_running || !(sweep_s > 0.0) || sweep_s * config_.rate_hz > 1.0 - 1e-9)
+    return 0.0;
+  return sweep_s * std::round(stamp_s / sweep_s) - stamp_s;
+}
+
 Lidar::Beam Lidar::measure(const Scene& scene, const SE2& T_world_lidar, std::size_t i) {
   const double yaw = T_world_lidar.yaw + beamAngle(i);
   return measure(scene, T_world_lidar.translation(), Eigen::Vector2d(std::cos(yaw), std::sin(yaw)),

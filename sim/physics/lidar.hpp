@@ -23,6 +23,12 @@ struct LidarConfig {
   /// 0.122 s revolutions 0.130 s apart): each scan's beams span this, then the head's next
   /// revolutions until the next scan are not published.
   double sweep_s = 0.0;
+  /// With sweep_s shorter than 1 / rate_hz: the head turns on at its own rate, unsynchronised
+  /// with the publishing, and each scan (stamped on the publishing grid) holds the revolution
+  /// that began nearest its stamp, which starts up to half a revolution before or after it: a
+  /// sawtooth over the scans (a Neato's 5 Hz head read by its driver at 4.65 Hz). Zero on
+  /// average: a constant age is the clock offset fault's. False: every scan starts at its stamp.
+  bool free_running = false;
   int beams_per_revolution = 720;         ///< angular resolution: 2 pi / this
   double fov_rad = 2 * std::numbers::pi;  ///< scan covers this much of the revolution
   double range_min_m = 0.05;              ///< shorter returns are reported as no return
@@ -70,6 +76,9 @@ class Lidar {
     double range_m;       ///< measured: true + noise; +inf for no return
     double true_range_m;  ///< geometric distance; +inf when nothing within range_max
   };
+  /// Where scan `stamp_s`'s revolution starts against its stamp: 0, or with free_running the
+  /// revolution boundary of a head turning every sweep_s since 0 nearest the stamp.
+  double revolutionOffset(double stamp_s) const;
   /// Measures beam i from the lidar pose at that beam's time. Draws noise from the lidar's own
   /// seeded generator, so call it in beam order.
   Beam measure(const Scene& scene, const SE2& T_world_lidar, std::size_t i);

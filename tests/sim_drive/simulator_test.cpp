@@ -158,6 +158,39 @@ TEST(Simulator, AShortSweepTakesTheBeamsFasterThanTheScansArePublished) {
   EXPECT_GT(check.largest_distortion_m, 0.6);
 }
 
+// A free-running head (lidar.free_running) published slower than it turns: each scan holds the
+// revolution that began nearest its stamp, so its first beam is taken sweep * round(stamp /
+// sweep) - stamp from it (a sawtooth within half a revolution), the stamps stay on their grid
+// and no two scans share a beam's time.
+TEST(Simulator, AFreeRunningHeadPublishesTheRevolutionNearestEachStamp) {
+  SimConfig c = config(SimMode::kinematic, 360);
+  c.duration_s = 4.0;
+  c.lidar.rate_hz = 4.65;
+  c.lidar.sweep_s = 0.2;
+  c.lidar.free_running = true;
+  const Scenario s = scenario("  - {type: spin, angle_deg: 720, rate_radps: 1.0}\n");
+  const SimResult r = simulate(c, squareRoom(3.0), s);
+  ASSERT_GE(r.dataset.scans.size(), 15u);
+  double earliest = 0.0, latest = 0.0;
+  for (std::size_t k = 0; k < r.dataset.scans.size(); ++k) {
+    const ScanRecord& scan = r.dataset.scans[k];
+    const double stamp = double(k) / c.lidar.rate_hz;
+    EXPECT_NEAR(scan.scan.stamp_s, stamp, 1e-12);
+    const double offset = 0.2 * std::round(stamp / 0.2) - stamp;
+    earliest = std::min(earliest, offset), latest = std::max(latest, offset);
+    const auto T = r.dataset.groundtruth.at(stamp + offset);
+    ASSERT_TRUE(T && scan.T_world_base_true);
+    EXPECT_NEAR(normalizeAngle(scan.T_world_base_true->yaw - T->yaw), 0.0, 1e-6) << k;
+    if (k > 0) {  // revolutions follow one another: this one starts after the last one ended
+      const double previous = double(k - 1) / c.lidar.rate_hz;
+      EXPECT_GE(stamp + offset,
+                previous + 0.2 * std::round(previous / 0.2) - previous + 0.2 - 1e-9);
+    }
+  }
+  EXPECT_LT(earliest, -0.08);  // the sawtooth covers most of its half-revolution either side
+  EXPECT_GT(latest, 0.08);
+}
+
 TEST(Simulator, PhysicsSpinDistortionIsWhatTheRatePredicts) {
   SimConfig c = config(SimMode::physics, 360);
   c.duration_s = 2.5;
