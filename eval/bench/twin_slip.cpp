@@ -212,6 +212,7 @@ std::vector<Piece> headingPieces(const OdometryEncoders& encoders, const DiffDri
                                  const PoseSeries& reference, const PoseSeries& odometry,
                                  const WheelSlipParams& params) {
   const double max_error = params.max_heading_error_deg * std::numbers::pi / 180.0;
+  const Vector held = heldHeadingSigmas(params);
   std::vector<Piece> pieces;
   for (const auto& [t0, t1] : allPieces(reference, odometry, params)) {
     const double error =
@@ -221,7 +222,6 @@ std::vector<Piece> headingPieces(const OdometryEncoders& encoders, const DiffDri
       const double w0 = turnRate(odometry, t0, params.rate_span_s);
       const double w1 = turnRate(odometry, t1, params.rate_span_s);
       Piece p{error, Vector(q(0), q(1), w0 * w0 + w1 * w1, 1.0)};
-      const Vector held = heldHeadingSigmas(params);
       for (int i = 0; i < kVariances; ++i)
         if (held(i) >= 0.0) {  // its variance known, its regressor out
           p.known += held(i) * held(i) * p.x(i);
