@@ -120,7 +120,8 @@ TwinStatistics measureTwinStatistics(const std::string& dir, bool use_imu) {
   const ErrorStats r = summarize(s.residuals_m);
   const double attempted = double(run.tracked.scans.size()) - 1.0;
   const CalibrationFigures cal = calibrationFigures(dir, d);
-  const ResidualCorrelations correlations = ownMapCorrelations(d, l, {}, {}, true);
+  const ResidualCorrelations correlations =
+      ownMapCorrelations(d, l, {}, {}, /*count_transients=*/true);
   auto opt = [](bool ok, double v) { return ok ? std::optional<double>(v) : std::nullopt; };
   s.values = {
       {"scan_rate_hz", l.rate_hz},
