@@ -6,10 +6,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <numbers>
 
 #include "slamprep/core/error.hpp"
+#include "slamprep/eval/bench/twin_compare.hpp"
 #include "slamprep/eval/bench/twin_lidar.hpp"
 #include "slamprep/eval/bench/twin_odometry.hpp"
 #include "slamprep/eval/bench/twin_slip.hpp"
@@ -501,6 +503,25 @@ TEST(Twin, HeldReferenceNoiseGivesTheRobotWhatTheMatcherDoesNot) {
   EXPECT_LT(fit.turn_sigma, 0.03);
 }
 
+/// What `twin` prints of the slip: the recording's fit beside the twin's, and a second line only
+/// where the matches' heading noise was held (here it was not; then as if it had been).
+void expectSlipPrintout(nlohmann::ordered_json json) {
+  nlohmann::ordered_json& slip = json["odometry"]["slip"];
+  char jitter[64];
+  std::snprintf(jitter, sizeof jitter, "read jitter %.4f (twin %.4f) s\n",
+                slip["timing_jitter_s"].get<double>(), slip["twin_read_jitter_s"].get<double>());
+  std::string text = twinText(json);
+  EXPECT_NE(text.find(jitter), std::string::npos) << text;
+  EXPECT_EQ(text.find("held there"), std::string::npos) << text;
+  slip["reference_noise_rad"] = 0.0253;
+  slip["reference_noise_held"] = {{"reference_noise_rad", 0.0030}, {"timing_jitter_s", 0.075}};
+  text = twinText(json);
+  EXPECT_NE(text.find("heading noise 25.3 mrad per piece where the twin's own show 3.0: held "
+                      "there, the read jitter 0.0750 s\n"),
+            std::string::npos)
+      << text;
+}
+
 // End to end: a recording whose wheels are read 0.04 s off their stamps gives its twin that
 // read jitter, less the little its run without slip shows against its own matches (about 1 ms,
 // kinematic): over seeds 1-5 the twin got 0.035-0.051 s.
@@ -517,6 +538,7 @@ TEST(Twin, GivesItsTwinTheReadJitterOfTheRecording) {
   EXPECT_TRUE(fit.config.faults.enable.has(sim::Fault::read_jitter));
   EXPECT_EQ(fit.config.faults.read_jitter_encoders_sigma_s, given);
   EXPECT_LT(slip["twin_turn_sigma"].get<double>(), 0.01);
+  expectSlipPrintout(fit.json);
 }
 
 // End to end: a recording whose wheels share a slip of 0.04 gives its twin that slip (its run
