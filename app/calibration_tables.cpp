@@ -1,6 +1,7 @@
 #include "slamprep/app/calibration_tables.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <iomanip>
 #include <iostream>
 #include <limits>
@@ -279,13 +280,32 @@ void printFlags(const std::vector<algo::MethodReport>& methods, const std::strin
     }
 }
 
+void printAgainstNominal(const std::vector<algo::MethodReport>& methods, const std::string& label) {
+  for (const algo::MethodReport& m : methods) {
+    const auto& t = m.against_nominal;
+    if (!t) continue;
+    char line[320];
+    std::snprintf(line, sizeof line,
+                  "against the nominal %s%s: r_L %+.1f, r_R %+.1f, b %+.1f sigma; chi2 %.1f over "
+                  "3, p %.2g: %s\n",
+                  label.c_str(), std::string(algo::calibrationMethodName(m.run.method)).c_str(),
+                  t->z(0), t->z(1), t->z(2), t->chi2, t->p,
+                  t->shows_nominal_wrong
+                      ? "the recording shows the nominal geometry wrong"
+                      : "not shown wrong (the calibration moves the odometry within its own "
+                        "uncertainty: keep the nominal unless more recordings say otherwise)");
+    std::cout << line;
+  }
+}
+
 void printValidation(const std::vector<algo::MethodReport>& methods, const std::string& label) {
   bool header = false;
   for (const algo::MethodReport& m : methods) {
     if (!m.validation) continue;
     const algo::ValidationFigures& v = *m.validation;
     if (!header) {
-      std::cout << "\nheld-out validation " << label << "(last " << v.fraction * 100.0
+      // The stream's precision is whatever the last table left; the percentage is whole.
+      std::cout << "\nheld-out validation " << label << "(last " << std::lround(v.fraction * 100.0)
                 << " % of the scans; relative pose error over 10 s windows against scan-to-map "
                    "matching):\n  "
                 << std::left << std::setw(10) << "method" << std::setw(14) << "raw m"

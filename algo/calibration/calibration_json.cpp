@@ -105,8 +105,8 @@ json runJson(const CalibrationRun& run, const std::optional<Eigen::VectorXd>& tr
   return j;
 }
 
-// One method object: the run's keys, plus "flags" and "validation" when there are any (so that
-// a plain run writes the same bytes as before they existed).
+// One method object: the run's keys, plus "flags", "validation" and "against_nominal" when there
+// are any (a run without a nominal geometry, --tuples alone, writes none of them).
 json methodJson(const MethodReport& m, const std::optional<Eigen::VectorXd>& truth) {
   json j = runJson(m.run, truth);
   if (!m.flags.empty()) {
@@ -116,6 +116,12 @@ json methodJson(const MethodReport& m, const std::optional<Eigen::VectorXd>& tru
     j["flags"] = flags;
   }
   if (m.validation) j["validation"] = validationJson(*m.validation);
+  if (const auto& t = m.against_nominal)
+    j["against_nominal"] = {{"chi2", t->chi2},
+                            {"dof", t->dof},
+                            {"p", t->p},
+                            {"z", {{"r_L", t->z(0)}, {"r_R", t->z(1)}, {"b", t->z(2)}}},
+                            {"shows_nominal_wrong", t->shows_nominal_wrong}};
   return j;
 }
 
@@ -358,7 +364,8 @@ std::string formatCalibrateJson(const CalibrateReport& report) {
 std::string formatCalibrationJson(const std::vector<CalibrationRun>& runs,
                                   const std::optional<CalibrationTruth>& truth) {
   RecordingReport recording{"", {}, truth, std::nullopt, ""};
-  for (const CalibrationRun& run : runs) recording.methods.push_back({run, {}, std::nullopt});
+  for (const CalibrationRun& run : runs)
+    recording.methods.push_back({run, {}, std::nullopt, std::nullopt});
   CalibrateReport report;
   report.recordings = {recording};
   return formatCalibrateJson(report);

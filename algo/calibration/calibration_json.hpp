@@ -33,7 +33,8 @@ std::string odometryRelativeMeaning(const DiffDriveParams& nominal);
 /// one recording the array of its method objects; with several
 /// {"recordings": [{"dataset", "methods": [...]}], "combined": [...], "consistency":
 /// {METHOD: {PARAM: {"chi2_dof", "n"}}}}. Every method object is written by one function:
-/// today's keys, plus "flags" when there are any and "validation" when there is one.
+/// today's keys, plus "flags" when there are any, "validation" when there is one and
+/// "against_nominal" where the method is ok and the recording has a nominal geometry.
 std::string formatCalibrateJson(const CalibrateReport& report);
 /// The array of method objects of bare runs (no flags, no validation).
 std::string formatCalibrationJson(const std::vector<CalibrationRun>& runs,

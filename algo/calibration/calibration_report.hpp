@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "slamprep/algo/agreement/sensor_agreement.hpp"
+#include "slamprep/algo/calibration/against_nominal.hpp"
 #include "slamprep/algo/calibration/calibrate.hpp"
 #include "slamprep/algo/calibration/nominal_flags.hpp"
 #include "slamprep/core/se2.hpp"
@@ -44,6 +45,7 @@ struct MethodReport {
   CalibrationRun run;
   std::vector<NominalFlag> flags;               ///< "flags" (written when not empty)
   std::optional<ValidationFigures> validation;  ///< "validation" (with --validate-fraction)
+  std::optional<NominalTest> against_nominal;   ///< "against_nominal" (ok, with a nominal)
 };
 
 /// One recording (DATASET) and its methods.

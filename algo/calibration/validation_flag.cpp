@@ -25,7 +25,16 @@ std::string worseThanNominal(const ValidationFigures& v, const char* what) {
   return text;
 }
 
-std::string geometryCause(const ValidationFigures& v) {
+std::string geometryCause(const ValidationFigures& v, const std::optional<NominalTest>& nominal) {
+  if (nominal && !nominal->shows_nominal_wrong) {
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  ": the calibration part did not show the nominal geometry wrong (chi2 %.1f over "
+                  "3, p %.2f), so the calibration moved the odometry within its own uncertainty; "
+                  "keep the nominal",
+                  nominal->chi2, nominal->p);
+    return worseThanNominal(v, "geometry") + text;
+  }
   return worseThanNominal(v, "geometry") +
          ": the calibration part does not pin the geometry down (little turning or straight "
          "driving, slip, a clock lag) or the robot changed; keep the nominal or calibrate on a "
@@ -47,7 +56,8 @@ std::string mountCause(const ValidationFigures& v) {
 }  // namespace
 
 std::optional<NominalFlag> validationFlag(const ValidationFigures& v,
-                                          const ValidationFlagParams& params) {
+                                          const ValidationFlagParams& params,
+                                          const std::optional<NominalTest>& against_nominal) {
   const bool trans = worse(v.calibrated.trans_m, v.raw.trans_m, params.floor_trans_m, params);
   const bool rot = worse(v.calibrated.rot_deg, v.raw.rot_deg, params.floor_rot_deg, params);
   if (!trans && !rot) return std::nullopt;
@@ -56,7 +66,8 @@ std::optional<NominalFlag> validationFlag(const ValidationFigures& v,
                            !worse(w->rot_deg, v.raw.rot_deg, params.floor_rot_deg, params);
   const double r = trans ? ratio(v.calibrated.trans_m, v.raw.trans_m)
                          : ratio(v.calibrated.rot_deg, v.raw.rot_deg);
-  return NominalFlag{"held_out", r, wheels_fine ? mountCause(v) : geometryCause(v)};
+  return NominalFlag{"held_out", r,
+                     wheels_fine ? mountCause(v) : geometryCause(v, against_nominal)};
 }
 
 }  // namespace slamprep::algo

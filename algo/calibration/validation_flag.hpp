@@ -21,8 +21,11 @@ struct ValidationFlagParams {
 
 /// A flag with param "held_out" and ratio calibrated / raw (of translation, or of rotation when
 /// only rotation got worse), or nullopt when the calibrated geometry is not worse. Its cause
-/// names the mount when the calibrated wheels with the dataset's mount are not worse.
-std::optional<NominalFlag> validationFlag(const ValidationFigures& validation,
-                                          const ValidationFlagParams& params = {});
+/// names the mount when the calibrated wheels with the dataset's mount are not worse, and says
+/// so when the calibration part did not show the nominal geometry wrong (`against_nominal`):
+/// then the calibration moved the odometry by no more than its own uncertainty.
+std::optional<NominalFlag> validationFlag(
+    const ValidationFigures& validation, const ValidationFlagParams& params = {},
+    const std::optional<NominalTest>& against_nominal = std::nullopt);
 
 }  // namespace slamprep::algo

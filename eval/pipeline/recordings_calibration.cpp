@@ -100,11 +100,12 @@ RecordingCalibration calibrateRecording(const RecordingsCalibrationParams& p,
 
 algo::MethodReport methodReport(const algo::CalibrationRun& run, const RecordingCalibration& r,
                                 const RecordingsCalibrationParams& p) {
-  algo::MethodReport m{run, {}, std::nullopt};
+  algo::MethodReport m{run, {}, std::nullopt, std::nullopt};
   if (!r.dataset.empty()) {  // --tuples alone has no nominal geometry to compare with
     m.flags = algo::nominalFlags(run.result, r.calibration.nominal, p.flags);
     if (const auto flag = algo::scaleFlag(run.result, r.calibration.nominal))
       m.flags.push_back(*flag);
+    m.against_nominal = algo::nominalTest(run.result, r.calibration.nominal);
   }
   if (r.calibration.agreement && algo::isIntervalMethod(run.method)) {
     if (const auto flag = algo::gyroFlag(run.result, *r.calibration.agreement))
@@ -120,7 +121,8 @@ algo::MethodReport methodReport(const algo::CalibrationRun& run, const Recording
       m.flags.push_back(*flag);
   if (r.held_out && run.result.ok) m.validation = validationOf(r, run, p.validate_fraction);
   if (m.validation)
-    if (const auto flag = algo::validationFlag(*m.validation)) m.flags.push_back(*flag);
+    if (const auto flag = algo::validationFlag(*m.validation, {}, m.against_nominal))
+      m.flags.push_back(*flag);
   return m;
 }
 
@@ -178,18 +180,21 @@ void combine(const RecordingsCalibrationParams& p, RecordingsCalibration& out) {
   }
   out.report.combined_truth = sharedTruth(recs);
   for (const algo::CombinedRun& c : out.combined) {
-    algo::MethodReport m{c.run, {}, combinedValidation(out, c.run, p.validate_fraction)};
+    algo::MethodReport m{
+        c.run, {}, combinedValidation(out, c.run, p.validate_fraction), std::nullopt};
     if (!recs.front().dataset.empty()) {
       m.flags = algo::nominalFlags(c.run.result, recs.front().calibration.nominal, p.flags);
       if (const auto flag = algo::scaleFlag(c.run.result, recs.front().calibration.nominal))
         m.flags.push_back(*flag);
+      m.against_nominal = algo::nominalTest(c.run.result, recs.front().calibration.nominal);
     }
     if (const DatasetCalibration* given = sharedMount(recs))
       if (const auto flag =
               algo::mountFlag(c.run.result, given->T_base_lidar, given->lidar_mount_from))
         m.flags.push_back(*flag);
     if (m.validation)
-      if (const auto flag = algo::validationFlag(*m.validation)) m.flags.push_back(*flag);
+      if (const auto flag = algo::validationFlag(*m.validation, {}, m.against_nominal))
+        m.flags.push_back(*flag);
     out.report.combined.push_back(m);
     out.report.consistency.push_back(consistencyOf(c));
   }

@@ -237,24 +237,28 @@ TEST(CalibrateJson, OneRecordingIsTodaysArraySeveralTheCombinedObject) {
       run(CalibrationMethod::kModel, vec({0.1, 0.1, 0.5}), diag({1e-4, 1e-4, 1e-3}));
   const CalibrationRun b =
       run(CalibrationMethod::kModel, vec({0.1, 0.1, 0.6}), diag({1e-4, 1e-4, 1e-3}));
-  RecordingReport one{"a", {{a, {}, std::nullopt}}, std::nullopt, std::nullopt, ""};
+  RecordingReport one{"a", {{a, {}, std::nullopt, std::nullopt}}, std::nullopt, std::nullopt, ""};
   EXPECT_EQ(formatCalibrateJson({{one}, {}, std::nullopt, {}, {}}),
             formatCalibrationJson({a}, std::nullopt));
   EXPECT_EQ(formatCalibrationJson({a}, std::nullopt).front(), '[');
   // With the sensor agreement: the clock sync beside it, in every method object.
-  RecordingReport synced{"a", {{a, {}, std::nullopt}}, std::nullopt, SensorAgreement{}, "", 0.17};
+  RecordingReport synced{
+      "a", {{a, {}, std::nullopt, std::nullopt}}, std::nullopt, SensorAgreement{}, "", 0.17};
   const auto s = nlohmann::json::parse(formatCalibrateJson({{synced}, {}, std::nullopt, {}, {}}));
   EXPECT_EQ(s[0]["clock_sync_s"].get<double>(), 0.17);
   EXPECT_TRUE(s[0].contains("sensor_agreement"));
 
   const CombinedRun c = combineRuns(CalibrationMethod::kModel, {&a, &b});
   RecordingReport two{"b",
-                      {{b, nominalFlags(b.result, {0.1, 0.1, 0.5}), std::nullopt}},
+                      {{b, nominalFlags(b.result, {0.1, 0.1, 0.5}), std::nullopt,
+                        nominalTest(b.result, {0.1, 0.1, 0.5})}},
                       std::nullopt,
                       std::nullopt,
                       ""};
-  MethodReport combined{
-      c.run, {}, ValidationFigures{0.2, {0.5, 3.0}, {0.05, 0.3}, HeldOutError{0.04, 0.3}}};
+  MethodReport combined{c.run,
+                        {},
+                        ValidationFigures{0.2, {0.5, 3.0}, {0.05, 0.3}, HeldOutError{0.04, 0.3}},
+                        std::nullopt};
   const CalibrateReport report{
       {one, two},
       {combined},
@@ -269,6 +273,15 @@ TEST(CalibrateJson, OneRecordingIsTodaysArraySeveralTheCombinedObject) {
   EXPECT_EQ(j["recordings"][1]["methods"][0]["flags"][0]["param"], "b");
   EXPECT_DOUBLE_EQ(j["recordings"][1]["methods"][0]["flags"][0]["ratio"].get<double>(), 1.2);
   EXPECT_FALSE(j["recordings"][0]["methods"][0].contains("flags"));  // none: not written
+  // b 0.6 against 0.5 with a sigma of 1 mm: z = 100, chi2 = 1e4 (the radii on the nominal).
+  const auto& against = j["recordings"][1]["methods"][0]["against_nominal"];
+  EXPECT_NEAR(against["chi2"].get<double>(), 1e4, 1e-6);
+  EXPECT_EQ(against["dof"], 3);
+  EXPECT_EQ(against["p"].get<double>(), chi2Survival3(1e4));
+  EXPECT_NEAR(against["z"]["b"].get<double>(), 100.0, 1e-9);
+  EXPECT_EQ(against["z"]["r_L"].get<double>(), 0.0);
+  EXPECT_EQ(against["shows_nominal_wrong"], true);
+  EXPECT_FALSE(j["recordings"][0]["methods"][0].contains("against_nominal"));  // none given
   EXPECT_EQ(j["combined"][0]["method"], "model");
   EXPECT_DOUBLE_EQ(j["combined"][0]["b"].get<double>(), 0.55);
   EXPECT_DOUBLE_EQ(j["combined"][0]["validation"]["calibrated"]["trans_m"].get<double>(), 0.05);

@@ -51,5 +51,25 @@ TEST(ValidationFlag, AMountThatAloneIsWorseIsNamedAsTheCause) {
   EXPECT_NE(validationFlag(v)->likely_cause.find("geometry"), std::string::npos);
 }
 
+// AriB2003's wall follower: the calibration within its sigmas of the nominal (chi2 1.0 over 3),
+// held out worse than raw: the cause says the calibration never showed the nominal wrong.
+TEST(ValidationFlag, ACalibrationThatNeverShowedTheNominalWrongSaysSo) {
+  const ValidationFigures v = figures(0.050, 2.38, 0.066, 4.52);
+  NominalTest close;
+  close.chi2 = 1.0;
+  close.p = chi2Survival3(1.0);
+  const auto flag = validationFlag(v, {}, close);
+  ASSERT_TRUE(flag);
+  EXPECT_NE(flag->likely_cause.find("did not show the nominal geometry wrong (chi2 1.0 over 3, p "
+                                    "0.80)"),
+            std::string::npos)
+      << flag->likely_cause;
+  NominalTest far = close;
+  far.chi2 = 24.9;
+  far.p = chi2Survival3(24.9);
+  far.shows_nominal_wrong = true;  // then the drive did not pin it down, as without the test
+  EXPECT_EQ(validationFlag(v, {}, far)->likely_cause, validationFlag(v)->likely_cause);
+}
+
 }  // namespace
 }  // namespace slamprep::algo
