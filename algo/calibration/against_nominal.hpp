@@ -2,7 +2,8 @@
 // Does the recording show the nominal geometry is wrong? (docs/calibration.md, "Against the
 // nominal".) A calibrated geometry within its own uncertainty of the nominal one moves the
 // odometry by noise: on held-out driving it predicts no better than the nominal, and half the
-// time worse. The test says which case a calibration is, before any held-out part is scored.
+// time worse. The test reads that from the estimate's covariance, so it is as honest as the
+// sigmas are (on short real recordings it did not predict their held-out parts).
 
 #include <Eigen/Core>
 #include <optional>
