@@ -135,6 +135,15 @@ TEST(Twin, ARecordingTooSparseToMatchIsRefusedWithItsCause) {
   }
 }
 
+/// The twin, fitted without calibrating, of a figure eight in box_room.yaml simulated with `c`.
+TwinFit uncalibratedFigureEightTwin(const sim::SimConfig& c, const std::string& name) {
+  const sim::Scenario s = sim::parseScenario(
+      "segments:\n  - {type: figure_eight, radius_m: 0.8, speed_mps: 0.4}\n", "t.yaml");
+  TwinParams p;
+  p.calibrate = false;
+  return fitTwin(sim::simulate(c, sim::loadWorld(kWorlds / "box_room.yaml"), s).dataset, name, p);
+}
+
 /// Whether `sets` holds `assignment` exactly.
 bool sets(const TwinFit& fit, const std::string& assignment) {
   return std::find(fit.sets.begin(), fit.sets.end(), assignment) != fit.sets.end();
@@ -150,15 +159,12 @@ TEST(Twin, AHeadFasterThanItsScansRunsFree) {
   c.lidar.beams_per_revolution = 360;
   c.lidar.sweep_s = 0.08;
   c.duration_s = 20.0;
-  const sim::Scenario s = sim::parseScenario(
-      "segments:\n  - {type: figure_eight, radius_m: 0.8, speed_mps: 0.4}\n", "t.yaml");
-  TwinParams p;
-  p.calibrate = false;
-  const TwinFit fast =
-      fitTwin(sim::simulate(c, sim::loadWorld(kWorlds / "box_room.yaml"), s).dataset, "fast", p);
+  const TwinFit fast = uncalibratedFigureEightTwin(c, "fast");
   EXPECT_NEAR(fast.config.lidar.sweep_s, 0.08, 1e-9);
   EXPECT_TRUE(sets(fast, "lidar.free_running=true"));
   EXPECT_TRUE(fast.config.lidar.free_running);
+  TwinParams p;
+  p.calibrate = false;
   const TwinFit once = fitTwin(recording(), "figure-eight", p);
   EXPECT_EQ(once.config.lidar.sweep_s, 0.0);  // the period
   EXPECT_TRUE(sets(once, "lidar.free_running=false"));
@@ -288,12 +294,7 @@ std::vector<double> fittedBeamBias(const std::vector<double>& bias, std::uint64_
   std::string text;
   for (const double b : bias) text += (text.empty() ? "" : ",") + std::to_string(b);
   c.lidar.range_bias_by_beam_m = text;
-  const sim::Scenario s = sim::parseScenario(
-      "segments:\n  - {type: figure_eight, radius_m: 0.8, speed_mps: 0.4}\n", "t.yaml");
-  TwinParams p;
-  p.calibrate = false;
-  const TwinFit fit =
-      fitTwin(sim::simulate(c, sim::loadWorld(kWorlds / "box_room.yaml"), s).dataset, "b", p);
+  const TwinFit fit = uncalibratedFigureEightTwin(c, "b");
   return sim::parseRangeBias(fit.config.lidar.range_bias_by_beam_m, nullptr).value();
 }
 
