@@ -259,7 +259,7 @@ void printOne(const eval::RecordingsCalibration& r) {
   if (c.relative_to_odometry)
     std::cout << "\nrelative to the log's odometry: "
               << algo::odometryRelativeMeaning(*c.relative_to_odometry) << "\n";
-  printAgainstNominal(methods, "");
+  printAgainstNominal(methods, "", "the recording shows");
   printValidation(methods, "");
   printFlags(methods, "");
 }
@@ -269,11 +269,11 @@ void printSeveral(const eval::RecordingsCalibration& r) {
   printRecordings(r);
   for (std::size_t i = 0; i < r.recordings.size(); ++i) {
     const std::string label = "recording " + std::to_string(i + 1) + " ";
-    printAgainstNominal(r.report.recordings[i].methods, "of " + label);
+    printAgainstNominal(r.report.recordings[i].methods, "of " + label, "the recording shows");
     printValidation(r.report.recordings[i].methods, "of " + label);
     printFlags(r.report.recordings[i].methods, label);
   }
-  printAgainstNominal(r.report.combined, "of the combined estimate ");
+  printAgainstNominal(r.report.combined, "of the combined estimate ", "the recordings show");
   printValidation(r.report.combined, "of the combined estimate, mean over the recordings ");
   printFlags(r.report.combined, "combined ");
   printLeaveOneOut(r.report.leave_one_out);

@@ -280,7 +280,8 @@ void printFlags(const std::vector<algo::MethodReport>& methods, const std::strin
     }
 }
 
-void printAgainstNominal(const std::vector<algo::MethodReport>& methods, const std::string& label) {
+void printAgainstNominal(const std::vector<algo::MethodReport>& methods, const std::string& label,
+                         const std::string& data) {
   for (const algo::MethodReport& m : methods) {
     const auto& t = m.against_nominal;
     if (!t) continue;
@@ -291,9 +292,10 @@ void printAgainstNominal(const std::vector<algo::MethodReport>& methods, const s
                   label.c_str(), std::string(algo::calibrationMethodName(m.run.method)).c_str(),
                   t->z(0), t->z(1), t->z(2), t->chi2, t->p,
                   t->shows_nominal_wrong
-                      ? "the recording shows the nominal geometry wrong"
-                      : "not shown wrong (the calibration moves the odometry within its own "
-                        "uncertainty: keep the nominal unless more recordings say otherwise)");
+                      ? (data + " the nominal geometry wrong").c_str()
+                      : "not shown wrong at p < 0.001, the three together (the calibration "
+                        "moves the odometry within its own uncertainty: keep the nominal unless "
+                        "more recordings say otherwise)");
     std::cout << line;
   }
 }

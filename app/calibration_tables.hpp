@@ -24,8 +24,10 @@ void printRecordings(const eval::RecordingsCalibration& r);
 void printFlags(const std::vector<algo::MethodReport>& methods, const std::string& label);
 
 /// Each method's estimate against the nominal geometry: per parameter in sigmas, the chi2 of the
-/// three together and whether the recording shows the nominal wrong.
-void printAgainstNominal(const std::vector<algo::MethodReport>& methods, const std::string& label);
+/// three together and, after `data` ("the recording shows", "the recordings show"), whether
+/// the nominal is shown wrong.
+void printAgainstNominal(const std::vector<algo::MethodReport>& methods, const std::string& label,
+                         const std::string& data);
 
 /// The held-out validation table, and which methods' calibrated odometry is worse than raw.
 void printValidation(const std::vector<algo::MethodReport>& methods, const std::string& label);
