@@ -83,6 +83,15 @@ expect 2 deskew "$ds" --geometry true --calibration "$dir/cal.json"
 expect 3 calibrate "$ds" --motion groundtruth --method model --stamp-is-last-beam
 out_has "model: REFUSED"
 
+# The estimate against the nominal: the simulator's nominal is wrong (r_L +2 %, r_R -1.5 %,
+# b +4 %), so the true motion shows it, each parameter on its side of the nominal.
+"$slamprep" simulate --scenario worlds/scenarios/default.yaml --duration 30 --mode kinematic \
+  --quiet --out "$dir/drive" >/dev/null || fail "simulate $dir/drive"
+expect 0 calibrate "$dir/drive" --motion groundtruth --method model
+out_has "against the nominal model: r_L -"
+out_has ", r_R +"
+out_has "the recording shows the nominal geometry wrong"
+
 # Every path is checked before any work: a missing square run, a missing calibration file.
 expect 2 calibrate "$ds" --square "$dir/nowhere"
 err_has "--square $dir/nowhere"
