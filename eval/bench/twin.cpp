@@ -299,6 +299,7 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
   const DiffDriveParams& g = f.true_geometry;
   const sim::RobotConfig& r = f.robot;
   const LidarLayout& l = f.layout;
+  const double sweep_s = twinSweep(l);
   std::vector<std::string> s = {
       "seed=" + std::to_string(seed),
       // The chassis first: each assignment is checked, and it must fit between the wheels.
@@ -315,8 +316,8 @@ std::vector<std::string> twinSets(const Fitted& f, std::uint64_t seed) {
       "nominal.wheel_base_error=" + num(f.nominal.wheel_base_m / g.wheel_base_m - 1.0),
       "lidar.rate_hz=" + num(l.rate_hz),
       "lidar.beams_per_revolution=" + std::to_string(l.beams_per_revolution),
-      "lidar.sweep_s=" + num(twinSweep(l)),
-      std::string("lidar.free_running=") + (twinSweep(l) > 0.0 ? "true" : "false"),
+      "lidar.sweep_s=" + num(sweep_s),
+      std::string("lidar.free_running=") + (sweep_s > 0.0 ? "true" : "false"),
       "lidar.fov_rad=" + num(l.fov_rad),
       std::string("lidar.clockwise=") + (l.angle_increment_rad < 0.0 ? "true" : "false"),
       "lidar.range_min_m=" + num(l.range_min_m), "lidar.range_max_m=" + num(l.usable_max_m),

@@ -98,15 +98,26 @@ RecordingCalibration calibrateRecording(const RecordingsCalibrationParams& p,
   return out;
 }
 
+// What is said of m's estimate against the nominal geometry: its flags and its test.
+void judgeAgainstNominal(algo::MethodReport& m, const DiffDriveParams& nominal,
+                         const algo::NominalFlagParams& params) {
+  m.flags = algo::nominalFlags(m.run.result, nominal, params);
+  if (const auto flag = algo::scaleFlag(m.run.result, nominal)) m.flags.push_back(*flag);
+  m.against_nominal = algo::nominalTest(m.run.result, nominal);
+}
+
+// The held-out verdict, once m's validation and nominal test are in.
+void flagValidation(algo::MethodReport& m) {
+  if (!m.validation) return;
+  if (const auto flag = algo::validationFlag(*m.validation, {}, m.against_nominal))
+    m.flags.push_back(*flag);
+}
+
 algo::MethodReport methodReport(const algo::CalibrationRun& run, const RecordingCalibration& r,
                                 const RecordingsCalibrationParams& p) {
   algo::MethodReport m{run, {}, std::nullopt, std::nullopt};
-  if (!r.dataset.empty()) {  // --tuples alone has no nominal geometry to compare with
-    m.flags = algo::nominalFlags(run.result, r.calibration.nominal, p.flags);
-    if (const auto flag = algo::scaleFlag(run.result, r.calibration.nominal))
-      m.flags.push_back(*flag);
-    m.against_nominal = algo::nominalTest(run.result, r.calibration.nominal);
-  }
+  // --tuples alone has no nominal geometry to compare with.
+  if (!r.dataset.empty()) judgeAgainstNominal(m, r.calibration.nominal, p.flags);
   if (r.calibration.agreement && algo::isIntervalMethod(run.method)) {
     if (const auto flag = algo::gyroFlag(run.result, *r.calibration.agreement))
       m.flags.push_back(*flag);
@@ -120,9 +131,7 @@ algo::MethodReport methodReport(const algo::CalibrationRun& run, const Recording
             algo::mountFlag(run.result, r.calibration.T_base_lidar, r.calibration.lidar_mount_from))
       m.flags.push_back(*flag);
   if (r.held_out && run.result.ok) m.validation = validationOf(r, run, p.validate_fraction);
-  if (m.validation)
-    if (const auto flag = algo::validationFlag(*m.validation, {}, m.against_nominal))
-      m.flags.push_back(*flag);
+  flagValidation(m);
   return m;
 }
 
@@ -182,19 +191,13 @@ void combine(const RecordingsCalibrationParams& p, RecordingsCalibration& out) {
   for (const algo::CombinedRun& c : out.combined) {
     algo::MethodReport m{
         c.run, {}, combinedValidation(out, c.run, p.validate_fraction), std::nullopt};
-    if (!recs.front().dataset.empty()) {
-      m.flags = algo::nominalFlags(c.run.result, recs.front().calibration.nominal, p.flags);
-      if (const auto flag = algo::scaleFlag(c.run.result, recs.front().calibration.nominal))
-        m.flags.push_back(*flag);
-      m.against_nominal = algo::nominalTest(c.run.result, recs.front().calibration.nominal);
-    }
+    if (!recs.front().dataset.empty())
+      judgeAgainstNominal(m, recs.front().calibration.nominal, p.flags);
     if (const DatasetCalibration* given = sharedMount(recs))
       if (const auto flag =
               algo::mountFlag(c.run.result, given->T_base_lidar, given->lidar_mount_from))
         m.flags.push_back(*flag);
-    if (m.validation)
-      if (const auto flag = algo::validationFlag(*m.validation, {}, m.against_nominal))
-        m.flags.push_back(*flag);
+    flagValidation(m);
     out.report.combined.push_back(m);
     out.report.consistency.push_back(consistencyOf(c));
   }
