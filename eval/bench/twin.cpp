@@ -775,7 +775,10 @@ TwinFit fitTwin(const Dataset& real, const std::string& name, const TwinParams& 
   f.slip = fitWheelSlip(slip_input);
   TwinFit out;
   out.recording_slip_input = std::move(slip_input);
-  const MatchedScans as_measured = measureMatchedScans(real, f.layout, p.walls, p.lidar);
+  // The recording's vicp match is the one above where the twin matches with vicp (the default).
+  const MatchedScans as_measured =
+      p.deskew == "vicp" ? measureMatchedScans(real, points, run, f.layout, p.walls, p.lidar)
+                         : measureMatchedScans(real, f.layout, p.walls, p.lidar);
   out.residual_median_m = as_measured.residual_median_m;
   dropBeamBiasBeyondResidual(as_measured.residual_median_m, f.against_map);
   out.residual_neighbour_correlation = as_measured.neighbour_correlation;

@@ -393,6 +393,13 @@ ResidualCorrelations ownMapCorrelations(const Dataset& d, const LidarLayout& lay
                                         const LidarMapParams& params, bool count_transients) {
   const ScanPoints points = matchScanPoints(d, "vicp", false);
   const MatchTrajectory run = matchTrajectory(d, points, twinMatchOptions());
+  return ownMapCorrelations(d, points, run, layout, walls, params, count_transients);
+}
+
+ResidualCorrelations ownMapCorrelations(const Dataset& d, const ScanPoints& points,
+                                        const MatchTrajectory& run, const LidarLayout& layout,
+                                        const WallExtractionParams& walls,
+                                        const LidarMapParams& params, bool count_transients) {
   std::vector<char> accepted;
   const WallMap map =
       extractWalls(matchedMapPoints(run, points.points, layout.usable_max_m, accepted), walls);
@@ -405,8 +412,9 @@ ResidualCorrelations ownMapCorrelations(const Dataset& d, const LidarLayout& lay
               : 0.0};
 }
 
-MatchedScans measureMatchedScans(const Dataset& d, const LidarLayout& layout,
-                                 const WallExtractionParams& walls, const LidarMapParams& params) {
+namespace {
+
+MatchedScans withCorrelations(const Dataset& d, const ResidualCorrelations& c) {
   const MatchTrajectory run =
       matchTrajectory(d, matchScanPoints(d, "none", false), twinMatchOptions());
   std::vector<double> rms;
@@ -414,10 +422,22 @@ MatchedScans measureMatchedScans(const Dataset& d, const LidarLayout& layout,
     if (!run.tracked.scans[k].fallback) rms.push_back(run.tracked.scans[k].match.rms_residual_m);
   MatchedScans m;
   if (const ErrorStats s = summarize(std::move(rms)); s.ok) m.residual_median_m = s.median;
-  const ResidualCorrelations c = ownMapCorrelations(d, layout, walls, params);
   m.neighbour_correlation = c.neighbour;
   m.revisit_correlation = c.revisit;
   return m;
+}
+
+}  // namespace
+
+MatchedScans measureMatchedScans(const Dataset& d, const LidarLayout& layout,
+                                 const WallExtractionParams& walls, const LidarMapParams& params) {
+  return withCorrelations(d, ownMapCorrelations(d, layout, walls, params));
+}
+
+MatchedScans measureMatchedScans(const Dataset& d, const ScanPoints& vicp_points,
+                                 const MatchTrajectory& vicp_run, const LidarLayout& layout,
+                                 const WallExtractionParams& walls, const LidarMapParams& params) {
+  return withCorrelations(d, ownMapCorrelations(d, vicp_points, vicp_run, layout, walls, params));
 }
 
 }  // namespace slamprep::eval

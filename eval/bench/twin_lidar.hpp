@@ -132,6 +132,13 @@ ResidualCorrelations ownMapCorrelations(const Dataset& dataset, const LidarLayou
                                         const WallExtractionParams& walls = {},
                                         const LidarMapParams& params = {},
                                         bool count_transients = false);
+/// The same on `vicp_points` (matchScanPoints(dataset, "vicp", false)) and their match
+/// `vicp_run` (twinMatchOptions()), where the caller has them already.
+ResidualCorrelations ownMapCorrelations(const Dataset& dataset, const ScanPoints& vicp_points,
+                                        const MatchTrajectory& vicp_run, const LidarLayout& layout,
+                                        const WallExtractionParams& walls = {},
+                                        const LidarMapParams& params = {},
+                                        bool count_transients = false);
 
 /// What the twin tunes its range noise and its correlation to, measured alike on the recording
 /// and the twin.
@@ -146,6 +153,11 @@ struct MatchedScans {
 };
 
 MatchedScans measureMatchedScans(const Dataset& dataset, const LidarLayout& layout,
+                                 const WallExtractionParams& walls = {},
+                                 const LidarMapParams& params = {});
+/// The same with ownMapCorrelations' vicp scans and match given (its second overload).
+MatchedScans measureMatchedScans(const Dataset& dataset, const ScanPoints& vicp_points,
+                                 const MatchTrajectory& vicp_run, const LidarLayout& layout,
                                  const WallExtractionParams& walls = {},
                                  const LidarMapParams& params = {});
 

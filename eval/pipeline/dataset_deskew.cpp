@@ -163,7 +163,8 @@ DatasetDeskew deskewDataset(const Dataset& dataset, algo::DeskewMethod method,
     if (!result.ok && out.refused++ == 0) out.first_reason = result.reason;
     if (!result.ok) out.refusals.push_back({k, result.refusal, result.reason});
     const double stamp = record.scan.stamp_s;
-    const bool counted = stamp >= options.measure_from_s && stamp <= options.measure_to_s;
+    const bool counted =
+        options.measure_errors && stamp >= options.measure_from_s && stamp <= options.measure_to_s;
     if (counted && !record.p_ref_true.empty()) {
       if (result.ok)
         measure(dataset, record, result, options.params.repacking, pooled);

@@ -28,6 +28,10 @@ struct DatasetDeskewOptions {
   /// Only scans stamped in [from, to] count in the error figures (all are de-skewed).
   double measure_from_s = -std::numeric_limits<double>::infinity();
   double measure_to_s = std::numeric_limits<double>::infinity();
+  /// False: the scans are de-skewed and not measured against the truth (no error figures),
+  /// for a caller that wants the points only (a matcher): the truth's ray casts and the
+  /// figures' sorting were a sixth of a twin's run.
+  bool measure_errors = true;
   /// Which instant the corrected points describe.
   algo::ReferenceTime reference = algo::ReferenceTime::kFirst;
   /// Method parameters (point-to-line ICP inside vicp and odom-icp, quadratic pieces, ...).

@@ -92,6 +92,7 @@ ScanPoints matchScanPoints(const Dataset& d, const std::string& deskew, bool sta
   DatasetDeskewOptions options = nominalDeskewOptions(d);
   if (d.encoders.empty()) options.odometry = d.odom_nominal;  // an imported log: its poses
   options.stamp_is_last_beam = stamp_is_last_beam;
+  options.measure_errors = false;  // the points are matched; their errors are not wanted here
   const DatasetDeskew deskewed = deskewDataset(d, method, options);
   const std::vector<Points2> corrected = correctedPoints(deskewed);
   for (std::size_t k = 0; k < d.scans.size(); ++k) {
