@@ -121,9 +121,14 @@ Eigen::VectorXd solve(const std::vector<Row>& rows, const std::vector<double>& w
   const Eigen::Index n = rows.front().x.size();
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+  // Element by element, as Eigen's (w x) x^T and (w x) y evaluate, without their temporaries.
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    A += weight[i] * rows[i].x * rows[i].x.transpose();
-    rhs += weight[i] * rows[i].x * rows[i].y;
+    const Eigen::VectorXd& x = rows[i].x;
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const double wx = weight[i] * x(j);
+      for (Eigen::Index k = 0; k < n; ++k) A(j, k) += wx * x(k);
+      rhs(j) += wx * rows[i].y;
+    }
   }
   // Minimum-norm solution: straight driving leaves a + c undetermined, an unused column all.
   return A.completeOrthogonalDecomposition().solve(rhs);
