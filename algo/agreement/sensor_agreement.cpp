@@ -49,8 +49,9 @@ std::optional<Eigen::Vector2d> wheelTurn(const WheelTrack& w, double t0, double 
                                          double max_gap_s) {
   const auto b0 = w.phi_rad.bracket(t0), b1 = w.phi_rad.bracket(t1);
   if (!b0 || !b1) return std::nullopt;
-  for (std::size_t k = b0->index; k + 1 < w.phi_rad.size() && w.phi_rad[k].stamp_s < t1; ++k)
-    if (w.phi_rad[k + 1].stamp_s - w.phi_rad[k].stamp_s > max_gap_s) return std::nullopt;
+  if (std::isfinite(max_gap_s))  // wheel angles keep what they turned across a gap
+    for (std::size_t k = b0->index; k + 1 < w.phi_rad.size() && w.phi_rad[k].stamp_s < t1; ++k)
+      if (w.phi_rad[k + 1].stamp_s - w.phi_rad[k].stamp_s > max_gap_s) return std::nullopt;
   return *w.phi_rad.at(t1) - *w.phi_rad.at(t0);
 }
 
