@@ -22,6 +22,7 @@ packages=(
   libfreetype-dev fonts-dejavu-core libpng-dev
   libzstd-dev liblz4-dev  # MCAP chunk compression (eval/formats/compression.cpp)
   libsqlite3-dev  # rosbag2's sqlite3 storage, .db3 (eval/formats/sqlite_storage.cpp)
+  zlib1g-dev  # MCAP's CRC-32 (eval/formats/crc32.cpp)
 )
 
 missing=()
