@@ -851,8 +851,8 @@ double replayDeviation(const sim::SimResult& r, const PoseSeries& replay) {
 }
 
 /// The first run; in kinematic mode again when the physics' robot leaves the replay.
-sim::SimResult firstRun(TwinFit& fit, const sim::Scenario& scenario) {
-  sim::SimResult r = sim::simulate(fit.config, fit.world, scenario);
+sim::SimResult firstRun(TwinFit& fit, const sim::Scenario& scenario, sim::RecordedMotion& motion) {
+  sim::SimResult r = sim::simulate(fit.config, fit.world, scenario, motion);
   nlohmann::ordered_json& drive = fit.json["drive"];
   drive["mode"] = "physics";
   if (fit.config.mode != sim::SimMode::physics) return r;
@@ -872,7 +872,7 @@ sim::SimResult firstRun(TwinFit& fit, const sim::Scenario& scenario) {
       " although driven in closed loop (a robot that touches a wall stops; capped wheels "
       "cannot catch up): the commands are driven exactly (kinematic mode), the odometry errors "
       "are the nominal geometry's and the ticks'";
-  return sim::simulate(fit.config, fit.world, scenario);
+  return sim::simulate(fit.config, fit.world, scenario, motion);
 }
 
 }  // namespace
@@ -1087,8 +1087,11 @@ sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
   j["fitted_against_the_world_m"] = totalRangeNoise(fit.config.lidar);
   j["recording_residual_m"] = target;
   constexpr int kTuningRuns = 4;
+  // The runs differ in the lidar's noise and then the encoders' slip: one physics for all.
+  sim::RecordedMotion motion;
   for (int k = 0; k < kTuningRuns; ++k) {
-    r = k == 0 ? firstRun(fit, scenario) : sim::simulate(fit.config, fit.world, scenario);
+    r = k == 0 ? firstRun(fit, scenario, motion)
+               : sim::simulate(fit.config, fit.world, scenario, motion);
     if (k == kTuningRuns - 1 || target <= 0.0) break;
     const MatchedScans m = measureMatchedScans(r.dataset, fit.layout, fit.walls, fit.lidar);
     const sim::LidarConfig& lidar = fit.config.lidar;
@@ -1114,7 +1117,7 @@ sim::SimResult simulateTwin(TwinFit& fit, const sim::Scenario& scenario) {
     setNoiseCorrelation(fit, next_rho);
   }
   // The slip is measured on the tuned run, whose matches are as noisy as the twin's will be.
-  if (setSlip(fit, r)) r = sim::simulate(fit.config, fit.world, scenario);
+  if (setSlip(fit, r)) r = sim::simulate(fit.config, fit.world, scenario, motion);
   // No noise has no correlation: said so (the run is the same, as 0 times any draw is 0).
   if (fit.config.lidar.range_noise_m == 0.0) setNoiseCorrelation(fit, 0.0);
   describeTuning(fit, noise_runs, correlation_runs, share_runs);

@@ -3,6 +3,7 @@
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -27,14 +28,7 @@
 namespace slamprep::sim {
 namespace {
 
-/// The robot's true state at the end of a physics step.
-struct StepState {
-  double t_s = 0.0;
-  SE2 T_world_base;
-  Eigen::Vector2d wheel_angle_rad = Eigen::Vector2d::Zero();  ///< (left, right) since start
-  Eigen::Vector2d v_world_mps = Eigen::Vector2d::Zero();      ///< base origin velocity
-  double yaw_rate_radps = 0.0;
-};
+using StepState = MotionState;
 
 /// The true state between two steps: pose by geodesic interpolation (constant twist over the
 /// step), everything else linearly; acceleration is the step's mean.
@@ -146,6 +140,24 @@ class PhysicsMotion : public Motion {
   DiffDriveParams true_geometry_;
   SE2 T_world_reference_;  ///< where the kinematic replay of the commands is (closed loop)
   Eigen::Vector2d angle0_ = Eigen::Vector2d::Zero();
+};
+
+/// A recorded run's states again, step for step (RecordedMotion): the sensors read the same
+/// truth without the physics being stepped.
+class ReplayedMotion : public Motion {
+ public:
+  explicit ReplayedMotion(const std::vector<StepState>& states) : states_(states) {}
+  StepState initial() const override { return states_.front(); }
+  StepState step(const StepState&, double t_s) override {
+    const StepState& s = states_.at(++next_);
+    assert(s.t_s == t_s);
+    (void)t_s;
+    return s;
+  }
+
+ private:
+  const std::vector<StepState>& states_;
+  std::size_t next_ = 0;
 };
 
 /// No physics: the wheels turn exactly as commanded and the base follows the exact arc of the
@@ -444,15 +456,18 @@ void requireTrustworthyState(const Motion& motion, const Scenario& scenario, dou
 /// holds the pose at every step.
 void runSteps(const SimConfig& config, const Scenario& scenario, double duration_s,
               const ProgressCallback& progress, Motion& motion, SensorStreams& sensors,
-              PoseSeries& groundtruth) {
+              PoseSeries& groundtruth, std::vector<StepState>* record) {
   const std::int64_t steps = physicsStepCount(config, duration_s);
   StepState prev = motion.initial();
+  if (record) record->reserve(static_cast<std::size_t>(steps) + 1);
+  if (record) record->push_back(prev);
   groundtruth.push_back(prev.t_s, prev.T_world_base);
   sensors.sense(Interval{prev, prev}, duration_s);  // samples at t = 0
   const std::int64_t report_every = std::max<std::int64_t>(1, steps / 200);
   for (std::int64_t n = 1; n <= steps; ++n) {
     const StepState cur = motion.step(prev, static_cast<double>(n) / config.physics_rate_hz);
     requireTrustworthyState(motion, scenario, cur.t_s);
+    if (record) record->push_back(cur);
     groundtruth.push_back(cur.t_s, cur.T_world_base);
     sensors.sense(Interval{prev, cur}, duration_s);
     prev = cur;
@@ -493,8 +508,13 @@ SimResult simulate(const SimConfig& config, const ProgressCallback& progress) {
   return simulate(config, world, scenario, progress);
 }
 
-SimResult simulate(const SimConfig& config, const World& world, const Scenario& written,
-                   const ProgressCallback& progress, ScenePhysicsParams physics) {
+namespace {
+
+/// The simulation; `recorded` (null: none) is replayed where its key is this configuration's,
+/// else filled.
+SimResult run(const SimConfig& config, const World& world, const Scenario& written,
+              const ProgressCallback& progress, ScenePhysicsParams physics,
+              RecordedMotion* recorded) {
   validate(config, "config");
   const double duration_s =
       config.duration_s > 0.0 ? config.duration_s : written.profile.duration_s();
@@ -513,11 +533,18 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   const Controller controller(scenario.profile, data.info.nominal_geometry);
   std::optional<FloorSlip> slip = floorSlipFor(config, world);
   FloorSlip* const slip_or_null = slip ? &*slip : nullptr;
+  const std::string key = recorded && !slip ? motionKey(config) : std::string();
+  const bool replay = !key.empty() && recorded->key == key && !recorded->states.empty();
   const std::unique_ptr<Motion> motion =
-      makeMotion(config, scene, controller, T_world_start, slip_or_null, held);
+      replay ? std::make_unique<ReplayedMotion>(recorded->states)
+             : makeMotion(config, scene, controller, T_world_start, slip_or_null, held);
   SensorStreams sensors(config, scene, data);
   reserveOutputs(config, duration_s, data);
-  runSteps(config, scenario, duration_s, progress, *motion, sensors, data.groundtruth);
+  std::vector<StepState> states;
+  const bool record = !key.empty() && !replay;
+  runSteps(config, scenario, duration_s, progress, *motion, sensors, data.groundtruth,
+           record ? &states : nullptr);
+  if (record) *recorded = {key, std::move(states)};
 
   if (config.faults.enable.any())
     data.info.faults = injectFaults(config, world, slip_or_null, held, duration_s, data);
@@ -529,6 +556,29 @@ SimResult simulate(const SimConfig& config, const World& world, const Scenario& 
   SimResult result{std::move(data), {}};
   result.summary = summarize(result.dataset, config.mode);
   return result;
+}
+
+}  // namespace
+
+SimResult simulate(const SimConfig& config, const World& world, const Scenario& scenario,
+                   const ProgressCallback& progress, ScenePhysicsParams physics) {
+  return run(config, world, scenario, progress, physics, nullptr);
+}
+
+SimResult simulate(const SimConfig& config, const World& world, const Scenario& scenario,
+                   RecordedMotion& motion, const ProgressCallback& progress,
+                   ScenePhysicsParams physics) {
+  return run(config, world, scenario, progress, physics, &motion);
+}
+
+std::string motionKey(const SimConfig& config) {
+  nlohmann::json j = toJson(config, true);
+  for (const char* sensor : {"lidar", "encoders", "imu", "odometry"}) j.erase(sensor);
+  // Of the faults, only a held body moves the robot otherwise (floor patches: never replayed).
+  const nlohmann::json held = j["faults"]["held_robot"];
+  j["faults"] = {{"held_robot", config.faults.enable.has(Fault::held_robot)},
+                 {"held_robot_params", held}};
+  return j.dump();
 }
 
 }  // namespace slamprep::sim

@@ -3,6 +3,8 @@
 // kinematics), streams every sensor at its own rate, and fills a Dataset with ground truth.
 
 #include <functional>
+#include <string>
+#include <vector>
 
 #include "slamprep/core/dataset.hpp"
 #include "slamprep/eval/metrics/odometry_drift.hpp"
@@ -35,6 +37,37 @@ struct SimResult {
   Dataset dataset;
   SimSummary summary;
 };
+
+/// The robot's true state at the end of a physics step: what every sensor reads.
+struct MotionState {
+  double t_s = 0.0;
+  SE2 T_world_base;
+  Eigen::Vector2d wheel_angle_rad = Eigen::Vector2d::Zero();  ///< (left, right) since start
+  Eigen::Vector2d v_world_mps = Eigen::Vector2d::Zero();      ///< base origin velocity
+  double yaw_rate_radps = 0.0;
+};
+
+/// A run's true motion, kept for a later run that changes only what its sensors do: a twin's
+/// tuning runs change the lidar's noise, then the encoders' slip, and would otherwise step the
+/// same physics again (docs/simulate.md, "A motion replayed").
+struct RecordedMotion {
+  std::string key;                  ///< motionKey() of the run that recorded it ("": none)
+  std::vector<MotionState> states;  ///< at t = 0 and after every physics step
+};
+
+/// What of `config` the motion depends on, as text: all of it but the lidar, the encoders, the
+/// IMU, the published odometry's heading and the faults that act on them only. Two
+/// configurations with the same key drive the robot the same way, step for step, in the same
+/// world and scenario.
+std::string motionKey(const SimConfig& config);
+
+/// simulate, with the motion replayed from `motion` where it was recorded under this
+/// configuration's motionKey, else stepped and recorded there. The world, the scenario and the
+/// physics parameters must be the recording run's (the caller's to keep). Runs with the
+/// floor_patches fault are neither replayed nor recorded (their patches' state is the physics').
+SimResult simulate(const SimConfig& config, const World& world, const Scenario& scenario,
+                   RecordedMotion& motion, const ProgressCallback& progress = {},
+                   ScenePhysicsParams physics = {});
 
 /// Loads config.world and config.scenario (resolveDataPath) and simulates. Throws InputError on
 /// bad configuration, bad files, or a scenario that leaves the world's free space.

@@ -407,6 +407,38 @@ TEST(Simulator, SameSeedGivesIdenticalBytes) {
   EXPECT_EQ(slurp(root / "a" / "encoders.csv"), slurp(root / "c" / "encoders.csv"));
 }
 
+// A run that changes only its sensors replays the recorded motion and writes the bytes a fresh
+// physics run writes; a change to the robot steps the physics again and records that motion.
+TEST(Simulator, AReplayedMotionGivesTheBytesOfAFreshRun) {
+  const test::ScratchDir root("sim_replay");
+  SimConfig c = config(SimMode::physics, 180);
+  c.duration_s = 1.5;
+  const Scenario s = scenario("  - {type: figure_eight, radius_m: 0.5, speed_mps: 0.5}\n");
+  RecordedMotion motion;
+  simulate(c, squareRoom(3.0), s, motion);
+  const std::string key = motion.key;
+  ASSERT_EQ(motion.states.size(), 1u + static_cast<std::size_t>(1.5 * c.physics_rate_hz));
+  c.lidar.range_noise_m = 0.03;  // the sensors only
+  c.encoders.slip_sigma = 0.05;
+  EXPECT_EQ(motionKey(c), key);
+  eval::writeDataset(root / "replayed", simulate(c, squareRoom(3.0), s, motion).dataset);
+  eval::writeDataset(root / "fresh", simulate(c, squareRoom(3.0), s).dataset);
+  std::size_t files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(root / "fresh")) {
+    const auto name = entry.path().filename();
+    SCOPED_TRACE(name.string());
+    EXPECT_EQ(slurp(root / "replayed" / name), slurp(root / "fresh" / name));
+    ++files;
+  }
+  EXPECT_GE(files, 6u);
+  c.robot.geometry.wheel_base_m *= 1.1;  // the motion: stepped again, and recorded
+  EXPECT_NE(motionKey(c), key);
+  const SimResult wider = simulate(c, squareRoom(3.0), s, motion);
+  EXPECT_EQ(motion.key, motionKey(c));
+  EXPECT_EQ(motion.states.back().T_world_base.yaw,
+            wider.dataset.groundtruth.samples().back().value.yaw);
+}
+
 // ---- Refusals ----------------------------------------------------------------------------------
 
 TEST(Simulator, ScenarioLeavingTheWorldIsRefusedBeforeSimulating) {
