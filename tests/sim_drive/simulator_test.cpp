@@ -382,6 +382,18 @@ TEST(Simulator, DropsAFinalScanTheEncodersDoNotCover) {
   EXPECT_EQ(eval::readDataset(dir).scans.size(), 10u);
 }
 
+/// Every file of dataset folder `a` (at least the six a run writes) has the bytes of b's.
+void expectSameFiles(const std::filesystem::path& a, const std::filesystem::path& b) {
+  std::size_t files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(a)) {
+    const auto name = entry.path().filename();
+    SCOPED_TRACE(name.string());
+    EXPECT_EQ(slurp(a / name), slurp(b / name));
+    ++files;
+  }
+  EXPECT_GE(files, 6u);
+}
+
 TEST(Simulator, SameSeedGivesIdenticalBytes) {
   const test::ScratchDir root("sim_determinism");
   SimConfig c = config(SimMode::physics, 180);
@@ -392,14 +404,7 @@ TEST(Simulator, SameSeedGivesIdenticalBytes) {
   eval::writeDataset(root / "b", simulate(c, squareRoom(3.0), s).dataset);
   c.seed = 6;
   eval::writeDataset(root / "c", simulate(c, squareRoom(3.0), s).dataset);
-  std::size_t files = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(root / "a")) {
-    const auto name = entry.path().filename();
-    SCOPED_TRACE(name.string());
-    EXPECT_EQ(slurp(root / "a" / name), slurp(root / "b" / name));
-    ++files;
-  }
-  EXPECT_GE(files, 6u);
+  expectSameFiles(root / "a", root / "b");
   // Another seed changes the sensor noise and nothing else: physics ignores the seed.
   EXPECT_NE(slurp(root / "a" / "scans.jsonl"), slurp(root / "c" / "scans.jsonl"));
   EXPECT_NE(slurp(root / "a" / "imu.csv"), slurp(root / "c" / "imu.csv"));
@@ -423,14 +428,7 @@ TEST(Simulator, AReplayedMotionGivesTheBytesOfAFreshRun) {
   EXPECT_EQ(motionKey(c), key);
   eval::writeDataset(root / "replayed", simulate(c, squareRoom(3.0), s, motion).dataset);
   eval::writeDataset(root / "fresh", simulate(c, squareRoom(3.0), s).dataset);
-  std::size_t files = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(root / "fresh")) {
-    const auto name = entry.path().filename();
-    SCOPED_TRACE(name.string());
-    EXPECT_EQ(slurp(root / "replayed" / name), slurp(root / "fresh" / name));
-    ++files;
-  }
-  EXPECT_GE(files, 6u);
+  expectSameFiles(root / "fresh", root / "replayed");
   c.robot.geometry.wheel_base_m *= 1.1;  // the motion: stepped again, and recorded
   EXPECT_NE(motionKey(c), key);
   const SimResult wider = simulate(c, squareRoom(3.0), s, motion);
