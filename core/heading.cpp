@@ -44,15 +44,4 @@ TimeSeries<double> poseTravel(const PoseSeries& poses) {
   return travel;
 }
 
-std::optional<double> turned(const HeadingSeries& heading, double t0_s, double t1_s,
-                             double max_gap_s) {
-  const auto b0 = heading.bracket(t0_s), b1 = heading.bracket(t1_s);
-  if (!b0 || !b1) return std::nullopt;
-  // Every sample interval that overlaps (t0, t1) must be short (any is, under no limit).
-  if (std::isfinite(max_gap_s))
-    for (std::size_t k = b0->index; k + 1 < heading.size() && heading[k].stamp_s < t1_s; ++k)
-      if (heading[k + 1].stamp_s - heading[k].stamp_s > max_gap_s) return std::nullopt;
-  return *heading.at(t1_s) - *heading.at(t0_s);
-}
-
 }  // namespace slamprep

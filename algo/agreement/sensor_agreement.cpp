@@ -45,16 +45,6 @@ struct Source {
   }
 };
 
-std::optional<Eigen::Vector2d> wheelTurn(const WheelTrack& w, double t0, double t1,
-                                         double max_gap_s) {
-  const auto b0 = w.phi_rad.bracket(t0), b1 = w.phi_rad.bracket(t1);
-  if (!b0 || !b1) return std::nullopt;
-  if (std::isfinite(max_gap_s))  // wheel angles keep what they turned across a gap
-    for (std::size_t k = b0->index; k + 1 < w.phi_rad.size() && w.phi_rad[k].stamp_s < t1; ++k)
-      if (w.phi_rad[k + 1].stamp_s - w.phi_rad[k].stamp_s > max_gap_s) return std::nullopt;
-  return *w.phi_rad.at(t1) - *w.phi_rad.at(t0);
-}
-
 /// The columns of a pair's equation: Eq. 1's (a, c) or Eq. 2's s, then g and k where they apply.
 struct Columns {
   bool bias = false;              ///< g: one source is the gyro
@@ -80,7 +70,7 @@ std::optional<Row> rowAt(const Source& a, const Source& b, double t0, double t1,
   const Columns c = columnsOf(a, b);
   Eigen::VectorXd x(c.size());
   if (a.wheels) {
-    const auto dphi = wheelTurn(*a.wheels, t0, t1, a.gapLimit(p.max_gap_s));
+    const auto dphi = turned(a.wheels->phi_rad, t0, t1, a.gapLimit(p.max_gap_s));
     if (!dphi) return std::nullopt;
     x.head<2>() << (*dphi)(1), -(*dphi)(0);  // Eq. 1: a dphi_R - c dphi_L
   } else {

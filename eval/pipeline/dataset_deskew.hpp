@@ -30,7 +30,7 @@ struct DatasetDeskewOptions {
   double measure_to_s = std::numeric_limits<double>::infinity();
   /// False: the scans are de-skewed and not measured against the truth (no error figures),
   /// for a caller that wants the points only (a matcher): the truth's ray casts and the
-  /// figures' sorting were a sixth of a twin's run.
+  /// figures' sorting were about a sixth of a twin test's time.
   bool measure_errors = true;
   /// Which instant the corrected points describe.
   algo::ReferenceTime reference = algo::ReferenceTime::kFirst;

@@ -459,8 +459,10 @@ void runSteps(const SimConfig& config, const Scenario& scenario, double duration
               PoseSeries& groundtruth, std::vector<StepState>* record) {
   const std::int64_t steps = physicsStepCount(config, duration_s);
   StepState prev = motion.initial();
-  if (record) record->reserve(static_cast<std::size_t>(steps) + 1);
-  if (record) record->push_back(prev);
+  if (record) {
+    record->reserve(static_cast<std::size_t>(steps) + 1);
+    record->push_back(prev);
+  }
   groundtruth.push_back(prev.t_s, prev.T_world_base);
   sensors.sense(Interval{prev, prev}, duration_s);  // samples at t = 0
   const std::int64_t report_every = std::max<std::int64_t>(1, steps / 200);
